@@ -1,0 +1,1 @@
+"""One firefighting UAV as a ROS 2 process: EKF state estimation, peer link with loss and crash detection, fire consensus, weighted Voronoi-Lloyd coverage control, mission life-cycle, coverage search."""
