@@ -1,0 +1,201 @@
+"""Start ROS executables as child processes in one process group and end them by PID.
+
+This replaces ``launch`` (not available from PyPI, see shared notes): every child is started
+in one new process group (so a Ctrl-C on the terminal reaches only the supervisor, which then
+ends the group in order), its stdout/stderr go to a log file, and :meth:`ProcessGroup.stop_all`
+sends SIGINT, waits, then SIGKILLs what is left. Nothing is ever killed by name.
+"""
+
+from __future__ import annotations
+
+import os
+import random
+import shutil
+import signal
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+__all__ = ["MissionError", "ProcessGroup", "executable", "private_domain_id", "ros_run_argv"]
+
+
+class MissionError(RuntimeError):
+    """A mission could not be started or supervised (message says what and why)."""
+
+
+def _ament_prefixes() -> list[Path]:
+    return [Path(p) for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+
+
+def executable(package: str, exe: str) -> Path:
+    """Resolve ``<prefix>/lib/<package>/<exe>`` through the ament index, as ``ros2 run`` does.
+
+    ``ros2 run`` looks the package up in ``share/ament_index/resource_index/packages`` of each
+    prefix on AMENT_PREFIX_PATH and runs ``<prefix>/lib/<package>/<exe>``.
+    """
+    prefixes = _ament_prefixes()
+    if not prefixes:
+        raise MissionError("AMENT_PREFIX_PATH is empty: source scripts/env.sh first")
+    for prefix in prefixes:
+        if (prefix / "share/ament_index/resource_index/packages" / package).is_file():
+            path = prefix / "lib" / package / exe
+            if not (path.is_file() and os.access(path, os.X_OK)):
+                raise MissionError(f"package '{package}' found in {prefix} but it has no executable '{exe}'")
+            return path
+    raise MissionError(f"package '{package}' not found on AMENT_PREFIX_PATH ({len(prefixes)} prefixes)")
+
+
+def ros_run_argv(package: str, exe: str, ros_args: list[str] | None = None) -> list[str]:
+    """The argv of ``ros2 run package exe --ros-args ...``: the real ``ros2`` when installed,
+    otherwise the same executable by path (identical behaviour)."""
+    tail = ["--ros-args", *ros_args] if ros_args else []
+    if shutil.which("ros2") and os.environ.get("FIRE_UAV_NO_ROS2_CLI") != "1":
+        return ["ros2", "run", package, exe, *tail]
+    return [str(executable(package, exe)), *tail]
+
+
+def private_domain_id(seed: int | None = None) -> int:
+    """A ROS_DOMAIN_ID in 100..199 for one run/test (keeps parallel runs apart).
+
+    Domain ids above 101 with many participants can collide with ephemeral ports on some
+    systems; with LOCALHOST discovery and < 120 participants per domain 100..199 is safe.
+    """
+    rng = random.Random(seed if seed is not None else (os.getpid() * 7919 + time.monotonic_ns()))
+    return rng.randint(100, 199)
+
+
+@dataclass
+class Child:
+    name: str
+    argv: list[str]
+    popen: subprocess.Popen
+    log_path: Path
+    started_wall_s: float = field(default_factory=time.monotonic)
+
+    @property
+    def pid(self) -> int:
+        return self.popen.pid
+
+    def alive(self) -> bool:
+        return self.popen.poll() is None
+
+
+class ProcessGroup:
+    """Children in one new process group, logs in ``log_dir``; a context manager that always
+    ends every child it started (SIGINT, then SIGKILL after ``grace_s``)."""
+
+    def __init__(self, log_dir: Path, env: dict[str, str] | None = None, *, grace_s: float = 5.0) -> None:
+        self.log_dir = Path(log_dir)
+        self.log_dir.mkdir(parents=True, exist_ok=True)
+        self.env = dict(os.environ if env is None else env)
+        self.grace_s = grace_s
+        self.children: dict[str, Child] = {}
+        self._pgid: int | None = None
+
+    # -- context manager ------------------------------------------------------------------
+    def __enter__(self) -> ProcessGroup:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop_all()
+
+    # -- starting -------------------------------------------------------------------------
+    def start(self, name: str, argv: list[str], *, env: dict[str, str] | None = None) -> Child:
+        if name in self.children and self.children[name].alive():
+            raise MissionError(f"a process named '{name}' is already running (pid {self.children[name].pid})")
+        log_path = self.log_dir / f"{name}.log"
+        log = open(log_path, "ab")  # the child keeps its own copy; ours is closed below
+        full_env = dict(self.env)
+        if env:
+            full_env.update(env)
+
+        def spawn(pgid: int) -> subprocess.Popen:
+            return subprocess.Popen(
+                argv,
+                stdout=log,
+                stderr=subprocess.STDOUT,
+                stdin=subprocess.DEVNULL,
+                env=full_env,
+                process_group=pgid,
+            )
+
+        try:
+            try:
+                popen = spawn(self._pgid or 0)
+            except PermissionError:
+                # every earlier member has exited, so the group is gone: start a new one
+                self._pgid = None
+                popen = spawn(0)
+        except OSError as e:
+            log.close()
+            raise MissionError(f"cannot start {name}: {argv[0]}: {e}") from e
+        log.close()
+        if self._pgid is None:
+            self._pgid = popen.pid
+        child = Child(name, argv, popen, log_path)
+        self.children[name] = child
+        return child
+
+    # -- signals --------------------------------------------------------------------------
+    def signal(self, name: str, sig: int) -> None:
+        child = self.children[name]
+        if child.alive():
+            os.kill(child.pid, sig)
+
+    def pids(self) -> list[int]:
+        return [c.pid for c in self.children.values()]
+
+    def alive(self) -> list[str]:
+        return [n for n, c in self.children.items() if c.alive()]
+
+    def stop(self, names: list[str], *, grace_s: float | None = None) -> dict[str, int | None]:
+        """SIGINT (and SIGCONT, for stopped children) the named children, wait up to grace_s,
+        SIGKILL what is left. Returns each child's exit code."""
+        grace = self.grace_s if grace_s is None else grace_s
+        for n in names:
+            c = self.children[n]
+            if c.alive():
+                for sig in (signal.SIGCONT, signal.SIGINT):
+                    try:
+                        os.kill(c.pid, sig)
+                    except ProcessLookupError:
+                        pass
+        deadline = time.monotonic() + grace
+        for n in names:
+            c = self.children[n]
+            try:
+                c.popen.wait(timeout=max(0.0, deadline - time.monotonic()))
+            except subprocess.TimeoutExpired:
+                try:
+                    os.kill(c.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+                c.popen.wait()
+        return {n: self.children[n].popen.returncode for n in names}
+
+    def stop_all(
+        self, *, grace_s: float | None = None, first: list[str] | None = None
+    ) -> dict[str, int | None]:
+        """End every child: those named in ``first`` before the rest (e.g. agents before the
+        recorder, so the recorder sees their last messages). Then SIGKILL the whole group in
+        case a child left grandchildren."""
+        codes: dict[str, int | None] = {}
+        order = [n for n in (first or []) if n in self.children]
+        if order:
+            codes.update(self.stop(order, grace_s=grace_s))
+        rest = [n for n in self.children if n not in order]
+        codes.update(self.stop(rest, grace_s=grace_s))
+        if self._pgid is not None:
+            try:
+                os.killpg(self._pgid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+        return codes
+
+    def tail(self, name: str, lines: int = 30) -> str:
+        try:
+            text = self.children[name].log_path.read_text(errors="replace")
+        except (KeyError, OSError):
+            return ""
+        return "\n".join(text.splitlines()[-lines:])
