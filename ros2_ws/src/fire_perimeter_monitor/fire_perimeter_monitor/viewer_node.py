@@ -1,0 +1,87 @@
+"""perimeter_viewer: draws every monitor's on-board fire map (PerimeterMap on /fleet/perimeter)
+as markers on /viz/perimeter, for RViz or Foxglove, live or from a replayed bag.
+
+Per monitor: the outer perimeter as a closed line strip (bins with a known distance), and one
+sphere per bin coloured by its importance (PM Eq. 4; red = most important).
+"""
+
+from __future__ import annotations
+
+import math
+
+import rclpy
+from builtin_interfaces.msg import Duration
+from fire_uav_common import topics
+from fire_uav_msgs.msg import PerimeterMap
+from geometry_msgs.msg import Point
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from std_msgs.msg import ColorRGBA
+from visualization_msgs.msg import Marker, MarkerArray
+
+VIZ_PERIMETER = "/viz/perimeter"
+
+
+def perimeter_points(msg: PerimeterMap) -> list[tuple[float, float, float]]:
+    """(x_m, y_m, importance) of every bin with a known outer distance, in angle order."""
+    n = len(msg.outer_distance_m)
+    out = []
+    for i, d in enumerate(msg.outer_distance_m):
+        if not math.isfinite(d):
+            continue
+        a = 2 * math.pi * (i + 0.5) / n
+        imp = msg.importance[i] if i < len(msg.importance) else 0.0
+        out.append((msg.center_x_m + d * math.cos(a), msg.center_y_m + d * math.sin(a), imp))
+    return out
+
+
+class PerimeterViewer(Node):
+    def __init__(self) -> None:
+        super().__init__("perimeter_viewer")
+        self.pub = self.create_publisher(MarkerArray, VIZ_PERIMETER, topics.qos("viz"))
+        self.create_subscription(PerimeterMap, topics.FLEET_PERIMETER, self.on_map, topics.qos("fleet"))
+
+    def on_map(self, msg: PerimeterMap) -> None:
+        pts = perimeter_points(msg)
+        if not pts:
+            return
+        line = Marker(
+            header=msg.header,
+            ns=f"perimeter_uav_{msg.uav_id}",
+            id=0,
+            type=Marker.LINE_STRIP,
+            action=Marker.ADD,
+            lifetime=Duration(sec=5),
+        )
+        line.scale.x = 1.0
+        line.color = ColorRGBA(r=1.0, g=0.5, b=0.0, a=1.0)
+        line.points = [Point(x=x, y=y, z=1.0) for x, y, _ in pts] + [Point(x=pts[0][0], y=pts[0][1], z=1.0)]
+        dots = Marker(
+            header=msg.header,
+            ns=f"importance_uav_{msg.uav_id}",
+            id=1,
+            type=Marker.SPHERE_LIST,
+            action=Marker.ADD,
+            lifetime=Duration(sec=5),
+        )
+        dots.scale.x = dots.scale.y = dots.scale.z = 2.0
+        top = max((i for _, _, i in pts), default=0.0) or 1.0
+        dots.points = [Point(x=x, y=y, z=1.5) for x, y, _ in pts]
+        dots.colors = [ColorRGBA(r=1.0, g=1.0 - min(1.0, max(0.0, i / top)), b=0.0, a=1.0) for _, _, i in pts]
+        self.pub.publish(MarkerArray(markers=[line, dots]))
+
+
+def main(args: list[str] | None = None) -> None:
+    rclpy.init(args=args)
+    node = PerimeterViewer()
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,520 @@
+"""The mission runner: world, recorder and N agents as separate processes, supervised.
+
+usage: scripts/run_mission [SCENARIO] [options]   (scripts/run_mission --help)
+
+Everything is started in one process group on a private ROS_DOMAIN_ID; the runner itself is a
+small rclpy node that follows ``/clock``, ``/world/truth`` and the events to show progress,
+inject faults at given mission times, and decide when the mission is over. It ends every
+process it started (SIGINT, then SIGKILL) on completion, timeout, error or Ctrl-C, prints a
+summary table and writes ``summary.json`` beside the bag and the report.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from fire_mission.procs import MissionError, ProcessGroup, private_domain_id, ros_run_argv
+from fire_mission.summary import Event, LiveSummary, table
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+# --- fault specifications ----------------------------------------------------------------
+@dataclass(frozen=True)
+class Kill:
+    uav: int
+    t_s: float
+
+
+@dataclass(frozen=True)
+class Freeze:
+    uav: int
+    start_s: float
+    end_s: float
+
+
+@dataclass(frozen=True)
+class Outage:
+    src: int
+    dst: int
+    start_s: float
+    end_s: float
+
+
+def _parse_kill(text: str) -> Kill:
+    m = re.fullmatch(r"(\d+)@([0-9.]+)", text)
+    if not m:
+        raise argparse.ArgumentTypeError(f"--kill expects K@T (uav id @ mission seconds), got '{text}'")
+    return Kill(int(m[1]), float(m[2]))
+
+
+def _parse_freeze(text: str) -> Freeze:
+    m = re.fullmatch(r"(\d+)@([0-9.]+):([0-9.]+)", text)
+    if not m or float(m[3]) <= float(m[2]):
+        raise argparse.ArgumentTypeError(
+            f"--freeze expects K@T1:T2 with T2 > T1 (mission seconds), got '{text}'"
+        )
+    return Freeze(int(m[1]), float(m[2]), float(m[3]))
+
+
+def _parse_outage(text: str) -> Outage:
+    m = re.fullmatch(r"(\d+)>(\d+)@([0-9.]+):([0-9.]+)", text)
+    if not m or float(m[4]) <= float(m[3]):
+        raise argparse.ArgumentTypeError(
+            f"--outage expects A>B@T1:T2 (link from A to B, T2 > T1), got '{text}'"
+        )
+    return Outage(int(m[1]), int(m[2]), float(m[3]), float(m[4]))
+
+
+def _probability(text: str) -> float:
+    try:
+        p = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--loss expects a probability in [0, 1], got '{text}'") from None
+    if not 0.0 <= p <= 1.0:
+        raise argparse.ArgumentTypeError(f"--loss expects a probability in [0, 1], got {p}")
+    return p
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="run_mission",
+        description="Run a fleet mission: world + recorder + N agent processes, with fault injection.",
+        epilog="examples:\n"
+        "  scripts/run_mission                               # the default mission (FF two fires, 5 UAVs)\n"
+        "  scripts/run_mission ff_two_fires --uavs 7 --seed 3 --kill 2@40 --loss 0.2\n"
+        "  scripts/run_mission tiny_test --freeze 1@5:6.5 --outage 0>1@3:9 --out /tmp/run1",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "scenario",
+        nargs="?",
+        default="ff_two_fires",
+        help="scenario name (shipped in fire_world_sim/scenarios) or path to a YAML file",
+    )
+    p.add_argument("--uavs", type=int, default=None, help="fleet size (default: the scenario's)")
+    p.add_argument(
+        "--seed", type=int, default=None, help="seed for every random stream (default: the scenario's)"
+    )
+    p.add_argument("--mode", choices=["lockstep", "realtime"], default="lockstep")
+    p.add_argument("--rtf", type=float, default=1.0, help="real-time factor in realtime mode (> 0)")
+    p.add_argument(
+        "--loss", type=_probability, default=None, help="packet loss probability per directed link"
+    )
+    p.add_argument(
+        "--kill",
+        type=_parse_kill,
+        action="append",
+        default=[],
+        metavar="K@T",
+        help="SIGKILL agent K at mission time T [s]; repeatable",
+    )
+    p.add_argument(
+        "--freeze",
+        type=_parse_freeze,
+        action="append",
+        default=[],
+        metavar="K@T1:T2",
+        help="SIGSTOP agent K at T1 and SIGCONT it at T2 [s]; repeatable",
+    )
+    p.add_argument(
+        "--outage",
+        type=_parse_outage,
+        action="append",
+        default=[],
+        metavar="A>B@T1:T2",
+        help="drop every message on the link A -> B between T1 and T2 [s]; repeatable",
+    )
+    p.add_argument(
+        "--max-duration", type=float, default=None, help="mission time limit [s] (default: scenario)"
+    )
+    p.add_argument(
+        "--wall-timeout", type=float, default=1800.0, help="wall-clock limit for the whole run [s]"
+    )
+    p.add_argument(
+        "--out", type=Path, default=None, help="output directory (default: runs/<scenario>-<time>)"
+    )
+    p.add_argument("--no-record", action="store_true", help="do not start the recorder")
+    p.add_argument("--no-report", action="store_true", help="do not write the report after the run")
+    p.add_argument(
+        "--agent-arg",
+        action="append",
+        default=[],
+        metavar="NAME:=VALUE",
+        help="extra ROS parameter for every agent; repeatable",
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    return p
+
+
+# --- scenario & parameters ---------------------------------------------------------------
+def resolve_scenario(name: str) -> Path:
+    """A path as given, or ``<share>/fire_world_sim/scenarios/<name>.yaml`` (source tree fallback)."""
+    p = Path(name)
+    if p.suffix in (".yaml", ".yml") or p.exists():
+        if not p.is_file():
+            raise MissionError(f"scenario file not found: {p}")
+        return p.resolve()
+    candidates = [
+        Path(prefix) / "share/fire_world_sim/scenarios" / f"{name}.yaml"
+        for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep)
+        if prefix
+    ]
+    candidates.append(ROOT / "ros2_ws/src/fire_world_sim/scenarios" / f"{name}.yaml")
+    for c in candidates:
+        if c.is_file():
+            return c.resolve()
+    shipped = sorted(q.stem for q in (ROOT / "ros2_ws/src/fire_world_sim/scenarios").glob("*.yaml"))
+    raise MissionError(f"unknown scenario '{name}'; shipped: {', '.join(shipped) or 'none'}; or give a path")
+
+
+def _yaml_params(node: str, params: dict) -> str:
+    import yaml
+
+    clean = {k: v for k, v in params.items() if not (isinstance(v, list) and not v)}
+    return yaml.safe_dump({node: {"ros__parameters": clean}}, sort_keys=True)
+
+
+def write_params(
+    out: Path,
+    args: argparse.Namespace,
+    scenario_path: Path,
+    uav_count: int,
+    seed: int,
+    max_duration_s: float | None,
+) -> dict[str, Path]:
+    pdir = out / "params"
+    pdir.mkdir(parents=True, exist_ok=True)
+    files = {}
+    world = {
+        "scenario_file": str(scenario_path),
+        "seed": seed,
+        "uav_count": uav_count,
+        "mode": args.mode,
+        "real_time_factor": float(args.rtf),
+    }
+    if max_duration_s is not None:
+        world["max_duration_s"] = float(max_duration_s)
+    files["world"] = pdir / "world.yaml"
+    files["world"].write_text(_yaml_params("/**", world))
+    files["recorder"] = pdir / "recorder.yaml"
+    files["recorder"].write_text(
+        _yaml_params(
+            "/**",
+            {
+                "output": str(out / "bag"),
+                "scenario_file": str(scenario_path),
+                "seed": seed,
+                "uav_count": uav_count,
+            },
+        )
+    )
+    for k in range(uav_count):
+        agent = {
+            "uav_id": k,
+            "uav_count": uav_count,
+            "seed": seed,
+            "scenario_file": str(scenario_path),
+            "mode": args.mode,
+            "outage_from": [o.src for o in args.outage],
+            "outage_to": [o.dst for o in args.outage],
+            "outage_start_s": [o.start_s for o in args.outage],
+            "outage_end_s": [o.end_s for o in args.outage],
+        }
+        if args.loss is not None:
+            agent["loss_probability"] = float(args.loss)
+        files[f"agent_{k}"] = pdir / f"agent_{k}.yaml"
+        files[f"agent_{k}"].write_text(_yaml_params("/**", agent))
+    return files
+
+
+# --- the supervisor node -------------------------------------------------------------------
+class Supervisor:
+    """Follows the mission over ROS and applies the fault schedule. Owns no algorithm."""
+
+    def __init__(
+        self,
+        procs: ProcessGroup,
+        summary: LiveSummary,
+        args: argparse.Namespace,
+        uav_count: int,
+        control_period_s: float,
+    ) -> None:
+        import rclpy
+        from fire_uav_common import topics
+        from fire_uav_msgs.msg import MissionEvent, UavState, WorldTruth
+        from rosgraph_msgs.msg import Clock
+
+        self.procs, self.summary, self.args = procs, summary, args
+        self.uav_count = uav_count
+        self.control_period_s = control_period_s
+        self.node = rclpy.create_node("mission_supervisor")
+        self.t_s = 0.0
+        self.steps = 0
+        self.done = False
+        self.last_truth_wall = time.monotonic()
+        self.pending: list[tuple[float, str, int, int]] = []  # (t, action, uav, signal)
+        for k in args.kill:
+            self.pending.append((k.t_s, f"kill uav {k.uav} at {k.t_s:g} s", k.uav, signal.SIGKILL))
+        for f in args.freeze:
+            self.pending.append((f.start_s, f"freeze uav {f.uav} at {f.start_s:g} s", f.uav, signal.SIGSTOP))
+            self.pending.append((f.end_s, f"resume uav {f.uav} at {f.end_s:g} s", f.uav, signal.SIGCONT))
+        self.pending.sort()
+        self.node.create_subscription(Clock, topics.CLOCK, self._on_clock, 10)
+        self.node.create_subscription(WorldTruth, topics.WORLD_TRUTH, self._on_truth, topics.qos("truth"))
+        self.node.create_subscription(MissionEvent, topics.WORLD_EVENTS, self._on_event, topics.qos("events"))
+        self.node.create_subscription(MissionEvent, topics.FLEET_EVENTS, self._on_event, topics.qos("events"))
+        self.node.create_subscription(UavState, topics.FLEET_STATE, self._on_state, topics.qos("fleet"))
+
+    def _on_clock(self, msg) -> None:
+        self.t_s = msg.clock.sec + msg.clock.nanosec * 1e-9
+        self.summary.mission_time_s = self.t_s
+        while self.pending and self.pending[0][0] <= self.t_s + 1e-9:
+            _, what, uav, sig = self.pending.pop(0)
+            name = f"agent_{uav}"
+            if name in self.procs.children and self.procs.children[name].alive():
+                self.procs.signal(name, sig)
+                self.summary.faults.append(f"{what} (applied at {self.t_s:.2f} s)")
+                self.node.get_logger().warn(f"fault injected: {what} (mission time {self.t_s:.2f} s)")
+            else:
+                self.summary.faults.append(f"{what}: not applied, agent not running")
+
+    def _on_truth(self, msg) -> None:
+        self.steps = max(self.steps, msg.step + 1)
+        self.last_truth_wall = time.monotonic()
+        self.summary.fires_total = len(msg.fires)
+        self.summary.fires_active = sum(1 for f in msg.fires if f.status == 0)
+        self.summary.vehicles_alive = sum(1 for v in msg.vehicles if v.status != 3)
+        self.summary.vehicles_landed = sum(1 for v in msg.vehicles if v.status == 2)
+
+    def _on_event(self, msg) -> None:
+        t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        self.summary.add(Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail))
+        if msg.type == 10:  # MISSION_COMPLETE
+            self.done = True
+
+    def _on_state(self, msg) -> None:
+        self.summary.packets[msg.uav_id] = (msg.packets_received, msg.packets_lost, msg.packets_rejected)
+
+
+class Progress:
+    """One status line: a bar on a terminal (\\r), a plain line every 10 s otherwise."""
+
+    def __init__(self, max_duration_s: float, quiet: bool) -> None:
+        self.max_s = max_duration_s
+        self.quiet = quiet
+        self.tty = sys.stderr.isatty()
+        self.last_plain = 0.0
+
+    def show(self, t_s: float, s: LiveSummary, uav_count: int, alive: int) -> None:
+        if self.quiet:
+            return
+        frac = min(1.0, t_s / self.max_s) if self.max_s > 0 else 0.0
+        bar = "#" * int(frac * 30)
+        fires = "?" if s.fires_active is None else f"{s.fires_active}/{s.fires_total}"
+        vehicles = "?" if s.vehicles_alive is None else f"{s.vehicles_alive}/{uav_count}"
+        line = (
+            f"[{bar:<30}] t={t_s:7.1f} s  fires left {fires}  UAVs flying-or-landed {vehicles} "
+            f"(landed {s.vehicles_landed})  agents running {alive}/{uav_count}  drops {len(s.of(2))}"
+        )
+        if self.tty:
+            sys.stderr.write("\r" + line[:160])
+            sys.stderr.flush()
+        elif time.monotonic() - self.last_plain > 10:
+            self.last_plain = time.monotonic()
+            sys.stderr.write(line + "\n")
+
+    def close(self) -> None:
+        if self.tty and not self.quiet:
+            sys.stderr.write("\n")
+
+
+def run(args: argparse.Namespace) -> int:
+    from fire_uav_common.scenario import ScenarioError, load_scenario
+
+    scenario_path = resolve_scenario(args.scenario)
+    try:
+        scenario = load_scenario(scenario_path)
+    except ScenarioError as e:
+        raise MissionError(str(e)) from None
+    uav_count = args.uavs if args.uavs is not None else scenario.uavs.count
+    if uav_count < 1:
+        raise MissionError(f"--uavs must be >= 1, got {uav_count}")
+    for k in [*(x.uav for x in args.kill), *(x.uav for x in args.freeze)]:
+        if not 0 <= k < uav_count:
+            raise MissionError(f"fault names uav {k}, but the fleet is uavs 0..{uav_count - 1}")
+    for o in args.outage:
+        if not (0 <= o.src < uav_count and 0 <= o.dst < uav_count) or o.src == o.dst:
+            raise MissionError(
+                f"--outage {o.src}>{o.dst}: both ends must be distinct uavs in 0..{uav_count - 1}"
+            )
+    if args.rtf <= 0 or not math.isfinite(args.rtf):
+        raise MissionError(f"--rtf must be a positive number, got {args.rtf}")
+    seed = args.seed if args.seed is not None else scenario.seed
+    max_s = args.max_duration if args.max_duration is not None else scenario.timing.max_duration_s
+    out = args.out or ROOT / "runs" / f"{scenario.name}-{time.strftime('%Y%m%d-%H%M%S')}-s{seed}"
+    out = out.resolve()
+    if (out / "bag").exists():
+        raise MissionError(
+            f"{out / 'bag'} already exists: choose another --out (recordings are never overwritten)"
+        )
+    out.mkdir(parents=True, exist_ok=True)
+    params = write_params(out, args, scenario_path, uav_count, seed, args.max_duration)
+
+    domain = int(os.environ.get("FIRE_UAV_DOMAIN_ID", private_domain_id()))
+    os.environ["ROS_DOMAIN_ID"] = str(domain)
+    env = dict(os.environ, PYTHONUNBUFFERED="1", ROS_LOG_DIR=str(out / "ros_log"))
+    summary = LiveSummary(uav_count=uav_count)
+    print(
+        f"[run_mission] scenario {scenario.name} ({scenario_path}), {uav_count} UAVs, seed {seed}, "
+        f"mode {args.mode}, ROS_DOMAIN_ID {domain}, output {out}",
+        file=sys.stderr,
+    )
+
+    import rclpy
+
+    rclpy.init()
+    wall0 = time.monotonic()
+    outcome = "aborted"
+    agents = [f"agent_{k}" for k in range(uav_count)]
+    sup = None
+    progress = Progress(max_s, args.quiet)
+    with ProcessGroup(out / "logs", env, grace_s=8.0) as procs:
+        try:
+            sup = Supervisor(procs, summary, args, uav_count, scenario.timing.control_period_s)
+            if not args.no_record:
+                procs.start(
+                    "recorder",
+                    ros_run_argv("fire_world_sim", "recorder", ["--params-file", str(params["recorder"])]),
+                )
+                _wait_for_node(sup.node, "recorder", 20.0, procs)
+            for k in range(uav_count):
+                procs.start(
+                    f"agent_{k}",
+                    ros_run_argv(
+                        "fire_uav_agent",
+                        "uav_agent",
+                        [
+                            "-r",
+                            f"__ns:=/uav_{k}",
+                            "-p",
+                            f"uav_id:={k}",
+                            "--params-file",
+                            str(params[f"agent_{k}"]),
+                            *sum((["-p", a] for a in args.agent_arg), []),
+                        ],
+                    ),
+                )
+            procs.start(
+                "world", ros_run_argv("fire_world_sim", "world_node", ["--params-file", str(params["world"])])
+            )
+            outcome = _supervise(sup, procs, summary, progress, args, uav_count, wall0)
+        except KeyboardInterrupt:
+            outcome = "interrupted"
+            print("\n[run_mission] Ctrl-C: ending every process", file=sys.stderr)
+        finally:
+            progress.close()
+            codes = procs.stop_all(first=[*agents, "world"])
+            if sup is not None:
+                # drain what is still in flight (final states, events)
+                end = time.monotonic() + 0.5
+                while time.monotonic() < end:
+                    rclpy.spin_once(sup.node, timeout_sec=0.05)
+                sup.node.destroy_node()
+            rclpy.try_shutdown()
+    result = summary.as_dict(outcome=outcome, wall_s=time.monotonic() - wall0, steps=sup.steps if sup else 0)
+    result.update(
+        {
+            "scenario": scenario.name,
+            "scenario_file": str(scenario_path),
+            "seed": seed,
+            "mode": args.mode,
+            "domain_id": domain,
+            "bag": None if args.no_record else str(out / "bag"),
+            "exit_codes": codes,
+        }
+    )
+    (out / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
+    print("\nMission summary\n" + table(result) + f"\n\n  written: {out / 'summary.json'}", file=sys.stderr)
+    if not args.no_record and not args.no_report:
+        rep = subprocess.run(
+            [str(ROOT / "scripts/report"), str(out / "bag"), "-o", str(out / "report")], env=env, check=False
+        )
+        if rep.returncode == 0:
+            print(f"  report:  {out / 'report' / 'index.html'}", file=sys.stderr)
+        else:
+            print(
+                f"  report failed (exit {rep.returncode}); the bag is kept at {out / 'bag'}", file=sys.stderr
+            )
+    return 0 if outcome == "complete" else 1
+
+
+def _wait_for_node(node, name: str, timeout_s: float, procs: ProcessGroup) -> None:
+    import rclpy
+
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end:
+        if name in node.get_node_names():
+            return
+        if not procs.children[name].alive():
+            raise MissionError(f"{name} exited at start:\n{procs.tail(name)}")
+        rclpy.spin_once(node, timeout_sec=0.1)
+    raise MissionError(f"{name} did not appear on the ROS graph within {timeout_s:g} s:\n{procs.tail(name)}")
+
+
+def _supervise(
+    sup: Supervisor,
+    procs: ProcessGroup,
+    summary: LiveSummary,
+    progress: Progress,
+    args: argparse.Namespace,
+    uav_count: int,
+    wall0: float,
+) -> str:
+    import rclpy
+
+    while True:
+        rclpy.spin_once(sup.node, timeout_sec=0.1)
+        alive_agents = sum(1 for k in range(uav_count) if procs.children[f"agent_{k}"].alive())
+        progress.show(sup.t_s, summary, uav_count, alive_agents)
+        if sup.done:
+            return "complete" if summary.complete_success else "time_limit"
+        world = procs.children["world"]
+        if not world.alive():
+            # let late events arrive, then judge
+            end = time.monotonic() + 1.0
+            while time.monotonic() < end and not sup.done:
+                rclpy.spin_once(sup.node, timeout_sec=0.05)
+            if sup.done:
+                continue
+            raise MissionError(
+                f"the world exited (code {world.popen.returncode}) before the mission ended:\n"
+                f"{procs.tail('world')}"
+            )
+        if "recorder" in procs.children and not procs.children["recorder"].alive():
+            raise MissionError(f"the recorder exited during the mission:\n{procs.tail('recorder')}")
+        if time.monotonic() - wall0 > args.wall_timeout:
+            return "wall_timeout"
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return run(args)
+    except MissionError as e:
+        print(f"run_mission: error: {e}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,145 @@
+"""Mission summary from what the supervisor saw live (events, truth, fleet states). ROS-free.
+
+The same quantities are recomputed from the bag by the report (``fire_report``); a system test
+checks that the two agree.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+# MissionEvent.TYPE_* (kept here as plain ints so this module stays ROS-free)
+TYPE_TAKEOFF, TYPE_DROP, TYPE_REFILL, TYPE_CRASH, TYPE_EXTINGUISHED, TYPE_LANDED = 1, 2, 3, 4, 5, 6
+TYPE_PEER_CRASHED, TYPE_PEER_REJOINED, TYPE_MISSION_COMPLETE = 7, 8, 10
+
+
+@dataclass
+class Event:
+    t_s: float
+    type: int
+    uav_id: int
+    peer_id: int
+    fire_id: int
+    value: float
+    detail: str
+
+
+@dataclass
+class LiveSummary:
+    """Accumulates what the supervisor observes; :meth:`as_dict` gives summary.json."""
+
+    uav_count: int
+    events: list[Event] = field(default_factory=list)
+    mission_time_s: float = 0.0
+    fires_active: int | None = None
+    fires_total: int | None = None
+    vehicles_alive: int | None = None
+    vehicles_landed: int = 0
+    packets: dict[int, tuple[int, int, int]] = field(default_factory=dict)  # uav -> (recv, lost, rejected)
+    complete_detail: str | None = None
+    complete_success: bool | None = None
+    faults: list[str] = field(default_factory=list)
+
+    def add(self, ev: Event) -> None:
+        self.events.append(ev)
+        if ev.type == TYPE_MISSION_COMPLETE:
+            self.complete_detail = ev.detail
+            self.complete_success = ev.value >= 1.0
+
+    def of(self, type_: int) -> list[Event]:
+        return [e for e in self.events if e.type == type_]
+
+    def drop_intervals_s(self) -> list[float]:
+        """Intervals between consecutive drops of the whole fleet (FF Table I)."""
+        ts = sorted(e.t_s for e in self.of(TYPE_DROP))
+        return [b - a for a, b in zip(ts, ts[1:], strict=False)]
+
+    def as_dict(self, *, outcome: str, wall_s: float, steps: int) -> dict:
+        drops = self.of(TYPE_DROP)
+        per_fire: dict[str, int] = {}
+        for e in drops:
+            key = str(e.fire_id) if e.fire_id >= 0 else "missed"
+            per_fire[key] = per_fire.get(key, 0) + 1
+        intervals = self.drop_intervals_s()
+        crashes = [
+            {"uav_id": e.uav_id, "t_s": round(e.t_s, 3), "detail": e.detail} for e in self.of(TYPE_CRASH)
+        ]
+        declared: dict[int, list[dict]] = {}
+        for e in self.of(TYPE_PEER_CRASHED):
+            declared.setdefault(e.peer_id, []).append({"by": e.uav_id, "t_s": round(e.t_s, 3)})
+        rejoined = [
+            {"uav_id": e.peer_id, "by": e.uav_id, "t_s": round(e.t_s, 3)} for e in self.of(TYPE_PEER_REJOINED)
+        ]
+        return {
+            "outcome": outcome,
+            "detail": self.complete_detail,
+            "mission_time_s": round(self.mission_time_s, 3),
+            "wall_time_s": round(wall_s, 2),
+            "steps_per_wall_s": round(steps / wall_s, 2) if wall_s > 0 else None,
+            "uav_count": self.uav_count,
+            "fires_total": self.fires_total,
+            "fires_active_at_end": self.fires_active,
+            "extinguished": [
+                {"fire_id": e.fire_id, "t_s": round(e.t_s, 3)} for e in self.of(TYPE_EXTINGUISHED)
+            ],
+            "drops_total": len(drops),
+            "drops_per_fire": per_fire,
+            "mean_inter_drop_interval_s": round(sum(intervals) / len(intervals), 3) if intervals else None,
+            "refills": len(self.of(TYPE_REFILL)),
+            "landed": sorted({e.uav_id for e in self.of(TYPE_LANDED)}),
+            "crashes": crashes,
+            "declared_crashed": {str(k): v for k, v in sorted(declared.items())},
+            "rejoined": rejoined,
+            "packets_received": sum(p[0] for p in self.packets.values()),
+            "packets_lost": sum(p[1] for p in self.packets.values()),
+            "packets_rejected": sum(p[2] for p in self.packets.values()),
+            "faults_injected": self.faults,
+        }
+
+
+def table(summary: dict) -> str:
+    """A readable summary table for the terminal."""
+
+    def fmt(v: object) -> str:
+        if v is None:
+            return "-"
+        if isinstance(v, float):
+            return f"{v:.2f}" if math.isfinite(v) else str(v)
+        if isinstance(v, list):
+            return ", ".join(fmt(x) if not isinstance(x, dict) else _d(x) for x in v) or "none"
+        if isinstance(v, dict):
+            return ", ".join(f"{k}: {fmt(x)}" for k, x in v.items()) or "none"
+        return str(v)
+
+    def _d(d: dict) -> str:
+        return "(" + " ".join(f"{k}={fmt(x)}" for k, x in d.items()) + ")"
+
+    rows = [
+        ("outcome", summary["outcome"]),
+        ("detail", summary["detail"]),
+        ("mission time [s]", summary["mission_time_s"]),
+        ("wall time [s]", summary["wall_time_s"]),
+        ("steps per wall second", summary["steps_per_wall_s"]),
+        ("UAVs", summary["uav_count"]),
+        (
+            "fires (active at end / total)",
+            f"{fmt(summary['fires_active_at_end'])} / {fmt(summary['fires_total'])}",
+        ),
+        ("extinguished", summary["extinguished"]),
+        ("drops", summary["drops_total"]),
+        ("drops per fire", summary["drops_per_fire"]),
+        ("mean inter-drop interval [s]", summary["mean_inter_drop_interval_s"]),
+        ("refills", summary["refills"]),
+        ("landed", summary["landed"]),
+        ("crashes (world)", summary["crashes"]),
+        ("declared crashed (peers)", {k: len(v) for k, v in summary["declared_crashed"].items()}),
+        ("rejoined", summary["rejoined"]),
+        (
+            "packets received / lost / rejected",
+            f"{summary['packets_received']} / {summary['packets_lost']} / {summary['packets_rejected']}",
+        ),
+        ("faults injected", summary["faults_injected"]),
+    ]
+    w = max(len(k) for k, _ in rows)
+    return "\n".join(f"  {k.ljust(w)}  {fmt(v)}" for k, v in rows)
