@@ -285,6 +285,8 @@ class Supervisor:
             if name in self.procs.children and self.procs.children[name].alive():
                 self.procs.signal(name, sig)
                 self.summary.faults.append(f"{what} (applied at {self.t_s:.2f} s)")
+                if uav in self.summary.water_kg:
+                    self.summary.water_at_fault[what] = self.summary.water_kg[uav]
                 self.node.get_logger().warn(f"fault injected: {what} (mission time {self.t_s:.2f} s)")
             else:
                 self.summary.faults.append(f"{what}: not applied, agent not running")
@@ -296,6 +298,8 @@ class Supervisor:
         self.summary.fires_active = sum(1 for f in msg.fires if f.status == 0)
         self.summary.vehicles_alive = sum(1 for v in msg.vehicles if v.status != 3)
         self.summary.vehicles_landed = sum(1 for v in msg.vehicles if v.status == 2)
+        for v in msg.vehicles:
+            self.summary.water_kg[v.uav_id] = float(v.water_kg)
 
     def _on_event(self, msg) -> None:
         t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
@@ -305,6 +309,9 @@ class Supervisor:
 
     def _on_state(self, msg) -> None:
         self.summary.packets[msg.uav_id] = (msg.packets_received, msg.packets_lost, msg.packets_rejected)
+        self.summary.last_state_t[msg.uav_id] = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        self.summary.alive_view[msg.uav_id] = list(msg.alive_peers)
+        self.summary.objective[msg.uav_id] = int(msg.objective)
 
 
 class Progress:
@@ -442,6 +449,8 @@ def run(args: argparse.Namespace) -> int:
             "domain_id": domain,
             "bag": None if args.no_record else str(out / "bag"),
             "exit_codes": codes,
+            "pids": {n: c.pid for n, c in procs.children.items()},
+            "control_period_s": scenario.timing.control_period_s,
         }
     )
     (out / "summary.json").write_text(json.dumps(result, indent=2) + "\n")

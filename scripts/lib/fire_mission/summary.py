@@ -40,6 +40,11 @@ class LiveSummary:
     complete_detail: str | None = None
     complete_success: bool | None = None
     faults: list[str] = field(default_factory=list)
+    last_state_t: dict[int, float] = field(default_factory=dict)  # uav -> stamp of its newest UavState
+    alive_view: dict[int, list[int]] = field(default_factory=dict)  # uav -> its newest alive_peers
+    objective: dict[int, int] = field(default_factory=dict)  # uav -> its newest objective
+    water_at_fault: dict[str, float] = field(default_factory=dict)  # fault text -> true water [kg]
+    water_kg: dict[int, float] = field(default_factory=dict)  # uav -> true water now [kg]
 
     def add(self, ev: Event) -> None:
         self.events.append(ev)
@@ -95,6 +100,10 @@ class LiveSummary:
             "packets_lost": sum(p[1] for p in self.packets.values()),
             "packets_rejected": sum(p[2] for p in self.packets.values()),
             "faults_injected": self.faults,
+            "water_at_fault_kg": self.water_at_fault,
+            "last_state_t_s": {str(k): round(v, 3) for k, v in sorted(self.last_state_t.items())},
+            "alive_view": {str(k): v for k, v in sorted(self.alive_view.items())},
+            "final_objective": {str(k): v for k, v in sorted(self.objective.items())},
         }
 
 
