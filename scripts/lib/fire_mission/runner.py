@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from fire_mission.procs import MissionError, ProcessGroup, private_domain_id, ros_run_argv
+from fire_mission.procstat import sample as proc_sample
 from fire_mission.summary import Event, LiveSummary, table
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -492,8 +493,15 @@ def _supervise(
 ) -> str:
     import rclpy
 
+    last_sample = 0.0
     while True:
         rclpy.spin_once(sup.node, timeout_sec=0.1)
+        if time.monotonic() - last_sample > 1.0:
+            last_sample = time.monotonic()
+            for name, child in procs.children.items():
+                st = proc_sample(child.pid)
+                if st is not None:
+                    summary.proc_stats[name] = st
         alive_agents = sum(1 for k in range(uav_count) if procs.children[f"agent_{k}"].alive())
         progress.show(sup.t_s, summary, uav_count, alive_agents)
         if sup.done:

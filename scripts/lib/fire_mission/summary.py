@@ -45,6 +45,7 @@ class LiveSummary:
     objective: dict[int, int] = field(default_factory=dict)  # uav -> its newest objective
     water_at_fault: dict[str, float] = field(default_factory=dict)  # fault text -> true water [kg]
     water_kg: dict[int, float] = field(default_factory=dict)  # uav -> true water now [kg]
+    proc_stats: dict[str, object] = field(default_factory=dict)  # process name -> last ProcSample
 
     def add(self, ev: Event) -> None:
         self.events.append(ev)
@@ -104,6 +105,14 @@ class LiveSummary:
             "last_state_t_s": {str(k): round(v, 3) for k, v in sorted(self.last_state_t.items())},
             "alive_view": {str(k): v for k, v in sorted(self.alive_view.items())},
             "final_objective": {str(k): v for k, v in sorted(self.objective.items())},
+            "processes": {
+                n: {
+                    "cpu_s": round(st.cpu_s, 2),
+                    "rss_mb": round(st.rss_mb, 1),
+                    "peak_rss_mb": round(st.peak_rss_mb, 1),
+                }
+                for n, st in sorted(self.proc_stats.items())
+            },
         }
 
 
