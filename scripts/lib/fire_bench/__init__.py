@@ -1,0 +1,1 @@
+"""Benchmarks that need processes: the messaging-only skeleton and the scale runs."""

@@ -1,0 +1,139 @@
+"""Messaging-only skeleton with the fleet's topology, as the baseline of the scale benchmark.
+
+``world``: publishes /clock and a SensorBundle per UAV (10 gyro, 2-3 altimeter, 1 GPS
+samples, like the real world at 10 Hz control / 100 Hz gyro), then waits for every agent's
+TwistStamped answering that step (lockstep), ``--steps`` times; prints steps per second.
+``agent``: on each bundle publishes a UavState and a FireEstimateArray (two fires) on the
+fleet topics, subscribes to every peer's, and answers with its command. No estimation,
+consensus or control: what is left is the cost of DDS + rclpy for this topology.
+
+usage: python -m fire_bench.skeleton world --uavs N --steps S
+       python -m fire_bench.skeleton agent --uav-id K --uavs N
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+
+import rclpy
+from fire_uav_common import topics
+from fire_uav_msgs.msg import FireEstimate, FireEstimateArray, GpsFix, SensorBundle, UavState
+from geometry_msgs.msg import TwistStamped
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Imu, Range
+
+
+class SkeletonWorld(Node):
+    def __init__(self, n: int, steps: int) -> None:
+        super().__init__("skeleton_world")
+        self.n, self.steps, self.k = n, steps, 0
+        self.clock_pub = self.create_publisher(Clock, topics.CLOCK, 10)
+        self.sensor_pubs = [
+            self.create_publisher(SensorBundle, topics.uav_topic(i, topics.SENSORS), topics.qos("lockstep"))
+            for i in range(n)
+        ]
+        self.answered: set[int] = set()
+        for i in range(n):
+            self.create_subscription(
+                TwistStamped,
+                topics.uav_topic(i, topics.CMD),
+                lambda m, i=i: self.on_cmd(i, m),
+                topics.qos("lockstep"),
+            )
+        self.t0 = None
+        self.started = False
+        self.create_timer(0.05, self.wait_for_agents)
+
+    def wait_for_agents(self) -> None:
+        if self.started:
+            return
+        if all(p.get_subscription_count() > 0 for p in self.sensor_pubs) and all(
+            self.count_publishers(topics.uav_topic(i, topics.CMD)) > 0 for i in range(self.n)
+        ):
+            self.started = True
+            self.t0 = time.monotonic()
+            self.publish_step()
+
+    def publish_step(self) -> None:
+        t_ns = (self.k + 1) * 100_000_000
+        stamp = rclpy.time.Time(nanoseconds=t_ns).to_msg()
+        self.clock_pub.publish(Clock(clock=stamp))
+        self.answered.clear()
+        for i, pub in enumerate(self.sensor_pubs):
+            b = SensorBundle(uav_id=i, step=self.k, control_period_s=0.1)
+            b.header.stamp = stamp
+            b.gyro = [Imu() for _ in range(10)]
+            b.altimeter = [Range() for _ in range(2 + self.k % 2)]
+            b.gps = [GpsFix()]
+            pub.publish(b)
+
+    def on_cmd(self, i: int, msg: TwistStamped) -> None:
+        if msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec != (self.k + 1) * 100_000_000:
+            return
+        self.answered.add(i)
+        if len(self.answered) == self.n:
+            self.k += 1
+            if self.k >= self.steps:
+                wall = time.monotonic() - self.t0
+                print(json.dumps({"steps": self.k, "wall_s": wall, "steps_per_s": self.k / wall}), flush=True)
+                raise SystemExit(0)
+            self.publish_step()
+
+
+class SkeletonAgent(Node):
+    def __init__(self, k: int, n: int) -> None:
+        super().__init__("skeleton_agent", namespace=topics.uav_namespace(k))
+        self.k, self.seq = k, 0
+        self.cmd_pub = self.create_publisher(TwistStamped, topics.CMD, topics.qos("lockstep"))
+        self.state_pub = self.create_publisher(UavState, topics.FLEET_STATE, topics.qos("fleet"))
+        self.fires_pub = self.create_publisher(FireEstimateArray, topics.FLEET_FIRES, topics.qos("fleet"))
+        self.create_subscription(SensorBundle, topics.SENSORS, self.on_bundle, topics.qos("lockstep"))
+        self.heard = 0
+        self.create_subscription(UavState, topics.FLEET_STATE, self.on_peer, topics.qos("fleet"))
+        self.create_subscription(FireEstimateArray, topics.FLEET_FIRES, self.on_peer, topics.qos("fleet"))
+
+    def on_peer(self, msg) -> None:
+        self.heard += 1
+
+    def on_bundle(self, b: SensorBundle) -> None:
+        self.seq += 1
+        s = UavState(uav_id=self.k, sequence=self.seq, step=b.step)
+        s.header.stamp = b.header.stamp
+        self.state_pub.publish(s)
+        f = FireEstimateArray(
+            uav_id=self.k, sequence=self.seq, step=b.step, fires=[FireEstimate(fire_id=j) for j in range(2)]
+        )
+        f.header.stamp = b.header.stamp
+        self.fires_pub.publish(f)
+        c = TwistStamped()
+        c.header.stamp = b.header.stamp
+        c.twist.linear.x = 50.0
+        self.cmd_pub.publish(c)
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="skeleton")
+    p.add_argument("role", choices=["world", "agent"])
+    p.add_argument("--uavs", type=int, required=True)
+    p.add_argument("--uav-id", type=int, default=0)
+    p.add_argument("--steps", type=int, default=300)
+    a = p.parse_args(argv)
+    rclpy.init()
+    node = SkeletonWorld(a.uavs, a.steps) if a.role == "world" else SkeletonAgent(a.uav_id, a.uavs)
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException, SystemExit):
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
