@@ -20,8 +20,6 @@ setup(
     description="Shared ROS-free pieces of the fire UAV fleet: topic names and QoS, seeded RNG streams, terrain.",
     license="Apache-2.0",
     entry_points={
-        "console_scripts": [
-
-        ],
+        "console_scripts": [],
     },
 )
