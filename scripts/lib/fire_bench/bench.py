@@ -1,0 +1,395 @@
+"""scripts/bench: benchmarks that reproduce the papers' results and measure scale.
+
+usage: scripts/bench [--quick] [--only NAME ...] [--out DIR] [--list]
+
+Each sub-benchmark prints its figures and returns a JSON-able dict; everything lands in
+``<out>/results.json`` (default ``docs/bench/``), plots beside it, and ``docs/benchmarks.md``
+is regenerated from the results with the command and the machine they came from. Figures are
+measured, never asserted: machines are shared and noisy.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[3]
+SCEN_DIR = ROOT / "ros2_ws/src/fire_world_sim/scenarios"
+
+# FF Table I: fleet size -> (mean drop interval [steps of the paper's sim], drops)
+FF_TABLE_I = {
+    3: (235, 9),
+    4: (163, 12),
+    5: (143, 15),
+    6: (129, 18),
+    7: (139, 17),
+    8: (135, 17),
+    9: (138, 17),
+    10: (132, 17),
+    11: (122, 19),
+    12: (110, 21),
+    13: (96, 24),
+    14: (95, 24),
+}
+
+
+def log(msg: str) -> None:
+    print(f"[bench] {msg}", file=sys.stderr, flush=True)
+
+
+def machine() -> dict:
+    cpu = "unknown"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    mem_gib = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
+    commit = subprocess.run(
+        ["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=False
+    ).stdout.strip()
+    return {
+        "cpu": cpu,
+        "cores": os.cpu_count(),
+        "mem_gib": round(mem_gib, 1),
+        "python": platform.python_version(),
+        "os": platform.platform(),
+        "commit": commit,
+        "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+    }
+
+
+# --- running missions -----------------------------------------------------------------------
+def mission(scenario: str | Path, *args: str, timeout_s: float = 1800) -> dict:
+    """One run_mission (no recording, no report); returns its summary.json."""
+    with tempfile.TemporaryDirectory(prefix="bench-") as d:
+        env = dict(
+            os.environ, PYTHONPATH=str(ROOT / "scripts/lib") + os.pathsep + os.environ.get("PYTHONPATH", "")
+        )
+        env.pop("ROS_DOMAIN_ID", None)
+        subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "fire_mission.runner",
+                str(scenario),
+                *args,
+                "--out",
+                f"{d}/run",
+                "--quiet",
+                "--no-record",
+                "--no-report",
+            ],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=timeout_s,
+            check=False,
+        )
+        p = Path(d) / "run/summary.json"
+        if not p.is_file():
+            return {"outcome": "runner_failed"}
+        return json.loads(p.read_text())
+
+
+def derived_scenario(base: str, edit: Callable[[dict], None], tmp: Path, name: str) -> Path:
+    data = yaml.safe_load((SCEN_DIR / f"{base}.yaml").read_text())
+    edit(data)
+    data["name"] = name
+    path = tmp / f"{name}.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    return path
+
+
+def _mean(xs: list[float]) -> float | None:
+    xs = [x for x in xs if x is not None]
+    return sum(xs) / len(xs) if xs else None
+
+
+# --- sub-benchmarks ---------------------------------------------------------------------------
+def bench_table1(quick: bool) -> dict:
+    """FF Table I: mean interval between consecutive drops and number of drops vs fleet size."""
+    sizes = [3, 5, 8] if quick else list(range(3, 15))
+    seeds = [1] if quick else [1, 2, 3]
+    rows = []
+    for n in sizes:
+        runs = []
+        for s in seeds:
+            log(f"table1: {n} UAVs, seed {s}")
+            runs.append(mission("ff_two_fires", "--uavs", str(n), "--seed", str(s)))
+        intervals = [r.get("mean_inter_drop_interval_s") for r in runs]
+        rows.append(
+            {
+                "uavs": n,
+                "seeds": seeds,
+                "mean_interval_s": _mean(intervals),
+                "drops": _mean([r.get("drops_total") for r in runs]),
+                "mission_time_s": _mean([r.get("mission_time_s") for r in runs]),
+                "completed": sum(r.get("outcome") == "complete" for r in runs),
+                "paper_interval": FF_TABLE_I.get(n, (None, None))[0],
+                "paper_drops": FF_TABLE_I.get(n, (None,) * 2)[1],
+            }
+        )
+    base = next((r for r in rows if r["mean_interval_s"]), None)
+    for r in rows:
+        if base and r["mean_interval_s"]:
+            r["scaling_efficiency"] = (
+                base["mean_interval_s"] * base["uavs"] / (r["mean_interval_s"] * r["uavs"])
+            )
+    return {"rows": rows}
+
+
+def bench_fire_share(quick: bool) -> dict:
+    """FF Figs. 14-15: share of drops per fire vs its share of area; drops vs second fire size."""
+    out: dict = {}
+    with tempfile.TemporaryDirectory() as d:
+        sizes = [25, 50] if quick else [15, 20, 25, 30, 40, 50]
+        rows = []
+        for sigma in sizes:
+
+            def edit(data: dict, sigma: float = sigma) -> None:
+                data["fires"]["analytic"][0]["sigma_m"] = 50.0
+                data["fires"]["analytic"][1]["sigma_m"] = float(sigma)
+
+            path = derived_scenario("ff_two_fires", edit, Path(d), f"ff_f2_{sigma}")
+            log(f"fire_share: second fire sigma {sigma} m")
+            r = mission(path, "--uavs", "5", "--seed", "1")
+            per = r.get("drops_per_fire", {})
+            rows.append(
+                {
+                    "sigma2_m": sigma,
+                    "drops_fire0": per.get("0", 0),
+                    "drops_fire1": per.get("1", 0),
+                    "missed": per.get("missed", 0),
+                    "outcome": r.get("outcome"),
+                }
+            )
+        out["rows"] = rows
+        r25 = next((r for r in rows if r["sigma2_m"] == 25), None)
+        if r25 and r25["drops_fire0"] + r25["drops_fire1"]:
+            tot = r25["drops_fire0"] + r25["drops_fire1"]
+            out["share_fire0_at_25m"] = r25["drops_fire0"] / tot
+            out["paper_share_fire0"] = 0.726
+    return out
+
+
+def bench_faults(quick: bool) -> dict:
+    """Mission time and drops with 0, 1, 2 agents killed, and with 0%, 5%, 20%, 50% loss."""
+    seeds = [1] if quick else [1, 2, 3]
+    rows = []
+    cases = [("none", []), ("kill 1", ["--kill", "1@30"]), ("kill 2", ["--kill", "1@30", "--kill", "3@30"])]
+    cases += [(f"loss {p:.0%}", ["--loss", str(p)]) for p in ([0.2, 0.5] if quick else [0.0, 0.05, 0.2, 0.5])]
+    for name, extra in cases:
+        runs = []
+        for s in seeds:
+            log(f"faults: {name}, seed {s}")
+            runs.append(mission("ff_two_fires", "--uavs", "5", "--seed", str(s), *extra))
+        rows.append(
+            {
+                "case": name,
+                "mission_time_s": _mean([r.get("mission_time_s") for r in runs]),
+                "drops": _mean([r.get("drops_total") for r in runs]),
+                "completed": f"{sum(r.get('outcome') == 'complete' for r in runs)}/{len(runs)}",
+            }
+        )
+    return {"rows": rows}
+
+
+def _skeleton(n: int, steps: int) -> dict:
+    from fire_mission.procs import ProcessGroup, private_domain_id
+    from fire_mission.procstat import sample
+
+    env = dict(
+        os.environ,
+        ROS_DOMAIN_ID=str(private_domain_id()),
+        PYTHONPATH=str(ROOT / "scripts/lib") + os.pathsep + os.environ.get("PYTHONPATH", ""),
+    )
+    with tempfile.TemporaryDirectory() as d, ProcessGroup(Path(d), env) as g:
+        for k in range(n):
+            g.start(
+                f"agent_{k}",
+                [sys.executable, "-m", "fire_bench.skeleton", "agent", "--uav-id", str(k), "--uavs", str(n)],
+            )
+        w = g.start(
+            "world",
+            [sys.executable, "-m", "fire_bench.skeleton", "world", "--uavs", str(n), "--steps", str(steps)],
+        )
+        stats: dict = {}
+        t_end = time.monotonic() + 600
+        while w.alive() and time.monotonic() < t_end:
+            for name, c in g.children.items():
+                st = sample(c.pid)
+                if st:
+                    stats[name] = st
+            time.sleep(0.5)
+        line = (Path(d) / "world.log").read_text().strip().splitlines()
+        result = json.loads(line[-1]) if line and line[-1].startswith("{") else {"steps_per_s": None}
+    agents = [v for k, v in stats.items() if k.startswith("agent")]
+    result["agent_cpu_s_mean"] = _mean([a.cpu_s for a in agents])
+    result["agent_rss_mb_mean"] = _mean([a.rss_mb for a in agents])
+    result["world_rss_mb"] = stats["world"].rss_mb if "world" in stats else None
+    return result
+
+
+def bench_scale(quick: bool) -> dict:
+    """Lockstep step rate, CPU and memory per process for N UAVs, against the messaging skeleton."""
+    sizes = [3, 5, 10] if quick else [3, 5, 10, 14, 20, 30]
+    duration = 15.0 if quick else 30.0
+    rows = []
+    for n in sizes:
+        log(f"scale: skeleton with {n} UAVs")
+        sk = _skeleton(n, int(duration * 10))
+        log(f"scale: fleet with {n} UAVs for {duration:g} s of mission time")
+        r = mission("ff_two_fires", "--uavs", str(n), "--seed", "1", "--max-duration", str(duration))
+        procs = r.get("processes", {})
+        agents = [v for k, v in procs.items() if k.startswith("agent")]
+        rate = r.get("steps_per_wall_s")
+        rows.append(
+            {
+                "uavs": n,
+                "steps_per_s": rate,
+                "skeleton_steps_per_s": sk.get("steps_per_s"),
+                "slowdown_vs_skeleton": (sk["steps_per_s"] / rate)
+                if rate and sk.get("steps_per_s")
+                else None,
+                "agent_cpu_s_per_step": (_mean([a["cpu_s"] for a in agents]) / (duration * 10))
+                if agents
+                else None,
+                "skeleton_agent_cpu_s_per_step": (sk["agent_cpu_s_mean"] / (duration * 10))
+                if sk.get("agent_cpu_s_mean")
+                else None,
+                "agent_rss_mb": _mean([a["rss_mb"] for a in agents]),
+                "skeleton_agent_rss_mb": sk.get("agent_rss_mb_mean"),
+                "world_cpu_s": procs.get("world", {}).get("cpu_s"),
+                "world_rss_mb": procs.get("world", {}).get("rss_mb"),
+            }
+        )
+    return {"mission_time_s": duration, "rows": rows}
+
+
+def _script(name: str, quick: bool) -> dict:
+    """Run a library benchmark script (scripts/bench_<name>.py); keep its printed figures."""
+    path = ROOT / "scripts" / f"bench_{name}.py"
+    if not path.is_file():
+        return {"status": f"missing: {path.name}"}
+    args = [sys.executable, str(path)] + (["--quick"] if quick else [])
+    t0 = time.monotonic()
+    p = subprocess.run(
+        args,
+        capture_output=True,
+        text=True,
+        check=False,
+        timeout=3600,
+        env=dict(
+            os.environ,
+            PYTHONPATH=os.pathsep.join(
+                [
+                    str(ROOT / "ros2_ws/src" / pk)
+                    for pk in (
+                        "fire_uav_common",
+                        "fire_world_sim",
+                        "fire_uav_agent",
+                        "fire_perimeter_monitor",
+                    )
+                ]
+                + [str(ROOT / "scripts/lib"), os.environ.get("PYTHONPATH", "")]
+            ),
+        ),
+    )
+    out = {
+        "command": " ".join(["scripts/" + path.name] + (["--quick"] if quick else [])),
+        "exit_code": p.returncode,
+        "wall_s": round(time.monotonic() - t0, 1),
+        "stdout": p.stdout[-6000:],
+    }
+    if p.returncode != 0:
+        out["stderr"] = p.stderr[-2000:]
+    return out
+
+
+BENCHES: dict[str, tuple[Callable[[bool], dict], float, float, str]] = {
+    # name: (function, quick minutes, full minutes, what)
+    "ekf": (lambda q: _script("agent", q), 0.5, 2, "FF Fig. 4: EKF error bounds; agent CPU per step"),
+    "world": (
+        lambda q: _script("world", q),
+        0.5,
+        2,
+        "world step cost, analytic and 200x200 raster, 5 and 14 UAVs",
+    ),
+    "perimeter": (
+        lambda q: _script("perimeter", q),
+        1,
+        3,
+        "PM Figs. 11, 16: direction changes vs alpha; importance vs circling",
+    ),
+    "search": (lambda q: _script("search", q), 1, 5, "CP Fig. 8: Bayesian optimisation vs random sampling"),
+    "record": (
+        lambda q: _script("record", q),
+        1,
+        3,
+        "recorder CPU and bytes per mission second; report time",
+    ),
+    "scale": (
+        bench_scale,
+        2.5,
+        20,
+        "lockstep step rate, CPU, memory vs fleet size, against the messaging skeleton",
+    ),
+    "table1": (bench_table1, 3, 90, "FF Table I: drop interval and drops vs fleet size"),
+    "fire_share": (bench_fire_share, 2, 15, "FF Figs. 14-15: drops per fire vs fire size"),
+    "faults": (bench_faults, 3, 40, "crash and loss: mission time and drops"),
+}
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="bench", description=__doc__.split("\n\n")[0])
+    p.add_argument(
+        "--quick", action="store_true", help="small version of each benchmark (< 10 minutes in all)"
+    )
+    p.add_argument("--only", nargs="+", choices=list(BENCHES), help="run only these")
+    p.add_argument("--out", type=Path, default=ROOT / "docs/bench", help="results directory")
+    p.add_argument("--list", action="store_true", help="list the benchmarks and their expected durations")
+    a = p.parse_args(argv)
+    names = a.only or list(BENCHES)
+    if a.list:
+        for n in BENCHES:
+            f, q, full, what = BENCHES[n]
+            print(f"{n:12s} quick ~{q:g} min, full ~{full:g} min  {what}")
+        return 0
+    est = sum(BENCHES[n][1 if a.quick else 2] for n in names)
+    log(f"running {', '.join(names)} ({'quick' if a.quick else 'full'}): expect about {est:.0f} minutes")
+    a.out.mkdir(parents=True, exist_ok=True)
+    results_path = a.out / "results.json"
+    results = json.loads(results_path.read_text()) if results_path.is_file() else {}
+    results["machine"] = machine()
+    for i, n in enumerate(names, 1):
+        log(f"({i}/{len(names)}) {n}: {BENCHES[n][3]}")
+        t0 = time.monotonic()
+        r = BENCHES[n][0](a.quick)
+        r["wall_s"] = round(time.monotonic() - t0, 1)
+        r["quick"] = a.quick
+        r["command"] = r.get("command") or f"scripts/bench {'--quick ' if a.quick else ''}--only {n}"
+        results[n] = r
+        results_path.write_text(json.dumps(results, indent=2, default=str) + "\n")
+        log(f"{n} done in {r['wall_s']:.0f} s")
+    from fire_bench.markdown import write_markdown
+
+    write_markdown(results, a.out, ROOT / "docs/benchmarks.md")
+    log(f"results: {results_path}; page: {ROOT / 'docs/benchmarks.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
