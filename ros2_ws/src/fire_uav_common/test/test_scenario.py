@@ -1,0 +1,246 @@
+"""Tests of fire_uav_common.scenario: defaults, shipped files, every error path."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+from fire_uav_common.scenario import Scenario, ScenarioError, load_scenario, scenario_from_dict
+from fire_uav_common.terrain import Lake, Terrain
+
+SCENARIOS = Path(__file__).resolve().parents[2] / "fire_world_sim" / "scenarios"
+
+MINIMAL = {"name": "m", "area": {"x_min_m": 0, "x_max_m": 100, "y_min_m": 0, "y_max_m": 50}}
+
+
+def write(tmp_path: Path, data: object, name: str = "s.yaml") -> Path:
+    p = tmp_path / name
+    p.write_text(yaml.safe_dump(data) if not isinstance(data, str) else data)
+    return p
+
+
+def with_(**sections: object) -> dict:
+    d = dict(MINIMAL)
+    d.update(sections)
+    return d
+
+
+def test_minimal_defaults(tmp_path: Path) -> None:
+    s = load_scenario(write(tmp_path, MINIMAL))
+    assert isinstance(s, Scenario)
+    assert s.area.x_max_m == 100.0 and s.area.width_m == 100.0 and s.area.height_m == 50.0
+    assert s.seed == 0 and s.description == ""
+    assert s.terrain == Terrain() and s.lakes == ()
+    assert s.timing.control_period_s == 0.1 and s.timing.physics_period_s == 0.01
+    assert s.timing.max_duration_s == 900.0 and s.timing.substeps == 10
+    assert s.vehicle.v_stall_mps == 44.7 and s.vehicle.v_max_mps == 100.0
+    assert s.vehicle.command_timeout_s == 3.0 and s.vehicle.water_capacity_kg == 2000.0
+    assert s.uavs.count == 5 and s.uavs.takeoff_interval_s == 2.0
+    assert s.sensors.gps.rate_hz == 10 and s.sensors.gps.sigma_m == 3.0 and s.sensors.gps.p_valid == 0.9
+    assert s.sensors.altimeter.max_range_m == 40.0 and s.sensors.altimeter.p_valid == 0.8
+    assert s.sensors.gyro.rate_hz == 100 and s.sensors.gyro.sigma_radps == 0.3
+    assert s.sensors.fire.range_m == 70.0
+    assert s.fires.model == "analytic" and s.fires.analytic == () and s.fires.raster is None
+    assert s.comms.loss_probability == 0.05 and s.comms.outages == ()
+    assert s.mission.crash_threshold_steps == 10 and s.mission.use_safety_band is True
+    assert s.path.endswith("s.yaml")
+
+
+def test_start_poses_follow_first_and_spacing(tmp_path: Path) -> None:
+    s = load_scenario(write(tmp_path, MINIMAL))
+    poses = s.uav_start_poses()
+    assert len(poses) == 5
+    assert poses[0] == pytest.approx((50.0, 250.0, 0.0, -math.pi / 2))
+    assert poses[4] == pytest.approx((50.0, 370.0, 0.0, -math.pi / 2))
+    assert len(s.uav_start_poses(14)) == 14
+    assert s.uav_start_poses(0) == []
+    assert s.takeoff_time_s(3) == pytest.approx(6.0)
+
+
+def test_documented_example_loads(tmp_path: Path) -> None:
+    doc = (Path(__file__).resolve().parents[4] / "docs" / "scenario.md").read_text()
+    example = doc.split("```yaml")[1].split("```")[0]
+    s = load_scenario(write(tmp_path, example))
+    assert s.name == "ff_two_fires"
+    assert s.lakes == (Lake(50.0, 50.0, 90.0),)
+    assert s.terrain.hills[0].height_m == 20.0
+    assert s.fires.raster is not None and s.fires.raster.fuel_patches[0].fuel_model == 5
+    assert s.fires.raster.wind[0].direction_deg == 90.0
+    assert s.comms.outages[0].from_ == 0 and s.comms.outages[0].to == 1
+
+
+@pytest.mark.parametrize("path", sorted(SCENARIOS.glob("*.yaml")), ids=lambda p: p.name)
+def test_shipped_scenarios_load(path: Path) -> None:
+    s = load_scenario(path)
+    assert s.name == path.stem
+
+
+def test_overrides(tmp_path: Path) -> None:
+    s = load_scenario(
+        write(tmp_path, MINIMAL), overrides={"seed": 7, "uavs.count": 3, "comms.loss_probability": 0}
+    )
+    assert s.seed == 7 and s.uavs.count == 3 and s.comms.loss_probability == 0.0
+    with pytest.raises(ScenarioError, match=r"s\.yaml: uavs\.count: must be >= 1, got 0"):
+        load_scenario(write(tmp_path, MINIMAL), overrides={"uavs.count": 0})
+
+
+def test_from_dict_names_dict() -> None:
+    with pytest.raises(ScenarioError, match=r"^<dict>: name: required field missing"):
+        scenario_from_dict({"area": MINIMAL["area"]})
+
+
+@pytest.mark.parametrize(
+    ("data", "match"),
+    [
+        ({"area": MINIMAL["area"]}, r"s\.yaml: name: required field missing"),
+        ({"name": "x"}, r"s\.yaml: area: required field missing"),
+        (with_(bogus=1), r"s\.yaml: bogus: unknown field"),
+        (with_(area={"x_min_m": 0, "x_max_m": 10, "y_min_m": 0}), r"area\.y_max_m: required field missing"),
+        (
+            with_(area={"x_min_m": 5, "x_max_m": 1, "y_min_m": 0, "y_max_m": 1}),
+            r"area\.x_max_m: must be > x_min_m",
+        ),
+        (
+            with_(area={"x_min_m": "a", "x_max_m": 1, "y_min_m": 0, "y_max_m": 1}),
+            r"area\.x_min_m: must be a number",
+        ),
+        (with_(area=[1, 2]), r"area: must be a mapping, got list"),
+        (with_(seed=-1), r"seed: must be >= 0, got -1"),
+        (with_(seed=1.5), r"seed: must be an integer"),
+        (
+            with_(terrain={"hills": [{"x_m": 0, "y_m": 0, "height_m": 1, "sigma_m": 0}]}),
+            r"terrain\.hills\[0\]\.sigma_m: must be > 0",
+        ),
+        (with_(terrain={"slope": 1}), r"terrain\.slope: unknown field"),
+        (
+            with_(lakes=[{"x_m": 0, "y_m": 0, "diameter_m": -3}]),
+            r"lakes\[0\]\.diameter_m: must be > 0, got -3",
+        ),
+        (with_(lakes={"x_m": 0}), r"lakes: must be a list"),
+        (with_(timing={"physics_period_s": 0.03}), r"timing\.physics_period_s: must divide control_period_s"),
+        (with_(timing={"control_period_s": 0}), r"timing\.control_period_s: must be > 0"),
+        (with_(vehicle={"v_max_mps": 40}), r"vehicle\.v_max_mps: must be > v_stall_mps"),
+        (with_(vehicle={"water_capacity_kg": 0}), r"vehicle\.water_capacity_kg: must be > 0"),
+        (with_(vehicle={"v_stal_mps": 40}), r"vehicle\.v_stal_mps: unknown field"),
+        (with_(uavs={"count": 0}), r"uavs\.count: must be >= 1"),
+        (with_(uavs={"count": 300}), r"uavs\.count: must be <= 255"),
+        (with_(uavs={"first": {"x": 1}}), r"uavs\.first\.x: unknown field"),
+        (with_(sensors={"gps": {"p_valid": 1.5}}), r"sensors\.gps\.p_valid: must be <= 1, got 1\.5"),
+        (with_(sensors={"gyro": {"rate_hz": 0}}), r"sensors\.gyro\.rate_hz: must be > 0"),
+        (with_(sensors={"lidar": {}}), r"sensors\.lidar: unknown field"),
+        (with_(fires={"model": "cellular"}), r"fires\.model: must be 'analytic' or 'raster'"),
+        (
+            with_(
+                fires={"analytic": [{"x_m": 1, "y_m": 1, "sigma_m": 5}, {"x_m": 1, "y_m": 1, "sigma_m": -3}]}
+            ),
+            r"s\.yaml: fires\.analytic\[1\]\.sigma_m: must be > 0, got -3",
+        ),
+        (
+            with_(fires={"analytic": [{"x_m": 1, "sigma_m": 5}]}),
+            r"fires\.analytic\[0\]\.y_m: required field missing",
+        ),
+        (
+            with_(fires={"analytic": [{"x_m": 1, "y_m": 1, "sigma_m": 5, "vz_mps": 1}]}),
+            r"fires\.analytic\[0\]\.vz_mps: unknown field",
+        ),
+        (with_(fires={"model": "raster"}), r"fires\.raster: required when fires\.model is 'raster'"),
+        (
+            with_(fires={"model": "raster", "raster": {"fuel_model": 14}}),
+            r"fires\.raster\.fuel_model: must be one of",
+        ),
+        (
+            with_(fires={"model": "raster", "raster": {"moisture": 0.9}}),
+            r"fires\.raster\.moisture: must be <= 0\.6",
+        ),
+        (with_(fires={"model": "raster", "raster": {"nx": 2}}), r"fires\.raster\.nx: must be >= 3"),
+        (
+            with_(
+                fires={
+                    "model": "raster",
+                    "raster": {"wind": [{"start_s": 5, "speed_mps": 1, "direction_deg": 0}]},
+                }
+            ),
+            r"fires\.raster\.wind\[0\]\.start_s: must be 0",
+        ),
+        (
+            with_(
+                fires={
+                    "model": "raster",
+                    "raster": {
+                        "wind": [
+                            {"speed_mps": 1, "direction_deg": 0},
+                            {"start_s": 0, "speed_mps": 1, "direction_deg": 0},
+                        ]
+                    },
+                }
+            ),
+            r"fires\.raster\.wind\[1\]\.start_s: must be > the previous",
+        ),
+        (
+            with_(fires={"model": "raster", "raster": {"wind": [{"speed_mps": -1, "direction_deg": 0}]}}),
+            r"fires\.raster\.wind\[0\]\.speed_mps: must be >= 0",
+        ),
+        (
+            with_(fires={"model": "raster", "raster": {"ignitions": [{"x_m": 5000, "y_m": 1}]}}),
+            r"fires\.raster\.ignitions\[0\]: \(5000, 1\) is outside the raster grid",
+        ),
+        (
+            with_(
+                fires={
+                    "model": "raster",
+                    "raster": {
+                        "fuel_patches": [
+                            {"x_min_m": 5, "x_max_m": 1, "y_min_m": 0, "y_max_m": 1, "fuel_model": 1}
+                        ]
+                    },
+                }
+            ),
+            r"fires\.raster\.fuel_patches\[0\]: must have x_max_m > x_min_m",
+        ),
+        (with_(comms={"loss_probability": 2}), r"comms\.loss_probability: must be <= 1"),
+        (
+            with_(comms={"outages": [{"from": 0, "to": 0, "start_s": 1, "end_s": 2}]}),
+            r"comms\.outages\[0\]\.to: must differ",
+        ),
+        (
+            with_(comms={"outages": [{"from": 0, "to": 1, "start_s": 3, "end_s": 2}]}),
+            r"comms\.outages\[0\]\.end_s: must be > start_s",
+        ),
+        (with_(mission={"use_safety_band": "yes"}), r"mission\.use_safety_band: must be true or false"),
+        (with_(mission={"crash_threshold_steps": 0}), r"mission\.crash_threshold_steps: must be >= 1"),
+        (
+            with_(area={"x_min_m": float("nan"), "x_max_m": 1, "y_min_m": 0, "y_max_m": 1}),
+            r"area\.x_min_m: must be finite",
+        ),
+    ],
+)
+def test_errors_name_file_and_field(tmp_path: Path, data: dict, match: str) -> None:
+    with pytest.raises(ScenarioError, match=match):
+        load_scenario(write(tmp_path, data))
+
+
+def test_file_errors(tmp_path: Path) -> None:
+    with pytest.raises(ScenarioError, match=r"nope\.yaml: file not found"):
+        load_scenario(tmp_path / "nope.yaml")
+    with pytest.raises(ScenarioError, match=r"is a directory"):
+        load_scenario(tmp_path)
+    with pytest.raises(ScenarioError, match=r"s\.yaml: invalid YAML"):
+        load_scenario(write(tmp_path, "name: [unclosed\n"))
+    with pytest.raises(ScenarioError, match=r"s\.yaml: file is empty"):
+        load_scenario(write(tmp_path, ""))
+    with pytest.raises(ScenarioError, match=r"s\.yaml: top level must be a mapping, got list"):
+        load_scenario(write(tmp_path, "- 1\n- 2\n"))
+
+
+def test_scenario_error_is_value_error() -> None:
+    assert issubclass(ScenarioError, ValueError)
+
+
+def test_dataclasses_are_frozen(tmp_path: Path) -> None:
+    s = load_scenario(write(tmp_path, MINIMAL))
+    with pytest.raises(AttributeError):
+        s.seed = 3  # type: ignore[misc]
+    with pytest.raises(AttributeError):
+        s.area.x_min_m = 3  # type: ignore[misc]

@@ -1,0 +1,26 @@
+"""Fire models behind one interface (:class:`FireModel`): analytic Gaussian (FF) and raster (PM VI)."""
+
+from .analytic import AnalyticFireModel
+from .base import STATUS_ACTIVE, STATUS_EXTINGUISHED, FireModel, FireTruthRecord
+from .raster import RasterFireModel
+
+__all__ = [
+    "STATUS_ACTIVE",
+    "STATUS_EXTINGUISHED",
+    "AnalyticFireModel",
+    "FireModel",
+    "FireTruthRecord",
+    "RasterFireModel",
+    "make_fire_model",
+]
+
+
+def make_fire_model(fires_spec, terrain, lakes=()) -> FireModel:
+    """Build the model a scenario's ``fires:`` section asks for."""
+    if fires_spec.model == "analytic":
+        return AnalyticFireModel(fires_spec.analytic, fires_spec.extinction_sigma_m, fires_spec.drop_radius_m)
+    if fires_spec.model == "raster":
+        return RasterFireModel(
+            fires_spec.raster, terrain, lakes=lakes, drop_radius_m=fires_spec.drop_radius_m
+        )
+    raise ValueError(f"unknown fire model {fires_spec.model!r}")

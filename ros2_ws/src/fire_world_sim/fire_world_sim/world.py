@@ -1,0 +1,378 @@
+"""The world without ROS: vehicles, fires, sensors and payload, one control step at a time.
+
+``World(scenario, seed, uav_count).step(commands, payload)`` performs docs/protocol.md
+"World, step k", item 1: apply the payload requests received with the previous step's
+commands (at the vehicles' true positions at t_k), apply each vehicle's command (clamped),
+integrate FF Eq. 4 at the physics period from t_k to t_{k+1} while sampling gyro, altimeter,
+GPS and fire sensors at their own rates, advance the fires to t_{k+1}, and return one
+:class:`Bundle` per vehicle not crashed, the truth and the events. Times are integers in
+nanoseconds of sim time (``stamp_ns``) so that stamps compare exactly.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from enum import IntEnum
+
+from fire_uav_common.rng import stream
+from fire_uav_common.scenario import Scenario
+
+from .errors import ConfigError
+from .fires import FireModel, FireTruthRecord, make_fire_model
+from .sensors import (
+    AltimeterSample,
+    CellsSample,
+    FireDetectionSample,
+    GpsSample,
+    GyroSample,
+    SensorSuite,
+    samples_due,
+)
+from .vehicle import Command, Status, VehicleSim
+
+__all__ = [
+    "Action",
+    "Bundle",
+    "Command",
+    "Event",
+    "EventType",
+    "Status",
+    "StepResult",
+    "VehicleTruthRecord",
+    "World",
+]
+
+
+class EventType(IntEnum):
+    """Mirrors ``MissionEvent.TYPE_*``."""
+
+    TAKEOFF = 1
+    DROP = 2
+    REFILL = 3
+    CRASH = 4
+    EXTINGUISHED = 5
+    LANDED = 6
+    COMMAND_CLAMPED = 9
+    MISSION_COMPLETE = 10
+    COMMAND_MISSED = 13
+    IGNITION = 14
+
+
+class Action(IntEnum):
+    """Mirrors ``PayloadRequest.ACTION_*``."""
+
+    DROP = 1
+    REFILL = 2
+
+
+@dataclass(frozen=True)
+class Event:
+    type: EventType
+    stamp_ns: int
+    uav_id: int = -1
+    fire_id: int = -1
+    x_m: float = math.nan
+    y_m: float = math.nan
+    value: float = 0.0
+    detail: str = ""
+
+
+@dataclass
+class Bundle:
+    """All samples one UAV took during step ``step`` (mirrors SensorBundle)."""
+
+    uav_id: int
+    step: int
+    stamp_ns: int
+    control_period_s: float
+    gyro: list[GyroSample] = field(default_factory=list)
+    altimeter: list[AltimeterSample] = field(default_factory=list)
+    gps: list[GpsSample] = field(default_factory=list)
+    fires: list[FireDetectionSample] = field(default_factory=list)
+    cells: CellsSample | None = None
+    water_kg: float = 0.0
+    vehicle_status: int = 0
+
+
+@dataclass(frozen=True)
+class VehicleTruthRecord:
+    uav_id: int
+    status: int
+    x_m: float
+    y_m: float
+    z_m: float
+    yaw_rad: float
+    v_lin_mps: float
+    v_z_mps: float
+    omega_z_radps: float
+    water_kg: float
+    commands_clamped: int
+    commands_missed: int
+
+
+@dataclass
+class StepResult:
+    step: int
+    stamp_ns: int  # t_{k+1}
+    bundles: dict[int, Bundle]
+    vehicles: list[VehicleTruthRecord]
+    fires: list[FireTruthRecord]
+    events: list[Event]
+    complete: bool = False
+    complete_reason: str = ""
+
+
+CLAMP_EVENT_PERIOD_S = 5.0  # throttle of COMMAND_CLAMPED events per vehicle [s sim]
+MISS_EVENT_EVERY = 10  # a COMMAND_MISSED event at the first miss and every N-th after
+
+
+class World:
+    """Pure world simulation; ``seed`` seeds every stream, ``uav_count`` 0 = the scenario's."""
+
+    def __init__(self, scenario: Scenario, seed: int | None = None, uav_count: int = 0) -> None:
+        if uav_count < 0 or uav_count > 255:
+            raise ConfigError(f"uav_count must be in 0..255, got {uav_count}")
+        self.scenario = scenario
+        self.seed = scenario.seed if seed is None else int(seed)
+        if self.seed < 0:
+            raise ConfigError(f"seed must be >= 0, got {self.seed}")
+        self.uav_count = uav_count or scenario.uavs.count
+        tm = scenario.timing
+        self.period_ns = round(tm.control_period_s * 1e9)
+        self.substeps = tm.substeps
+        self.dt_ns = self.period_ns // self.substeps
+        if self.dt_ns * self.substeps != self.period_ns:
+            raise ConfigError("physics_period_s must divide control_period_s in whole nanoseconds")
+        self.dt_s = self.dt_ns * 1e-9
+        self.control_period_s = self.period_ns * 1e-9
+        self.max_steps = math.ceil(tm.max_duration_s / tm.control_period_s - 1e-9)
+        self.vehicles = [
+            VehicleSim(
+                i,
+                scenario.vehicle,
+                pose,
+                scenario.terrain,
+                scenario.lakes,
+                stream(self.seed, "process_noise", i),
+            )
+            for i, pose in enumerate(scenario.uav_start_poses(self.uav_count))
+        ]
+        self.sensors = [SensorSuite(scenario.sensors, self.seed, i) for i in range(self.uav_count)]
+        self.fires: FireModel = make_fire_model(scenario.fires, scenario.terrain, scenario.lakes)
+        self.step_index = 0
+        self._last_clamp_event_ns = [-(10**18)] * self.uav_count
+        self.complete = False
+        self.complete_reason = ""
+
+    # --- queries -----------------------------------------------------------------------------
+    @property
+    def t_ns(self) -> int:
+        """Sim time t_k at the start of the next step [ns]."""
+        return self.step_index * self.period_ns
+
+    def stamp_ns(self, step: int) -> int:
+        """Stamp of bundle ``step``: t_{step+1} [ns]."""
+        return (step + 1) * self.period_ns
+
+    def awaited_uavs(self) -> list[int]:
+        """Agents the lockstep waits for: vehicle not crashed and agent not silent past the timeout."""
+        return [v.uav_id for v in self.vehicles if v.status != Status.CRASHED and v.responsive]
+
+    def live_uavs(self) -> list[int]:
+        """Vehicles that still receive bundles (not crashed)."""
+        return [v.uav_id for v in self.vehicles if v.status != Status.CRASHED]
+
+    # --- the step ----------------------------------------------------------------------------
+    def step(
+        self, commands: dict[int, Command | None], payload: dict[int, list[int]] | None = None
+    ) -> StepResult:
+        """Advance one control step k. ``commands[i]``: UAV i's command stamped t_k (None/absent =
+        missed); ``payload[i]``: ``Action`` values stamped t_k, applied first at the true positions."""
+        k = self.step_index
+        t0_ns = k * self.period_ns
+        t0_s = t0_ns * 1e-9
+        events: list[Event] = []
+        # 1. payload requests stamped t_k (sent with the commands answering bundle k-1)
+        for uid, actions in sorted((payload or {}).items()):
+            if 0 <= uid < self.uav_count:
+                for a in actions:
+                    events += self._apply_payload(uid, int(a), t0_ns)
+        # 2. commands (step 0 answers no bundle: a missing command there is not a miss)
+        for v in self.vehicles:
+            was = v.status
+            cmd = commands.get(v.uav_id)
+            if cmd is None and k == 0:
+                continue
+            out = v.accept_command(cmd, self.control_period_s)
+            events += self._command_events(v, was, out, t0_ns)
+        bundles = {
+            v.uav_id: Bundle(v.uav_id, k, self.stamp_ns(k), self.control_period_s)
+            for v in self.vehicles
+            if v.status != Status.CRASHED
+        }
+        # 3. physics substeps + sensor sampling
+        for j in range(self.substeps):
+            prev_ns = t0_ns + j * self.dt_ns
+            now_ns = prev_ns + self.dt_ns
+            for v in self.vehicles:
+                if v.status == Status.CRASHED:
+                    continue
+                v.substep(self.dt_s)
+                taken = v.refill_tick(self.dt_s)
+                if taken > 0:
+                    events.append(
+                        Event(EventType.REFILL, now_ns, v.uav_id, -1, v.x_m, v.y_m, taken, "tank full")
+                    )
+                self._sample(v, bundles[v.uav_id], prev_ns, now_ns)
+        # 4. fires
+        t1_ns = t0_ns + self.period_ns
+        for fid, what in self.fires.step(t0_s, self.control_period_s):
+            fires = self.fires.truth()
+            f = fires[fid]
+            et = EventType.IGNITION if what == "ignition" else EventType.EXTINGUISHED
+            events.append(Event(et, t1_ns, -1, fid, f.x_m, f.y_m, 0.0, what))
+        # 5. fire sensor (rate-limited, against the fire state at t_{k+1})
+        spec = self.scenario.sensors.fire
+        for v in self.vehicles:
+            if v.status == Status.CRASHED:
+                continue
+            b = bundles[v.uav_id]
+            for j in range(self.substeps):
+                now_ns = t0_ns + (j + 1) * self.dt_ns
+                if samples_due(now_ns - self.dt_ns, now_ns, spec.rate_hz):
+                    seen = self.fires.detections_near(v.x_m, v.y_m, spec.range_m)
+                    b.fires += self.sensors[v.uav_id].sample_fires(now_ns, v.x_m, v.y_m, seen)
+            b.cells = self.fires.cells_near(v.x_m, v.y_m, spec.range_m, t1_ns)
+            b.water_kg = v.water_kg
+            b.vehicle_status = int(v.status)
+        self.step_index += 1
+        fires = self.fires.truth()
+        vehicles = [self._vehicle_truth(v) for v in self.vehicles]
+        if not self.complete:
+            down = all(v.status in (Status.LANDED, Status.CRASHED, Status.ON_GROUND) for v in self.vehicles)
+            airborne_ever = any(v.status != Status.ON_GROUND for v in self.vehicles)
+            success = False
+            if self.fires.all_out and down and airborne_ever:
+                self.complete, self.complete_reason = True, "all fires out and every surviving vehicle landed"
+                success = True
+            elif self.step_index >= self.max_steps:
+                self.complete = True
+                self.complete_reason = f"max_duration_s reached ({self.scenario.timing.max_duration_s:g} s)"
+            if self.complete:
+                events.append(
+                    # value 1 = success, 0 = time limit (docs/protocol.md, Events)
+                    Event(
+                        EventType.MISSION_COMPLETE,
+                        t1_ns,
+                        value=1.0 if success else 0.0,
+                        detail=self.complete_reason,
+                    )
+                )
+        return StepResult(k, t1_ns, bundles, vehicles, fires, events, self.complete, self.complete_reason)
+
+    # --- helpers -----------------------------------------------------------------------------
+    def _sample(self, v: VehicleSim, b: Bundle, prev_ns: int, now_ns: int) -> None:
+        s = self.scenario.sensors
+        suite = self.sensors[v.uav_id]
+        if samples_due(prev_ns, now_ns, s.gyro.rate_hz):
+            g = suite.sample_gyro(now_ns, v.yaw_rate_radps)
+            if g is not None:
+                b.gyro.append(g)
+        if samples_due(prev_ns, now_ns, s.altimeter.rate_hz):
+            a = suite.sample_altimeter(now_ns, v.height_above_terrain_m())
+            if a is not None:
+                b.altimeter.append(a)
+        if samples_due(prev_ns, now_ns, s.gps.rate_hz):
+            p = suite.sample_gps(now_ns, v.x_m, v.y_m)
+            if p is not None:
+                b.gps.append(p)
+
+    def _command_events(self, v: VehicleSim, was: Status, out, t_ns: int) -> list[Event]:
+        ev = []
+        uid = v.uav_id
+        if out.took_off:
+            ev.append(Event(EventType.TAKEOFF, t_ns, uid, -1, v.x_m, v.y_m, 0.0, "takeoff"))
+        if out.landed:
+            ev.append(Event(EventType.LANDED, t_ns, uid, -1, v.x_m, v.y_m, 0.0, "landed"))
+        if out.crashed:
+            ev.append(Event(EventType.CRASH, t_ns, uid, -1, v.x_m, v.y_m, 0.0, v.crash_reason))
+        if out.clamped and t_ns - self._last_clamp_event_ns[uid] >= CLAMP_EVENT_PERIOD_S * 1e9:
+            self._last_clamp_event_ns[uid] = t_ns
+            ev.append(
+                Event(
+                    EventType.COMMAND_CLAMPED,
+                    t_ns,
+                    uid,
+                    -1,
+                    v.x_m,
+                    v.y_m,
+                    float(v.commands_clamped),
+                    "command outside the vehicle limits",
+                )
+            )
+        if out.missed and was != Status.CRASHED and (v.commands_missed - 1) % MISS_EVENT_EVERY == 0:
+            ev.append(
+                Event(
+                    EventType.COMMAND_MISSED,
+                    t_ns,
+                    uid,
+                    -1,
+                    v.x_m,
+                    v.y_m,
+                    float(v.commands_missed),
+                    "no valid command for this step",
+                )
+            )
+        return ev
+
+    def _apply_payload(self, uid: int, action: int, t_ns: int) -> list[Event]:
+        v = self.vehicles[uid]
+        if v.status == Status.CRASHED:
+            return []
+        if action == Action.DROP:
+            kg = v.release_water()
+            if v.status != Status.AIRBORNE:
+                return []
+            hit = self.fires.apply_drop(v.x_m, v.y_m, None) if kg > 0 else []
+            ev = [
+                Event(
+                    EventType.DROP,
+                    t_ns,
+                    uid,
+                    hit[0] if hit else -1,
+                    v.x_m,
+                    v.y_m,
+                    kg,
+                    f"hit fires {hit}" if hit else ("missed" if kg > 0 else "tank empty"),
+                )
+            ]
+            truth = self.fires.truth()
+            for fid in hit:
+                if truth[fid].status == 1 and self.scenario.fires.model == "analytic":
+                    ev.append(
+                        Event(
+                            EventType.EXTINGUISHED, t_ns, -1, fid, truth[fid].x_m, truth[fid].y_m, 0.0, "drop"
+                        )
+                    )
+            return ev
+        if action == Action.REFILL:
+            v.request_refill()
+        return []
+
+    @staticmethod
+    def _vehicle_truth(v: VehicleSim) -> VehicleTruthRecord:
+        return VehicleTruthRecord(
+            v.uav_id,
+            int(v.status),
+            v.x_m,
+            v.y_m,
+            v.z_m,
+            v.yaw_rad,
+            v.v_lin_mps,
+            v.v_z_mps,
+            v.omega_z_radps,
+            v.water_kg,
+            v.commands_clamped,
+            v.commands_missed,
+        )

@@ -1,0 +1,492 @@
+"""ROS 2 adapter of :class:`fire_world_sim.world.World`: the clock authority of the fleet.
+
+Publishes ``/clock``, one ``SensorBundle`` per vehicle per control step, ``/world/truth``,
+``/world/events``, ``/viz/world`` and ``/viz/fire_grid``; subscribes ``/uav_<k>/cmd`` and
+``/uav_<k>/payload`` (docs/protocol.md). The world itself runs on the steady wall clock;
+lockstep waiting is a steady-clock timer reset at each step, never a sleep.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import dataclass
+
+import rclpy
+from builtin_interfaces.msg import Time
+from fire_uav_common import topics
+from fire_uav_common.scenario import ScenarioError, load_scenario
+from fire_uav_msgs.msg import (
+    FireDetection,
+    FireTruth,
+    GpsFix,
+    MissionEvent,
+    PayloadRequest,
+    SensorBundle,
+    VehicleTruth,
+    WorldTruth,
+)
+from geometry_msgs.msg import Point, TwistStamped
+from nav_msgs.msg import OccupancyGrid
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rclpy.clock import Clock, ClockType
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.task import Future
+from rosgraph_msgs.msg import Clock as ClockMsg
+from sensor_msgs.msg import Imu, Range
+from visualization_msgs.msg import Marker, MarkerArray
+
+from .errors import ConfigError
+from .fires.raster import RasterFireModel
+from .world import Bundle, Command, Event, StepResult, World
+
+FRAME = "map"
+
+
+@dataclass(frozen=True)
+class WorldNodeConfig:
+    scenario_file: str
+    seed: int
+    uav_count: int
+    mode: str
+    real_time_factor: float
+    lockstep_timeout_wall_s: float
+    startup_timeout_wall_s: float
+    max_duration_s: float
+    viz_rate_hz: float
+
+
+def stamp(ns: int) -> Time:
+    return Time(sec=int(ns // 1_000_000_000), nanosec=int(ns % 1_000_000_000))
+
+
+def stamp_to_ns(t: Time) -> int:
+    return int(t.sec) * 1_000_000_000 + int(t.nanosec)
+
+
+class WorldNode(Node):
+    """World simulation node; see the package README for parameters and topics."""
+
+    def __init__(self) -> None:
+        super().__init__("world")
+        self.cfg = self._read_parameters()
+        overrides = (
+            {"timing.max_duration_s": self.cfg.max_duration_s} if self.cfg.max_duration_s > 0 else None
+        )
+        scenario = load_scenario(self.cfg.scenario_file, overrides=overrides)
+        seed = scenario.seed if self.cfg.seed < 0 else self.cfg.seed
+        self.world = World(scenario, seed, self.cfg.uav_count)
+        self.n = self.world.uav_count
+        self.get_logger().info(
+            f"scenario {scenario.name!r} ({self.cfg.scenario_file}), seed {seed}, {self.n} UAVs, "
+            f"fires {scenario.fires.model}, mode {self.cfg.mode}"
+        )
+        self.done = Future()
+        self._steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self.pub_clock = self.create_publisher(ClockMsg, topics.CLOCK, topics.qos("lockstep"))
+        self.pub_truth = self.create_publisher(WorldTruth, topics.WORLD_TRUTH, topics.qos("truth"))
+        self.pub_events = self.create_publisher(MissionEvent, topics.WORLD_EVENTS, topics.qos("events"))
+        self.pub_viz = self.create_publisher(MarkerArray, topics.VIZ_WORLD, topics.qos("viz"))
+        self.pub_grid = self.create_publisher(OccupancyGrid, topics.VIZ_FIRE_GRID, topics.qos("viz"))
+        self.pub_sensors = {}
+        for i in range(self.n):
+            self.pub_sensors[i] = self.create_publisher(
+                SensorBundle, topics.uav_topic(i, topics.SENSORS), topics.qos("lockstep")
+            )
+            self.create_subscription(
+                TwistStamped,
+                topics.uav_topic(i, topics.CMD),
+                lambda m, i=i: self._on_cmd(i, m),
+                topics.qos("lockstep"),
+            )
+            self.create_subscription(
+                PayloadRequest,
+                topics.uav_topic(i, topics.PAYLOAD),
+                lambda m, i=i: self._on_payload(i, m),
+                topics.qos("lockstep"),
+            )
+        self._commands: dict[int, Command | None] = {}
+        self._payload: dict[int, list[int]] = {}
+        self._awaited_ns = 0  # stamp the answers must carry (t_k of the next step)
+        self._waiting: set[int] = set()
+        self._started = False
+        self._last_viz_ns = -(10**18)
+        self._viz_period_ns = int(1e9 / self.cfg.viz_rate_hz)
+        self._start_wall_ns = self._steady.now().nanoseconds
+        self.pub_clock.publish(ClockMsg(clock=stamp(0)))
+        if self.cfg.mode == "lockstep":
+            self._startup_timer = self.create_timer(0.05, self._check_startup, clock=self._steady)
+            self._lockstep_timer = self.create_timer(
+                self.cfg.lockstep_timeout_wall_s, self._on_lockstep_timeout, clock=self._steady
+            )
+            self._lockstep_timer.cancel()
+        else:
+            period = self.world.control_period_s / self.cfg.real_time_factor
+            self._rt_timer = self.create_timer(period, self._on_realtime_tick, clock=self._steady)
+
+    # --- parameters --------------------------------------------------------------------------
+    def _read_parameters(self) -> WorldNodeConfig:
+        def d(text: str, **kw: object) -> ParameterDescriptor:
+            return ParameterDescriptor(description=text, read_only=True, **kw)
+
+        def frange(lo: float, hi: float) -> list[FloatingPointRange]:
+            return [FloatingPointRange(from_value=lo, to_value=hi, step=0.0)]
+
+        self.declare_parameter("scenario_file", "", d("scenario YAML (required)"))
+        self.declare_parameter(
+            "seed",
+            -1,
+            d(
+                "RNG seed; -1 = the scenario's",
+                integer_range=[IntegerRange(from_value=-1, to_value=2**31 - 1, step=1)],
+            ),
+        )
+        self.declare_parameter(
+            "uav_count",
+            0,
+            d(
+                "vehicles; 0 = the scenario's",
+                integer_range=[IntegerRange(from_value=0, to_value=255, step=1)],
+            ),
+        )
+        self.declare_parameter("mode", "lockstep", d("lockstep | realtime"))
+        self.declare_parameter("real_time_factor", 1.0, d("realtime mode: sim seconds per wall second (> 0)"))
+        self.declare_parameter(
+            "lockstep_timeout_wall_s",
+            0.5,
+            d("[s wall] wait for commands per step", floating_point_range=frange(0.001, 60.0)),
+        )
+        self.declare_parameter(
+            "startup_timeout_wall_s",
+            30.0,
+            d("[s wall] wait for agents before step 0", floating_point_range=frange(0.0, 3600.0)),
+        )
+        self.declare_parameter("max_duration_s", 0.0, d("[s sim] mission limit; 0 = the scenario's"))
+        self.declare_parameter(
+            "viz_rate_hz",
+            2.0,
+            d("[Hz sim] /viz/* publication rate", floating_point_range=frange(0.01, 100.0)),
+        )
+        g = self.get_parameter
+        cfg = WorldNodeConfig(
+            scenario_file=g("scenario_file").value,
+            seed=int(g("seed").value),
+            uav_count=int(g("uav_count").value),
+            mode=str(g("mode").value),
+            real_time_factor=float(g("real_time_factor").value),
+            lockstep_timeout_wall_s=float(g("lockstep_timeout_wall_s").value),
+            startup_timeout_wall_s=float(g("startup_timeout_wall_s").value),
+            max_duration_s=float(g("max_duration_s").value),
+            viz_rate_hz=float(g("viz_rate_hz").value),
+        )
+        if not cfg.scenario_file:
+            raise ConfigError("parameter scenario_file is required (path to a scenario YAML)")
+        if cfg.mode not in ("lockstep", "realtime"):
+            raise ConfigError(f"parameter mode must be 'lockstep' or 'realtime', got {cfg.mode!r}")
+        if not (math.isfinite(cfg.real_time_factor) and cfg.real_time_factor > 0):
+            raise ConfigError(f"parameter real_time_factor must be > 0, got {cfg.real_time_factor}")
+        if not (math.isfinite(cfg.max_duration_s) and cfg.max_duration_s >= 0):
+            raise ConfigError(f"parameter max_duration_s must be >= 0, got {cfg.max_duration_s}")
+        return cfg
+
+    # --- lockstep ----------------------------------------------------------------------------
+    def _check_startup(self) -> None:
+        missing = [
+            i
+            for i in range(self.n)
+            if self.count_publishers(topics.uav_topic(i, topics.CMD)) == 0
+            or self.count_subscribers(topics.uav_topic(i, topics.SENSORS)) == 0
+        ]
+        waited_s = (self._steady.now().nanoseconds - self._start_wall_ns) * 1e-9
+        if missing and waited_s < self.cfg.startup_timeout_wall_s:
+            self.pub_clock.publish(ClockMsg(clock=stamp(0)))
+            return
+        self._startup_timer.cancel()
+        if missing:
+            self.get_logger().warn(f"starting without agents {missing} after {waited_s:.1f} s")
+            for i in missing:
+                self.world.vehicles[i].responsive = False
+        else:
+            self.get_logger().info(f"all {self.n} agents present after {waited_s:.1f} s; starting")
+        self._started = True
+        self._advance()
+
+    def _advance(self) -> None:
+        """Run one world step with what was received, publish, and wait for the answers."""
+        if self.done.done():
+            return
+        result = self.world.step(self._commands, self._payload)
+        self._commands, self._payload = {}, {}
+        self._publish(result)
+        if result.complete:
+            self._finish(result)
+            return
+        self._awaited_ns = result.stamp_ns
+        if self.cfg.mode == "lockstep":
+            self._waiting = set(self.world.awaited_uavs())
+            if not self._waiting:
+                self._advance_soon()
+                return
+            self._lockstep_timer.reset()
+
+    def _advance_soon(self) -> None:
+        # nobody to wait for: step on the next executor turn (no recursion, no sleep)
+        self._lockstep_timer.cancel()
+        t = self.create_timer(0.0, lambda: (self.destroy_timer(t), self._advance()), clock=self._steady)
+
+    def _on_lockstep_timeout(self) -> None:
+        self._lockstep_timer.cancel()
+        if self._waiting:
+            self.get_logger().debug(f"step {self.world.step_index}: no command from {sorted(self._waiting)}")
+        self._waiting = set()
+        self._advance()
+
+    def _on_cmd(self, uid: int, msg: TwistStamped) -> None:
+        t = msg.twist
+        cmd = Command(float(t.linear.x), float(t.linear.z), float(t.angular.z))
+        if self.cfg.mode == "realtime":
+            self._commands[uid] = cmd
+            return
+        if not self._started or stamp_to_ns(msg.header.stamp) != self._awaited_ns:
+            return  # an old (or early) stamp is ignored
+        self._commands[uid] = cmd if cmd.is_finite() else None
+        self._waiting.discard(uid)
+        if not self._waiting and not self.done.done():
+            self._lockstep_timer.cancel()
+            self._advance()
+
+    def _on_payload(self, uid: int, msg: PayloadRequest) -> None:
+        if msg.action not in (PayloadRequest.ACTION_DROP, PayloadRequest.ACTION_REFILL):
+            self.get_logger().warn(
+                f"uav {uid}: unknown payload action {msg.action}", throttle_duration_sec=5.0
+            )
+            return
+        if self.cfg.mode == "lockstep" and stamp_to_ns(msg.header.stamp) != self._awaited_ns:
+            return
+        self._payload.setdefault(uid, []).append(int(msg.action))
+
+    def _on_realtime_tick(self) -> None:
+        if not self._started:
+            self._started = True
+        self._advance()
+
+    # --- finishing ---------------------------------------------------------------------------
+    def _finish(self, result: StepResult) -> None:
+        self.get_logger().info(
+            f"mission complete at t = {result.stamp_ns * 1e-9:.1f} s: {result.complete_reason}"
+        )
+        for timer in (getattr(self, "_lockstep_timer", None), getattr(self, "_rt_timer", None)):
+            if timer is not None:
+                timer.cancel()
+        # keep spinning ~1 s wall so the last messages are delivered
+        self._exit_timer = self.create_timer(1.0, lambda: self.done.set_result(0), clock=self._steady)
+
+    # --- publishing --------------------------------------------------------------------------
+    def _publish(self, r: StepResult) -> None:
+        self.pub_clock.publish(ClockMsg(clock=stamp(r.stamp_ns)))
+        for uid, b in r.bundles.items():
+            self.pub_sensors[uid].publish(self._bundle_msg(b))
+        self.pub_truth.publish(self._truth_msg(r))
+        for e in r.events:
+            self.pub_events.publish(self._event_msg(e))
+            if e.type in (4,):
+                self.get_logger().warn(f"uav {e.uav_id} crashed: {e.detail}")
+        if r.stamp_ns - self._last_viz_ns >= self._viz_period_ns or r.complete:
+            self._last_viz_ns = r.stamp_ns
+            self.pub_viz.publish(self._markers(r))
+            if isinstance(self.world.fires, RasterFireModel):
+                self.pub_grid.publish(self._grid_msg(r.stamp_ns))
+
+    def _bundle_msg(self, b: Bundle) -> SensorBundle:
+        m = SensorBundle()
+        m.header.stamp = stamp(b.stamp_ns)
+        m.header.frame_id = FRAME
+        m.uav_id = b.uav_id
+        m.step = b.step
+        m.control_period_s = b.control_period_s
+        spec = self.world.scenario.sensors
+        for g in b.gyro:
+            imu = Imu()
+            imu.header.stamp = stamp(g.stamp_ns)
+            imu.header.frame_id = f"uav_{b.uav_id}"
+            imu.orientation_covariance[0] = -1.0
+            imu.linear_acceleration_covariance[0] = -1.0
+            imu.angular_velocity.z = float(g.omega_z_radps)
+            imu.angular_velocity_covariance[8] = spec.gyro.sigma_radps**2
+            m.gyro.append(imu)
+        for a in b.altimeter:
+            rg = Range()
+            rg.header.stamp = stamp(a.stamp_ns)
+            rg.header.frame_id = f"uav_{b.uav_id}"
+            rg.radiation_type = Range.ULTRASOUND
+            rg.field_of_view = 0.5
+            rg.min_range = 0.0
+            rg.max_range = float(a.max_range_m)
+            rg.range = float(a.range_m)
+            m.altimeter.append(rg)
+        for p in b.gps:
+            m.gps.append(
+                GpsFix(
+                    header=self._hdr(p.stamp_ns),
+                    x_m=float(p.x_m),
+                    y_m=float(p.y_m),
+                    variance_m2=float(p.variance_m2),
+                )
+            )
+        for f in b.fires:
+            m.fires.append(
+                FireDetection(
+                    header=self._hdr(f.stamp_ns),
+                    track_id=int(f.track_id),
+                    x_m=float(f.x_m),
+                    y_m=float(f.y_m),
+                    extent_m=float(f.extent_m),
+                    range_m=float(f.range_m),
+                )
+            )
+        m.cells.header = self._hdr(b.stamp_ns)
+        if b.cells is not None:
+            m.cells.cell_size_m = float(b.cells.cell_size_m)
+            m.cells.x_m = b.cells.x_m.astype(float).tolist()
+            m.cells.y_m = b.cells.y_m.astype(float).tolist()
+            m.cells.state = b.cells.state.tobytes()
+        m.water_kg = float(b.water_kg)
+        m.vehicle_status = int(b.vehicle_status)
+        return m
+
+    @staticmethod
+    def _hdr(ns: int):
+        from std_msgs.msg import Header
+
+        return Header(stamp=stamp(ns), frame_id=FRAME)
+
+    def _truth_msg(self, r: StepResult) -> WorldTruth:
+        m = WorldTruth(header=self._hdr(r.stamp_ns), step=r.step)
+        for v in r.vehicles:
+            m.vehicles.append(
+                VehicleTruth(
+                    uav_id=v.uav_id,
+                    status=v.status,
+                    x_m=float(v.x_m),
+                    y_m=float(v.y_m),
+                    z_m=float(v.z_m),
+                    yaw_rad=float(v.yaw_rad),
+                    v_lin_mps=float(v.v_lin_mps),
+                    v_z_mps=float(v.v_z_mps),
+                    omega_z_radps=float(v.omega_z_radps),
+                    water_kg=float(v.water_kg),
+                    commands_clamped=int(v.commands_clamped),
+                    commands_missed=int(v.commands_missed),
+                )
+            )
+        for f in r.fires:
+            m.fires.append(
+                FireTruth(
+                    fire_id=int(f.fire_id),
+                    status=int(f.status),
+                    x_m=float(f.x_m),
+                    y_m=float(f.y_m),
+                    extent_m=float(f.extent_m),
+                    area_m2=float(f.area_m2),
+                    drops_received=int(f.drops_received),
+                )
+            )
+        return m
+
+    def _event_msg(self, e: Event) -> MissionEvent:
+        return MissionEvent(
+            header=self._hdr(e.stamp_ns),
+            type=int(e.type),
+            uav_id=int(e.uav_id),
+            peer_id=-1,
+            fire_id=int(e.fire_id),
+            x_m=float(e.x_m),
+            y_m=float(e.y_m),
+            value=float(e.value),
+            detail=e.detail,
+        )
+
+    def _markers(self, r: StepResult) -> MarkerArray:
+        arr = MarkerArray()
+        hdr = self._hdr(r.stamp_ns)
+        mid = 0
+
+        def marker(ns: str, kind: int) -> Marker:
+            nonlocal mid
+            mid += 1
+            mk = Marker(header=hdr, ns=ns, id=mid, type=kind, action=Marker.ADD)
+            mk.pose.orientation.w = 1.0
+            return mk
+
+        for lake in self.world.scenario.lakes:
+            mk = marker("lakes", Marker.CYLINDER)
+            mk.pose.position = Point(x=lake.x_m, y=lake.y_m, z=0.0)
+            mk.scale.x = mk.scale.y = lake.diameter_m
+            mk.scale.z = 0.5
+            mk.color.b, mk.color.a = 1.0, 0.6
+            arr.markers.append(mk)
+        for v in r.vehicles:
+            mk = marker("vehicles", Marker.ARROW)
+            mk.pose.position = Point(x=float(v.x_m), y=float(v.y_m), z=float(v.z_m))
+            mk.pose.orientation.z = math.sin(v.yaw_rad / 2)
+            mk.pose.orientation.w = math.cos(v.yaw_rad / 2)
+            mk.scale.x, mk.scale.y, mk.scale.z = 15.0, 4.0, 4.0
+            crashed = v.status == 3
+            mk.color.r, mk.color.g, mk.color.a = (1.0, 0.0, 1.0) if crashed else (0.1, 0.9, 1.0)
+            arr.markers.append(mk)
+        if not isinstance(self.world.fires, RasterFireModel):
+            for f in r.fires:
+                if f.status != 0 or f.extent_m <= 0:
+                    continue
+                mk = marker("fires", Marker.CYLINDER)
+                mk.pose.position = Point(x=float(f.x_m), y=float(f.y_m), z=0.0)
+                mk.scale.x = mk.scale.y = 2.0 * float(f.extent_m)
+                mk.scale.z = 1.0
+                mk.color.r, mk.color.g, mk.color.a = 1.0, 0.3, 0.7
+                arr.markers.append(mk)
+        return arr
+
+    def _grid_msg(self, ns: int) -> OccupancyGrid:
+        fm = self.world.fires
+        assert isinstance(fm, RasterFireModel)
+        g = OccupancyGrid(header=self._hdr(ns))
+        g.info.map_load_time = stamp(ns)
+        g.info.resolution = float(fm.cs)
+        g.info.width, g.info.height = fm.nx, fm.ny
+        g.info.origin.position.x = fm.spec.origin.x_m
+        g.info.origin.position.y = fm.spec.origin.y_m
+        g.info.origin.orientation.w = 1.0
+        state = fm.state_grid()
+        import numpy as np
+
+        occ = np.zeros(state.shape, dtype=np.int8)  # unburned 0, wet 20, burnt 60, burning 100
+        occ[fm.wet_grid()] = 20
+        occ[state == 2] = 60
+        occ[state == 1] = 100
+        g.data = occ.ravel().tolist()
+        return g
+
+
+def main(args: list[str] | None = None) -> int:
+    rclpy.init(args=args)
+    node = None
+    code = 0
+    try:
+        node = WorldNode()
+        rclpy.spin_until_future_complete(node, node.done)
+        code = int(node.done.result() or 0) if node.done.done() else 0
+    except (ScenarioError, ConfigError) as e:
+        rclpy.logging.get_logger("world").error(str(e))
+        code = 2
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main())
