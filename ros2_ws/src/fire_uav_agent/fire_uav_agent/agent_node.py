@@ -1,0 +1,405 @@
+"""ROS 2 node ``uav_agent``: a thin adapter around :class:`fire_uav_agent.agent_core.Agent`.
+
+One process per UAV in namespace ``/uav_<id>`` (docs/protocol.md "Agent, on SensorBundle k").
+This module owns parameters, subscriptions, publishers and the lockstep peer wait, and converts
+messages to arrays and back in one place (the ``_to_*`` / ``_from_*`` functions); all decisions
+are in the pure modules.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import rclpy
+from builtin_interfaces.msg import Time as TimeMsg
+from fire_uav_common import topics
+from fire_uav_msgs.msg import (
+    FireEstimate,
+    FireEstimateArray,
+    MissionEvent,
+    PayloadRequest,
+    SensorBundle,
+    UavState,
+)
+from geometry_msgs.msg import Point, TwistStamped
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rclpy.clock import Clock, ClockType
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from visualization_msgs.msg import Marker, MarkerArray
+
+from .agent_core import Agent, AgentConfig, Bundle, StepOutput, config_from_scenario
+from .estimation import Samples
+from .peer_link import TOPIC_FIRES, TOPIC_STATE, FireEntry, Outage, PeerFires, PeerState
+
+
+# --- conversions (the only place messages meet arrays) -----------------------------------------
+def _sec(t: TimeMsg) -> float:
+    return float(t.sec) + 1e-9 * float(t.nanosec)
+
+
+def _time_msg(t_s: float) -> TimeMsg:
+    ns = int(round(t_s * 1e9))
+    return TimeMsg(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
+
+
+def _to_bundle(msg: SensorBundle) -> Bundle:
+    gps = np.array([(_sec(g.header.stamp), g.x_m, g.y_m) for g in msg.gps], dtype=float).reshape(-1, 3)
+    gps_var = np.array([g.variance_m2 for g in msg.gps], dtype=float)
+    alt = np.array([(_sec(r.header.stamp), r.range) for r in msg.altimeter], dtype=float).reshape(-1, 2)
+    gyro = np.array([(_sec(m.header.stamp), m.angular_velocity.z) for m in msg.gyro], dtype=float).reshape(
+        -1, 2
+    )
+    fires = np.array(
+        [(_sec(f.header.stamp), f.x_m, f.y_m, f.extent_m) for f in msg.fires], dtype=float
+    ).reshape(-1, 4)
+    return Bundle(
+        step=int(msg.step),
+        stamp_s=_sec(msg.header.stamp),
+        samples=Samples(gps, gps_var, alt, gyro),
+        fires=fires,
+        water_kg=float(msg.water_kg),
+        vehicle=int(msg.vehicle_status),
+        control_period_s=float(msg.control_period_s),
+    )
+
+
+def _to_peer_state(m: UavState) -> PeerState:
+    return PeerState(
+        int(m.uav_id), int(m.sequence), int(m.step), m.x_m, m.y_m, m.z_m, m.yaw_rad, int(m.objective),
+        int(m.target_fire_id), float(m.water_kg), m.centroid_x_m, m.centroid_y_m,
+    )  # fmt: skip
+
+
+def _to_peer_fires(m: FireEstimateArray) -> PeerFires:
+    entries = tuple(
+        FireEntry(
+            int(f.fire_id),
+            f.status == FireEstimate.STATUS_ACTIVE,
+            f.x_m,
+            f.y_m,
+            f.extent_m,
+            f.vx_mps,
+            f.vy_mps,
+            _sec(f.last_measurement),
+            f.front_x_m,
+            f.front_y_m,
+            f.max_spread_rate_mps,
+        )  # fmt: skip
+        for f in m.fires
+    )
+    return PeerFires(int(m.uav_id), int(m.sequence), int(m.step), entries)
+
+
+def _from_state(out: StepOutput, stamp: TimeMsg) -> UavState:
+    st = out.state
+    m = UavState()
+    m.header.stamp = stamp
+    m.header.frame_id = "map"
+    m.uav_id, m.sequence, m.step = st.uav_id, st.sequence, st.step
+    m.x_m, m.y_m, m.z_m, m.yaw_rad = (float(v) for v in st.s)
+    m.covariance = [float(v) for v in st.covariance.ravel()]
+    m.objective = st.objective
+    m.target_fire_id = st.target_fire_id
+    m.water_kg = st.water_kg
+    m.centroid_x_m, m.centroid_y_m = st.centroid_xy
+    m.alive_peers = list(st.alive_peers)
+    m.crashed_peers = list(st.crashed_peers)
+    m.packets_received, m.packets_lost, m.packets_rejected = (
+        st.packets_received, st.packets_lost, st.packets_rejected,
+    )  # fmt: skip
+    return m
+
+
+def _from_fires(out: StepOutput, stamp: TimeMsg) -> FireEstimateArray:
+    m = FireEstimateArray()
+    m.header.stamp = stamp
+    m.header.frame_id = "map"
+    m.uav_id, m.sequence, m.step = out.state.uav_id, out.fires_sequence, out.step
+    for e in out.fires:
+        f = FireEstimate()
+        f.fire_id = e.fire_id
+        f.status = FireEstimate.STATUS_ACTIVE if e.active else FireEstimate.STATUS_EXTINGUISHED
+        f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps = e.x_m, e.y_m, e.extent_m, e.vx_mps, e.vy_mps
+        f.last_measurement = _time_msg(
+            max(0.0, e.last_measurement_s) if math.isfinite(e.last_measurement_s) else 0.0
+        )
+        f.front_x_m, f.front_y_m, f.max_spread_rate_mps = e.front_x_m, e.front_y_m, e.max_spread_rate_mps
+        m.fires.append(f)
+    return m
+
+
+def _markers(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:
+    md = out.markers
+    arr = MarkerArray()
+    if md is None:
+        return arr
+    z = float(out.state.s[2])
+    cell = Marker(ns=ns, id=0, type=Marker.POINTS, action=Marker.ADD)
+    cell.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in md.cell_boundary_xy]
+    cell.scale.x = cell.scale.y = 2.0
+    cell.color.g, cell.color.a = 1.0, 0.8
+    cen = Marker(ns=ns, id=1, type=Marker.SPHERE, action=Marker.ADD)
+    cen.pose.position = Point(x=md.centroid_xy[0], y=md.centroid_xy[1], z=z)
+    cen.scale.x = cen.scale.y = cen.scale.z = 6.0
+    cen.color.g, cen.color.b, cen.color.a = 1.0, 1.0, 1.0
+    txt = Marker(ns=ns, id=2, type=Marker.TEXT_VIEW_FACING, action=Marker.ADD, text=md.text)
+    txt.pose.position = Point(x=float(out.state.s[0]), y=float(out.state.s[1]), z=z + 15.0)
+    txt.scale.z = 10.0
+    txt.color.r = txt.color.g = txt.color.b = txt.color.a = 1.0
+    for m in (cell, cen, txt):
+        m.header.stamp = stamp
+        m.header.frame_id = "map"
+        arr.markers.append(m)
+    return arr
+
+
+# --- the node ------------------------------------------------------------------------------------
+def _desc(text: str, **kw) -> ParameterDescriptor:
+    return ParameterDescriptor(description=text, **kw)
+
+
+class UavAgentNode(Node):
+    """``uav_agent``: see the package README for topics and parameters."""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__("uav_agent", **kwargs)
+        if not self.has_parameter("use_sim_time"):
+            self.declare_parameter("use_sim_time", True)
+        self.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])
+        ro = {"read_only": True}
+        self.declare_parameter("uav_id", -1, _desc("0-based UAV id; -1: from the namespace /uav_<id>", **ro))
+        self.declare_parameter("uav_count", 0, _desc("fleet size N; 0: the scenario's uavs.count", **ro))
+        self.declare_parameter("seed", -1, _desc("run seed (loss draws); -1: the scenario's seed", **ro))
+        self.declare_parameter("scenario_file", "", _desc("scenario YAML (docs/scenario.md)", **ro))
+        self.declare_parameter("mode", "lockstep", _desc("lockstep | realtime", **ro))
+        self.declare_parameter(
+            "loss_probability", -1.0,
+            _desc("peer message loss on receipt [0, 1]; < 0: the scenario's comms.loss_probability", **ro),
+        )  # fmt: skip
+        self.declare_parameter(
+            "peer_wait_wall_s", 0.3,
+            _desc("lockstep: longest wall-time wait for peers' step k-1 messages [s]",
+                  floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10.0)], **ro),
+        )  # fmt: skip
+        self.declare_parameter(
+            "crash_threshold_steps", 0,
+            _desc("missed steps before a peer is declared crashed; 0: the scenario's value",
+                  integer_range=[IntegerRange(from_value=0, to_value=10000, step=1)], **ro),
+        )  # fmt: skip
+        self.declare_parameter(
+            "outage_from", [-1], _desc("link outages: sender ids ([-1]: none; else scenario)")
+        )
+        self.declare_parameter("outage_to", [-1], _desc("link outages: receiver ids"))
+        self.declare_parameter("outage_start_s", [0.0], _desc("link outages: start [s sim]"))
+        self.declare_parameter("outage_end_s", [0.0], _desc("link outages: end [s sim]"))
+        self.declare_parameter("marker_every_steps", 5, _desc("publish viz markers every n steps (0: never)"))
+        self.cfg, self.mode, self.peer_wait_s, self.marker_every = self._read_config()
+        self.agent = Agent(self.cfg)
+        uid = self.cfg.uav_id
+        self.get_logger().info(
+            f"uav {uid}/{self.cfg.uav_count} mode={self.mode} loss={self.cfg.loss_probability} "
+            f"outages={len(self.cfg.outages)} crash_threshold={self.cfg.crash_threshold_steps}"
+        )
+        # names: relative per-vehicle topics under the /uav_<id> namespace, unless launched without it
+        in_ns = self.get_namespace().rstrip("/") == topics.uav_namespace(uid)
+        name = (lambda t: t) if in_ns else (lambda t: topics.uav_topic(uid, t))
+        self.pub_cmd = self.create_publisher(TwistStamped, name(topics.CMD), topics.qos("lockstep"))
+        self.pub_payload = self.create_publisher(PayloadRequest, name(topics.PAYLOAD), topics.qos("lockstep"))
+        self.pub_viz = self.create_publisher(MarkerArray, name(topics.VIZ_AGENT), topics.qos("viz"))
+        self.pub_state = self.create_publisher(UavState, topics.FLEET_STATE, topics.qos("fleet"))
+        self.pub_fires = self.create_publisher(FireEstimateArray, topics.FLEET_FIRES, topics.qos("fleet"))
+        self.pub_events = self.create_publisher(MissionEvent, topics.FLEET_EVENTS, topics.qos("events"))
+        self.create_subscription(SensorBundle, name(topics.SENSORS), self._on_bundle, topics.qos("lockstep"))
+        self.create_subscription(UavState, topics.FLEET_STATE, self._on_state, topics.qos("fleet"))
+        self.create_subscription(FireEstimateArray, topics.FLEET_FIRES, self._on_fires, topics.qos("fleet"))
+        self._inbox: list[PeerState | PeerFires] = []
+        self._arrived: set[tuple[int, int, int]] = set()  # (step, sender, topic_index)
+        self._pending: SensorBundle | None = None
+        self._expected: set[tuple[int, int]] = set()
+        self._steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._wait_timer = None
+        self._timeouts = 0
+
+    # --- parameters -------------------------------------------------------------------------------
+    def _read_config(self) -> tuple[AgentConfig, str, float, int]:
+        p = self.get_parameter
+        uid = int(p("uav_id").value)
+        if uid < 0:
+            m = re.fullmatch(r"/uav_(\d+)", self.get_namespace().rstrip("/"))
+            if not m:
+                raise ValueError(
+                    f"parameter uav_id not set and namespace {self.get_namespace()!r} is not /uav_<id>"
+                )
+            uid = int(m.group(1))
+        mode = str(p("mode").value)
+        if mode not in ("lockstep", "realtime"):
+            raise ValueError(f"parameter mode must be 'lockstep' or 'realtime', got {mode!r}")
+        path = str(p("scenario_file").value)
+        if not path:
+            raise ValueError("parameter scenario_file is required (a scenario YAML, docs/scenario.md)")
+        from fire_uav_common.scenario import load_scenario  # written alongside; imported late
+
+        scenario = load_scenario(path)
+        count = int(p("uav_count").value) or None
+        seed = int(p("seed").value)
+        loss = float(p("loss_probability").value)
+        thr = int(p("crash_threshold_steps").value)
+        ofrom, oto = list(p("outage_from").value), list(p("outage_to").value)
+        ostart, oend = list(p("outage_start_s").value), list(p("outage_end_s").value)
+        outages = None
+        if ofrom != [-1]:
+            if not len(ofrom) == len(oto) == len(ostart) == len(oend):
+                raise ValueError(
+                    "parameters outage_from/outage_to/outage_start_s/outage_end_s must have equal lengths, got "
+                    f"{len(ofrom)}/{len(oto)}/{len(ostart)}/{len(oend)}"
+                )
+            outages = tuple(
+                Outage(int(a), int(b), float(s), float(e))
+                for a, b, s, e in zip(ofrom, oto, ostart, oend, strict=True)
+            )
+        cfg = config_from_scenario(
+            scenario, uid, uav_count=count, seed=seed if seed >= 0 else None,
+            loss_probability=loss if loss >= 0 else None, outages=outages,
+            crash_threshold_steps=thr if thr > 0 else None,
+        )  # fmt: skip
+        return cfg, mode, float(p("peer_wait_wall_s").value), int(p("marker_every_steps").value)
+
+    # --- peer traffic ---------------------------------------------------------------------------------
+    def _on_state(self, msg: UavState) -> None:
+        if msg.uav_id == self.cfg.uav_id:
+            return  # our own broadcast
+        self._inbox.append(_to_peer_state(msg))
+        self._arrived.add((int(msg.step), int(msg.uav_id), TOPIC_STATE))
+        self._maybe_run()
+
+    def _on_fires(self, msg: FireEstimateArray) -> None:
+        if msg.uav_id == self.cfg.uav_id:
+            return
+        self._inbox.append(_to_peer_fires(msg))
+        self._arrived.add((int(msg.step), int(msg.uav_id), TOPIC_FIRES))
+        self._maybe_run()
+
+    # --- lockstep -------------------------------------------------------------------------------------
+    def _on_bundle(self, msg: SensorBundle) -> None:
+        k = int(msg.step)
+        if k <= self.agent.last_step or (self._pending is not None and k <= self._pending.step):
+            return  # protocol item 1: answer only the newest bundle
+        if self._pending is not None:
+            self._run(force=True)  # a newer bundle overtook the one we were waiting on
+            if k <= self.agent.last_step:
+                return
+        self._pending = msg
+        if self.mode == "realtime" or k == 0:
+            self._run(force=True)
+            return
+        self._expected = self.agent.expected_peer_messages(k)
+        if not self._maybe_run():
+            self._cancel_timer()
+            self._wait_timer = self.create_timer(self.peer_wait_s, self._on_wait_timeout, clock=self._steady)
+
+    def _maybe_run(self) -> bool:
+        if self._pending is None:
+            return False
+        k = int(self._pending.step)
+        if all((k - 1, j, ti) in self._arrived for j, ti in self._expected):
+            self._run()
+            return True
+        return False
+
+    def _on_wait_timeout(self) -> None:
+        self._cancel_timer()
+        if self._pending is None:
+            return
+        k = int(self._pending.step)
+        missing = sorted({j for j, ti in self._expected if (k - 1, j, ti) not in self._arrived})
+        self._timeouts += 1
+        self.get_logger().debug(
+            f"step {k}: peer wait timed out, missing {missing} ({self._timeouts} timeouts so far)",
+            throttle_duration_sec=5.0,
+        )
+        self._run(force=True)
+
+    def _cancel_timer(self) -> None:
+        if self._wait_timer is not None:
+            self._wait_timer.cancel()
+            self.destroy_timer(self._wait_timer)
+            self._wait_timer = None
+
+    def _run(self, force: bool = False) -> None:
+        self._cancel_timer()
+        msg, self._pending = self._pending, None
+        if msg is None:
+            return
+        k = int(msg.step)
+        take = [m for m in self._inbox if m.step < k]
+        self._inbox = [m for m in self._inbox if m.step >= k]
+        self._arrived = {a for a in self._arrived if a[0] >= k - 1}
+        want_markers = self.marker_every > 0 and k % self.marker_every == 0
+        out = self.agent.step(_to_bundle(msg), take, want_markers=want_markers)
+        if out is None:
+            return
+        self._publish(out, msg.header.stamp)
+
+    # --- output ---------------------------------------------------------------------------------------
+    def _publish(self, out: StepOutput, stamp: TimeMsg) -> None:
+        uid = self.cfg.uav_id
+        self.pub_state.publish(_from_state(out, stamp))
+        self.pub_fires.publish(_from_fires(out, stamp))
+        for action, fire_id in out.payload_requests:
+            req = PayloadRequest(uav_id=uid, action=action, target_fire_id=int(fire_id))
+            req.header.stamp = stamp
+            req.header.frame_id = "map"
+            self.pub_payload.publish(req)
+            what = "DROP" if action == PayloadRequest.ACTION_DROP else "REFILL"
+            if action == PayloadRequest.ACTION_DROP:
+                self.get_logger().info(f"step {out.step}: {what} on fire {fire_id}")
+            else:
+                self.get_logger().debug(f"step {out.step}: {what}", throttle_duration_sec=2.0)
+        cmd = TwistStamped()
+        cmd.header.stamp = stamp
+        cmd.header.frame_id = f"uav_{uid}"
+        cmd.twist.linear.x, cmd.twist.linear.z, cmd.twist.angular.z = (float(v) for v in out.command)
+        self.pub_cmd.publish(cmd)
+        if out.markers is not None:
+            self.pub_viz.publish(_markers(out, stamp, f"uav_{uid}"))
+        for ev in out.events:
+            m = MissionEvent(
+                type=ev.type, uav_id=uid, peer_id=ev.peer_id, fire_id=int(ev.fire_id) if ev.fire_id < 2**31 else -1,
+                x_m=float(ev.x_m), y_m=float(ev.y_m), value=float(ev.value), detail=ev.detail,
+            )  # fmt: skip
+            m.header.stamp = stamp
+            m.header.frame_id = "map"
+            self.pub_events.publish(m)
+            log = self.get_logger()
+            if ev.type == MissionEvent.TYPE_PEER_CRASHED:
+                log.warning(
+                    f"step {out.step}: peer {ev.peer_id} declared crashed ({int(ev.value)} missed steps)"
+                )
+            elif ev.type == MissionEvent.TYPE_PEER_REJOINED:
+                log.info(f"step {out.step}: peer {ev.peer_id} rejoined")
+            elif ev.type == MissionEvent.TYPE_FIRE_DETECTED:
+                log.info(f"step {out.step}: fire {ev.fire_id} detected at ({ev.x_m:.0f}, {ev.y_m:.0f})")
+            elif ev.type == MissionEvent.TYPE_OBJECTIVE:
+                log.info(f"step {out.step}: objective {ev.detail}")
+
+
+def main(args: list[str] | None = None) -> None:
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = UavAgentNode()
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,277 @@
+"""Freshness-weighted consensus of fire estimates (FF III-C, Eqs. 26-29).
+
+Each agent keeps one entry per fleet-wide fire id: centre [m; map], extent (Gaussian sigma) [m],
+drift [m/s] and ``last_measurement_s``, the sim time of the newest measurement fused in. Per
+control step: :meth:`FireConsensus.predict` (drift), :meth:`fuse` (consensus over the alive
+peers' last known pictures), :meth:`observe` (own detections, after fusion so that what this
+agent broadcasts carries its freshest measurement).
+
+**Weights (Eqs. 26-29).** The text intends: each agent i holds, per contributor j, the age
+Lm_i[j] of j's newest measurement (1 for a measurement made now, FF III-C step 1 "reset the
+Last Measurement time to 1"); row i of Q_c is the element-wise inverse of Lm_i normalised by
+its sum (Eq. 28), so row i is stochastic and fresher data weigh more. Eq. 29 *as printed* puts
+1/1.375 in every entry of row 1 and 0.825/1.375 in row 2, which is neither stochastic nor what
+the text describes; :func:`consensus_matrix` implements the text:
+Q_c[i, j] = (1 / Lm_i[j]) / sum_j (1 / Lm_i[j]). Ages are in control steps:
+``age = 1 + (t_now - last_measurement) / T``.
+
+Fused quantities: position, extent and drift; the fused entry's ``last_measurement_s`` is the
+newest among the contributors (it now contains that measurement). Peer entries are moved by
+their drift to the current time before fusion.
+
+**Extinction (step 4).** Averaging extents cannot make a fire go out (a convex combination of
+extents above the threshold stays above it), so extinction is a freshness-ordered status:
+an entry becomes EXTINGUISHED when the fused or measured extent falls below
+``extinction_extent_m``, or when this agent flew within ``negative_range_m`` of the estimated
+centre for ``negative_steps`` steps without detecting it; an EXTINGUISHED report from a peer is
+adopted when its ``last_measurement_s`` is not older than ours; an extinguished entry revives
+only on evidence strictly newer than its extinction.
+
+**Fire ids.** A detection is associated with the nearest active entry within
+``max(gate_min_m, gate_sigmas * extent)``; otherwise it opens a new entry with fleet-wide id
+``(uav_id << 16) | counter`` (unique without coordination, fits FireEstimate.fire_id uint32 and
+MissionEvent.fire_id int32 for uav_id < 32768). Two agents that detect the same fire in the same
+step create two ids; entries closer than the gate are merged into the *smaller* id, which every
+agent chooses alike, and an alias table maps the retired id for later peer reports.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .peer_link import FireEntry, PeerFires
+
+__all__ = ["ConsensusConfig", "FireConsensus", "consensus_matrix", "consensus_row"]
+
+
+def consensus_row(ages: np.ndarray) -> np.ndarray:
+    """One row of Q_c (Eqs. 27-28 as the text intends): normalised inverse ages (ages >= 1)."""
+    a = np.asarray(ages, dtype=float)
+    if a.ndim != 1 or a.size == 0 or np.any(~np.isfinite(a)) or np.any(a <= 0):
+        raise ValueError(f"ages must be a non-empty vector of positive numbers, got {ages!r}")
+    inv = 1.0 / a
+    return inv / inv.sum()
+
+
+def consensus_matrix(lm: np.ndarray) -> np.ndarray:
+    """Q_c from the matrix whose row i is Lm_i (Eq. 26); see the module doc about Eq. 29."""
+    lm = np.asarray(lm, dtype=float)
+    return np.vstack([consensus_row(r) for r in lm])
+
+
+@dataclass(frozen=True)
+class ConsensusConfig:
+    control_period_s: float = 0.1
+    sensor_range_m: float = 70.0  # FF II-C standoff
+    gate_min_m: float = 40.0  # association gate floor [m]
+    gate_sigmas: float = 2.0  # association gate in extents
+    alpha_pos: float = 0.5  # weight of a new own detection (position)
+    alpha_extent: float = 0.2  # weight of a new own detection (extent; sensor sigma ~1 m)
+    beta_vel: float = 0.05  # drift gain (alpha-beta filter)
+    extinction_extent_m: float = 2.0  # FF III-C step 4
+    negative_range_m: float = 50.0  # must fly this close to the centre to see "no fire"
+    negative_steps: int = 5
+
+
+@dataclass
+class _Track:
+    fire_id: int
+    active: bool
+    x_m: float
+    y_m: float
+    extent_m: float
+    vx_mps: float
+    vy_mps: float
+    lm_s: float  # newest measurement fused in
+    own_meas_s: float = -math.inf  # time of this agent's last own detection
+    unseen_steps: int = 0
+
+    def entry(self) -> FireEntry:
+        return FireEntry(
+            fire_id=self.fire_id,
+            active=self.active,
+            x_m=self.x_m,
+            y_m=self.y_m,
+            extent_m=self.extent_m if self.active else 0.0,
+            vx_mps=self.vx_mps,
+            vy_mps=self.vy_mps,
+            last_measurement_s=self.lm_s,
+        )
+
+
+class FireConsensus:
+    """One agent's fire picture (see module doc)."""
+
+    def __init__(self, uav_id: int, config: ConsensusConfig | None = None) -> None:
+        self.uav_id = uav_id
+        self.cfg = config or ConsensusConfig()
+        self.tracks: dict[int, _Track] = {}
+        self.alias: dict[int, int] = {}
+        self._counter = 0
+
+    # --- helpers ---------------------------------------------------------------------------
+    def _resolve(self, fire_id: int) -> int:
+        seen = set()
+        while fire_id in self.alias and fire_id not in seen:
+            seen.add(fire_id)
+            fire_id = self.alias[fire_id]
+        return fire_id
+
+    def _gate(self, extent_m: float) -> float:
+        return max(self.cfg.gate_min_m, self.cfg.gate_sigmas * extent_m)
+
+    def _age(self, lm_s: float, t_s: float) -> float:
+        return 1.0 + max(0.0, t_s - lm_s) / self.cfg.control_period_s
+
+    def entries(self) -> tuple[FireEntry, ...]:
+        return tuple(self.tracks[f].entry() for f in sorted(self.tracks))
+
+    def active(self) -> list[FireEntry]:
+        return [e for e in self.entries() if e.active]
+
+    def all_out(self) -> bool:
+        """True if at least one fire is known and every known fire is extinguished."""
+        return bool(self.tracks) and not any(t.active for t in self.tracks.values())
+
+    # --- step parts ------------------------------------------------------------------------
+    def predict(self, dt_s: float) -> None:
+        for t in self.tracks.values():
+            if t.active:
+                t.x_m += t.vx_mps * dt_s
+                t.y_m += t.vy_mps * dt_s
+
+    def fuse(self, peers: dict[int, PeerFires], t_now_s: float) -> list[int]:
+        """Consensus over the alive peers' last known pictures. Returns ids new to this agent."""
+        per_fire: dict[int, list[tuple[FireEntry, float]]] = {}
+        for j in sorted(peers):
+            pf = peers[j]
+            t_msg = (pf.step + 1) * self.cfg.control_period_s
+            for e in pf.fires:
+                fid = self._resolve(e.fire_id)
+                per_fire.setdefault(fid, []).append((e, t_now_s - t_msg))
+        new_ids: list[int] = []
+        for fid in sorted(per_fire):
+            reports = per_fire[fid]
+            mine = self.tracks.get(fid)
+            if mine is None:
+                # adopt; merge() below folds it into a nearby entry with a smaller id
+                e, _ = max(reports, key=lambda r: r[0].last_measurement_s)
+                mine = _Track(
+                    fid, e.active, e.x_m, e.y_m, e.extent_m, e.vx_mps, e.vy_mps, e.last_measurement_s
+                )
+                if e.active:
+                    mine.lm_s = -math.inf  # its numbers come from the reports below
+                self.tracks[fid] = mine
+                new_ids.append(fid)
+            # status: freshest extinction report wins (module doc)
+            for e, _ in reports:
+                if not e.active and e.last_measurement_s >= mine.lm_s and mine.active:
+                    mine.active = False
+                    mine.lm_s = e.last_measurement_s
+                elif e.active and not mine.active and e.last_measurement_s > mine.lm_s:
+                    mine.active = True
+                    mine.extent_m = e.extent_m
+            if not mine.active:
+                continue
+            vals = []
+            ages = []
+            if math.isfinite(mine.lm_s):
+                vals.append((mine.x_m, mine.y_m, mine.extent_m, mine.vx_mps, mine.vy_mps))
+                ages.append(self._age(mine.lm_s, t_now_s))
+            newest = mine.lm_s
+            for e, dt_old in reports:
+                if not e.active:
+                    continue
+                vals.append(
+                    (e.x_m + e.vx_mps * dt_old, e.y_m + e.vy_mps * dt_old, e.extent_m, e.vx_mps, e.vy_mps)
+                )
+                ages.append(self._age(e.last_measurement_s, t_now_s))
+                newest = max(newest, e.last_measurement_s)
+            if not vals:
+                continue
+            w = consensus_row(np.array(ages))
+            x, y, ext, vx, vy = w @ np.array(vals)
+            mine.x_m, mine.y_m, mine.extent_m, mine.vx_mps, mine.vy_mps = x, y, ext, vx, vy
+            mine.lm_s = newest
+            if mine.extent_m < self.cfg.extinction_extent_m:
+                mine.active = False
+        self.merge()
+        return [f for f in new_ids if f in self.tracks]
+
+    def observe(
+        self, detections: np.ndarray, own_xy: tuple[float, float] | None, t_now_s: float
+    ) -> list[int]:
+        """Fuse own detections, rows (t_s, x_m, y_m, extent_m). Returns ids first seen here."""
+        new_ids: list[int] = []
+        seen: set[int] = set()
+        dets = np.asarray(detections, dtype=float).reshape(-1, 4)
+        dets = dets[np.all(np.isfinite(dets), axis=1)]
+        for t_s, x, y, ext in dets[np.argsort(dets[:, 0], kind="stable")]:
+            best, best_d = None, math.inf
+            for tr in self.tracks.values():
+                d = math.hypot(tr.x_m - x, tr.y_m - y)
+                gate = self._gate(tr.extent_m if tr.active else ext)
+                if d <= gate and d < best_d:
+                    best, best_d = tr, d
+            if best is None:
+                self._counter += 1
+                fid = (self.uav_id << 16) | self._counter
+                best = _Track(fid, True, float(x), float(y), float(ext), 0.0, 0.0, float(t_s), float(t_s))
+                self.tracks[fid] = best
+                new_ids.append(fid)
+            else:
+                if not best.active:
+                    if t_s <= best.lm_s:
+                        continue
+                    best.active, best.x_m, best.y_m, best.extent_m = True, float(x), float(y), float(ext)
+                else:
+                    a, ae = self.cfg.alpha_pos, self.cfg.alpha_extent
+                    ix, iy = x - best.x_m, y - best.y_m
+                    gap = t_s - best.own_meas_s
+                    if 0.0 < gap < 2.0:
+                        best.vx_mps += self.cfg.beta_vel * ix / gap
+                        best.vy_mps += self.cfg.beta_vel * iy / gap
+                    best.x_m += a * ix
+                    best.y_m += a * iy
+                    best.extent_m += ae * (ext - best.extent_m)
+                best.lm_s = max(best.lm_s, float(t_s))
+                best.own_meas_s = float(t_s)
+            best.unseen_steps = 0
+            seen.add(best.fire_id)
+            if best.extent_m < self.cfg.extinction_extent_m:  # filtered, not one noisy sample
+                best.active = False
+                best.lm_s = max(best.lm_s, float(t_s))
+        # negative evidence: close to an active centre but no detection of it
+        if own_xy is not None:
+            for tr in self.tracks.values():
+                if not tr.active or tr.fire_id in seen:
+                    continue
+                if math.hypot(tr.x_m - own_xy[0], tr.y_m - own_xy[1]) <= self.cfg.negative_range_m:
+                    tr.unseen_steps += 1
+                    if tr.unseen_steps >= self.cfg.negative_steps:
+                        tr.active = False
+                        tr.lm_s = t_now_s
+                else:
+                    tr.unseen_steps = 0
+        self.merge()
+        return [f for f in new_ids if f in self.tracks]
+
+    def merge(self) -> None:
+        """Fold active entries within the association gate of each other into the smaller id."""
+        ids = sorted(self.tracks)
+        for a_i, a in enumerate(ids):
+            ta = self.tracks.get(a)
+            if ta is None:
+                continue
+            for b in ids[a_i + 1 :]:
+                tb = self.tracks.get(b)
+                if tb is None or not (ta.active and tb.active):
+                    continue
+                if math.hypot(ta.x_m - tb.x_m, ta.y_m - tb.y_m) <= self._gate(max(ta.extent_m, tb.extent_m)):
+                    if tb.lm_s > ta.lm_s:  # keep the fresher numbers under the smaller id
+                        self.tracks[a] = ta = replace(tb, fire_id=a)
+                    del self.tracks[b]
+                    self.alias[b] = a

@@ -1,0 +1,225 @@
+"""Weighted Voronoi-Lloyd coverage control (FF III-A, Eqs. 6-15), vectorised over a grid.
+
+All positions are [m; map frame], x east, y north. The mission area is discretised into a
+regular grid of cell centres (FF III-A); ``Grid.points`` is (M, 2) in row-major order of
+(y, x) so that separable densities are an outer product.
+
+* :func:`voronoi_labels` -- Eq. 6 partition of the grid (ties go to the lowest index).
+* :func:`virtual_positions` / :func:`own_cell` -- Eq. 7 cell with the safety band. Eq. 7 moves
+  p_j toward p_i by ``2 (Delta_ij - d/2)`` so the bisector sits at ``d - Delta_ij`` from p_i;
+  when the agents are closer than Delta_ij the bisector passes behind p_i and its centroid lies
+  on the far side, pushing the two apart. (The paper says the bisector moves "away from p_i";
+  it moves toward p_i.) Cells with the band do not partition the grid: the band between two
+  close agents belongs to neither.
+* :func:`gaussian_density` -- Eqs. 13-15 (sum of isotropic Gaussians).
+* :func:`mass_centroid` -- Eqs. 8-9 as sums over grid cells times the cell area.
+* :func:`control_law` -- Eqs. 10-12 with vehicle limits, see its docstring for deviations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from fire_uav_common.terrain import Terrain
+
+from .estimation import wrap_angle
+
+__all__ = [
+    "ControlGains",
+    "Grid",
+    "VehicleLimits",
+    "control_law",
+    "gaussian_density",
+    "make_grid",
+    "mass_centroid",
+    "own_cell",
+    "virtual_positions",
+    "voronoi_labels",
+]
+
+
+@dataclass(frozen=True)
+class Grid:
+    """Regular grid of cell centres over [x_min, x_max] x [y_min, y_max] [m]."""
+
+    xs: np.ndarray  # (nx,) cell-centre x [m]
+    ys: np.ndarray  # (ny,) cell-centre y [m]
+    points: np.ndarray  # (ny * nx, 2), row-major (y, x)
+    resolution_m: float
+
+    @property
+    def cell_area_m2(self) -> float:
+        return self.resolution_m**2
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.ys.size, self.xs.size)
+
+
+def make_grid(x_min_m: float, x_max_m: float, y_min_m: float, y_max_m: float, resolution_m: float) -> Grid:
+    if not resolution_m > 0:
+        raise ValueError(f"grid resolution must be > 0, got {resolution_m}")
+    if not (x_max_m > x_min_m and y_max_m > y_min_m):
+        raise ValueError(f"empty area [{x_min_m}, {x_max_m}] x [{y_min_m}, {y_max_m}]")
+    nx = max(1, int(math.ceil((x_max_m - x_min_m) / resolution_m - 1e-9)))
+    ny = max(1, int(math.ceil((y_max_m - y_min_m) / resolution_m - 1e-9)))
+    xs = x_min_m + (np.arange(nx) + 0.5) * resolution_m
+    ys = y_min_m + (np.arange(ny) + 0.5) * resolution_m
+    gx, gy = np.meshgrid(xs, ys)
+    return Grid(xs, ys, np.column_stack([gx.ravel(), gy.ravel()]), float(resolution_m))
+
+
+def _sqdist(points: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """(M, n) squared distances."""
+    dx = points[:, 0:1] - positions[None, :, 0]
+    dy = points[:, 1:2] - positions[None, :, 1]
+    return dx * dx + dy * dy
+
+
+def voronoi_labels(points: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """Eq. 6: index of the nearest position for every grid point (ties -> lowest index)."""
+    positions = np.asarray(positions, dtype=float).reshape(-1, 2)
+    if positions.shape[0] == 0:
+        raise ValueError("need at least one position")
+    return np.argmin(_sqdist(points, positions), axis=1)
+
+
+def virtual_positions(
+    p_i: np.ndarray, others: np.ndarray, delta_i_m: float, delta_others_m: np.ndarray
+) -> np.ndarray:
+    """Eq. 7: p~_j = p_j + 2 (Delta_ij - d/2) (p_i - p_j)/d where Delta_ij > d/2, else p_j."""
+    p_i = np.asarray(p_i, dtype=float)
+    others = np.asarray(others, dtype=float).reshape(-1, 2)
+    delta = delta_i_m + np.broadcast_to(np.asarray(delta_others_m, dtype=float), (others.shape[0],))
+    diff = p_i[None, :] - others
+    d = np.hypot(diff[:, 0], diff[:, 1])
+    out = others.copy()
+    close = delta > d / 2
+    coinc = close & (d < 1e-9)
+    unit = np.zeros_like(diff)
+    ok = close & ~coinc
+    unit[ok] = diff[ok] / d[ok, None]
+    unit[coinc] = (1.0, 0.0)  # coincident agents: any fixed direction
+    out[close] = others[close] + 2.0 * (delta[close, None] - d[close, None] / 2) * unit[close]
+    return out
+
+
+def own_cell(
+    points: np.ndarray,
+    p_i: np.ndarray,
+    others: np.ndarray,
+    safety_radius_m: float | None = None,
+) -> np.ndarray:
+    """Boolean mask of agent i's cell: Eq. 6, or Eq. 7 when ``safety_radius_m`` is given.
+
+    Written as an intersection of half-planes ``(q - p_i) . u_ij <= b_ij`` with u_ij the unit
+    vector from p_i to p_j: b_ij = d/2 is exactly Eq. 6 (||q - p_i|| <= ||q - p_j||). Eq. 7's
+    virtual position puts the bisector at b_ij = d - Delta_ij when Delta_ij > d/2. For
+    d < Delta_ij the printed p~_j lands *beyond* p_i and the "<=" then selects the half-plane
+    on j's side, pulling the two together, the opposite of the intent; the half-plane form is
+    the continuous extension (the boundary passes behind p_i, so the centroid moves away from
+    j), identical to Eq. 7 wherever Eq. 7 is sensible. Ties go to agent i (Eq. 6's <=).
+    """
+    p_i = np.asarray(p_i, dtype=float)
+    others = np.asarray(others, dtype=float).reshape(-1, 2)
+    if others.shape[0] == 0:
+        return np.ones(points.shape[0], dtype=bool)
+    diff = others - p_i[None, :]
+    d = np.hypot(diff[:, 0], diff[:, 1])
+    unit = np.zeros_like(diff)
+    ok = d > 1e-9
+    unit[ok] = diff[ok] / d[ok, None]
+    unit[~ok] = (1.0, 0.0)  # coincident agents: any fixed direction
+    b = d / 2
+    if safety_radius_m is not None and safety_radius_m > 0:
+        delta = 2.0 * safety_radius_m  # Delta_ij = delta_i + delta_j, equal radii
+        b = np.where(delta > d / 2, d - delta, b)
+    proj = (points - p_i[None, :]) @ unit.T  # (M, n)
+    return np.all(proj <= b[None, :] + 1e-9, axis=1)
+
+
+def gaussian_density(grid: Grid, centres: np.ndarray, sigmas: np.ndarray) -> np.ndarray:
+    """Eqs. 13-15: sum of isotropic Gaussians exp(-|q - c|^2 / (2 sigma^2)) on the grid, (M,)."""
+    centres = np.asarray(centres, dtype=float).reshape(-1, 2)
+    sigmas = np.broadcast_to(np.asarray(sigmas, dtype=float), (centres.shape[0],))
+    out = np.zeros(grid.shape)
+    for (cx, cy), s in zip(centres, sigmas, strict=True):
+        if not s > 0:
+            continue
+        gx = np.exp(-((grid.xs - cx) ** 2) / (2 * s * s))
+        gy = np.exp(-((grid.ys - cy) ** 2) / (2 * s * s))
+        out += np.outer(gy, gx)  # separable: exp(-(dx^2+dy^2)/2s^2) = gx * gy
+    return out.ravel()
+
+
+def mass_centroid(
+    points: np.ndarray, density: np.ndarray, mask: np.ndarray, cell_area_m2: float
+) -> tuple[float, np.ndarray | None]:
+    """Eqs. 8-9: mass M_V [m^2 * density] and weighted centroid C_V [m], None if mass is 0."""
+    w = density[mask]
+    m = float(w.sum())
+    if not m > 0:
+        return 0.0, None
+    c = (w @ points[mask]) / m
+    return m * cell_area_m2, c
+
+
+@dataclass(frozen=True)
+class VehicleLimits:
+    """FF II-B, Eq. 5 (scenario ``vehicle:``)."""
+
+    v_stall_mps: float = 44.7
+    v_max_mps: float = 100.0
+    vz_max_mps: float = 100.0
+    omega_max_radps: float = 10.0
+
+
+@dataclass(frozen=True)
+class ControlGains:
+    """Eqs. 10-12 gains. The paper's K_p = 50, K_a = 10, K_z = 100 assume a control step equal
+    to their integration step; at our 0.1 s control period K_a T = 1 is dead-beat and K_z T = 10
+    is unstable (each step would overshoot the height error 9 times), so K_a = K_z = 5 [1/s]
+    (half dead-beat). ``vz_cmd_max_mps`` additionally caps the climb rate commanded (a 100 m/s
+    climb is within the paper's limit but not a sensible manoeuvre)."""
+
+    kp: float = 50.0  # [1/s]
+    ka: float = 5.0  # [1/s]
+    kz: float = 5.0  # [1/s]
+    vz_cmd_max_mps: float = 20.0
+
+
+def control_law(
+    s: np.ndarray,
+    target_xy: np.ndarray,
+    height_m: float,
+    terrain: Terrain,
+    limits: VehicleLimits,
+    gains: ControlGains,
+    v_cap_mps: float | None = None,
+) -> tuple[float, float, float]:
+    """Command (v_lin [m/s], v_z [m/s], omega_z [rad/s]) toward ``target_xy`` (Eqs. 10-12).
+
+    Eq. 10 as printed, v = K_p (p_i - C), points *away* from the centroid; the text intends the
+    vehicle to move toward it. A unicycle can only set a speed along its heading, so we use
+    the magnitude ``v_lin = K_p |C - p_i|`` clamped to [v_stall, v_max] (or ``v_cap_mps``) and
+    steer with ``omega = K_a * wrap(theta_error)`` (Eq. 11, wrapped to (-pi, pi]). Eq. 12 holds
+    ``height_m`` above the terrain E(x, y), plus a feed-forward of the terrain slope along the
+    heading (v_lin * grad E . heading) so hills do not make the height lag.
+    """
+    x, y, z, th = (float(v) for v in s)
+    dx, dy = float(target_xy[0]) - x, float(target_xy[1]) - y
+    dist = math.hypot(dx, dy)
+    v_hi = (
+        limits.v_max_mps if v_cap_mps is None else max(limits.v_stall_mps, min(v_cap_mps, limits.v_max_mps))
+    )
+    v_lin = min(max(gains.kp * dist, limits.v_stall_mps), v_hi)
+    err = wrap_angle(math.atan2(dy, dx) - th) if dist > 1e-9 else 0.0  # Eq. 11
+    omega = max(-limits.omega_max_radps, min(limits.omega_max_radps, gains.ka * err))
+    e = float(terrain.elevation(x, y))
+    gx, gy = terrain.gradient(x, y)
+    ff = v_lin * (gx * math.cos(th) + gy * math.sin(th))
+    vz_cap = min(limits.vz_max_mps, gains.vz_cmd_max_mps)
+    v_z = max(-vz_cap, min(vz_cap, gains.kz * (e - z + height_m) + ff))  # Eq. 12
+    return v_lin, v_z, omega

@@ -1,0 +1,212 @@
+"""EKF for one UAV's state s = (x, y, z, yaw) (FF III-B, Eqs. 16-25).
+
+State: ``x_m, y_m`` [m; map frame, east/north], ``z_m`` [m above datum], ``yaw_rad`` [rad,
+ccw from +x, wrapped to (-pi, pi]]. Inputs u = (v_lin [m/s], v_z [m/s], omega_z [rad/s])
+(FF Eq. 2), applied by the world with additive noise nu ~ N(0, diag(sigma_nu^2)) per input and
+physics substep (FF Eq. 4).
+
+Prediction runs at the physics rate ``dt_s`` (0.01 s) with the commanded inputs:
+``s^- = f(s, u)`` (Eq. 16), ``P^- = A P A^T + G Q G^T`` (Eq. 17) with A and G the Jacobians
+printed under Eq. 17 and Q = diag(sigma_nu^2) per *input* (v_lin, v_z, omega). The paper labels
+Q's entries sigma_ux, sigma_uy, sigma_omega, which does not match the three inputs of Eq. 4 that
+G multiplies; we follow Eq. 4.
+
+Updates (Eqs. 21-25) are partial: each measurement that arrived updates only its rows of H
+(GPS: x, y; altimeter: z), in timestamp order, interleaved with the physics substeps. The
+covariance update uses the Joseph form ``P = (I-KH) P (I-KH)^T + K R K^T`` (a stable
+equivalent of Eq. 25) and P is re-symmetrised after every step.
+
+Deviations from the paper, and why:
+
+* Altimeter. The ultrasonic sensor measures height above *ground*, not z (FF II-C says
+  "altitude above ground level" while Eq. 19 writes z). We use the honest nonlinear
+  h(s) = z - E(x, y) with Jacobian H = [-dE/dx, -dE/dy, 1, 0] (E: the a-priori terrain map,
+  ``fire_uav_common.terrain``). On flat terrain this is exactly Eq. 19's z row.
+* Gyro. Eq. 19 models the gyro as (theta_k - theta_{k-1}) / dt with H = 1/dt, treating
+  theta_{k-1} as known. That ignores the correlation between theta_{k-1} and theta_k and, with
+  dt = 0.01 s, feeds the filter an innovation scaled by 100. We instead treat the gyro for what
+  it measures: the yaw rate actually applied during the substep, omega = omega_cmd + nu_3.
+  Augmenting the state with that substep's rate (prior N(omega_cmd, sigma_nu^2), independent of
+  s) and updating it with the gyro sample (H = 1, R = sigma_gyro^2) gives
+  omega_hat = omega_cmd + k (m - omega_cmd), var = (1 - k) sigma_nu^2, k = sigma_nu^2 /
+  (sigma_nu^2 + sigma_gyro^2); the yaw is then propagated with omega_hat and the reduced
+  variance. This is the exact Kalman update of the augmented linear-Gaussian model, not an
+  approximation, and it is what makes the 100 Hz gyro useful.
+* When the vehicle is on the ground it does not move (docs/protocol.md), so prediction is
+  skipped then (no motion, no process noise).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from fire_uav_common.terrain import Terrain
+
+__all__ = ["EkfConfig", "Samples", "StateEkf", "wrap_angle"]
+
+
+def wrap_angle(a: float) -> float:
+    """Wrap an angle [rad] to (-pi, pi]."""
+    w = math.fmod(a + math.pi, 2.0 * math.pi)
+    if w <= 0.0:
+        w += 2.0 * math.pi
+    return w - math.pi
+
+
+@dataclass(frozen=True)
+class EkfConfig:
+    """Noise model. Sigmas are standard deviations in the units of the quantity."""
+
+    dt_s: float = 0.01  # physics substep [s]
+    sigma_nu: tuple[float, float, float] = (1.0, 1.0, 1.0)  # input noise (v_lin, v_z, omega) Eq. 4
+    sigma_gps_m: float = 3.0  # FF II-C
+    sigma_alt_m: float = 1.5
+    sigma_gyro_radps: float = 0.3
+    alt_max_range_m: float = 40.0  # altimeter samples above this are ignored
+    initial_sigma: tuple[float, float, float, float] = (3.0, 3.0, 1.5, 0.05)  # P0 diagonal sqrt
+
+    def __post_init__(self) -> None:
+        if not self.dt_s > 0:
+            raise ValueError(f"dt_s must be > 0, got {self.dt_s}")
+        for name in ("sigma_gps_m", "sigma_alt_m", "sigma_gyro_radps"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
+
+
+@dataclass
+class Samples:
+    """Sensor samples of one control step, each row stamped with its sim time [s].
+
+    gps: (N, 3) rows (t_s, x_m, y_m); gps_var_m2: (N,) reported variance (<= 0: use config).
+    alt: (N, 2) rows (t_s, height_above_ground_m). gyro: (N, 2) rows (t_s, omega_z_radps).
+    """
+
+    gps: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    gps_var_m2: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    alt: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    gyro: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+
+
+class StateEkf:
+    """EKF of FF III-B over s = (x, y, z, yaw); see the module docstring for the model."""
+
+    def __init__(self, config: EkfConfig, s0: np.ndarray, terrain: Terrain | None = None) -> None:
+        self.cfg = config
+        self.terrain = terrain or Terrain()
+        self.s = np.asarray(s0, dtype=float).copy()
+        if self.s.shape != (4,) or not np.all(np.isfinite(self.s)):
+            raise ValueError(f"s0 must be 4 finite numbers, got {s0!r}")
+        self.s[3] = wrap_angle(self.s[3])
+        self.P = np.diag(np.square(config.initial_sigma)).astype(float)
+        self._q = np.square(np.asarray(config.sigma_nu, dtype=float))
+        self._k_gyro = self._q[2] / (self._q[2] + config.sigma_gyro_radps**2)
+        self.updates = {"gps": 0, "alt": 0, "gyro": 0}
+
+    # --- prediction (Eqs. 16-17) ------------------------------------------------------
+    def predict(self, u: np.ndarray, dt_s: float, gyro_radps: float | None = None) -> None:
+        """One substep with input u = (v_lin, v_z, omega); gyro sample of this substep if any."""
+        v, vz, om = float(u[0]), float(u[1]), float(u[2])
+        q_om = self._q[2]
+        if gyro_radps is not None and math.isfinite(gyro_radps):
+            om = om + self._k_gyro * (gyro_radps - om)  # augmented-state update (module doc)
+            q_om = (1.0 - self._k_gyro) * q_om
+            self.updates["gyro"] += 1
+        th = self.s[3]
+        c, s = math.cos(th), math.sin(th)
+        a = np.eye(4)
+        a[0, 3] = -v * s * dt_s
+        a[1, 3] = v * c * dt_s
+        g = np.zeros((4, 3))
+        g[0, 0] = c * dt_s
+        g[1, 0] = s * dt_s
+        g[2, 1] = dt_s
+        g[3, 2] = dt_s
+        q = np.diag([self._q[0], self._q[1], q_om])
+        self.s = self.s + np.array([v * c * dt_s, v * s * dt_s, vz * dt_s, om * dt_s])
+        self.s[3] = wrap_angle(self.s[3])
+        self.P = a @ self.P @ a.T + g @ q @ g.T
+        self._symmetrise()
+
+    # --- updates (Eqs. 21-25, Joseph form) ------------------------------------------
+    def _update(self, y: np.ndarray, h: np.ndarray, r: np.ndarray) -> None:
+        s_mat = h @ self.P @ h.T + r  # Eq. 22
+        k = np.linalg.solve(s_mat, h @ self.P).T  # Eq. 23 (P symmetric)
+        self.s = self.s + k @ y  # Eq. 24
+        self.s[3] = wrap_angle(self.s[3])
+        ikh = np.eye(4) - k @ h
+        self.P = ikh @ self.P @ ikh.T + k @ r @ k.T  # Joseph form of Eq. 25
+        self._symmetrise()
+
+    def update_gps(self, x_m: float, y_m: float, var_m2: float | None = None) -> None:
+        var = var_m2 if var_m2 is not None and var_m2 > 0 else self.cfg.sigma_gps_m**2
+        h = np.zeros((2, 4))
+        h[0, 0] = h[1, 1] = 1.0
+        self._update(np.array([x_m - self.s[0], y_m - self.s[1]]), h, np.eye(2) * var)
+        self.updates["gps"] += 1
+
+    def update_altimeter(self, height_m: float) -> None:
+        """Height above ground [m]: h(s) = z - E(x, y)."""
+        e = float(self.terrain.elevation(self.s[0], self.s[1]))
+        dex, dey = self.terrain.gradient(self.s[0], self.s[1])
+        h = np.array([[-dex, -dey, 1.0, 0.0]])
+        y = np.array([height_m - (self.s[2] - e)])
+        self._update(y, h, np.array([[self.cfg.sigma_alt_m**2]]))
+        self.updates["alt"] += 1
+
+    def _symmetrise(self) -> None:
+        self.P = 0.5 * (self.P + self.P.T)
+
+    # --- one control step ---------------------------------------------------------------
+    def process(
+        self, samples: Samples, command: np.ndarray, t0_s: float, t1_s: float, moving: bool = True
+    ) -> None:
+        """Advance from t0_s to t1_s with ``command`` held, fusing ``samples`` in time order.
+
+        Substep j covers (t0 + (j-1) dt, t0 + j dt]; a sample stamped t is applied at the end
+        of the substep containing t (gyro: during it, see module doc). ``moving`` False (vehicle
+        on the ground) skips the prediction.
+        """
+        dt = self.cfg.dt_s
+        n_sub = max(1, int(round((t1_s - t0_s) / dt)))
+        eps = 1e-6 * dt
+
+        def sub_index(t: np.ndarray) -> np.ndarray:
+            j = np.ceil((t - t0_s - eps) / dt).astype(int)
+            return np.clip(j, 1, n_sub)
+
+        gyro_at: dict[int, float] = {}
+        if samples.gyro.size:
+            for j, w in zip(sub_index(samples.gyro[:, 0]), samples.gyro[:, 1], strict=True):
+                if math.isfinite(w):
+                    gyro_at[int(j)] = float(w)  # at most one per substep at 100 Hz
+        events: list[tuple[int, float, int, int]] = []  # (substep, t, kind, row)
+        if samples.gps.size:
+            for r, j in enumerate(sub_index(samples.gps[:, 0])):
+                events.append((int(j), float(samples.gps[r, 0]), 0, r))
+        if samples.alt.size:
+            for r, j in enumerate(sub_index(samples.alt[:, 0])):
+                events.append((int(j), float(samples.alt[r, 0]), 1, r))
+        events.sort()
+        ei = 0
+        u = np.asarray(command, dtype=float)
+        for j in range(1, n_sub + 1):
+            if moving:
+                self.predict(u, dt, gyro_at.get(j))
+            while ei < len(events) and events[ei][0] == j:
+                _, _, kind, r = events[ei]
+                ei += 1
+                if kind == 0:
+                    x, y = samples.gps[r, 1], samples.gps[r, 2]
+                    var = float(samples.gps_var_m2[r]) if samples.gps_var_m2.size > r else 0.0
+                    if math.isfinite(x) and math.isfinite(y):
+                        self.update_gps(float(x), float(y), var)
+                else:
+                    hgt = float(samples.alt[r, 1])
+                    if math.isfinite(hgt) and 0.0 <= hgt <= self.cfg.alt_max_range_m:
+                        self.update_altimeter(hgt)
+
+    @property
+    def yaw_rad(self) -> float:
+        return float(self.s[3])

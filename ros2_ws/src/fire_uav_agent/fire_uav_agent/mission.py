@@ -1,0 +1,205 @@
+"""Mission life-cycle of one UAV (FF IV-D a-d), as a small state machine over objectives.
+
+Objectives are the ``UavState.OBJECTIVE_*`` constants (:class:`Objective`). Transitions:
+
+* GROUNDED -> airborne objective at the takeoff slot ``uav_id * takeoff_interval_s`` (IV-D a).
+* Airborne objective choice (IV-D c, "reassess"): LAND if the fleet agrees every fire is out;
+  REFILL if the tank holds less than ``min_water_fraction``; SUPPRESS if an active fire is known;
+  else SEARCH (no fire known yet: FF assumes the fires are seen; our agents must find them).
+* SUPPRESS: drop (ACTION_DROP) when within ``max(extent, min_drop_radius_m)`` of the target
+  fire's estimated centre, then REFILL.
+* REFILL: request ACTION_REFILL while over a lake (the agent's guidance flies low and slow
+  there, IV-D b); reassess when the tank is full.
+* LAND when the fleet agrees (IV-D d): this agent's own picture has every known fire
+  extinguished, or every alive peer's objective is LAND/LANDED; LANDED when the world reports
+  the vehicle landed.
+
+Deadlock of FF V-D (several UAVs circling a frozen centroid over one fire, none passing over
+the centre): if a UAV in SUPPRESS with water has not dropped for ``deadlock_timeout_s`` while
+its centroid moved less than ``deadlock_centroid_move_m`` in that window, it switches to an
+*attack run*: it steers straight at the target fire's centre, bypassing its Voronoi centroid,
+until it drops (or ``attack_timeout_s`` passes, then the watch restarts). The same watch in
+REFILL (no refill progress, centroid frozen) steers straight to the lake. Only the stalled
+UAV deviates; its peers keep Lloyd control, and the tessellation changes as it moves.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass, field
+from enum import IntEnum
+
+from .peer_link import FireEntry
+
+__all__ = ["Decision", "Mission", "MissionConfig", "MissionView", "Objective", "Vehicle"]
+
+
+class Objective(IntEnum):
+    """UavState.OBJECTIVE_*."""
+
+    GROUNDED = 0
+    SUPPRESS = 1
+    REFILL = 2
+    LAND = 3
+    SEARCH = 4
+    MONITOR = 5
+    LANDED = 6
+
+
+class Vehicle(IntEnum):
+    """SensorBundle.VEHICLE_*."""
+
+    ON_GROUND = 0
+    AIRBORNE = 1
+    LANDED = 2
+    CRASHED = 3
+
+
+AIRBORNE_OBJECTIVES = (Objective.SUPPRESS, Objective.REFILL, Objective.SEARCH, Objective.MONITOR)
+
+
+@dataclass(frozen=True)
+class MissionConfig:
+    takeoff_time_s: float = 0.0  # uav_id * takeoff_interval_s
+    water_capacity_kg: float = 2000.0
+    full_fraction: float = 0.98  # tank counts as full above this
+    min_water_fraction: float = 0.5  # below this, refill before suppressing
+    min_drop_radius_m: float = 3.0
+    deadlock_timeout_s: float = 20.0
+    deadlock_centroid_move_m: float = 10.0
+    attack_timeout_s: float = 30.0
+    search_enabled: bool = True
+
+
+@dataclass(frozen=True)
+class MissionView:
+    """What the life-cycle needs to know at one step. Positions [m; map]."""
+
+    t_s: float
+    vehicle: Vehicle
+    water_kg: float
+    pos_xy: tuple[float, float]
+    fires: tuple[FireEntry, ...]  # this agent's active fires
+    all_out: bool  # at least one fire known and all extinguished (own picture)
+    peer_objectives: dict[int, int]  # alive peers' last known objectives
+    over_lake: bool
+    centroid_xy: tuple[float, float] | None
+    target_fire_id: int = -1  # the fire dominating this agent's cell (from coverage)
+    monitor_fire_id: int = -1  # a MONITOR planner's assignment, -1 for none
+
+
+@dataclass(frozen=True)
+class Decision:
+    objective: Objective
+    target_fire_id: int
+    request: int | None  # PayloadRequest.ACTION_* or None
+    direct: bool  # steer straight at the target (attack run / stalled refill)
+    changed: bool  # objective changed this step
+
+
+@dataclass
+class Mission:
+    cfg: MissionConfig
+    objective: Objective = Objective.GROUNDED
+    target_fire_id: int = -1
+    drops: int = 0
+    _since_s: float = 0.0  # start of the current stall watch
+    _attack_since_s: float | None = None
+    _drop_step_guard: int = 0
+    _centroids: deque = field(default_factory=lambda: deque(maxlen=4000))
+
+    def _fleet_agrees_out(self, v: MissionView) -> bool:
+        if v.all_out:
+            return True
+        peers = list(v.peer_objectives.values())
+        return bool(peers) and all(o in (Objective.LAND, Objective.LANDED) for o in peers)
+
+    def _choose(self, v: MissionView) -> Objective:
+        if self._fleet_agrees_out(v):
+            return Objective.LAND
+        if v.water_kg < self.cfg.min_water_fraction * self.cfg.water_capacity_kg:
+            return Objective.REFILL
+        if v.monitor_fire_id >= 0:
+            return Objective.MONITOR
+        if v.fires:
+            return Objective.SUPPRESS
+        return Objective.SEARCH if self.cfg.search_enabled else Objective.SUPPRESS
+
+    def _set(self, obj: Objective, t_s: float) -> bool:
+        if obj == self.objective:
+            return False
+        self.objective = obj
+        self._since_s = t_s
+        self._attack_since_s = None
+        self._centroids.clear()
+        return True
+
+    def _stalled(self, v: MissionView) -> bool:
+        if v.centroid_xy is not None:
+            self._centroids.append((v.t_s, v.centroid_xy))
+        if v.t_s - self._since_s < self.cfg.deadlock_timeout_s or not self._centroids:
+            return False
+        window = [c for t, c in self._centroids if t >= v.t_s - self.cfg.deadlock_timeout_s]
+        if len(window) < 2:
+            return False
+        xs = [c[0] for c in window]
+        ys = [c[1] for c in window]
+        return math.hypot(max(xs) - min(xs), max(ys) - min(ys)) < self.cfg.deadlock_centroid_move_m
+
+    def step(self, v: MissionView) -> Decision:
+        before = self.objective
+        request = None
+        direct = False
+        if v.vehicle == Vehicle.CRASHED:
+            return Decision(self.objective, self.target_fire_id, None, False, False)
+        if v.vehicle == Vehicle.LANDED and self.objective == Objective.LAND:
+            self._set(Objective.LANDED, v.t_s)
+        elif self.objective == Objective.GROUNDED:
+            if v.t_s >= self.cfg.takeoff_time_s or v.vehicle == Vehicle.AIRBORNE:
+                self._set(self._choose(v), v.t_s)
+        elif self.objective == Objective.LAND or self.objective == Objective.LANDED:
+            pass  # terminal: fires do not re-ignite in FF
+        elif self.objective == Objective.REFILL:
+            if self._drop_step_guard > 0:
+                self._drop_step_guard -= 1
+            elif self._fleet_agrees_out(v):
+                self._set(Objective.LAND, v.t_s)
+            elif v.water_kg >= self.cfg.full_fraction * self.cfg.water_capacity_kg:
+                self._set(self._choose(v), v.t_s)
+            if self.objective == Objective.REFILL:
+                if v.over_lake and v.water_kg < self.cfg.water_capacity_kg:
+                    request = 2  # PayloadRequest.ACTION_REFILL
+                    self._since_s = v.t_s  # progress: restart the stall watch
+                direct = self._stalled(v)
+        else:  # SUPPRESS, SEARCH, MONITOR
+            want = self._choose(v)
+            self._set(want, v.t_s)
+        if self.objective == Objective.SUPPRESS:
+            self.target_fire_id = v.target_fire_id
+            tgt = next((f for f in v.fires if f.fire_id == self.target_fire_id), None)
+            if tgt is None and v.fires:
+                tgt = min(v.fires, key=lambda f: math.hypot(f.x_m - v.pos_xy[0], f.y_m - v.pos_xy[1]))
+                self.target_fire_id = tgt.fire_id
+            if self._attack_since_s is None and self._stalled(v):
+                self._attack_since_s = v.t_s
+            if self._attack_since_s is not None:
+                if v.t_s - self._attack_since_s > self.cfg.attack_timeout_s:
+                    self._attack_since_s = None
+                    self._since_s = v.t_s
+                    self._centroids.clear()
+                else:
+                    direct = True
+            if tgt is not None and v.water_kg > 0:
+                d = math.hypot(tgt.x_m - v.pos_xy[0], tgt.y_m - v.pos_xy[1])
+                if d <= max(tgt.extent_m, self.cfg.min_drop_radius_m):
+                    request = 1  # PayloadRequest.ACTION_DROP
+                    self.drops += 1
+                    self._set(Objective.REFILL, v.t_s)
+                    self._drop_step_guard = 3
+                    direct = False
+        elif self.objective == Objective.MONITOR:
+            self.target_fire_id = v.monitor_fire_id
+        elif request != 1:
+            self.target_fire_id = -1
+        return Decision(self.objective, self.target_fire_id, request, direct, self.objective != before)

@@ -1,0 +1,272 @@
+"""Peer bookkeeping of one agent (docs/protocol.md "Peer link"; FF IV-B, IV-C).
+
+On receipt, a message from peer j to this agent i for step s is
+
+* *rejected* (counted) if its sender id is outside 0..N-1 or is i's own id, if it holds a
+  NaN/inf, or if its sequence is not greater than the last accepted one from j on that topic;
+* *lost* (counted) if ``rng.bernoulli(loss_probability, seed, "loss", j, i, s, topic_index)``
+  (deterministic whatever the arrival order) or if link (j, i) is in a scheduled outage at the
+  step's stamp ``(s + 1) * T``;
+* otherwise *accepted*: it becomes j's last known state / fire picture (reused while j is not
+  heard, FF IV-B).
+
+Once per control step k, :meth:`PeerLink.end_step` updates each peer's ``missed`` counter:
+reset to 0 if a valid state of step >= k-1 was accepted since the previous call, else +1.
+At exactly ``crash_threshold_steps`` missed steps the peer is declared crashed (FF IV-C); a
+crashed peer that is heard again rejoins. Id validity is checked before the loss draw (the
+draw needs a valid sender id); the other checks come after it, so a lost message is never
+also counted as rejected.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from enum import IntEnum
+
+from fire_uav_common import rng
+
+__all__ = [
+    "TOPIC_STATE",
+    "TOPIC_FIRES",
+    "Outage",
+    "PeerFires",
+    "PeerLink",
+    "PeerState",
+    "Verdict",
+]
+
+TOPIC_STATE = 0  # topic_index of /fleet/state in the loss draw
+TOPIC_FIRES = 1  # topic_index of /fleet/fires
+
+
+class Verdict(IntEnum):
+    ACCEPTED = 0
+    LOST = 1
+    REJECTED = 2
+
+
+@dataclass(frozen=True)
+class Outage:
+    """Directed link ``from_id -> to_id`` down for sim time in [start_s, end_s)."""
+
+    from_id: int
+    to_id: int
+    start_s: float
+    end_s: float
+
+    def __post_init__(self) -> None:
+        if self.from_id < 0 or self.to_id < 0:
+            raise ValueError(f"outage ids must be >= 0, got {self.from_id} -> {self.to_id}")
+        if not self.end_s >= self.start_s:
+            raise ValueError(f"outage end_s {self.end_s} before start_s {self.start_s}")
+
+
+@dataclass(frozen=True)
+class FireEntry:
+    """One fire estimate as exchanged on /fleet/fires (FireEstimate.msg), units in names."""
+
+    fire_id: int
+    active: bool
+    x_m: float
+    y_m: float
+    extent_m: float
+    vx_mps: float = 0.0
+    vy_mps: float = 0.0
+    last_measurement_s: float = 0.0  # sim time of the newest measurement fused in
+    front_x_m: float = math.nan
+    front_y_m: float = math.nan
+    max_spread_rate_mps: float = 0.0
+
+
+@dataclass(frozen=True)
+class PeerState:
+    """A peer's UavState, ROS-free (the node converts). Positions [m; map], yaw [rad]."""
+
+    uav_id: int
+    sequence: int
+    step: int
+    x_m: float
+    y_m: float
+    z_m: float
+    yaw_rad: float
+    objective: int
+    target_fire_id: int = -1
+    water_kg: float = 0.0
+    centroid_x_m: float = math.nan
+    centroid_y_m: float = math.nan
+
+    def finite(self) -> bool:
+        return all(math.isfinite(v) for v in (self.x_m, self.y_m, self.z_m, self.yaw_rad, self.water_kg))
+
+
+@dataclass(frozen=True)
+class PeerFires:
+    """A peer's FireEstimateArray, ROS-free."""
+
+    uav_id: int
+    sequence: int
+    step: int
+    fires: tuple[FireEntry, ...] = ()
+
+    def finite(self) -> bool:
+        for f in self.fires:
+            vals = (f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps, f.last_measurement_s)
+            if not all(math.isfinite(v) for v in vals):
+                return False
+        return True
+
+
+@dataclass
+class _Peer:
+    missed: int = 0
+    crashed: bool = False
+    heard_since_bookkeeping: bool = False
+    last_seq: list[int] = field(default_factory=lambda: [0, 0])
+    state: PeerState | None = None
+    fires: PeerFires | None = None
+
+
+@dataclass(frozen=True)
+class LinkEvent:
+    """PEER_CRASHED / PEER_REJOINED decision."""
+
+    kind: str  # "crashed" | "rejoined"
+    peer_id: int
+    step: int
+
+
+class PeerLink:
+    """Bookkeeping of agent ``uav_id`` about its ``uav_count - 1`` peers."""
+
+    def __init__(
+        self,
+        uav_id: int,
+        uav_count: int,
+        seed: int,
+        loss_probability: float,
+        control_period_s: float,
+        crash_threshold_steps: int = 10,
+        outages: tuple[Outage, ...] = (),
+    ) -> None:
+        if not 0 <= uav_id < uav_count:
+            raise ValueError(f"uav_id {uav_id} outside 0..{uav_count - 1}")
+        if not 0.0 <= loss_probability <= 1.0:
+            raise ValueError(f"loss_probability must be in [0, 1], got {loss_probability}")
+        if crash_threshold_steps < 1:
+            raise ValueError(f"crash_threshold_steps must be >= 1, got {crash_threshold_steps}")
+        if seed < 0:
+            raise ValueError(f"seed must be >= 0, got {seed}")
+        self.uav_id = uav_id
+        self.uav_count = uav_count
+        self.seed = seed
+        self.loss_probability = loss_probability
+        self.period_s = control_period_s
+        self.crash_threshold = crash_threshold_steps
+        self.outages = tuple(outages)
+        self.peers = {j: _Peer() for j in range(uav_count) if j != uav_id}
+        self.received = 0
+        self.lost = 0
+        self.rejected = 0
+        self.reject_reasons: dict[str, int] = {}
+
+    # --- loss model ----------------------------------------------------------------------
+    def in_outage(self, sender: int, step: int) -> bool:
+        t = (step + 1) * self.period_s
+        return any(
+            o.from_id == sender and o.to_id == self.uav_id and o.start_s <= t < o.end_s for o in self.outages
+        )
+
+    def is_lost(self, sender: int, step: int, topic_index: int) -> bool:
+        """True if message (sender -> me, step, topic) is dropped by injection (deterministic)."""
+        if self.in_outage(sender, step):
+            return True
+        return rng.bernoulli(self.loss_probability, self.seed, "loss", sender, self.uav_id, step, topic_index)
+
+    def expected(self, step: int) -> set[tuple[int, int]]:
+        """(peer, topic_index) messages of ``step`` the lockstep wait should hold out for."""
+        out = set()
+        for j, p in self.peers.items():
+            if p.crashed:
+                continue
+            for ti in (TOPIC_STATE, TOPIC_FIRES):
+                if not self.is_lost(j, step, ti):
+                    out.add((j, ti))
+        return out
+
+    # --- receipt ---------------------------------------------------------------------------
+    def _reject(self, reason: str) -> Verdict:
+        self.rejected += 1
+        self.reject_reasons[reason] = self.reject_reasons.get(reason, 0) + 1
+        return Verdict.REJECTED
+
+    def _check(self, sender: int, step: int, seq: int, finite: bool, ti: int) -> Verdict:
+        if not isinstance(sender, int) or not 0 <= sender < self.uav_count:
+            return self._reject("unknown id")
+        if sender == self.uav_id:
+            return self._reject("own id")
+        if step < 0:
+            return self._reject("negative step")
+        if self.is_lost(sender, step, ti):
+            self.lost += 1
+            return Verdict.LOST
+        if not finite:
+            return self._reject("nan/inf")
+        if seq <= self.peers[sender].last_seq[ti]:
+            return self._reject("old sequence")
+        return Verdict.ACCEPTED
+
+    def receive_state(self, msg: PeerState) -> Verdict:
+        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), TOPIC_STATE)
+        if v == Verdict.ACCEPTED:
+            p = self.peers[msg.uav_id]
+            p.last_seq[TOPIC_STATE] = msg.sequence
+            p.state = msg
+            p.heard_since_bookkeeping = True
+            self.received += 1
+        return v
+
+    def receive_fires(self, msg: PeerFires) -> Verdict:
+        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), TOPIC_FIRES)
+        if v == Verdict.ACCEPTED:
+            p = self.peers[msg.uav_id]
+            p.last_seq[TOPIC_FIRES] = msg.sequence
+            p.fires = msg
+            self.received += 1
+        return v
+
+    # --- per-step bookkeeping --------------------------------------------------------------
+    def end_step(self, step: int) -> list[LinkEvent]:
+        """Missed counters, crash declaration and rejoin for control step ``step``."""
+        events: list[LinkEvent] = []
+        for j, p in self.peers.items():
+            if p.heard_since_bookkeeping:
+                p.missed = 0
+                p.heard_since_bookkeeping = False
+                if p.crashed:
+                    p.crashed = False
+                    events.append(LinkEvent("rejoined", j, step))
+            else:
+                p.missed += 1
+                if p.missed == self.crash_threshold and not p.crashed:
+                    p.crashed = True
+                    events.append(LinkEvent("crashed", j, step))
+        return events
+
+    # --- views -----------------------------------------------------------------------------
+    def alive_ids(self) -> list[int]:
+        """Ids counted alive, this agent included, ascending."""
+        return sorted([self.uav_id] + [j for j, p in self.peers.items() if not p.crashed])
+
+    def crashed_ids(self) -> list[int]:
+        return sorted(j for j, p in self.peers.items() if p.crashed)
+
+    def alive_states(self) -> dict[int, PeerState]:
+        """Last known state of every alive peer that has ever been heard (FF IV-B reuse)."""
+        return {j: p.state for j, p in self.peers.items() if not p.crashed and p.state is not None}
+
+    def alive_fires(self) -> dict[int, PeerFires]:
+        return {j: p.fires for j, p in self.peers.items() if not p.crashed and p.fires is not None}
+
+    def missed(self, peer: int) -> int:
+        return self.peers[peer].missed
