@@ -11,7 +11,7 @@ from mission_util import assert_no_survivors, run_mission
 
 pytestmark = [pytest.mark.system, pytest.mark.slow]
 
-SMALL = "tiny_test"  # one small fire near the lake: a short mission
+SMALL = "fault_drill"  # one big fire: drops, refills and reassessment in about a minute of mission time
 
 
 def _complete(summary: dict, stderr: str) -> None:
@@ -34,7 +34,7 @@ def test_ff_two_fire_mission_with_five_uavs(ros_env, tmp_path):
 def test_killed_agent_is_detected_and_mission_completes(ros_env, tmp_path):
     victim, n = 1, 3
     summary, err = run_mission(
-        tmp_path / "run", ros_env, SMALL, "--uavs", str(n), "--seed", "2", "--kill", f"{victim}@8"
+        tmp_path / "run", ros_env, SMALL, "--uavs", str(n), "--seed", "2", "--kill", f"{victim}@4"
     )
     _complete(summary, err)
     period = summary["control_period_s"]
@@ -58,7 +58,7 @@ def test_killed_agent_is_detected_and_mission_completes(ros_env, tmp_path):
 def test_two_agents_killed_at_once_one_carrying_water(ros_env, tmp_path):
     n = 4
     summary, err = run_mission(
-        tmp_path / "run", ros_env, SMALL, "--uavs", str(n), "--seed", "3", "--kill", "1@9", "--kill", "2@9"
+        tmp_path / "run", ros_env, SMALL, "--uavs", str(n), "--seed", "3", "--kill", "1@4", "--kill", "2@4"
     )
     _complete(summary, err)
     assert sorted(c["uav_id"] for c in summary["crashes"]) == [1, 2]

@@ -333,7 +333,7 @@ class Progress:
         vehicles = "?" if s.vehicles_alive is None else f"{s.vehicles_alive}/{uav_count}"
         line = (
             f"[{bar:<30}] t={t_s:7.1f} s  fires left {fires}  UAVs flying-or-landed {vehicles} "
-            f"(landed {s.vehicles_landed})  agents running {alive}/{uav_count}  drops {len(s.of(2))}"
+            f"(landed {s.vehicles_landed})  agents running {alive}/{uav_count}  drops {len(s.drops())}"
         )
         if self.tty:
             sys.stderr.write("\r" + line[:160])

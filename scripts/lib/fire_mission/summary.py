@@ -56,13 +56,17 @@ class LiveSummary:
     def of(self, type_: int) -> list[Event]:
         return [e for e in self.events if e.type == type_]
 
+    def drops(self) -> list[Event]:
+        """Drops that released water (a drop request with an empty tank is not a drop)."""
+        return [e for e in self.of(TYPE_DROP) if e.value > 0]
+
     def drop_intervals_s(self) -> list[float]:
         """Intervals between consecutive drops of the whole fleet (FF Table I)."""
-        ts = sorted(e.t_s for e in self.of(TYPE_DROP))
+        ts = sorted(e.t_s for e in self.drops())
         return [b - a for a, b in zip(ts, ts[1:], strict=False)]
 
     def as_dict(self, *, outcome: str, wall_s: float, steps: int) -> dict:
-        drops = self.of(TYPE_DROP)
+        drops = self.drops()
         per_fire: dict[str, int] = {}
         for e in drops:
             key = str(e.fire_id) if e.fire_id >= 0 else "missed"
@@ -105,6 +109,18 @@ class LiveSummary:
             "last_state_t_s": {str(k): round(v, 3) for k, v in sorted(self.last_state_t.items())},
             "alive_view": {str(k): v for k, v in sorted(self.alive_view.items())},
             "final_objective": {str(k): v for k, v in sorted(self.objective.items())},
+            "events": [
+                {
+                    "t_s": round(e.t_s, 3),
+                    "type": e.type,
+                    "uav_id": e.uav_id,
+                    "peer_id": e.peer_id,
+                    "fire_id": e.fire_id,
+                    "value": e.value,
+                    "detail": e.detail,
+                }
+                for e in sorted(self.events, key=lambda e: e.t_s)
+            ],
             "processes": {
                 n: {
                     "cpu_s": round(st.cpu_s, 2),

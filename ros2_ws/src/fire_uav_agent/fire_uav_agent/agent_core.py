@@ -107,6 +107,9 @@ class AgentConfig:
     safety_radius_m: float = 10.0
     extinction_extent_m: float = 2.0
     search_first: bool = False
+    drop_radius_m: float = (
+        20.0  # water footprint radius (scenario fires.drop_radius_m; world hits within max(this, sigma))
+    )
     land_approach_radius_m: float = 120.0  # start descending this close to the start point
 
     def __post_init__(self) -> None:
@@ -205,6 +208,7 @@ def config_from_scenario(
         use_safety_band=bool(mis.use_safety_band),
         safety_radius_m=float(mis.safety_radius_m),
         search_first=bool(_get(mis, "search_first", default=False)),
+        drop_radius_m=float(_get(scenario.fires, "drop_radius_m", default=None) or 20.0),
     )
 
 
@@ -388,6 +392,8 @@ class Agent:
                 takeoff_time_s=cfg.uav_id * cfg.takeoff_interval_s,
                 water_capacity_kg=cfg.water_capacity_kg,
                 search_enabled=True,
+                # release inside the footprint with a margin for estimation error (EKF ~1-2 m)
+                min_drop_radius_m=0.7 * cfg.drop_radius_m,
             )
         )
         self.grid = make_grid(*cfg.area_m, cfg.grid_resolution_m)

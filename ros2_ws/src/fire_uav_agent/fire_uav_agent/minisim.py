@@ -161,7 +161,10 @@ class MiniWorld:
                     self.drops += 1
                     self.drop_times.append(t1)
                     for f in self.fires:
-                        if not f.out and math.hypot(f.x_m - v.s[0], f.y_m - v.s[1]) <= f.sigma_m:
+                        # same hit rule as the world: within max(footprint, sigma)
+                        if not f.out and math.hypot(f.x_m - v.s[0], f.y_m - v.s[1]) <= max(
+                            c.drop_radius_m, f.sigma_m
+                        ):
                             f.sigma_m /= 2.0
                             if f.sigma_m < self.ext:
                                 f.out = True

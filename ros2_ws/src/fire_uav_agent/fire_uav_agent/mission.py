@@ -65,7 +65,7 @@ class MissionConfig:
     water_capacity_kg: float = 2000.0
     full_fraction: float = 0.98  # tank counts as full above this
     min_water_fraction: float = 0.5  # below this, refill before suppressing
-    min_drop_radius_m: float = 3.0
+    min_drop_radius_m: float = 3.0  # drop within max(extent, this) of the target
     deadlock_timeout_s: float = 20.0
     deadlock_centroid_move_m: float = 10.0
     attack_timeout_s: float = 30.0

@@ -218,12 +218,14 @@ class VehicleSim:
             self.z_m = ground  # terrain is a floor; landing needs a slow command
 
     def refill_tick(self, dt_s: float) -> float:
-        """Advance an ongoing refill by dt_s; returns the kg taken when the tank became full, else 0."""
+        """Advance an ongoing refill by dt_s; returns the kg taken when the refill ended this
+        substep (tank full, or the vehicle left the refill conditions part-filled), else 0."""
         if not self.refilling:
             return 0.0
         if not self.refill_conditions():
             self.refilling = False
-            return 0.0
+            taken, self.refill_taken_kg = self.refill_taken_kg, 0.0
+            return taken
         cap = self.spec.water_capacity_kg
         add = min(self.spec.refill_rate_kgps * dt_s, cap - self.water_kg)
         self.water_kg += add

@@ -222,7 +222,18 @@ class World:
                 taken = v.refill_tick(self.dt_s)
                 if taken > 0:
                     events.append(
-                        Event(EventType.REFILL, now_ns, v.uav_id, -1, v.x_m, v.y_m, taken, "tank full")
+                        Event(
+                            EventType.REFILL,
+                            now_ns,
+                            v.uav_id,
+                            -1,
+                            v.x_m,
+                            v.y_m,
+                            taken,
+                            "tank full"
+                            if v.water_kg >= v.spec.water_capacity_kg - 1e-6
+                            else "left the lake part-filled",
+                        )
                     )
                 self._sample(v, bundles[v.uav_id], prev_ns, now_ns)
         # 4. fires

@@ -67,7 +67,9 @@ class AnalyticFireModel:
         for i, f in enumerate(self._fires):
             if f.out or not f.started:
                 continue
-            r = radius_m if radius_m is not None else (self.drop_radius_m or f.sigma_m)
+            # the water reaches the fire if the footprint overlaps its core: within the larger of
+            # the drop footprint and the fire's sigma (a big fire is hit anywhere in its core)
+            r = radius_m if radius_m is not None else max(self.drop_radius_m or 0.0, f.sigma_m)
             if math.hypot(x_m - f.x_m, y_m - f.y_m) <= r:
                 f.sigma_m /= 2.0  # area / 4
                 f.drops += 1
