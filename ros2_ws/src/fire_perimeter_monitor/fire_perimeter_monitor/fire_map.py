@@ -1,0 +1,344 @@
+"""On-board fire map (PM IV-A, Table 1, Listing 2) and the raster cells a fire sensor reports.
+
+Frame: the world "map" frame, x east, y north, metres. Angles are counter-clockwise from +x
+around the map centre (the ignition point, or the estimated fire centre when unknown), split
+into ``bin_count`` bins (360 in the paper), bin ``k`` covering ``[k, k + 1) * 360 / bin_count``
+degrees, as in fire_uav_msgs/PerimeterMap.
+
+Deviations from the paper, and why:
+- Table 1 keeps lists of outer and inner cells per angle; we keep one outer and one inner
+  cell per bin, the farthest perimeter cell seen in the bin (the outer perimeter), because
+  Eq. 1 uses one distance per angle anyway and a fixed-size map is what PerimeterMap carries.
+- The paper records only the cell under the UAV (trajectory cells); we record every
+  perimeter cell the sensor reports (FireCells: a footprint). A bin seen again within
+  ``revisit_gap_s`` of its last sighting is the *same* visit (the outer cell is replaced, the
+  inner one kept), otherwise the old outer cell becomes the inner cell (PM IV-A). Without
+  this, a footprint sliding over a bin would compute Eq. 1 over a fraction of a second.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
+
+__all__ = [
+    "CellGrid",
+    "CellState",
+    "Direction",
+    "circular_fill",
+    "FireMap",
+    "angle_bin",
+    "as_cell_arrays",
+    "perimeter_mask",
+]
+
+
+class CellState(IntEnum):
+    """Raster cell state, as fire_uav_msgs/FireCells.CELL_*."""
+
+    UNBURNED = 0
+    BURNING = 1
+    BURNED = 2
+
+
+class Direction(IntEnum):
+    """Travel direction around the fire, as fire_uav_msgs/PerimeterMap.DIRECTION_*.
+
+    CCW: the bin index (angle about the centre) increases, the fire is on the UAV's left.
+    """
+
+    CCW = 0
+    CW = 1
+
+    @property
+    def sign(self) -> int:
+        """+1 for CCW (angle increases), -1 for CW."""
+        return 1 if self is Direction.CCW else -1
+
+    def reversed(self) -> Direction:
+        return Direction.CW if self is Direction.CCW else Direction.CCW
+
+
+def as_cell_arrays(observed_cells) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(x_m, y_m, state)`` arrays from an ``(n, 3)`` array-like or a 3-tuple of arrays."""
+    if isinstance(observed_cells, tuple) and len(observed_cells) == 3:
+        x, y, s = (np.asarray(a) for a in observed_cells)
+    else:
+        arr = np.asarray(observed_cells, dtype=float).reshape(-1, 3)
+        x, y, s = arr[:, 0], arr[:, 1], arr[:, 2]
+    x = np.asarray(x, dtype=float).ravel()
+    y = np.asarray(y, dtype=float).ravel()
+    s = np.asarray(s).astype(np.int64).ravel()
+    if not (x.shape == y.shape == s.shape):
+        raise ValueError(f"observed cells: x, y, state lengths differ ({x.size}, {y.size}, {s.size})")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise ValueError("observed cells: non-finite cell coordinates")
+    if s.size and (s.min() < 0 or s.max() > 2):
+        raise ValueError(f"observed cells: state must be 0, 1 or 2, got values in [{s.min()}, {s.max()}]")
+    return x, y, s
+
+
+@dataclass(frozen=True)
+class CellGrid:
+    """Square raster: cell (i, j) has its centre at ``origin + (i, j) * cell_size_m``."""
+
+    origin_x_m: float
+    origin_y_m: float
+    cell_size_m: float
+
+    def __post_init__(self) -> None:
+        if not self.cell_size_m > 0:
+            raise ValueError(f"cell_size_m must be > 0, got {self.cell_size_m}")
+
+    def index(self, x_m, y_m) -> tuple[np.ndarray, np.ndarray]:
+        """Integer cell indices of points [m] (vectorised)."""
+        i = np.rint((np.asarray(x_m, dtype=float) - self.origin_x_m) / self.cell_size_m).astype(np.int64)
+        j = np.rint((np.asarray(y_m, dtype=float) - self.origin_y_m) / self.cell_size_m).astype(np.int64)
+        return i, j
+
+    def center(self, i, j) -> tuple[np.ndarray, np.ndarray]:
+        """Cell centre [m] of indices (vectorised)."""
+        return (
+            self.origin_x_m + np.asarray(i, dtype=float) * self.cell_size_m,
+            self.origin_y_m + np.asarray(j, dtype=float) * self.cell_size_m,
+        )
+
+
+def perimeter_mask(x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_size_m: float) -> np.ndarray:
+    """Which observed cells are perimeter cells.
+
+    A perimeter cell is a burning or burned cell with an *observed* unburned 4-neighbour. A
+    neighbour outside the footprint is unknown and does not count, so the footprint's edge
+    does not create a false perimeter.
+    """
+    x, y, s = as_cell_arrays((x_m, y_m, state))
+    if x.size == 0:
+        return np.zeros(0, dtype=bool)
+    grid = CellGrid(float(x[0]), float(y[0]), cell_size_m)
+    i, j = grid.index(x, y)
+    unburned = {(int(a), int(b)) for a, b, c in zip(i, j, s, strict=True) if c == CellState.UNBURNED}
+    fire = s != CellState.UNBURNED
+    out = np.zeros(x.size, dtype=bool)
+    for k in np.flatnonzero(fire):
+        a, b = int(i[k]), int(j[k])
+        out[k] = (
+            (a + 1, b) in unburned
+            or (a - 1, b) in unburned
+            or (a, b + 1) in unburned
+            or (a, b - 1) in unburned
+        )
+    return out
+
+
+def angle_bin(x_m, y_m, center_x_m: float, center_y_m: float, bin_count: int = 360) -> np.ndarray:
+    """Bin index of points around the centre, CCW from +x (vectorised)."""
+    ang = np.arctan2(np.asarray(y_m, dtype=float) - center_y_m, np.asarray(x_m, dtype=float) - center_x_m)
+    k = np.floor(np.mod(ang, 2 * np.pi) / (2 * np.pi) * bin_count).astype(np.int64)
+    return np.minimum(k, bin_count - 1)
+
+
+class FireMap:
+    """Per-angle outer and inner perimeter cells with distance and visit time (PM Table 1).
+
+    Arrays (length ``bin_count``, NaN where unknown): ``outer_x_m``, ``outer_y_m``,
+    ``outer_d_m``, ``outer_t_s``, ``inner_d_m``, ``inner_t_s``. The centre may be set later
+    (:meth:`set_center`) when the ignition point is unknown.
+
+    Listing 2: the first time a bin gets an outer cell, the ignition point (distance 0, at
+    ``ignition_time_s``) becomes its inner cell. With an unknown ignition time the inner time
+    is NaN and that bin's ROS stays unknown until its second visit.
+    """
+
+    def __init__(
+        self,
+        center_x_m: float,
+        center_y_m: float,
+        *,
+        bin_count: int = 360,
+        ignition_time_s: float | None = None,
+        revisit_gap_s: float = 60.0,
+    ) -> None:
+        if bin_count < 8:
+            raise ValueError(f"bin_count must be >= 8, got {bin_count}")
+        if not revisit_gap_s >= 0:
+            raise ValueError(f"revisit_gap_s must be >= 0, got {revisit_gap_s}")
+        if not (math.isfinite(center_x_m) and math.isfinite(center_y_m)):
+            raise ValueError(f"map centre must be finite, got ({center_x_m}, {center_y_m})")
+        self.center_x_m = float(center_x_m)
+        self.center_y_m = float(center_y_m)
+        self.bin_count = int(bin_count)
+        self.ignition_time_s = ignition_time_s
+        self.revisit_gap_s = float(revisit_gap_s)
+        nan = np.full(self.bin_count, np.nan)
+        self.outer_x_m = nan.copy()
+        self.outer_y_m = nan.copy()
+        self.outer_d_m = nan.copy()
+        self.outer_t_s = nan.copy()
+        self.inner_d_m = nan.copy()
+        self.inner_t_s = nan.copy()
+
+    # --- geometry ------------------------------------------------------------------------
+    def bin_of(self, x_m, y_m) -> np.ndarray:
+        return angle_bin(x_m, y_m, self.center_x_m, self.center_y_m, self.bin_count)
+
+    def bin_center_rad(self) -> np.ndarray:
+        """Centre angle of every bin [rad]."""
+        return (np.arange(self.bin_count) + 0.5) * (2 * np.pi / self.bin_count)
+
+    @property
+    def known(self) -> np.ndarray:
+        """Bins that have an outer cell."""
+        return ~np.isnan(self.outer_d_m)
+
+    # --- updates -------------------------------------------------------------------------
+    def record(self, x_m: np.ndarray, y_m: np.ndarray, t_s: float, link_m: float = 0.0) -> np.ndarray:
+        """Record perimeter cells [m] seen at time ``t_s``; returns the bins touched.
+
+        Per bin the farthest of the given cells is the candidate outer cell (PM IV-A).
+
+        Deviation: far from the centre a bin is narrower than a cell, so the cells of one
+        sighting skip bins, and a skipped bin would keep its stale cell from the last lap
+        between fresh ones (a zig-zag perimeter). Bins between two recorded cells at most
+        ``link_m`` apart (neighbouring perimeter cells; 0 disables this) are filled with the
+        point where the bin's centre ray crosses the segment between the two cells.
+        """
+        x = np.asarray(x_m, dtype=float).ravel()
+        y = np.asarray(y_m, dtype=float).ravel()
+        if x.size == 0:
+            return np.zeros(0, dtype=np.int64)
+        d = np.hypot(x - self.center_x_m, y - self.center_y_m)
+        b = self.bin_of(x, y)
+        order = np.lexsort((d, b))  # by bin, then distance: the last of each bin is the farthest
+        b_sorted = b[order]
+        last = np.r_[b_sorted[1:] != b_sorted[:-1], True]
+        sel = order[last]
+        bins, xs, ys, ds = b[sel], x[sel], y[sel], d[sel]
+        if link_m > 0 and bins.size >= 2:
+            bins, xs, ys, ds = self._fill_skipped(bins, xs, ys, ds, link_m)
+        self._visit(bins, xs, ys, ds, float(t_s))
+        return bins
+
+    def _fill_skipped(self, bins, xs, ys, ds, link_m):
+        nb = self.bin_count
+        nxt = np.roll(np.arange(bins.size), -1)
+        gap = (bins[nxt] - bins) % nb
+        close = np.hypot(xs[nxt] - xs, ys[nxt] - ys) <= link_m
+        add_b, add_x, add_y = [], [], []
+        for k in np.flatnonzero(close & (gap >= 2) & (gap <= nb // 4)):
+            p = np.array([xs[k] - self.center_x_m, ys[k] - self.center_y_m])
+            e = np.array([xs[nxt[k]] - xs[k], ys[nxt[k]] - ys[k]])
+            fb = (bins[k] + np.arange(1, gap[k])) % nb
+            th = (fb + 0.5) * (2 * np.pi / nb)
+            ux, uy = np.cos(th), np.sin(th)
+            den = ux * e[1] - uy * e[0]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                r = (p[0] * e[1] - p[1] * e[0]) / den
+            ok = np.isfinite(r) & (r > 0)
+            add_b.append(fb[ok])
+            add_x.append(self.center_x_m + r[ok] * ux[ok])
+            add_y.append(self.center_y_m + r[ok] * uy[ok])
+        if not add_b:
+            return bins, xs, ys, ds
+        ab, ax, ay = np.concatenate(add_b), np.concatenate(add_x), np.concatenate(add_y)
+        keep = ~np.isin(ab, bins)
+        ab, ax, ay = ab[keep], ax[keep], ay[keep]
+        ab, first = np.unique(ab, return_index=True)
+        ax, ay = ax[first], ay[first]
+        ad = np.hypot(ax - self.center_x_m, ay - self.center_y_m)
+        return np.r_[bins, ab], np.r_[xs, ax], np.r_[ys, ay], np.r_[ds, ad]
+
+    def _visit(self, bins: np.ndarray, x: np.ndarray, y: np.ndarray, d: np.ndarray, t_s: float) -> None:
+        prev_t = self.outer_t_s[bins]
+        first = np.isnan(prev_t)
+        same_visit = ~first & (t_s - prev_t < self.revisit_gap_s)
+        new_visit = ~first & ~same_visit & (t_s > prev_t)
+        # Listing 2 (iii): the ignition point is the first inner cell.
+        fb = bins[first]
+        self.inner_d_m[fb] = 0.0
+        self.inner_t_s[fb] = np.nan if self.ignition_time_s is None else self.ignition_time_s
+        # PM IV-A: a new visit turns the previous outer cell into the inner cell.
+        nb = bins[new_visit]
+        self.inner_d_m[nb] = self.outer_d_m[nb]
+        self.inner_t_s[nb] = self.outer_t_s[nb]
+        upd = first | same_visit | new_visit
+        ub = bins[upd]
+        self.outer_x_m[ub] = x[upd]
+        self.outer_y_m[ub] = y[upd]
+        self.outer_d_m[ub] = d[upd]
+        self.outer_t_s[ub] = t_s
+
+    def merge_outer(self, x_m: np.ndarray, y_m: np.ndarray, t_s: np.ndarray) -> int:
+        """Merge a peer's outer cells [m] with their visit times [s]; returns bins taken.
+
+        A peer cell is taken where it is newer than ours (then it is a visit by the peer,
+        with the same inner-cell rules as :meth:`record`); cells are re-binned in our frame.
+        """
+        x = np.asarray(x_m, dtype=float)
+        y = np.asarray(y_m, dtype=float)
+        t = np.asarray(t_s, dtype=float)
+        ok = np.isfinite(x) & np.isfinite(y) & np.isfinite(t)
+        x, y, t = x[ok], y[ok], t[ok]
+        if x.size == 0:
+            return 0
+        b = self.bin_of(x, y)
+        d = np.hypot(x - self.center_x_m, y - self.center_y_m)
+        taken = 0
+        # newest per bin first, as a visit each, in time order
+        for k in np.argsort(t, kind="stable"):
+            bk = b[k : k + 1]
+            ours = self.outer_t_s[bk[0]]
+            if np.isnan(ours) or t[k] > ours:
+                self._visit(bk, x[k : k + 1], y[k : k + 1], d[k : k + 1], float(t[k]))
+                taken += 1
+        return taken
+
+    def set_center(
+        self, center_x_m: float, center_y_m: float, cells: list[tuple[float, float, float]]
+    ) -> None:
+        """Re-centre the map and rebuild it from raw perimeter sightings ``(x_m, y_m, t_s)``.
+
+        Used when the ignition point is unknown (PM IV-A: the fire centre is computed after
+        the initial lap). Sightings are replayed in time order.
+        """
+        self.__init__(  # type: ignore[misc]
+            center_x_m,
+            center_y_m,
+            bin_count=self.bin_count,
+            ignition_time_s=self.ignition_time_s,
+            revisit_gap_s=self.revisit_gap_s,
+        )
+        if not cells:
+            return
+        arr = np.asarray(cells, dtype=float).reshape(-1, 3)
+        for t in np.unique(arr[:, 2]):
+            sel = arr[:, 2] == t
+            self.record(arr[sel, 0], arr[sel, 1], float(t))
+
+    # --- derived per-bin quantities ------------------------------------------------------
+    def ros_mps(self) -> np.ndarray:
+        """Rate of spread per bin [m/s] (PM Eq. 1), NaN where unknown."""
+        from .importance import rate_of_spread
+
+        return rate_of_spread(self.outer_d_m, self.inner_d_m, self.outer_t_s, self.inner_t_s)
+
+    def filled(self, values: np.ndarray, default: float = 0.0) -> np.ndarray:
+        """Per-bin values with NaNs filled by circular linear interpolation over the bins."""
+        return circular_fill(values, default)
+
+
+def circular_fill(values: np.ndarray, default: float = 0.0) -> np.ndarray:
+    """Fill NaNs of a circular per-bin array by linear interpolation between known bins."""
+    v = np.asarray(values, dtype=float)
+    ok = ~np.isnan(v)
+    if not ok.any():
+        return np.full_like(v, default)
+    if ok.all():
+        return v.copy()
+    n = v.size
+    k = np.flatnonzero(ok)
+    xp = np.concatenate([k - n, k, k + n])
+    fp = np.concatenate([v[k], v[k], v[k]])
+    return np.interp(np.arange(n), xp, fp)

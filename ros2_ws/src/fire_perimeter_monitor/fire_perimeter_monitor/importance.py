@@ -1,0 +1,156 @@
+"""Cell importance and the back/front planning windows (PM Eqs. 1-8, Listing 3).
+
+All functions are pure and vectorised over numpy arrays. Units: distances [m], times [s],
+rates of spread [m/s], importance [m] (Eq. 4 is a spread distance: ROS times a time).
+
+Perimeter-cell indexing follows PM IV-B (the convention of Eqs. 5-6): index 0 is the cell the
+UAV occupies (the paper's i = 1) and the index grows *against* the flying direction, so
+cells ``0 .. N-1`` form the back window and ``N .. 2N-1`` the front window, the last one being
+the cell just in front of the UAV.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = [
+    "WindowImportance",
+    "adjust_heterogeneity",
+    "cell_importance",
+    "rate_of_spread",
+    "should_turn",
+    "time_since_visit",
+    "time_to_cell",
+    "window_importance",
+]
+
+
+def rate_of_spread(
+    d_outer_m: np.ndarray, d_inner_m: np.ndarray, t_outer_s: np.ndarray, t_inner_s: np.ndarray
+) -> np.ndarray:
+    """ROS per angle [m/s] from the outer and inner cell (PM Eq. 1).
+
+    ``(d_outer - d_inner) / (t_outer - t_inner)``. Deviation (the paper is silent): where
+    ``t_outer <= t_inner`` or an input is NaN the result is NaN (unknown), and a negative
+    value (the farthest perimeter cell at a later visit is nearer the centre: raster noise,
+    a burned-out cell) is clipped to 0, since the burned area never shrinks.
+    """
+    d_o = np.asarray(d_outer_m, dtype=float)
+    d_i = np.asarray(d_inner_m, dtype=float)
+    dt = np.asarray(t_outer_s, dtype=float) - np.asarray(t_inner_s, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ros = np.where(dt > 0, (d_o - d_i) / np.where(dt > 0, dt, 1.0), np.nan)
+    return np.where(np.isnan(ros), np.nan, np.maximum(ros, 0.0))
+
+
+def time_since_visit(t_now_s: float, t_outer_s: np.ndarray) -> np.ndarray:
+    """Time since the outer cell was last visited [s] (PM Eq. 2): ``t_current - t_outer``."""
+    return t_now_s - np.asarray(t_outer_s, dtype=float)
+
+
+def time_to_cell(d_to_cell_m: np.ndarray, speed_mps: float) -> np.ndarray:
+    """Time to reach a cell along the constructed perimeter [s] (PM Eq. 3): ``d_toCell / speed``."""
+    if not speed_mps > 0:
+        raise ValueError(f"UAV speed must be > 0 m/s, got {speed_mps}")
+    return np.asarray(d_to_cell_m, dtype=float) / speed_mps
+
+
+def cell_importance(ros_mps: np.ndarray, t_since_visit_s: np.ndarray, t_to_cell_s: np.ndarray) -> np.ndarray:
+    """Cell importance [m] (PM Eq. 4): ``ROS * t_sinceVisit + ROS * t_toCell``.
+
+    It is the distance the fire spreads at the cell's angle between the last visit and the
+    projected next one, so it grows linearly in both times and in ROS.
+    """
+    ros = np.asarray(ros_mps, dtype=float)
+    return ros * np.asarray(t_since_visit_s, dtype=float) + ros * np.asarray(t_to_cell_s, dtype=float)
+
+
+def adjust_heterogeneity(ros_mps: np.ndarray, alpha: float) -> np.ndarray:
+    """Heterogeneity-adjusted ROS over the perimeter cells (PM Eq. 7).
+
+    ``ROS`` is kept where ``ROS <= ROS_avg and alpha >= 1``; everywhere else it becomes
+    ``ROS_min + alpha * (ROS - ROS_min)``, with min and mean over the given cells. ``alpha = 0``
+    makes every cell ``ROS_min`` (no heterogeneity), ``alpha = 1`` is the identity.
+    """
+    if not alpha >= 0:
+        raise ValueError(f"heterogeneity factor alpha must be >= 0, got {alpha}")
+    ros = np.asarray(ros_mps, dtype=float)
+    if ros.size == 0:
+        return ros.copy()
+    r_min = float(np.min(ros))
+    r_avg = float(np.mean(ros))
+    adjusted = r_min + alpha * (ros - r_min)
+    if alpha >= 1.0:
+        return np.where(ros <= r_avg, ros, adjusted)
+    return adjusted
+
+
+class WindowImportance(NamedTuple):
+    """Result of :func:`window_importance`; cell arrays are in the Eq. 5-6 index order."""
+
+    imp_back: float  # [m] Eq. 5
+    imp_front: float  # [m] Eq. 6
+    importance: np.ndarray  # [m] per cell, Eq. 4 with the adjusted ROS
+    ros_adjusted: np.ndarray  # [m/s] per cell, Eq. 7
+    t_to_cell_s: np.ndarray  # [s] per cell, Eq. 3
+    n_back: int  # [-] cells in the back window (N)
+
+
+def window_importance(
+    ros_mps: np.ndarray,
+    t_since_visit_s: np.ndarray,
+    spacing_m: float,
+    speed_mps: float,
+    alpha: float = 1.0,
+    weight: np.ndarray | None = None,
+) -> WindowImportance:
+    """Importance of the back and front planning windows (PM Eqs. 3-7, Listing 3).
+
+    ``ros_mps`` and ``t_since_visit_s`` are per perimeter cell, index 0 the UAV's cell and
+    growing against the flying direction; consecutive cells are ``spacing_m`` apart along the
+    constructed perimeter. With ``2N`` cells the back window is cells ``0..N-1`` and the
+    front window ``N..2N-1`` (Eqs. 5-6). ``d_toCell`` (Eq. 3) is the distance along the
+    perimeter in the direction that reaches the cell without passing the other window: a
+    back cell ``i`` is reached by turning back (``i * spacing``), a front cell by flying on
+    (``(2N - i) * spacing``); this is what the paper's Appendix A assumes.
+
+    Deviation: with an odd cell count the back window gets ``floor(M / 2)`` cells.
+    ``weight`` (per cell, default 1) scales the importance after Eq. 7; a monitor uses 0 for
+    cells a peer monitor is responsible for (not in the single-UAV paper).
+    """
+    ros = np.asarray(ros_mps, dtype=float)
+    since = np.asarray(t_since_visit_s, dtype=float)
+    if ros.shape != since.shape or ros.ndim != 1:
+        raise ValueError(f"ros and t_since must be equal 1-D arrays, got {ros.shape} and {since.shape}")
+    m = ros.size
+    n = m // 2
+    idx = np.arange(m, dtype=float)
+    d_to = np.where(idx < n, idx, m - idx) * spacing_m
+    t_to = time_to_cell(d_to, speed_mps)
+    ros_adj = adjust_heterogeneity(ros, alpha)
+    imp = cell_importance(ros_adj, since, t_to)
+    if weight is not None:
+        imp = imp * np.asarray(weight, dtype=float)
+    return WindowImportance(float(np.sum(imp[:n])), float(np.sum(imp[n:])), imp, ros_adj, t_to, n)
+
+
+def should_turn(
+    imp_back: float, imp_front: float, *, turn_on_tie: bool = False, tie_rel_tol: float = 1e-9
+) -> bool:
+    """Direction decision (PM Listing 3): turn back iff ``IMP_BACK > IMP_FRONT``.
+
+    ``IMP_DIFF = IMP_FRONT - IMP_BACK`` (Eq. 8). Values within ``tie_rel_tol`` of each other
+    (relative to the larger) are a tie. The paper is inconsistent at a tie: Listing 3 keeps
+    the direction (strict ``>``, our default), while V-A says the UAV turns at location 4 for
+    ``a >= 5``, where ``IMP_DIFF`` is exactly 0 at ``a = 5``; ``turn_on_tie=True`` gives the V-A
+    reading. Keeping on ties also stops a UAV with all-zero importance from turning every step.
+    """
+    diff = imp_front - imp_back
+    scale = max(abs(imp_front), abs(imp_back))
+    if scale == 0.0:
+        return False  # nothing known about either window: keep flying
+    if abs(diff) <= tie_rel_tol * scale:
+        return turn_on_tie
+    return diff < 0

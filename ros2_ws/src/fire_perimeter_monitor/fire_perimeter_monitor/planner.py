@@ -1,0 +1,338 @@
+"""Perimeter monitors: importance-based (PM Listing 1) and the circling baseline (PM VI-E).
+
+Both have one small interface, driven by the agent (or a test) once per sensor sample:
+
+    monitor.update(observed_cells, uav_pos_m, t_s)   # FireCells footprint, UAV (x, y) [m], sim time [s]
+    x_m, y_m = monitor.next_waypoint()               # centre of the next perimeter cell
+    monitor.direction                                 # Direction.CCW / Direction.CW
+    monitor.to_summary()                              # PerimeterMap fields as plain arrays
+    monitor.merge(peer_summary, ...)                  # a peer monitor's PerimeterMap fields
+
+A planning step (Listing 1, step 2) runs whenever the UAV has reached a new cell.
+
+Two monitors on one fire (not in the single-UAV paper; our choice): each merges the other's
+map (newer outer cells become visits, so cells the peer just saw have a small
+``t_sinceVisit`` and little importance), and the perimeter is split by angle at the
+bisectors between the monitors: a cell nearer (in angle about the centre) to a live peer
+than to us has importance 0 in our windows. A monitor thus works its own arc, back and forth
+when the peer's arc is ahead (as in the multi-UAS work the paper cites as [3]), and two
+monitors that meet fly apart in opposite directions.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .boundary import lookup_from_cells, nearest_boundary_cell, next_boundary_cell
+from .fire_map import CellGrid, Direction, FireMap, as_cell_arrays, circular_fill, perimeter_mask
+from .importance import WindowImportance, should_turn, window_importance
+from .shape import construct_perimeter, perimeter_cells_hull, resample_closed
+
+__all__ = ["CirclingMonitor", "ImportanceMonitor", "MonitorConfig", "PerimeterMonitor"]
+
+
+@dataclass(frozen=True)
+class MonitorConfig:
+    """Monitor parameters. Distances [m], times [s], speeds [m/s]."""
+
+    cell_size_m: float  # raster cell side (the planning granularity, PM III)
+    speed_mps: float  # UAV ground speed along the perimeter (Eq. 3)
+    alpha: float = 1.0  # heterogeneity-adjusting factor (Eq. 7), >= 0
+    bin_count: int = 360  # angle bins (PM IV-A)
+    center_x_m: float | None = None  # ignition point; None: estimated after the initial lap
+    center_y_m: float | None = None
+    ignition_time_s: float | None = None  # None: ROS known from a bin's second visit on
+    initial_direction: Direction = Direction.CCW
+    revisit_gap_s: float | None = None  # same-visit window of a bin; default 10 cells of flight
+    turn_on_tie: bool = False  # see importance.should_turn
+    peer_timeout_s: float = 120.0  # a peer not heard for this long no longer owns an arc
+    search_radius_cells: int = 3  # how far to look for the perimeter when off it
+    uav_id: int = 0  # breaks the tie between monitors at the same angle (lower id keeps the arc ahead)
+
+    def __post_init__(self) -> None:
+        if not self.cell_size_m > 0:
+            raise ValueError(f"cell_size_m must be > 0, got {self.cell_size_m}")
+        if not self.speed_mps > 0:
+            raise ValueError(f"speed_mps must be > 0, got {self.speed_mps}")
+        if not self.alpha >= 0:
+            raise ValueError(f"alpha must be >= 0, got {self.alpha}")
+        if (self.center_x_m is None) != (self.center_y_m is None):
+            raise ValueError("give both center_x_m and center_y_m, or neither")
+        if self.revisit_gap_s is not None and not self.revisit_gap_s >= 0:
+            raise ValueError(f"revisit_gap_s must be >= 0, got {self.revisit_gap_s}")
+
+    @property
+    def gap_s(self) -> float:
+        return (
+            self.revisit_gap_s if self.revisit_gap_s is not None else 10 * self.cell_size_m / self.speed_mps
+        )
+
+
+@dataclass
+class _Peer:
+    peer_id: int
+    angle_rad: float
+    heard_s: float
+
+
+@dataclass
+class _Lap:
+    """Initial-lap bookkeeping (Listing 2)."""
+
+    done: bool = False
+    start_xy: tuple[float, float] | None = None
+    last_angle: float | None = None
+    swept_rad: float = 0.0
+    left_start: bool = False
+    raw: list[tuple[float, float, float]] = field(default_factory=list)
+
+
+class PerimeterMonitor:
+    """Shared machinery: fire map, initial lap, boundary following, summary, peer merge."""
+
+    changes_direction = False
+
+    def __init__(self, config: MonitorConfig) -> None:
+        self.config = config
+        c = config
+        self.center_known = c.center_x_m is not None
+        self.fire_map = FireMap(
+            c.center_x_m if self.center_known else 0.0,
+            c.center_y_m if self.center_known else 0.0,
+            bin_count=c.bin_count,
+            ignition_time_s=c.ignition_time_s,
+            revisit_gap_s=c.gap_s,
+        )
+        self.direction = Direction(c.initial_direction)
+        self.direction_changes = 0
+        self.grid: CellGrid | None = None
+        self.cell: tuple[int, int] | None = None
+        self.prev_cell: tuple[int, int] | None = None
+        self.uav_xy: tuple[float, float] | None = None
+        self.t_s: float = float("nan")
+        self.last_window: WindowImportance | None = None
+        self.last_cells_m: np.ndarray | None = None  # resampled perimeter of the last decision
+        self._lookup = None
+        self._link_m = 1.5 * math.sqrt(2) * c.cell_size_m
+        self._lap = _Lap()
+        self._peers: dict[int, _Peer] = {}
+        self.steps = 0
+
+    # --- public interface ----------------------------------------------------------------
+    @property
+    def initial_lap_done(self) -> bool:
+        return self._lap.done
+
+    def update(self, observed_cells, uav_pos_m: tuple[float, float], t_s: float) -> Direction:
+        """Take one sensor sample; run a planning step if the UAV reached a new cell."""
+        x, y, s = as_cell_arrays(observed_cells)
+        ux, uy = float(uav_pos_m[0]), float(uav_pos_m[1])
+        if not (math.isfinite(ux) and math.isfinite(uy) and math.isfinite(t_s)):
+            raise ValueError(f"non-finite UAV position or time: ({ux}, {uy}) at {t_s}")
+        if self.grid is None:
+            if x.size == 0:
+                self.uav_xy, self.t_s = (ux, uy), float(t_s)
+                return self.direction
+            self.grid = CellGrid(float(x[0]), float(y[0]), self.config.cell_size_m)
+        self.uav_xy, self.t_s = (ux, uy), float(t_s)
+        self._lookup = lookup_from_cells((x, y, s), self.grid)
+        per = perimeter_mask(x, y, s, self.config.cell_size_m)
+        if self.center_known:
+            self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m)
+        else:
+            self._lap.raw.extend(
+                (float(a), float(b), float(t_s)) for a, b in zip(x[per], y[per], strict=True)
+            )
+            if self._lap.done:
+                self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m)
+        i, j = self.grid.index(ux, uy)
+        cell = (int(i), int(j))
+        if cell != self.cell:
+            self.prev_cell, self.cell = self.cell, cell
+            self.steps += 1
+            if not self._lap.done:
+                self._track_initial_lap(ux, uy)
+            elif self.changes_direction:
+                self._plan()
+        return self.direction
+
+    def next_waypoint(self) -> tuple[float, float]:
+        """Centre [m] of the next cell to fly to along the perimeter in ``direction``."""
+        if self.grid is None or self.cell is None or self._lookup is None:
+            if self.uav_xy is None:
+                raise RuntimeError("next_waypoint() before any update()")
+            return self.uav_xy
+        nxt = next_boundary_cell(self._lookup, self.cell, self.direction, self.prev_cell)
+        if nxt is None:
+            near = nearest_boundary_cell(self._lookup, self.cell, self.config.search_radius_cells)
+            if near is not None and near != self.cell:
+                nxt = near
+            else:
+                nxt = self._step_radially(inside=self._lookup(*self.cell))
+        x, y = self.grid.center(*nxt)
+        return float(x), float(y)
+
+    def to_summary(self) -> dict:
+        """PerimeterMap fields (except header, uav_id, sequence, fire_id) as plain values."""
+        fm = self.fire_map
+        f32 = np.float32
+        imp = np.full(fm.bin_count, np.nan)
+        if self.last_window is not None and self.last_cells_m is not None:
+            b = fm.bin_of(self.last_cells_m[:, 0], self.last_cells_m[:, 1])
+            order = np.argsort(self.last_window.importance)
+            imp[b[order]] = self.last_window.importance[order]  # max per bin wins
+        return {
+            "center_x_m": float(fm.center_x_m),
+            "center_y_m": float(fm.center_y_m),
+            "outer_distance_m": fm.outer_d_m.astype(f32),
+            "outer_visit_time_s": fm.outer_t_s.astype(f32),
+            "spread_rate_mps": fm.ros_mps().astype(f32),
+            "importance": imp.astype(f32),
+            "direction": int(self.direction),
+            "direction_changes": int(self.direction_changes),
+        }
+
+    def merge(
+        self, peer_summary: dict, *, peer_id: int = -1, peer_pos_m=None, t_s: float | None = None
+    ) -> int:
+        """Merge a peer monitor's summary (``to_summary()`` / PerimeterMap fields).
+
+        Returns the number of bins taken from the peer. ``peer_pos_m`` (if known, e.g. from
+        /fleet/state) locates the peer for the work split; otherwise its position is taken as
+        the circular mean angle of its most recently seen bins. Raises ValueError on a
+        malformed summary.
+        """
+        try:
+            cx = float(peer_summary["center_x_m"])
+            cy = float(peer_summary["center_y_m"])
+            d = np.asarray(peer_summary["outer_distance_m"], dtype=float)
+            tv = np.asarray(peer_summary["outer_visit_time_s"], dtype=float)
+        except (KeyError, TypeError) as e:
+            raise ValueError(f"peer summary lacks a PerimeterMap field: {e}") from e
+        if d.shape != tv.shape or d.ndim != 1 or d.size < 8:
+            raise ValueError(f"peer summary arrays must be equal 1-D of >= 8 bins, got {d.shape}, {tv.shape}")
+        if not (math.isfinite(cx) and math.isfinite(cy)):
+            raise ValueError("peer summary centre is not finite")
+        th = (np.arange(d.size) + 0.5) * (2 * np.pi / d.size)
+        px, py = cx + d * np.cos(th), cy + d * np.sin(th)
+        taken = self.fire_map.merge_outer(px, py, tv) if self._lap.done or self.center_known else 0
+        if not self._lap.done and not self.center_known:
+            ok = np.isfinite(px) & np.isfinite(tv)
+            self._lap.raw.extend(zip(px[ok].tolist(), py[ok].tolist(), tv[ok].tolist(), strict=True))
+        heard = float(t_s) if t_s is not None else float(np.nanmax(tv)) if np.isfinite(tv).any() else -np.inf
+        if peer_pos_m is not None:
+            ang = math.atan2(
+                peer_pos_m[1] - self.fire_map.center_y_m, peer_pos_m[0] - self.fire_map.center_x_m
+            )
+        elif np.isfinite(tv).any() and np.isfinite(d).any():
+            ok = np.isfinite(tv) & np.isfinite(d)
+            recent = ok & (tv >= np.nanmax(tv[ok]) - self.config.cell_size_m / self.config.speed_mps)
+            xs, ys = px[recent], py[recent]
+            ang = math.atan2(
+                float(np.mean(ys - self.fire_map.center_y_m)), float(np.mean(xs - self.fire_map.center_x_m))
+            )
+        else:
+            return taken
+        self._peers[peer_id] = _Peer(peer_id, ang, heard)
+        return taken
+
+    def hull_m(self) -> np.ndarray:
+        """Convex hull [m] of the on-board perimeter cells (PM VI-E)."""
+        return perimeter_cells_hull(self.fire_map, self.config.cell_size_m)
+
+    # --- internals -----------------------------------------------------------------------
+    def _step_radially(self, inside: bool) -> tuple[int, int]:
+        """One cell away from (inside the fire) or towards (outside) the map centre."""
+        assert self.grid is not None and self.cell is not None and self.uav_xy is not None
+        dx = self.uav_xy[0] - self.fire_map.center_x_m
+        dy = self.uav_xy[1] - self.fire_map.center_y_m
+        if not inside:
+            dx, dy = -dx, -dy
+        n = math.hypot(dx, dy) or 1.0
+        return (self.cell[0] + int(round(dx / n)), self.cell[1] + int(round(dy / n)))
+
+    def _track_initial_lap(self, ux: float, uy: float) -> None:
+        """Listing 2: fly on until back at the deployment angle (or cell, centre unknown)."""
+        lap = self._lap
+        cs = self.config.cell_size_m
+        if lap.start_xy is None:
+            lap.start_xy = (ux, uy)
+        if self.center_known:
+            ang = math.atan2(uy - self.fire_map.center_y_m, ux - self.fire_map.center_x_m)
+            if lap.last_angle is not None:
+                lap.swept_rad += (ang - lap.last_angle + math.pi) % (2 * math.pi) - math.pi
+            lap.last_angle = ang
+            lap.done = abs(lap.swept_rad) >= 2 * math.pi
+            return
+        dist = math.hypot(ux - lap.start_xy[0], uy - lap.start_xy[1])
+        if dist > 4 * cs:
+            lap.left_start = True
+        if lap.left_start and dist <= 1.5 * cs and self.steps > 12:
+            pts = np.asarray([(a, b) for a, b, _ in lap.raw], dtype=float)
+            cx, cy = (float(v) for v in pts.mean(axis=0)) if pts.size else (ux, uy)
+            self.fire_map.set_center(cx, cy, lap.raw)
+            self.center_known = True
+            lap.done = True
+            lap.raw.clear()
+
+    def _peer_weight(self, cells_m: np.ndarray) -> np.ndarray | None:
+        live = [p for p in self._peers.values() if self.t_s - p.heard_s <= self.config.peer_timeout_s]
+        if not live or self.uav_xy is None:
+            return None
+        fm = self.fire_map
+        ang = np.arctan2(cells_m[:, 1] - fm.center_y_m, cells_m[:, 0] - fm.center_x_m)
+        mine = math.atan2(self.uav_xy[1] - fm.center_y_m, self.uav_xy[0] - fm.center_x_m)
+
+        def adist(a, b):
+            return np.abs((a - b + np.pi) % (2 * np.pi) - np.pi)
+
+        d_me = adist(ang, mine)
+        owned = np.ones(ang.size, dtype=bool)
+        eps = math.pi / fm.bin_count
+        for p in live:
+            rel = (p.angle_rad - mine + math.pi) % (2 * math.pi) - math.pi
+            if abs(rel) < eps:  # same place: the lower id sees the peer just behind it
+                ahead = self.direction.sign * eps
+                rel = -ahead if self.config.uav_id < p.peer_id else ahead
+            owned &= d_me < adist(ang, mine + rel)
+        return owned.astype(float)
+
+    def _plan(self) -> None:
+        """Listing 1 step 2 (i-iii): construct the perimeter, weigh the windows, maybe turn."""
+
+
+class ImportanceMonitor(PerimeterMonitor):
+    """Importance-based perimeter monitor (PM Listings 1-3, Eqs. 1-7)."""
+
+    changes_direction = True
+
+    def _plan(self) -> None:
+        assert self.uav_xy is not None
+        c = self.config
+        fm = self.fire_map
+        ux, uy = self.uav_xy
+        cp = construct_perimeter(fm, ux, uy, self.direction, self.t_s)
+        if cp.vertices_m.shape[0] < 3:
+            return
+        # Eqs. 5-6 index cells from the UAV against the flying direction.
+        backward = np.vstack([cp.vertices_m[:1], cp.vertices_m[:0:-1]])
+        cells, spacing = resample_closed(backward, c.cell_size_m)
+        bins = fm.bin_of(cells[:, 0], cells[:, 1])
+        ros = circular_fill(fm.ros_mps(), 0.0)[bins]
+        t_outer = circular_fill(fm.outer_t_s, self.t_s)[bins]
+        since = np.maximum(self.t_s - t_outer, 0.0)
+        w = window_importance(ros, since, spacing, c.speed_mps, c.alpha, weight=self._peer_weight(cells))
+        self.last_window, self.last_cells_m = w, cells
+        if should_turn(w.imp_back, w.imp_front, turn_on_tie=c.turn_on_tie):
+            self.direction = self.direction.reversed()
+            self.direction_changes += 1
+            self.prev_cell = None  # going back the way we came is now intended
+
+
+class CirclingMonitor(PerimeterMonitor):
+    """Baseline (PM VI-E): circle the perimeter in one direction for the whole mission."""
+
+    changes_direction = False
