@@ -150,28 +150,36 @@ class ProcessGroup:
         return [n for n, c in self.children.items() if c.alive()]
 
     def stop(self, names: list[str], *, grace_s: float | None = None) -> dict[str, int | None]:
-        """SIGINT (and SIGCONT, for stopped children) the named children, wait up to grace_s,
-        SIGKILL what is left. Returns each child's exit code."""
+        """End the named children: SIGCONT (a stopped child cannot handle signals) + SIGINT;
+        after half the grace period SIGTERM (a child started from a non-interactive shell may
+        ignore SIGINT; rclpy handles both); after the grace period SIGKILL. Returns exit codes."""
         grace = self.grace_s if grace_s is None else grace_s
+        t0 = time.monotonic()
+        for sigs, until in (
+            ((signal.SIGCONT, signal.SIGINT), t0 + grace / 2),
+            ((signal.SIGTERM,), t0 + grace),
+        ):
+            for n in names:
+                c = self.children[n]
+                for sig in sigs:
+                    if c.alive():
+                        try:
+                            os.kill(c.pid, sig)
+                        except ProcessLookupError:
+                            pass
+            for n in names:
+                try:
+                    self.children[n].popen.wait(timeout=max(0.0, until - time.monotonic()))
+                except subprocess.TimeoutExpired:
+                    pass
         for n in names:
             c = self.children[n]
             if c.alive():
-                for sig in (signal.SIGCONT, signal.SIGINT):
-                    try:
-                        os.kill(c.pid, sig)
-                    except ProcessLookupError:
-                        pass
-        deadline = time.monotonic() + grace
-        for n in names:
-            c = self.children[n]
-            try:
-                c.popen.wait(timeout=max(0.0, deadline - time.monotonic()))
-            except subprocess.TimeoutExpired:
                 try:
                     os.kill(c.pid, signal.SIGKILL)
                 except ProcessLookupError:
                     pass
-                c.popen.wait()
+            c.popen.wait()
         return {n: self.children[n].popen.returncode for n in names}
 
     def stop_all(

@@ -1,0 +1,269 @@
+"""Replay a mission bag on ROS topics, with its ``/clock``, at a chosen rate.
+
+Parameters (read once):
+- ``bag`` (string, required): bag directory or ``.mcap`` file (an unfinished one is salvaged).
+- ``rate`` (double, > 0, default 1.0): bag seconds per wall second.
+- ``start_s`` (double, >= 0): skip the first ``start_s`` seconds of the bag [s, bag time].
+- ``topics`` (string[]): replay only these topics (default: all). ``/clock`` is always
+  replayed if the bag has it; if it has none, a ``/clock`` is generated from the bag time.
+- ``tick_period_wall_s`` (0.005): wall timer period of the publishing loop [s].
+- ``progress`` (true): progress bar on stderr.
+
+Messages are republished raw (CDR bytes as recorded) with the QoS their publishers offered.
+The node uses the wall clock (``use_sim_time`` false): it is the clock authority of a replay.
+It exits when the bag is done or on SIGINT/SIGTERM.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import rclpy
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rclpy.clock import Clock, ClockType
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
+from rosbags.interfaces import QosDurability, QosReliability
+from rosgraph_msgs.msg import Clock as ClockMsg
+
+from fire_world_sim import bag_io
+from fire_world_sim.recorder_node import message_class
+
+CLOCK_TOPIC = "/clock"
+
+
+class ReplayConfigError(ValueError):
+    """A replay parameter is invalid (message names the parameter)."""
+
+
+@dataclass(frozen=True)
+class ReplayConfig:
+    bag: str
+    rate: float
+    start_s: float
+    topics: tuple[str, ...]
+    tick_period_wall_s: float
+    progress: bool
+
+
+def publisher_qos(conn: object) -> QoSProfile:
+    """QoS for republishing: the recorded publishers' (reliable volatile depth 100 if unknown)."""
+    offered = bag_io.offered_qos(conn)  # type: ignore[arg-type]
+    best_effort = any(q.reliability == QosReliability.BEST_EFFORT for q in offered)
+    transient = bool(offered) and all(q.durability == QosDurability.TRANSIENT_LOCAL for q in offered)
+    depth = max([1000 if transient else 100, *[q.depth for q in offered]])
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=depth,
+        reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE,
+    )
+
+
+class ProgressBar:
+    """A one-line progress bar redrawn on stderr at most every ``period_wall_s``."""
+
+    def __init__(self, total_s: float, enabled: bool, period_wall_s: float = 0.25) -> None:
+        self.total_s = max(total_s, 1e-9)
+        self.enabled = enabled and sys.stderr is not None
+        self.period = period_wall_s
+        self._last = 0.0
+
+    def update(self, done_s: float, count: int, rate: float, force: bool = False) -> None:
+        now = time.monotonic()
+        if not self.enabled or (not force and now - self._last < self.period):
+            return
+        self._last = now
+        frac = min(1.0, max(0.0, done_s / self.total_s))
+        bar = "#" * int(frac * 30)
+        sys.stderr.write(f"\rreplay [{bar:<30}] {done_s:8.1f}/{self.total_s:.1f} s  x{rate:g}  {count} msgs ")
+        sys.stderr.flush()
+
+    def finish(self) -> None:
+        if self.enabled:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+class ReplayNode(Node):
+    """Publishes a bag's messages when the wall clock (scaled by ``rate``) reaches their bag time."""
+
+    def __init__(self) -> None:
+        super().__init__("replay")
+        self.config = self._read_config()
+        self.finished: Future = Future()
+        cm = bag_io.open_bag(self.config.bag)
+        self._bag = cm.__enter__()
+        self._bag_cm = cm
+        for w in self._bag.warnings:
+            self.get_logger().warning(w)
+        try:
+            self._setup()
+        except BaseException:
+            self.close()
+            raise
+
+    def _read_config(self) -> ReplayConfig:
+        ro = ParameterDescriptor(read_only=True)
+        self.declare_parameter("bag", "", ro)
+        self.declare_parameter(
+            "rate",
+            1.0,
+            ParameterDescriptor(
+                read_only=True, floating_point_range=[FloatingPointRange(from_value=0.001, to_value=1000.0)]
+            ),
+        )
+        self.declare_parameter("start_s", 0.0, ro)
+        self.declare_parameter("topics", [""], ro)
+        self.declare_parameter("tick_period_wall_s", 0.005, ro)
+        self.declare_parameter("progress", True, ro)
+        g = self.get_parameter
+        bag = str(g("bag").value)
+        if not bag:
+            raise ReplayConfigError("parameter bag: required (a bag directory or .mcap file)")
+        start_s = float(g("start_s").value)
+        if start_s < 0:
+            raise ReplayConfigError(f"parameter start_s: must be >= 0, got {start_s}")
+        tick = float(g("tick_period_wall_s").value)
+        if not 0.0005 <= tick <= 1.0:
+            raise ReplayConfigError(f"parameter tick_period_wall_s: must be in [0.0005, 1] s, got {tick}")
+        return ReplayConfig(
+            bag=bag,
+            rate=float(g("rate").value),
+            start_s=start_s,
+            topics=tuple(t for t in g("topics").value if t),
+            tick_period_wall_s=tick,
+            progress=bool(g("progress").value),
+        )
+
+    def _setup(self) -> None:
+        bag = self._bag
+        have = bag.topics
+        if self.config.topics:
+            missing = [t for t in self.config.topics if t not in have]
+            if missing:
+                raise ReplayConfigError(f"parameter topics: {missing} not in the bag; it has {sorted(have)}")
+            wanted = set(self.config.topics) | ({CLOCK_TOPIC} & set(have))
+        else:
+            wanted = set(have)
+        self._pubs: dict[int, object] = {}
+        for conn in bag.connections(sorted(wanted)):
+            try:
+                cls = message_class(conn.msgtype)
+            except (ImportError, AttributeError, ValueError) as err:
+                self.get_logger().warning(
+                    f"not replaying {conn.topic}: type {conn.msgtype} not importable ({err})"
+                )
+                continue
+            self._pubs[conn.id] = self.create_publisher(cls, conn.topic, publisher_qos(conn))
+        self._gen_clock = CLOCK_TOPIC not in have
+        self._clock_pub = self.create_publisher(ClockMsg, CLOCK_TOPIC, 10) if self._gen_clock else None
+        reader = bag.reader
+        self.bag_start_ns = reader.start_time
+        self.bag_end_ns = max(reader.end_time, self.bag_start_ns)
+        self.first_ns = self.bag_start_ns + int(self.config.start_s * 1e9)
+        if self.first_ns >= self.bag_end_ns and reader.message_count:
+            raise ReplayConfigError(
+                f"parameter start_s: {self.config.start_s} s is past the bag's end "
+                f"({(self.bag_end_ns - self.bag_start_ns) / 1e9:.1f} s)"
+            )
+        self._iter: Iterator[tuple[object, int, bytes]] = bag.raw_messages(
+            topics=sorted({self._topic_of(cid) for cid in self._pubs}), start_ns=self.first_ns
+        )
+        self._next = next(self._iter, None)
+        self.count = 0
+        self.done = False
+        self._wall0: float | None = None
+        self._bar = ProgressBar((self.bag_end_ns - self.first_ns) / 1e9, self.config.progress)
+        wall = Clock(clock_type=ClockType.STEADY_TIME)
+        self._timer = self.create_timer(self.config.tick_period_wall_s, self._tick, clock=wall)
+        self.get_logger().info(
+            f"replaying {len(self._pubs)} topics from {self.config.bag} at x{self.config.rate:g}, "
+            f"{(self.bag_end_ns - self.first_ns) / 1e9:.1f} s of bag time"
+        )
+
+    def _topic_of(self, cid: int) -> str:
+        return next(c.topic for c in self._bag.connections() if c.id == cid)
+
+    def _tick(self) -> None:
+        if self.done:
+            return
+        now = time.monotonic()
+        if self._wall0 is None:
+            self._wall0 = now
+        target_ns = self.first_ns + int((now - self._wall0) * self.config.rate * 1e9)
+        try:
+            while self._next is not None and self._next[1] <= target_ns:
+                conn, _t, raw = self._next
+                pub = self._pubs.get(conn.id)  # type: ignore[attr-defined]
+                if pub is not None:
+                    pub.publish(raw)  # type: ignore[attr-defined]
+                    self.count += 1
+                self._next = next(self._iter, None)
+        except bag_io.BagError as err:
+            self.get_logger().error(str(err))
+            self._finish()
+            return
+        if self._clock_pub is not None:
+            msg = ClockMsg()
+            t = min(target_ns, self.bag_end_ns)
+            msg.clock.sec, msg.clock.nanosec = divmod(t, 10**9)
+            self._clock_pub.publish(msg)
+        self._bar.update(
+            min(target_ns, self.bag_end_ns - 1) / 1e9 - self.first_ns / 1e9, self.count, self.config.rate
+        )
+        if self._next is None:
+            self._bar.update(
+                (self.bag_end_ns - self.first_ns) / 1e9, self.count, self.config.rate, force=True
+            )
+            self._finish()
+
+    def _finish(self) -> None:
+        self.done = True
+        self._timer.cancel()
+        self._bar.finish()
+        self.finished.set_result(self.count)
+
+    def close(self) -> None:
+        """Close the bag (and its salvage copy). Idempotent."""
+        cm, self._bag_cm = getattr(self, "_bag_cm", None), None
+        if cm is not None:
+            cm.__exit__(None, None, None)
+
+
+def main(args: list[str] | None = None) -> int:
+    """Replay until the bag ends or SIGINT/SIGTERM; 0 on success, 1 on a parameter or bag error."""
+    rclpy.init(args=args)
+    node: ReplayNode | None = None
+    rc = 0
+    try:
+        node = ReplayNode()
+        rclpy.spin_until_future_complete(node, node.finished)
+        if node.done:
+            # let reliable subscribers drain the last messages before the publishers go away
+            rclpy.spin_until_future_complete(node, Future(), timeout_sec=0.5)
+            rclpy.logging.get_logger("replay.done").info(f"replayed {node.count} messages")
+    except (KeyboardInterrupt, ExternalShutdownException):
+        if node is not None:
+            node._bar.finish()
+    except (ReplayConfigError, bag_io.BagError) as err:
+        rclpy.logging.get_logger("replay").error(str(err))
+        rc = 1
+    except Exception:  # a signal may shut the context down in the middle of a wait: that is a stop too
+        if rclpy.ok():
+            raise
+    finally:
+        if node is not None:
+            node.close()
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return rc
+
+
+if __name__ == "__main__":
+    sys.exit(main())

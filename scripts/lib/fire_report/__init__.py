@@ -1,0 +1,14 @@
+"""Post-mission review of a recorded fleet bag, without ROS.
+
+``load_mission(path)`` reads a mission bag (rosbags ``AnyReader``, message definitions from
+the bag) into numpy arrays; ``compute_metrics(mission)`` gives the numbers of metrics.json;
+``write_report(path, out_dir)`` writes metrics.json, the figures (PNG) and index.html.
+Command line: ``scripts/report BAG [-o DIR]`` (``python -m fire_report``).
+"""
+
+from fire_report.data import Event, Mission, load_mission
+from fire_report.errors import ReportError
+from fire_report.metrics import compute_metrics
+from fire_report.report import write_report
+
+__all__ = ["Event", "Mission", "ReportError", "compute_metrics", "load_mission", "write_report"]

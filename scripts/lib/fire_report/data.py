@@ -1,0 +1,269 @@
+"""Read a mission bag into plain numpy arrays (no ROS: rosbags with the bag's own definitions).
+
+Times are sim seconds taken from the messages' ``header.stamp`` (the bag timestamp for
+messages without one). Positions are metres in the ``map`` frame (x east, y north, z up).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections import defaultdict
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+try:
+    from fire_world_sim import bag_io
+except ImportError:  # not sourced: use the source tree (bag_io is pure Python)
+    sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "ros2_ws" / "src" / "fire_world_sim"))
+    from fire_world_sim import bag_io
+
+from fire_report.errors import ReportError
+
+# topic names (fire_uav_common.topics is the authority; imported when available)
+try:
+    from fire_uav_common import topics as _topics
+
+    CLOCK, FLEET_STATE, FLEET_FIRES = _topics.CLOCK, _topics.FLEET_STATE, _topics.FLEET_FIRES
+    FLEET_PERIMETER, FLEET_EVENTS = _topics.FLEET_PERIMETER, _topics.FLEET_EVENTS
+    WORLD_TRUTH, WORLD_EVENTS = _topics.WORLD_TRUTH, _topics.WORLD_EVENTS
+except ImportError:  # pragma: no cover - same values, for a checkout without the package on the path
+    CLOCK, FLEET_STATE, FLEET_FIRES = "/clock", "/fleet/state", "/fleet/fires"
+    FLEET_PERIMETER, FLEET_EVENTS = "/fleet/perimeter", "/fleet/events"
+    WORLD_TRUTH, WORLD_EVENTS = "/world/truth", "/world/events"
+
+# MissionEvent.TYPE_* (fire_uav_msgs/msg/MissionEvent.msg)
+TYPE_NAMES = {
+    1: "takeoff",
+    2: "drop",
+    3: "refill",
+    4: "crash",
+    5: "extinguished",
+    6: "landed",
+    7: "peer_crashed",
+    8: "peer_rejoined",
+    9: "command_clamped",
+    10: "mission_complete",
+    11: "fire_detected",
+    12: "objective",
+    13: "command_missed",
+    14: "ignition",
+}
+TYPE_DROP, TYPE_CRASH, TYPE_EXTINGUISHED = 2, 4, 5
+TYPE_PEER_CRASHED, TYPE_PEER_REJOINED, TYPE_MISSION_COMPLETE, TYPE_IGNITION = 7, 8, 10, 14
+# UavState.OBJECTIVE_*
+OBJECTIVE_GROUNDED, OBJECTIVE_LAND, OBJECTIVE_LANDED = 0, 3, 6
+FIRE_EXTINGUISHED = 1  # FireEstimate.STATUS_EXTINGUISHED
+
+
+@dataclass(frozen=True)
+class Event:
+    """One MissionEvent. ``source``: "world" or "fleet"; t_s: sim time [s]."""
+
+    t_s: float
+    type: int
+    uav_id: int
+    peer_id: int
+    fire_id: int
+    x_m: float
+    y_m: float
+    value: float
+    detail: str
+    source: str
+
+    @property
+    def type_name(self) -> str:
+        return TYPE_NAMES.get(self.type, f"type_{self.type}")
+
+
+@dataclass
+class Mission:
+    """Everything the report needs from one bag, as arrays sorted by time."""
+
+    path: str
+    custom_data: dict[str, str]
+    scenario: dict[str, Any]
+    warnings: list[str]
+    topics: dict[str, str]
+    t_first_s: float = 0.0  # earliest sim time seen
+    t_last_s: float = 0.0  # latest sim time seen
+    # per UAV (UavState): t, step, x, y, z, yaw, P (n,4,4), objective, water, lost, received, rejected
+    states: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)
+    # per UAV (WorldTruth vehicles): t, step, x, y, z, yaw, status
+    truth_vehicles: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)
+    # per fire (WorldTruth fires): t, x, y, extent, area, status, drops
+    truth_fires: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)
+    # per (uav, fire_id) (FireEstimateArray): t, x, y, extent, status
+    fire_estimates: dict[tuple[int, int], dict[str, np.ndarray]] = field(default_factory=dict)
+    # per (uav, fire_id) (PerimeterMap): t, center (n,2), outer (n,bins)
+    perimeters: dict[tuple[int, int], dict[str, np.ndarray]] = field(default_factory=dict)
+    world_events: list[Event] = field(default_factory=list)
+    fleet_events: list[Event] = field(default_factory=list)
+
+    @property
+    def uav_ids(self) -> list[int]:
+        return sorted(set(self.states) | set(self.truth_vehicles))
+
+    @property
+    def fire_ids(self) -> list[int]:
+        ids = set(self.truth_fires) | {f for _, f in self.fire_estimates}
+        ids |= {e.fire_id for e in self.world_events if e.type in (TYPE_EXTINGUISHED, TYPE_IGNITION)}
+        return sorted(i for i in ids if i >= 0)
+
+
+def _stamp_s(msg: Any) -> float:
+    st = msg.header.stamp
+    return st.sec + st.nanosec * 1e-9
+
+
+def _arrays(rows: list[dict[str, Any]]) -> dict[str, np.ndarray]:
+    rows = sorted(rows, key=lambda r: r["t"])
+    return {k: np.asarray([r[k] for r in rows]) for k in rows[0]} if rows else {}
+
+
+def _event(msg: Any, source: str) -> Event:
+    return Event(
+        _stamp_s(msg),
+        int(msg.type),
+        int(msg.uav_id),
+        int(msg.peer_id),
+        int(msg.fire_id),
+        float(msg.x_m),
+        float(msg.y_m),
+        float(msg.value),
+        str(msg.detail),
+        source,
+    )
+
+
+def parse_scenario(text: str) -> dict[str, Any]:
+    """The scenario stored in the bag's metadata, as a dict ({} if none or unreadable)."""
+    if not text:
+        return {}
+    try:
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError:
+        return {}
+    return doc if isinstance(doc, dict) else {}
+
+
+def load_mission(path: str | Path, *, salvage: bool = True) -> Mission:
+    """Read the bag at ``path``; raise :class:`ReportError` (one line) when it cannot be read."""
+    try:
+        with bag_io.open_bag(path, salvage=salvage) as bag:
+            return _load(bag, str(path))
+    except bag_io.BagError as err:
+        raise ReportError(str(err)) from None
+
+
+def _load(bag: bag_io.MissionBag, path: str) -> Mission:
+    custom = dict(bag.custom_data)
+    mission = Mission(
+        path=path,
+        custom_data=custom,
+        scenario=parse_scenario(custom.get(bag_io.KEY_SCENARIO_YAML, "")),
+        warnings=list(bag.warnings),
+        topics=bag.topics,
+    )
+    states: dict[int, list[dict[str, Any]]] = defaultdict(list)
+    tveh: dict[int, list[dict[str, Any]]] = defaultdict(list)
+    tfire: dict[int, list[dict[str, Any]]] = defaultdict(list)
+    fest: dict[tuple[int, int], list[dict[str, Any]]] = defaultdict(list)
+    perim: dict[tuple[int, int], list[dict[str, Any]]] = defaultdict(list)
+    wanted = [CLOCK, FLEET_STATE, FLEET_FIRES, FLEET_PERIMETER, FLEET_EVENTS, WORLD_TRUTH, WORLD_EVENTS]
+    t_min, t_max = math.inf, -math.inf
+    for topic, t_ns, msg in bag.messages([t for t in wanted if t in mission.topics]):
+        if topic == CLOCK:
+            t = msg.clock.sec + msg.clock.nanosec * 1e-9
+        elif topic == FLEET_STATE:
+            t = _stamp_s(msg)
+            states[int(msg.uav_id)].append(
+                {
+                    "t": t,
+                    "step": int(msg.step),
+                    "x": msg.x_m,
+                    "y": msg.y_m,
+                    "z": msg.z_m,
+                    "yaw": msg.yaw_rad,
+                    "P": np.asarray(msg.covariance, dtype=float).reshape(4, 4),
+                    "objective": int(msg.objective),
+                    "water": float(msg.water_kg),
+                    "lost": int(msg.packets_lost),
+                    "received": int(msg.packets_received),
+                    "rejected": int(msg.packets_rejected),
+                }
+            )
+        elif topic == WORLD_TRUTH:
+            t = _stamp_s(msg)
+            for v in msg.vehicles:
+                tveh[int(v.uav_id)].append(
+                    {
+                        "t": t,
+                        "step": int(msg.step),
+                        "x": v.x_m,
+                        "y": v.y_m,
+                        "z": v.z_m,
+                        "yaw": v.yaw_rad,
+                        "status": int(v.status),
+                    }
+                )
+            for f in msg.fires:
+                tfire[int(f.fire_id)].append(
+                    {
+                        "t": t,
+                        "x": f.x_m,
+                        "y": f.y_m,
+                        "extent": f.extent_m,
+                        "area": f.area_m2,
+                        "status": int(f.status),
+                        "drops": int(f.drops_received),
+                    }
+                )
+        elif topic == FLEET_FIRES:
+            t = _stamp_s(msg)
+            for f in msg.fires:
+                fest[(int(msg.uav_id), int(f.fire_id))].append(
+                    {"t": t, "x": f.x_m, "y": f.y_m, "extent": f.extent_m, "status": int(f.status)}
+                )
+        elif topic == FLEET_PERIMETER:
+            t = _stamp_s(msg)
+            perim[(int(msg.uav_id), int(msg.fire_id))].append(
+                {
+                    "t": t,
+                    "center": (msg.center_x_m, msg.center_y_m),
+                    "outer": np.asarray(msg.outer_distance_m, dtype=float),
+                }
+            )
+        elif topic in (WORLD_EVENTS, FLEET_EVENTS):
+            ev = _event(msg, "world" if topic == WORLD_EVENTS else "fleet")
+            (mission.world_events if topic == WORLD_EVENTS else mission.fleet_events).append(ev)
+            t = ev.t_s
+        else:  # pragma: no cover
+            t = t_ns * 1e-9
+        t_min, t_max = min(t_min, t), max(t_max, t)
+    mission.states = {k: _arrays(v) for k, v in states.items()}
+    mission.truth_vehicles = {k: _arrays(v) for k, v in tveh.items()}
+    mission.truth_fires = {k: _arrays(v) for k, v in tfire.items()}
+    mission.fire_estimates = {k: _arrays(v) for k, v in fest.items()}
+    perimeters = {}
+    for key, rows in perim.items():
+        rows.sort(key=lambda r: r["t"])
+        nbins = max(len(r["outer"]) for r in rows)
+        outer = np.full((len(rows), nbins), np.nan)
+        for i, r in enumerate(rows):
+            outer[i, : len(r["outer"])] = r["outer"]
+        perimeters[key] = {
+            "t": np.asarray([r["t"] for r in rows]),
+            "center": np.asarray([r["center"] for r in rows]),
+            "outer": outer,
+        }
+    mission.perimeters = perimeters
+    mission.world_events.sort(key=lambda e: e.t_s)
+    mission.fleet_events.sort(key=lambda e: e.t_s)
+    if math.isfinite(t_min):
+        mission.t_first_s, mission.t_last_s = t_min, t_max
+    return mission

@@ -1,0 +1,344 @@
+"""The papers' figures as PNG (matplotlib, Agg backend). Each function returns [(file, caption)].
+
+A figure whose data is not in the bag is skipped (returns []), never an error.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import ListedColormap
+
+from fire_report.data import (
+    OBJECTIVE_GROUNDED,
+    OBJECTIVE_LAND,
+    OBJECTIVE_LANDED,
+    TYPE_CRASH,
+    TYPE_DROP,
+    TYPE_PEER_CRASHED,
+    Mission,
+)
+from fire_report.metrics import ekf_errors, perimeter_distance_error, voronoi_labels
+
+Figure = tuple[str, str]
+DPI = 110
+
+
+def _save(fig: plt.Figure, out: Path, name: str, caption: str) -> list[Figure]:
+    fig.tight_layout()
+    fig.savefig(out / name, dpi=DPI)
+    plt.close(fig)
+    return [(name, caption)]
+
+
+def _colors(n: int) -> list:
+    cmap = plt.get_cmap("tab20" if n > 10 else "tab10")
+    return [cmap(i % cmap.N) for i in range(max(n, 1))]
+
+
+def _area(mission: Mission) -> tuple[tuple[float, float], tuple[float, float]]:
+    a = mission.scenario.get("area") if isinstance(mission.scenario, dict) else None
+    if isinstance(a, dict) and all(k in a for k in ("x_min_m", "x_max_m", "y_min_m", "y_max_m")):
+        return (float(a["x_min_m"]), float(a["x_max_m"])), (float(a["y_min_m"]), float(a["y_max_m"]))
+    xs = [s["x"] for s in mission.states.values() if s] + [f["x"] for f in mission.truth_fires.values() if f]
+    ys = [s["y"] for s in mission.states.values() if s] + [f["y"] for f in mission.truth_fires.values() if f]
+    if not xs:
+        return (0.0, 1.0), (0.0, 1.0)
+    x, y = np.concatenate(xs), np.concatenate(ys)
+    pad = 0.05 * max(np.ptp(x), np.ptp(y), 10.0)
+    return (float(x.min() - pad), float(x.max() + pad)), (float(y.min() - pad), float(y.max() + pad))
+
+
+def _positions_at(mission: Mission, t: float) -> dict[int, tuple[float, float]]:
+    """Latest estimated (x, y) of each UAV at or before ``t`` (first state if none before)."""
+    out = {}
+    for uav, s in mission.states.items():
+        if s:
+            i = max(0, int(np.searchsorted(s["t"], t, side="right")) - 1)
+            out[uav] = (float(s["x"][i]), float(s["y"][i]))
+    return out
+
+
+def phase_times(mission: Mission) -> list[tuple[str, float]]:
+    """Takeoff, firefighting and landing instants for FF Fig. 11."""
+    all_t = np.concatenate([s["t"] for s in mission.states.values() if s]) if mission.states else np.zeros(0)
+    if all_t.size == 0:
+        return []
+    t0, t1 = float(all_t.min()), float(all_t.max())
+    airborne = [
+        float(s["t"][np.argmax(s["objective"] != OBJECTIVE_GROUNDED)])
+        for s in mission.states.values()
+        if s and np.any(s["objective"] != OBJECTIVE_GROUNDED)
+    ]
+    t_take = max(airborne) if airborne else t0
+    drops = [e.t_s for e in mission.world_events if e.type == TYPE_DROP]
+    t_fight = float(np.median(drops)) if drops else 0.5 * (t0 + t1)
+    landing = [
+        float(s["t"][np.argmax(np.isin(s["objective"], (OBJECTIVE_LAND, OBJECTIVE_LANDED)))])
+        for s in mission.states.values()
+        if s and np.any(np.isin(s["objective"], (OBJECTIVE_LAND, OBJECTIVE_LANDED)))
+    ]
+    t_land = max(landing) if landing else t1
+    return [("takeoff", t_take), ("firefighting", t_fight), ("landing", t_land)]
+
+
+def _draw_world(ax: plt.Axes, mission: Mission, t: float) -> None:
+    for lake in (mission.scenario.get("lakes") or []) if isinstance(mission.scenario, dict) else []:
+        try:
+            r = float(lake.get("diameter_m", 0.0)) / 2
+            ax.add_patch(plt.Circle((float(lake["x_m"]), float(lake["y_m"])), r, color="tab:blue", alpha=0.5))
+        except (KeyError, TypeError, ValueError):
+            continue
+    for fid, f in mission.truth_fires.items():
+        if not f:
+            continue
+        i = max(0, int(np.searchsorted(f["t"], t, side="right")) - 1)
+        if f["status"][i] == 0:
+            ax.add_patch(
+                plt.Circle((f["x"][i], f["y"][i]), max(f["extent"][i], 1.0), color="tab:red", alpha=0.35)
+            )
+            ax.plot(f["x"][i], f["y"][i], "x", color="darkred")
+            ax.annotate(f"F{fid}", (f["x"][i], f["y"][i]), fontsize=7)
+
+
+def fig_voronoi(mission: Mission, out: Path) -> list[Figure]:
+    phases = phase_times(mission)
+    if not phases:
+        return []
+    (x0, x1), (y0, y1) = _area(mission)
+    res = max((x1 - x0) / 200.0, (y1 - y0) / 200.0, 1.0)
+    ids = sorted(mission.states)
+    colors = _colors(len(ids))
+    fig, axes = plt.subplots(1, len(phases), figsize=(5 * len(phases), 4.6))
+    for ax, (name, t) in zip(np.atleast_1d(axes), phases, strict=False):
+        pos = _positions_at(mission, t)
+        sites = np.asarray([pos[u] for u in ids if u in pos])
+        xs, ys, lab = voronoi_labels(sites, (x0, x1), (y0, y1), res)
+        ax.imshow(
+            lab,
+            origin="lower",
+            extent=(x0, x1, y0, y1),
+            cmap=ListedColormap(colors),
+            alpha=0.25,
+            interpolation="nearest",
+            vmin=0,
+            vmax=max(len(ids) - 1, 1),
+        )
+        _draw_world(ax, mission, t)
+        for k, u in enumerate(ids):
+            if u in pos:
+                ax.plot(*pos[u], "^", color=colors[k], markeredgecolor="k", markersize=8)
+                ax.annotate(str(u), pos[u], fontsize=7, xytext=(3, 3), textcoords="offset points")
+        ax.set_title(f"{name}, t = {t:.1f} s")
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+    return _save(
+        fig,
+        out,
+        "voronoi_phases.png",
+        "Fleet over the map with its Voronoi cells (nearest UAV estimate on a grid) at takeoff, "
+        "firefighting and landing (FF Fig. 11); red: fires (truth), blue: lakes.",
+    )
+
+
+def fig_ekf(mission: Mission, out: Path) -> list[Figure]:
+    errs = {u: ekf_errors(mission, u) for u in mission.uav_ids}
+    errs = {u: e for u, e in errs.items() if e["t"].size}
+    res: list[Figure] = []
+    if errs:
+        fig, axes = plt.subplots(4, 1, figsize=(9, 9), sharex=True)
+        colors = _colors(len(errs))
+        for k, (u, e) in enumerate(sorted(errs.items())):
+            for ax, axis in zip(axes, ("x", "y", "z", "yaw"), strict=False):
+                ax.plot(e["t"], e[axis], lw=0.7, color=colors[k], label=f"UAV {u}")
+        for ax, lab in zip(
+            axes, ("x error [m]", "y error [m]", "z error [m]", "yaw error [rad]"), strict=False
+        ):
+            ax.set_ylabel(lab)
+            ax.grid(alpha=0.3)
+        axes[0].legend(fontsize=7, ncol=min(len(errs), 7))
+        axes[-1].set_xlabel("sim time [s]")
+        res += _save(fig, out, "ekf_error.png", "EKF estimate minus truth per axis and UAV (FF Fig. 4).")
+    traces = {u: (s["t"], np.trace(s["P"], axis1=1, axis2=2)) for u, s in mission.states.items() if s}
+    if traces:
+        fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+        colors = _colors(len(traces))
+        t_end = min(float(t[0]) for t, _ in traces.values()) + 5.0
+        for k, (u, (t, tr)) in enumerate(sorted(traces.items())):
+            axes[0].plot(t, tr, lw=0.8, color=colors[k], label=f"UAV {u}")
+            m = t <= t_end
+            axes[1].plot(t[m], tr[m], ".-", lw=0.8, color=colors[k])
+        axes[0].set_yscale("log")
+        axes[0].set_title("Tr(P) (FF Fig. 6)")
+        axes[1].set_title("first 5 s (FF Fig. 7, per control step)")
+        for ax in axes:
+            ax.set_xlabel("sim time [s]")
+            ax.set_ylabel("Tr(P) [m^2 + rad^2]")
+            ax.grid(alpha=0.3)
+        axes[0].legend(fontsize=7, ncol=2)
+        res += _save(
+            fig,
+            out,
+            "covariance_trace.png",
+            "Trace of the EKF covariance broadcast in UavState (FF Figs. 6, 7).",
+        )
+    return res
+
+
+def fig_tracks(mission: Mission, out: Path) -> list[Figure]:
+    ids = [u for u in mission.uav_ids if u in mission.states and u in mission.truth_vehicles]
+    if not ids:
+        return []
+    fig, axes = plt.subplots(1, 2, figsize=(11, 5))
+    colors = _colors(len(ids))
+    for k, u in enumerate(ids):
+        s, v = mission.states[u], mission.truth_vehicles[u]
+        axes[0].plot(v["x"], v["y"], "-", color=colors[k], lw=1.0)
+        axes[0].plot(s["x"], s["y"], "--", color=colors[k], lw=0.7)
+    u = ids[0]
+    s, v = mission.states[u], mission.truth_vehicles[u]
+    axes[1].plot(v["x"], v["y"], "k-", lw=1.2, label="true")
+    axes[1].plot(s["x"], s["y"], "r--", lw=1.0, label="estimated")
+    axes[1].set_title(f"UAV {u}")
+    axes[1].legend()
+    axes[0].set_title("all UAVs: true (solid) vs estimated (dashed)")
+    for ax in axes:
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.grid(alpha=0.3)
+    return _save(fig, out, "tracks.png", "True vs estimated flight paths (FF Fig. 5).")
+
+
+def fig_fire_estimates(mission: Mission, out: Path) -> list[Figure]:
+    res: list[Figure] = []
+    uavs = sorted({u for u, _ in mission.fire_estimates})
+    colors = dict(zip(uavs, _colors(len(uavs)), strict=False))
+    for fid in sorted({f for _, f in mission.fire_estimates}):
+        fig, axes = plt.subplots(3, 1, figsize=(9, 7.5), sharex=True)
+        for u in uavs:
+            e = mission.fire_estimates.get((u, fid))
+            if not e:
+                continue
+            for ax, key in zip(axes, ("x", "y", "extent"), strict=False):
+                ax.plot(e["t"], e[key], lw=0.8, color=colors[u], label=f"UAV {u}")
+        tru = mission.truth_fires.get(fid)
+        if tru:
+            for ax, key in zip(axes, ("x", "y", "extent"), strict=False):
+                ax.plot(tru["t"], tru[key], "k--", lw=1.2, label="truth")
+        for ax, lab in zip(axes, ("x [m]", "y [m]", "size sigma [m]"), strict=False):
+            ax.set_ylabel(lab)
+            ax.grid(alpha=0.3)
+        axes[0].legend(fontsize=7, ncol=4)
+        axes[0].set_title(f"Fire {fid}: each agent's estimate (consensus, /fleet/fires)")
+        axes[-1].set_xlabel("sim time [s]")
+        res += _save(
+            fig,
+            out,
+            f"fire_{fid}_estimates.png",
+            f"Fire {fid}: estimated position and size per agent over time, truth dashed (FF Figs. 8-10).",
+        )
+    return res
+
+
+def fig_drops(mission: Mission, out: Path) -> list[Figure]:
+    drops = [e for e in mission.world_events if e.type == TYPE_DROP]
+    if not drops:
+        return []
+    fig, axes = plt.subplots(1, 3, figsize=(14, 3.8))
+    fires = sorted({e.fire_id for e in drops})
+    for row, fid in enumerate(fires):
+        t = [e.t_s for e in drops if e.fire_id == fid]
+        axes[0].plot(t, [row] * len(t), "v", markersize=7)
+    axes[0].set_yticks(range(len(fires)), [f"fire {f}" if f >= 0 else "missed" for f in fires])
+    axes[0].set_xlabel("sim time [s]")
+    axes[0].set_title("drop timeline")
+    times = np.sort([e.t_s for e in drops])
+    if times.size > 1:
+        axes[1].hist(np.diff(times), bins=min(20, times.size - 1), color="tab:blue")
+        axes[1].axvline(
+            np.diff(times).mean(), color="k", ls="--", label=f"mean {np.diff(times).mean():.1f} s"
+        )
+        axes[1].legend()
+    axes[1].set_xlabel("interval between consecutive drops [s]")
+    axes[1].set_title("inter-drop intervals (FF Table I)")
+    counts = [sum(1 for e in drops if e.fire_id == f) for f in fires]
+    axes[2].bar([f"fire {f}" if f >= 0 else "missed" for f in fires], counts, color="tab:red")
+    axes[2].set_title("drops per fire (FF Fig. 14)")
+    return _save(fig, out, "drops.png", "Water drops: timeline, inter-drop intervals, drops per fire.")
+
+
+def fig_perimeter(mission: Mission, out: Path) -> list[Figure]:
+    if not mission.perimeters:
+        return []
+    fig = plt.figure(figsize=(11, 4.5))
+    axp = fig.add_subplot(1, 2, 1, projection="polar")
+    axe = fig.add_subplot(1, 2, 2)
+    for (u, fid), p in sorted(mission.perimeters.items()):
+        outer = p["outer"][-1]
+        ang = (np.arange(outer.size) + 0.5) * 2 * np.pi / max(outer.size, 1)
+        axp.plot(np.append(ang, ang[:1]), np.append(outer, outer[:1]), label=f"UAV {u} / fire {fid}")
+        e = perimeter_distance_error(mission, u, fid)
+        if e["t"].size:
+            axe.plot(e["t"], e["error_m"], label=f"UAV {u} / fire {fid}")
+    axp.set_title("last perimeter map: outer distance per bin [m]")
+    axp.legend(fontsize=7, loc="lower left")
+    axe.set_xlabel("sim time [s]")
+    axe.set_ylabel("mean |distance - true radius| [m]")
+    axe.set_title("perimeter distance error (PM)")
+    axe.grid(alpha=0.3)
+    return _save(fig, out, "perimeter.png", "Monitored fires: perimeter map and distance error (PM).")
+
+
+def fig_faults(mission: Mission, out: Path) -> list[Figure]:
+    states = {u: s for u, s in mission.states.items() if s}
+    crashes = [e for e in mission.world_events if e.type == TYPE_CRASH]
+    peer = [e for e in mission.fleet_events if e.type == TYPE_PEER_CRASHED]
+    if not states and not crashes and not peer:
+        return []
+    fig, ax = plt.subplots(figsize=(10, 4))
+    colors = _colors(len(states))
+    for k, (u, s) in enumerate(sorted(states.items())):
+        ax.step(s["t"], s["lost"], where="post", color=colors[k], lw=0.9, label=f"UAV {u} lost")
+    for e in crashes:
+        ax.axvline(e.t_s, color="k", lw=1.5)
+        ax.annotate(f"crash UAV {e.uav_id}", (e.t_s, ax.get_ylim()[1] * 0.9), rotation=90, fontsize=7)
+    for e in peer:
+        ax.axvline(e.t_s, color="tab:orange", ls=":", lw=1)
+    for o in (
+        (mission.scenario.get("comms") or {}).get("outages") or []
+        if isinstance(mission.scenario, dict)
+        else []
+    ):
+        try:
+            ax.axvspan(float(o["start_s"]), float(o["end_s"]), color="grey", alpha=0.15)
+        except (KeyError, TypeError, ValueError):
+            continue
+    ax.set_xlabel("sim time [s]")
+    ax.set_ylabel("peer messages lost (cumulative)")
+    ax.set_title("faults: packet loss, link outages (grey), crashes (black), peers declared crashed (orange)")
+    ax.grid(alpha=0.3)
+    if states:
+        ax.legend(fontsize=7, ncol=4)
+    return _save(
+        fig, out, "faults.png", "Packet loss per UAV, scheduled link outages, crashes and crash declarations."
+    )
+
+
+ALL_FIGURES = (fig_voronoi, fig_tracks, fig_ekf, fig_fire_estimates, fig_drops, fig_perimeter, fig_faults)
+
+
+def make_figures(mission: Mission, out: Path) -> list[Figure]:
+    """Write every figure the bag has data for into ``out``; return [(file, caption)]."""
+    figs: list[Figure] = []
+    for fn in ALL_FIGURES:
+        figs += fn(mission, out)
+    return figs

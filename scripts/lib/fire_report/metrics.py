@@ -1,0 +1,220 @@
+"""The numbers of metrics.json, computed from a :class:`~fire_report.data.Mission` (pure numpy).
+
+Sources: drops, extinctions, crashes and mission completion come from ``/world/events``
+(the world is the authority); peers declared crashed from ``/fleet/events``; packet
+counters from the last ``UavState`` of each UAV; EKF errors from ``UavState`` matched to
+``WorldTruth`` by control step. All times are sim seconds.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from fire_report.data import (
+    TYPE_CRASH,
+    TYPE_DROP,
+    TYPE_EXTINGUISHED,
+    TYPE_MISSION_COMPLETE,
+    TYPE_PEER_CRASHED,
+    TYPE_PEER_REJOINED,
+    Mission,
+)
+
+PERCENTILES = (50, 90, 95, 99)
+AXES = ("x", "y", "z", "yaw")
+
+
+def wrap_angle(a: np.ndarray) -> np.ndarray:
+    """Wrap radians to (-pi, pi]."""
+    w = np.mod(a + np.pi, 2 * np.pi) - np.pi
+    return np.where(w == -np.pi, np.pi, w)
+
+
+def ekf_errors(mission: Mission, uav: int) -> dict[str, np.ndarray]:
+    """Estimate minus truth per axis for ``uav`` at the control steps both were recorded.
+
+    Returns t [s], x/y/z [m], yaw [rad] errors and trace_p (empty arrays when no match).
+    """
+    est, tru = mission.states.get(uav), mission.truth_vehicles.get(uav)
+    empty = {k: np.zeros(0) for k in ("t", *AXES, "trace_p")}
+    if not est or not tru:
+        return empty
+    _, ie, it = np.intersect1d(est["step"], tru["step"], return_indices=True)
+    if ie.size == 0:
+        return empty
+    out = {"t": est["t"][ie]}
+    for ax in ("x", "y", "z"):
+        out[ax] = est[ax][ie] - tru[ax][it]
+    out["yaw"] = wrap_angle(est["yaw"][ie] - tru["yaw"][it])
+    out["trace_p"] = np.trace(est["P"][ie], axis1=1, axis2=2)
+    return out
+
+
+def _percentiles(values: np.ndarray) -> dict[str, float] | None:
+    if values.size == 0:
+        return None
+    a = np.abs(values)
+    out = {f"p{p}": float(np.percentile(a, p)) for p in PERCENTILES}
+    out["max"] = float(a.max())
+    out["mean"] = float(a.mean())
+    return out
+
+
+def _fire_key(fire_id: int) -> str:
+    return str(fire_id) if fire_id >= 0 else "missed"
+
+
+def outcome(mission: Mission) -> tuple[str, str]:
+    """("complete" | "time_limit" | "incomplete", detail), as the mission runner names them.
+
+    complete: the world's MISSION_COMPLETE has value 1 (every fire out and every surviving
+    vehicle landed); time_limit: value 0 (max_duration_s reached); incomplete: no completion
+    event (the recording stopped first). See docs/protocol.md, Events.
+    """
+    done = [e for e in mission.world_events if e.type == TYPE_MISSION_COMPLETE]
+    if not done:
+        return "incomplete", "no MISSION_COMPLETE event in the bag"
+    return ("complete" if done[-1].value >= 1.0 else "time_limit"), done[-1].detail
+
+
+def mission_duration_s(mission: Mission) -> float:
+    """Sim time of MISSION_COMPLETE, else of the last message, measured from t = 0."""
+    done = [e.t_s for e in mission.world_events if e.type == TYPE_MISSION_COMPLETE]
+    return float(done[-1] if done else mission.t_last_s)
+
+
+def compute_metrics(mission: Mission) -> dict[str, Any]:
+    """Every metric of the report as a JSON-ready dict (see docs/recording.md for the keys)."""
+    world, fleet = mission.world_events, mission.fleet_events
+    # a drop request with an empty tank releases nothing: it is not a drop (value = kg released)
+    drops = [e for e in world if e.type == TYPE_DROP and e.value > 0]
+    drop_times = np.asarray(sorted(e.t_s for e in drops), dtype=float)
+    intervals = np.diff(drop_times)
+    drops_per_fire: dict[str, int] = {}
+    for e in drops:
+        drops_per_fire[_fire_key(e.fire_id)] = drops_per_fire.get(_fire_key(e.fire_id), 0) + 1
+    drops_per_uav: dict[str, int] = {}
+    for e in drops:
+        drops_per_uav[str(e.uav_id)] = drops_per_uav.get(str(e.uav_id), 0) + 1
+
+    extinction: dict[str, float] = {}
+    for e in world:
+        if e.type == TYPE_EXTINGUISHED and _fire_key(e.fire_id) not in extinction:
+            extinction[_fire_key(e.fire_id)] = e.t_s
+
+    packets: dict[str, dict[str, int]] = {}
+    for uav, s in sorted(mission.states.items()):
+        if s:
+            packets[str(uav)] = {k: int(s[k][-1]) for k in ("received", "lost", "rejected")}
+
+    errs = {uav: ekf_errors(mission, uav) for uav in mission.uav_ids}
+    ekf: dict[str, Any] = {"samples": int(sum(e["t"].size for e in errs.values()))}
+    for ax in AXES:
+        ekf[ax] = _percentiles(np.concatenate([e[ax] for e in errs.values()]) if errs else np.zeros(0))
+    horiz = [np.hypot(e["x"], e["y"]) for e in errs.values()]
+    ekf["horizontal"] = _percentiles(np.concatenate(horiz) if horiz else np.zeros(0))
+    ekf["per_uav"] = {
+        str(uav): {ax: _percentiles(e[ax]) for ax in AXES} for uav, e in errs.items() if e["t"].size
+    }
+    ekf["units"] = {"x": "m", "y": "m", "z": "m", "yaw": "rad", "horizontal": "m"}
+
+    event_counts: dict[str, int] = {}
+    for e in world + fleet:
+        key = f"{e.source}.{e.type_name}"
+        event_counts[key] = event_counts.get(key, 0) + 1
+
+    result, detail = outcome(mission)
+    scenario = mission.scenario
+    outages = ((scenario.get("comms") or {}).get("outages") or []) if isinstance(scenario, dict) else []
+    return {
+        "bag": mission.path,
+        "scenario": scenario.get("name") if isinstance(scenario, dict) else None,
+        "seed": _int_or_none(mission.custom_data.get("fire_uav.seed")),
+        "uav_count": _int_or_none(mission.custom_data.get("fire_uav.uav_count")) or len(mission.uav_ids),
+        "outcome": result,
+        "outcome_detail": detail,
+        "mission_duration_s": mission_duration_s(mission),
+        "drop_count": len(drops),
+        "drops_per_fire": dict(sorted(drops_per_fire.items())),
+        "drops_per_uav": dict(sorted(drops_per_uav.items(), key=lambda kv: int(kv[0]))),
+        "drop_times_s": [float(t) for t in drop_times],
+        "mean_inter_drop_interval_s": float(intervals.mean()) if intervals.size else None,
+        "inter_drop_intervals_s": [float(x) for x in intervals],
+        "extinction_times_s": dict(sorted(extinction.items())),
+        "crash_events": [
+            {"t_s": e.t_s, "uav_id": e.uav_id, "detail": e.detail} for e in world if e.type == TYPE_CRASH
+        ],
+        "peers_declared_crashed": [
+            {"t_s": e.t_s, "by_uav": e.uav_id, "peer_id": e.peer_id}
+            for e in fleet
+            if e.type == TYPE_PEER_CRASHED
+        ],
+        "peers_rejoined": [
+            {"t_s": e.t_s, "by_uav": e.uav_id, "peer_id": e.peer_id}
+            for e in fleet
+            if e.type == TYPE_PEER_REJOINED
+        ],
+        "packets": packets,
+        "packets_lost_total": int(sum(p["lost"] for p in packets.values())),
+        "packets_rejected_total": int(sum(p["rejected"] for p in packets.values())),
+        "link_outages_scheduled": outages,
+        "ekf_error": ekf,
+        "perimeter_distance_error_m": perimeter_errors(mission),
+        "event_counts": dict(sorted(event_counts.items())),
+        "recorder_closed_cleanly": mission.custom_data.get("fire_uav.closed_cleanly") == "true",
+        "warnings": list(mission.warnings),
+    }
+
+
+def _int_or_none(text: str | None) -> int | None:
+    try:
+        return int(text) if text is not None else None
+    except ValueError:
+        return None
+
+
+def perimeter_distance_error(mission: Mission, uav: int, fire: int) -> dict[str, np.ndarray]:
+    """Mean |outer distance - true equivalent radius| over the known bins, per PerimeterMap [m].
+
+    The truth is the fire's equivalent radius sqrt(area/pi) from /world/truth at the nearest
+    step (a circle: an approximation of PM's distance-error metric, which compares cells).
+    """
+    per, tru = mission.perimeters.get((uav, fire)), mission.truth_fires.get(fire)
+    if not per or not tru:
+        return {"t": np.zeros(0), "error_m": np.zeros(0)}
+    idx = np.clip(np.searchsorted(tru["t"], per["t"]), 0, tru["t"].size - 1)
+    radius = np.sqrt(np.maximum(tru["area"][idx], 0.0) / math.pi)
+    err = np.abs(per["outer"] - radius[:, None])
+    with np.errstate(all="ignore"):
+        mean = np.nanmean(np.where(np.isfinite(err), err, np.nan), axis=1)
+    ok = np.isfinite(mean)
+    return {"t": per["t"][ok], "error_m": mean[ok]}
+
+
+def perimeter_errors(mission: Mission) -> dict[str, float]:
+    """'uav/fire' -> mean perimeter distance error over the mission [m]."""
+    out = {}
+    for uav, fire in sorted(mission.perimeters):
+        e = perimeter_distance_error(mission, uav, fire)["error_m"]
+        if e.size:
+            out[f"{uav}/{fire}"] = float(e.mean())
+    return out
+
+
+def voronoi_labels(
+    sites_xy: np.ndarray, x_range: tuple[float, float], y_range: tuple[float, float], resolution_m: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Nearest-site label of every grid cell centre (FF III-A partition on a grid).
+
+    Returns (xs, ys, labels[ny, nx]) with labels indexing ``sites_xy`` rows; -1 if no sites.
+    """
+    xs = np.arange(x_range[0] + resolution_m / 2, x_range[1], resolution_m)
+    ys = np.arange(y_range[0] + resolution_m / 2, y_range[1], resolution_m)
+    if len(sites_xy) == 0:
+        return xs, ys, np.full((ys.size, xs.size), -1)
+    gx, gy = np.meshgrid(xs, ys)
+    d2 = (gx[..., None] - sites_xy[:, 0]) ** 2 + (gy[..., None] - sites_xy[:, 1]) ** 2
+    return xs, ys, np.argmin(d2, axis=-1)
