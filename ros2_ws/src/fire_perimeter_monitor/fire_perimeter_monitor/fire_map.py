@@ -14,6 +14,11 @@ Deviations from the paper, and why:
   ``revisit_gap_s`` of its last sighting is the *same* visit (the outer cell is replaced, the
   inner one kept), otherwise the old outer cell becomes the inner cell (PM IV-A). Without
   this, a footprint sliding over a bin would compute Eq. 1 over a fraction of a second.
+- Eq. 1 baseline (``ros_baseline_s``, default 0 = the paper): a new visit makes the previous
+  outer cell the inner one only if that cell is at least ``ros_baseline_s`` old; otherwise
+  the older inner cell is kept. Distances are quantised to a cell, so a quick revisit (a UAV
+  that just turned back) would give ROS spikes of one cell per few seconds, or 0; with the
+  baseline, Eq. 1 is always taken over at least ``ros_baseline_s``.
 """
 
 from __future__ import annotations
@@ -160,11 +165,14 @@ class FireMap:
         bin_count: int = 360,
         ignition_time_s: float | None = None,
         revisit_gap_s: float = 60.0,
+        ros_baseline_s: float = 0.0,
     ) -> None:
         if bin_count < 8:
             raise ValueError(f"bin_count must be >= 8, got {bin_count}")
         if not revisit_gap_s >= 0:
             raise ValueError(f"revisit_gap_s must be >= 0, got {revisit_gap_s}")
+        if not ros_baseline_s >= 0:
+            raise ValueError(f"ros_baseline_s must be >= 0, got {ros_baseline_s}")
         if not (math.isfinite(center_x_m) and math.isfinite(center_y_m)):
             raise ValueError(f"map centre must be finite, got ({center_x_m}, {center_y_m})")
         self.center_x_m = float(center_x_m)
@@ -172,6 +180,7 @@ class FireMap:
         self.bin_count = int(bin_count)
         self.ignition_time_s = ignition_time_s
         self.revisit_gap_s = float(revisit_gap_s)
+        self.ros_baseline_s = float(ros_baseline_s)
         nan = np.full(self.bin_count, np.nan)
         self.outer_x_m = nan.copy()
         self.outer_y_m = nan.copy()
@@ -259,8 +268,8 @@ class FireMap:
         fb = bins[first]
         self.inner_d_m[fb] = 0.0
         self.inner_t_s[fb] = np.nan if self.ignition_time_s is None else self.ignition_time_s
-        # PM IV-A: a new visit turns the previous outer cell into the inner cell.
-        nb = bins[new_visit]
+        # PM IV-A: a new visit turns the previous outer cell into the inner cell (if old enough).
+        nb = bins[new_visit & ((t_s - prev_t >= self.ros_baseline_s) | np.isnan(self.inner_t_s[bins]))]
         self.inner_d_m[nb] = self.outer_d_m[nb]
         self.inner_t_s[nb] = self.outer_t_s[nb]
         upd = first | same_visit | new_visit
@@ -309,6 +318,7 @@ class FireMap:
             bin_count=self.bin_count,
             ignition_time_s=self.ignition_time_s,
             revisit_gap_s=self.revisit_gap_s,
+            ros_baseline_s=self.ros_baseline_s,
         )
         if not cells:
             return

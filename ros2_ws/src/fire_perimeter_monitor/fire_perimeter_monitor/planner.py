@@ -51,6 +51,14 @@ class MonitorConfig:
     peer_timeout_s: float = 120.0  # a peer not heard for this long no longer owns an arc
     search_radius_cells: int = 3  # how far to look for the perimeter when off it
     uav_id: int = 0  # breaks the tie between monitors at the same angle (lower id keeps the arc ahead)
+    # Hysteresis (not in the paper, see ImportanceMonitor): after a turn, fly on for at least
+    # max(min_run_cells, min_run_fraction * perimeter cells) before the next decision, and turn
+    # only when IMP_BACK > (1 + turn_margin) * IMP_FRONT. All 0: the paper's Listing 3 exactly.
+    min_run_cells: int = 0
+    min_run_fraction: float = 0.25
+    turn_margin: float = 0.0
+    ros_baseline_s: float | None = None  # FireMap: Eq. 1 over at least this long; default 20 cells of flight
+    ros_smooth_bins: int = 0  # circular moving average of the per-bin ROS over +-this many bins
 
     def __post_init__(self) -> None:
         if not self.cell_size_m > 0:
@@ -61,6 +69,11 @@ class MonitorConfig:
             raise ValueError(f"alpha must be >= 0, got {self.alpha}")
         if (self.center_x_m is None) != (self.center_y_m is None):
             raise ValueError("give both center_x_m and center_y_m, or neither")
+        if self.min_run_cells < 0 or not 0 <= self.min_run_fraction <= 1 or not self.turn_margin >= 0:
+            raise ValueError(
+                "min_run_cells must be >= 0, min_run_fraction in [0, 1], turn_margin >= 0; got "
+                f"{self.min_run_cells}, {self.min_run_fraction}, {self.turn_margin}"
+            )
         if self.revisit_gap_s is not None and not self.revisit_gap_s >= 0:
             raise ValueError(f"revisit_gap_s must be >= 0, got {self.revisit_gap_s}")
 
@@ -105,6 +118,9 @@ class PerimeterMonitor:
             bin_count=c.bin_count,
             ignition_time_s=c.ignition_time_s,
             revisit_gap_s=c.gap_s,
+            ros_baseline_s=c.ros_baseline_s
+            if c.ros_baseline_s is not None
+            else 20 * c.cell_size_m / c.speed_mps,
         )
         self.direction = Direction(c.initial_direction)
         self.direction_changes = 0
@@ -120,6 +136,7 @@ class PerimeterMonitor:
         self._lap = _Lap()
         self._peers: dict[int, _Peer] = {}
         self.steps = 0
+        self.run_cells = 0  # cells flown since the last direction change (or the initial lap)
 
     # --- public interface ----------------------------------------------------------------
     @property
@@ -153,6 +170,7 @@ class PerimeterMonitor:
         if cell != self.cell:
             self.prev_cell, self.cell = self.cell, cell
             self.steps += 1
+            self.run_cells += 1
             if not self._lap.done:
                 self._track_initial_lap(ux, uy)
             elif self.changes_direction:
@@ -174,6 +192,42 @@ class PerimeterMonitor:
                 nxt = self._step_radially(inside=self._lookup(*self.cell))
         x, y = self.grid.center(*nxt)
         return float(x), float(y)
+
+    def lookahead_waypoint(self, n_cells: int) -> tuple[float, float]:
+        """Centre [m] of the perimeter cell ``n_cells`` ahead in ``direction`` (a fast UAV's aim point).
+
+        Walks the boundary of the latest footprint; stops early where it is lost.
+        """
+        first = self.next_waypoint()
+        if self.grid is None or self.cell is None or self._lookup is None or n_cells <= 1:
+            return first
+        prev, cur = self.cell, tuple(int(v) for v in self.grid.index(*first))
+        for _ in range(n_cells - 1):
+            nxt = next_boundary_cell(self._lookup, cur, self.direction, prev)
+            if nxt is None or nxt == self.cell:
+                break
+            prev, cur = cur, nxt
+        x, y = self.grid.center(*cur)
+        return float(x), float(y)
+
+    def front(self) -> tuple[float, float, float] | None:
+        """Fastest-spreading point of the on-board perimeter: ``(x_m, y_m, ros_mps)`` or None.
+
+        The outer cell of the bin with the largest (smoothed, ``ros_smooth_bins``) Eq. 1 ROS.
+        """
+        if not (self._lap.done or self.center_known):
+            return None
+        fm = self.fire_map
+        ros = fm.ros_mps()
+        ok = np.isfinite(ros) & fm.known
+        if not ok.any():
+            return None
+        sm = smooth_circular(np.where(ok, ros, 0.0), self.config.ros_smooth_bins)
+        sm = np.where(ok, sm, -np.inf)
+        k = int(np.argmax(sm))
+        if not ros[k] > 0:
+            return None
+        return float(fm.outer_x_m[k]), float(fm.outer_y_m[k]), float(ros[k])
 
     def to_summary(self) -> dict:
         """PerimeterMap fields (except header, uav_id, sequence, fire_id) as plain values."""
@@ -304,6 +358,17 @@ class PerimeterMonitor:
         """Listing 1 step 2 (i-iii): construct the perimeter, weigh the windows, maybe turn."""
 
 
+def smooth_circular(values: np.ndarray, half_width_bins: int) -> np.ndarray:
+    """Circular moving average over ``2 * half_width_bins + 1`` bins (0: unchanged)."""
+    v = np.asarray(values, dtype=float)
+    if half_width_bins <= 0 or v.size == 0:
+        return v.copy()
+    k = min(int(half_width_bins), (v.size - 1) // 2)
+    ext = np.concatenate([v[-k:], v, v[:k]])
+    c = np.cumsum(np.concatenate([[0.0], ext]))
+    return (c[2 * k + 1 :] - c[: -2 * k - 1]) / (2 * k + 1)
+
+
 class ImportanceMonitor(PerimeterMonitor):
     """Importance-based perimeter monitor (PM Listings 1-3, Eqs. 1-7)."""
 
@@ -321,14 +386,18 @@ class ImportanceMonitor(PerimeterMonitor):
         backward = np.vstack([cp.vertices_m[:1], cp.vertices_m[:0:-1]])
         cells, spacing = resample_closed(backward, c.cell_size_m)
         bins = fm.bin_of(cells[:, 0], cells[:, 1])
-        ros = circular_fill(fm.ros_mps(), 0.0)[bins]
+        ros = smooth_circular(circular_fill(fm.ros_mps(), 0.0), c.ros_smooth_bins)[bins]
         t_outer = circular_fill(fm.outer_t_s, self.t_s)[bins]
         since = np.maximum(self.t_s - t_outer, 0.0)
         w = window_importance(ros, since, spacing, c.speed_mps, c.alpha, weight=self._peer_weight(cells))
         self.last_window, self.last_cells_m = w, cells
-        if should_turn(w.imp_back, w.imp_front, turn_on_tie=c.turn_on_tie):
+        min_run = max(c.min_run_cells, int(math.ceil(c.min_run_fraction * cells.shape[0])))
+        if self.direction_changes > 0 and self.run_cells < min_run:
+            return  # hysteresis: finish the sweep first
+        if should_turn(w.imp_back, (1.0 + c.turn_margin) * w.imp_front, turn_on_tie=c.turn_on_tie):
             self.direction = self.direction.reversed()
             self.direction_changes += 1
+            self.run_cells = 0
             self.prev_cell = None  # going back the way we came is now intended
 
 

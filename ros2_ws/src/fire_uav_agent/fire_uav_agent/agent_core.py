@@ -18,6 +18,7 @@ any, this UAV monitors.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
@@ -39,7 +40,10 @@ from .coverage import (
 )
 from .estimation import EkfConfig, Samples, StateEkf
 from .mission import Decision, Mission, MissionConfig, MissionView, Objective, Vehicle
+from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
 from .peer_link import FireEntry, Outage, PeerFires, PeerLink, PeerState
+
+TOPIC_PERIMETER = 2  # topic_index of /fleet/perimeter in the peer-link loss draw
 
 __all__ = [
     "Agent",
@@ -48,6 +52,7 @@ __all__ = [
     "Bundle",
     "EventType",
     "OwnState",
+    "PeerPerimeter",
     "Planner",
     "PlannerTarget",
     "PlannerView",
@@ -111,6 +116,10 @@ class AgentConfig:
         20.0  # water footprint radius (scenario fires.drop_radius_m; world hits within max(this, sigma))
     )
     land_approach_radius_m: float = 120.0  # start descending this close to the start point
+    monitors_per_fire: int = 0  # PM: UAVs per active fire that monitor its perimeter (scenario mission.)
+    monitor_circling: bool = False  # monitors circle (PM VI-E baseline) instead of importance-based
+    monitor_alpha: float = 1.0  # PM Eq. 7 heterogeneity-adjusting factor
+    perimeter_every_steps: int = 10  # publish the monitor's PerimeterMap every n steps (~1 Hz)
 
     def __post_init__(self) -> None:
         if not 0 <= self.uav_id < self.uav_count:
@@ -209,6 +218,7 @@ def config_from_scenario(
         safety_radius_m=float(mis.safety_radius_m),
         search_first=bool(_get(mis, "search_first", default=False)),
         drop_radius_m=float(_get(scenario.fires, "drop_radius_m", default=None) or 20.0),
+        monitors_per_fire=int(_get(mis, "monitors_per_fire", default=0) or 0),
     )
 
 
@@ -224,6 +234,19 @@ class Bundle:
     water_kg: float
     vehicle: int  # SensorBundle.VEHICLE_*
     control_period_s: float = 0.1
+    cells: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # FireCells: x_m, y_m, state
+    cell_size_m: float = 0.0  # [m] FireCells.cell_size_m, 0 without a raster fire
+
+
+@dataclass(frozen=True)
+class PeerPerimeter:
+    """A peer monitor's PerimeterMap, ROS-free (``summary``: PerimeterMonitor.to_summary() fields)."""
+
+    uav_id: int
+    sequence: int
+    step: int
+    fire_id: int
+    summary: dict
 
 
 @dataclass(frozen=True)
@@ -290,6 +313,7 @@ class StepOutput:
     events: tuple[AgentEvent, ...]
     markers: MarkersData | None
     direct: bool  # attack run / stalled-refill mode in effect
+    perimeter: tuple[int, dict] | None = None  # (fire_id, PerimeterMap fields) to publish this step
 
 
 # --- planners -------------------------------------------------------------------------------
@@ -302,6 +326,15 @@ class PlannerView:
     cell_mask: np.ndarray  # (M,) own Voronoi cell
     peers_xy: dict[int, tuple[float, float]]  # alive flying peers' last known positions
     fires: tuple[FireEntry, ...]
+    target_fire_id: int = -1  # MONITOR: the fire this UAV monitors
+    cells: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # this step's FireCells
+    cell_size_m: float = 0.0  # [m]
+    peer_roles: dict[int, tuple[int, int]] = field(
+        default_factory=dict
+    )  # alive peer -> (objective, target fire)
+    own_published_xy: tuple[float, float] | None = None  # own position as peers last received it
+    own_objective: int = -1
+    own_target_fire_id: int = -1
 
 
 @dataclass(frozen=True)
@@ -401,6 +434,25 @@ class Agent:
         self.planners: dict[int, Planner] = dict(planners or {})
         self.planners.setdefault(int(Objective.SEARCH), self.search)
         self.monitor_assigner = monitor_assigner
+        self.role_cfg = RoleConfig(monitors_per_fire=cfg.monitors_per_fire)
+        self.monitor: MonitorPlanner | None = None
+        if cfg.monitors_per_fire > 0 and int(Objective.MONITOR) not in self.planners:
+            self.monitor = MonitorPlanner(
+                cfg.uav_id,
+                MonitorPlannerConfig(
+                    speed_mps=cfg.limits.v_stall_mps + 5.0,
+                    alpha=cfg.monitor_alpha,
+                    circling=cfg.monitor_circling,
+                ),
+            )
+            self.planners[int(Objective.MONITOR)] = self.monitor
+        if self.monitor_assigner is None and cfg.monitors_per_fire > 0:
+            self.monitor_assigner = self.assign_monitor
+        self.roles: dict[int, tuple[int, ...]] = {}
+        self._pub_xy: tuple[float, float] | None = None
+        self._fronts: dict[int, tuple[float, float, float]] = {}  # fire id -> (x, y, ros) from monitors
+        self.perimeter_received = 0
+        self.perimeter_lost = 0
         self.last_step = -1
         self.last_command = np.zeros(3)
         self._last_vehicle = int(Vehicle.ON_GROUND)
@@ -450,9 +502,17 @@ class Agent:
             inbox,
             key=lambda m: (m.step, m.uav_id if isinstance(m.uav_id, int) else -1, isinstance(m, PeerFires)),
         )
+        perimeters: list[PeerPerimeter] = []
         for m in msgs:
             if isinstance(m, PeerState):
                 self.link.receive_state(m)
+            elif isinstance(m, PeerPerimeter):
+                if m.uav_id == cfg.uav_id or not 0 <= m.uav_id < cfg.uav_count:
+                    continue
+                if self.link.is_lost(m.uav_id, m.step, TOPIC_PERIMETER):
+                    self.perimeter_lost += 1
+                    continue
+                perimeters.append(m)
             else:
                 self.link.receive_fires(m)
         if bundle.step >= 1:
@@ -503,7 +563,17 @@ class Agent:
                 target_fire = min(active, key=lambda f: math.hypot(f.x_m - s[0], f.y_m - s[1])).fire_id
         lake = self._nearest_lake(pos)
         over_lake = lake is not None and lake.contains(float(s[0]), float(s[1]))
-        pview = PlannerView(t1, cfg.uav_id, s, self.grid, self._cell, flying, active)
+        self._collect_fronts(active)
+        pview = PlannerView(
+            t1, cfg.uav_id, s, self.grid, self._cell, flying, active,
+            cells=bundle.cells if vehicle == Vehicle.AIRBORNE else None,
+            cell_size_m=float(bundle.cell_size_m),
+            peer_roles={j: (int(p.objective), int(p.target_fire_id)) for j, p in peer_states.items()},
+            own_published_xy=self._pub_xy,
+            own_objective=int(self.mission.objective),
+            own_target_fire_id=int(self.mission.target_fire_id),
+        )  # fmt: skip
+        self._merge_perimeters(perimeters, flying, t1)
         monitor_fire = self.monitor_assigner(pview) if self.monitor_assigner is not None else -1
         # 5. life-cycle (FF IV-D)
         prev_obj = self.mission.objective
@@ -513,7 +583,7 @@ class Agent:
                 vehicle=vehicle,
                 water_kg=float(bundle.water_kg),
                 pos_xy=(float(s[0]), float(s[1])),
-                fires=active,
+                fires=self._aim(active),
                 all_out=self.fires.all_out(),
                 peer_objectives={j: p.objective for j, p in peer_states.items()},
                 over_lake=over_lake,
@@ -537,11 +607,21 @@ class Agent:
         if dec.request is not None:
             requests.append((dec.request, dec.target_fire_id if dec.request == ACTION_DROP else -1))
         # 6. guidance (FF Eqs. 8-15)
-        cmd = self._guidance(dec, vehicle, s, active, lake, pview)
+        cmd = self._guidance(dec, vehicle, s, self._aim(active), lake, pview)
+        perimeter = None
+        mon = self.monitor.active if self.monitor is not None else None
+        if (
+            dec.objective == Objective.MONITOR
+            and mon is not None
+            and mon.grid is not None
+            and bundle.step % max(1, cfg.perimeter_every_steps) == 0
+        ):
+            perimeter = (int(dec.target_fire_id), mon.to_summary())
         self.last_command = np.array(cmd, dtype=float)
         self._last_vehicle = int(vehicle)
         self.last_step = bundle.step
         self._seq += 1
+        self._pub_xy = (float(s[0]), float(s[1]))
         state = OwnState(
             uav_id=cfg.uav_id,
             sequence=self._seq,
@@ -566,12 +646,77 @@ class Agent:
             command=cmd,
             payload_requests=tuple(requests),
             state=state,
-            fires=self.fires.entries(),
+            fires=self._with_fronts(self.fires.entries()),
             fires_sequence=self._seq,
             events=tuple(events),
             markers=markers,
             direct=dec.direct,
+            perimeter=perimeter,
         )
+
+    # --- perimeter monitoring (PM) ----------------------------------------------------------------
+    def assign_monitor(self, view: PlannerView) -> int:
+        """Default ``monitor_assigner``: the fire this UAV monitors by :func:`assign_monitors`, or -1.
+
+        Every agent uses the same information: peers' step k-1 states (position, objective,
+        target) and its own step k-1 published state, as its peers received it.
+        """
+        uavs = {
+            j: (xy[0], xy[1], *view.peer_roles.get(j, (int(Objective.SEARCH), -1)))
+            for j, xy in view.peers_xy.items()
+        }
+        if view.own_published_xy is not None:
+            uavs[view.uav_id] = (*view.own_published_xy, view.own_objective, view.own_target_fire_id)
+        self.roles = assign_monitors(((f.fire_id, f.x_m, f.y_m) for f in view.fires), uavs, self.role_cfg)
+        return next((fid for fid, ids in self.roles.items() if view.uav_id in ids), -1)
+
+    def _merge_perimeters(self, perimeters: list[PeerPerimeter], flying: dict, t_s: float) -> None:
+        if self.monitor is None:
+            return
+        for p in perimeters:
+            m = self.monitor.monitors.get(p.fire_id)
+            if m is None:
+                continue
+            try:
+                m.merge(p.summary, peer_id=p.uav_id, peer_pos_m=flying.get(p.uav_id), t_s=t_s)
+                self.perimeter_received += 1
+            except ValueError:
+                self.perimeter_lost += 0  # malformed: ignored (counted nowhere else)
+
+    def _collect_fronts(self, active: tuple[FireEntry, ...]) -> None:
+        """Fastest-spreading fronts: own monitors first, else peers' published fronts."""
+        ids = {f.fire_id for f in active}
+        fronts: dict[int, tuple[float, float, float]] = {}
+        for pf in self.link.alive_fires().values():
+            for e in pf.fires:
+                if e.fire_id in ids and math.isfinite(e.front_x_m) and math.isfinite(e.front_y_m):
+                    old = fronts.get(e.fire_id)
+                    if old is None or e.max_spread_rate_mps > old[2]:
+                        fronts[e.fire_id] = (e.front_x_m, e.front_y_m, e.max_spread_rate_mps)
+        if self.monitor is not None:
+            for fid in ids:
+                fr = self.monitor.front(fid)
+                if fr is not None:
+                    fronts[fid] = fr
+        self._fronts = fronts
+
+    def _with_fronts(self, entries: tuple[FireEntry, ...]) -> tuple[FireEntry, ...]:
+        return tuple(
+            dataclasses.replace(
+                e, front_x_m=self._fronts[e.fire_id][0], front_y_m=self._fronts[e.fire_id][1],
+                max_spread_rate_mps=self._fronts[e.fire_id][2],
+            )
+            if e.fire_id in self._fronts else e
+            for e in entries
+        )  # fmt: skip
+
+    def _aim(self, active: tuple[FireEntry, ...]) -> tuple[FireEntry, ...]:
+        """Fires as suppression sees them: centred on the known fastest-spreading front (PM)."""
+        return tuple(
+            dataclasses.replace(e, x_m=self._fronts[e.fire_id][0], y_m=self._fronts[e.fire_id][1])
+            if e.fire_id in self._fronts else e
+            for e in active
+        )  # fmt: skip
 
     # --- helpers --------------------------------------------------------------------------------
     def _nearest_lake(self, pos: np.ndarray) -> Lake | None:
@@ -639,7 +784,7 @@ class Agent:
                     return (0.0, -0.5, 0.0)  # below stall speed near the ground: the world lands it
         else:  # SEARCH, MONITOR, or SUPPRESS/REFILL without fire/lake
             planner = self.planners.get(int(obj)) or self.search
-            plan = planner.plan(pview)
+            plan = planner.plan(dataclasses.replace(pview, target_fire_id=int(dec.target_fire_id)))
             if plan is None:
                 plan = self.search.plan(pview)
             if plan.waypoint_xy is not None:

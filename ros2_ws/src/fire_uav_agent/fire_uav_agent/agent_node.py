@@ -8,6 +8,7 @@ are in the pure modules.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 
@@ -20,6 +21,7 @@ from fire_uav_msgs.msg import (
     FireEstimateArray,
     MissionEvent,
     PayloadRequest,
+    PerimeterMap,
     SensorBundle,
     UavState,
 )
@@ -31,7 +33,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from visualization_msgs.msg import Marker, MarkerArray
 
-from .agent_core import Agent, AgentConfig, Bundle, StepOutput, config_from_scenario
+from .agent_core import Agent, AgentConfig, Bundle, PeerPerimeter, StepOutput, config_from_scenario
 from .estimation import Samples
 from .peer_link import TOPIC_FIRES, TOPIC_STATE, FireEntry, Outage, PeerFires, PeerState
 
@@ -56,6 +58,16 @@ def _to_bundle(msg: SensorBundle) -> Bundle:
     fires = np.array(
         [(_sec(f.header.stamp), f.x_m, f.y_m, f.extent_m) for f in msg.fires], dtype=float
     ).reshape(-1, 4)
+    c = msg.cells
+    cells = None
+    if len(c.x_m) > 0 and len(c.x_m) == len(c.y_m) == len(c.state):
+        cells = (
+            np.asarray(c.x_m, dtype=float),
+            np.asarray(c.y_m, dtype=float),
+            np.frombuffer(bytes(c.state), dtype=np.uint8).astype(np.int64)
+            if isinstance(c.state, (bytes, bytearray))
+            else np.asarray(c.state, dtype=np.int64),
+        )
     return Bundle(
         step=int(msg.step),
         stamp_s=_sec(msg.header.stamp),
@@ -64,7 +76,37 @@ def _to_bundle(msg: SensorBundle) -> Bundle:
         water_kg=float(msg.water_kg),
         vehicle=int(msg.vehicle_status),
         control_period_s=float(msg.control_period_s),
+        cells=cells,
+        cell_size_m=float(c.cell_size_m),
     )
+
+
+def _to_peer_perimeter(m: PerimeterMap) -> PeerPerimeter:
+    summary = {
+        "center_x_m": float(m.center_x_m),
+        "center_y_m": float(m.center_y_m),
+        "outer_distance_m": np.asarray(m.outer_distance_m, dtype=float),
+        "outer_visit_time_s": np.asarray(m.outer_visit_time_s, dtype=float),
+    }
+    step = int(round(_sec(m.header.stamp) / 0.1)) - 1  # the step whose bundle stamp it answers
+    return PeerPerimeter(int(m.uav_id), int(m.sequence), step, int(m.fire_id), summary)
+
+
+def _from_perimeter(out: StepOutput, stamp: TimeMsg, seq: int) -> PerimeterMap | None:
+    if out.perimeter is None:
+        return None
+    fire_id, s = out.perimeter
+    m = PerimeterMap()
+    m.header.stamp = stamp
+    m.header.frame_id = "map"
+    m.uav_id, m.sequence, m.fire_id = out.state.uav_id, seq, int(fire_id) if fire_id < 2**31 else -1
+    m.center_x_m, m.center_y_m = s["center_x_m"], s["center_y_m"]
+    m.outer_distance_m = s["outer_distance_m"].astype(np.float32).tolist()
+    m.outer_visit_time_s = s["outer_visit_time_s"].astype(np.float32).tolist()
+    m.spread_rate_mps = s["spread_rate_mps"].astype(np.float32).tolist()
+    m.importance = s["importance"].astype(np.float32).tolist()
+    m.direction, m.direction_changes = int(s["direction"]), int(s["direction_changes"])
+    return m
 
 
 def _to_peer_state(m: UavState) -> PeerState:
@@ -197,6 +239,21 @@ class UavAgentNode(Node):
         self.declare_parameter("outage_start_s", [0.0], _desc("link outages: start [s sim]"))
         self.declare_parameter("outage_end_s", [0.0], _desc("link outages: end [s sim]"))
         self.declare_parameter("marker_every_steps", 5, _desc("publish viz markers every n steps (0: never)"))
+        self.declare_parameter(
+            "monitors_per_fire", -1,
+            _desc("PM perimeter monitors per active fire; -1: the scenario's mission.monitors_per_fire",
+                  integer_range=[IntegerRange(from_value=-1, to_value=64, step=1)], **ro),
+        )  # fmt: skip
+        self.declare_parameter(
+            "monitor_planner",
+            "importance",
+            _desc("perimeter monitor: importance (PM) | circling (baseline)", **ro),
+        )
+        self.declare_parameter(
+            "monitor_alpha", 1.0,
+            _desc("PM Eq. 7 heterogeneity-adjusting factor (>= 0)",
+                  floating_point_range=[FloatingPointRange(from_value=0.0, to_value=100.0)], **ro),
+        )  # fmt: skip
         self.cfg, self.mode, self.peer_wait_s, self.marker_every = self._read_config()
         self.agent = Agent(self.cfg)
         uid = self.cfg.uav_id
@@ -213,6 +270,11 @@ class UavAgentNode(Node):
         self.pub_state = self.create_publisher(UavState, topics.FLEET_STATE, topics.qos("fleet"))
         self.pub_fires = self.create_publisher(FireEstimateArray, topics.FLEET_FIRES, topics.qos("fleet"))
         self.pub_events = self.create_publisher(MissionEvent, topics.FLEET_EVENTS, topics.qos("events"))
+        self.pub_perimeter = self.create_publisher(PerimeterMap, topics.FLEET_PERIMETER, topics.qos("fleet"))
+        self.create_subscription(
+            PerimeterMap, topics.FLEET_PERIMETER, self._on_perimeter, topics.qos("fleet")
+        )
+        self._perimeter_seq = 0
         self.create_subscription(SensorBundle, name(topics.SENSORS), self._on_bundle, topics.qos("lockstep"))
         self.create_subscription(UavState, topics.FLEET_STATE, self._on_state, topics.qos("fleet"))
         self.create_subscription(FireEstimateArray, topics.FLEET_FIRES, self._on_fires, topics.qos("fleet"))
@@ -266,6 +328,16 @@ class UavAgentNode(Node):
             loss_probability=loss if loss >= 0 else None, outages=outages,
             crash_threshold_steps=thr if thr > 0 else None,
         )  # fmt: skip
+        mpf = int(p("monitors_per_fire").value)
+        planner = str(p("monitor_planner").value)
+        if planner not in ("importance", "circling"):
+            raise ValueError(f"parameter monitor_planner must be 'importance' or 'circling', got {planner!r}")
+        cfg = dataclasses.replace(
+            cfg,
+            monitors_per_fire=mpf if mpf >= 0 else cfg.monitors_per_fire,
+            monitor_circling=planner == "circling",
+            monitor_alpha=float(p("monitor_alpha").value),
+        )
         return cfg, mode, float(p("peer_wait_wall_s").value), int(p("marker_every_steps").value)
 
     # --- peer traffic ---------------------------------------------------------------------------------
@@ -275,6 +347,11 @@ class UavAgentNode(Node):
         self._inbox.append(_to_peer_state(msg))
         self._arrived.add((int(msg.step), int(msg.uav_id), TOPIC_STATE))
         self._maybe_run()
+
+    def _on_perimeter(self, msg: PerimeterMap) -> None:
+        if msg.uav_id == self.cfg.uav_id:
+            return
+        self._inbox.append(_to_peer_perimeter(msg))  # not waited for: merged at the next step
 
     def _on_fires(self, msg: FireEstimateArray) -> None:
         if msg.uav_id == self.cfg.uav_id:
@@ -359,6 +436,11 @@ class UavAgentNode(Node):
                 self.get_logger().info(f"step {out.step}: {what} on fire {fire_id}")
             else:
                 self.get_logger().debug(f"step {out.step}: {what}", throttle_duration_sec=2.0)
+        if out.perimeter is not None:
+            self._perimeter_seq += 1
+            pm = _from_perimeter(out, stamp, self._perimeter_seq)
+            if pm is not None:
+                self.pub_perimeter.publish(pm)
         cmd = TwistStamped()
         cmd.header.stamp = stamp
         cmd.header.frame_id = f"uav_{uid}"
