@@ -1,4 +1,5 @@
-"""Algorithm modules stay free of ROS: only node modules (``*_node.py``) may import rclpy."""
+"""Algorithm modules stay free of ROS: only node modules (``*_node.py``) and the adapters
+``ros_io.py``/``search_io.py`` may import rclpy."""
 
 from __future__ import annotations
 
@@ -24,7 +25,7 @@ def _algorithm_modules() -> list[Path]:
     out = []
     for pkg in PACKAGES:
         for path in (ROOT / "ros2_ws/src" / pkg / pkg).rglob("*.py"):
-            if not path.name.endswith("_node.py") and path.name != "ros_io.py":
+            if not path.name.endswith("_node.py") and path.name not in ("ros_io.py", "search_io.py"):
                 out.append(path)
     return out
 

@@ -36,6 +36,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 from .agent_core import Agent, AgentConfig, Bundle, PeerPerimeter, StepOutput, config_from_scenario
 from .estimation import Samples
 from .peer_link import TOPIC_FIRES, TOPIC_STATE, FireEntry, Outage, PeerFires, PeerState
+from .search_io import attach_search
 
 
 # --- conversions (the only place messages meet arrays) -----------------------------------------
@@ -256,6 +257,8 @@ class UavAgentNode(Node):
         )  # fmt: skip
         self.cfg, self.mode, self.peer_wait_s, self.marker_every = self._read_config()
         self.agent = Agent(self.cfg)
+        # CP coverage search over /fleet/coverage/* (None when search_mode resolves to off)
+        self.search_link = attach_search(self, self.agent)
         uid = self.cfg.uav_id
         self.get_logger().info(
             f"uav {uid}/{self.cfg.uav_count} mode={self.mode} loss={self.cfg.loss_probability} "
@@ -420,6 +423,8 @@ class UavAgentNode(Node):
         if out is None:
             return
         self._publish(out, msg.header.stamp)
+        if self.search_link is not None:
+            self.search_link.on_step(out.stamp_s, out.step, out.state.alive_peers)
 
     # --- output ---------------------------------------------------------------------------------------
     def _publish(self, out: StepOutput, stamp: TimeMsg) -> None:

@@ -1,0 +1,224 @@
+"""ROS adapter of the in-fleet coverage search (CP): coverage topics <-> :class:`SearchCoordinator`.
+
+``attach_search(node, agent)`` declares the search parameters on the agent node, creates the
+publishers and subscriptions of ``/fleet/coverage/{weights,candidates,mst}`` (names and QoS from
+``fire_uav_common.topics``), and plugs the coordinator's :class:`SearchPlanner` in as the agent's
+SEARCH planner. The node calls :meth:`SearchLink.on_step` once per control step after
+``Agent.step``. Messages are converted here and nowhere else; the injected loss on receipt is the
+peer link's rule (``agent.link.is_lost(sender, step, topic_index)``: loss probability, seed and
+scheduled outages) with topic indexes :data:`fire_uav_agent.search.fleet.TOPIC_INDEX` (3, 4, 5).
+Nothing here waits: coverage messages are not part of the lockstep peer wait.
+
+Parameters (read once): ``search_mode`` (``auto`` | ``bo`` | ``random`` | ``off``; ``auto`` = ``bo``
+when the scenario's ``mission.search_first`` is true, else ``off``), ``search_budget``
+(evaluations fleet-wide), ``search_lambda`` [m/J], ``search_cell_m`` (coarse cell edge [m]; 0 =
+from the sensor range).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from builtin_interfaces.msg import Time as TimeMsg
+from fire_uav_common import topics
+from fire_uav_msgs.msg import CoverageCandidate, CoverageWeight, MstFragment
+from geometry_msgs.msg import Point
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rclpy.node import Node
+
+from .agent_core import Agent
+from .mission import Objective
+from .search.bayesopt import CandidateKind, CandidateMessage
+from .search.coordinator import Envelope, SearchConfig, SearchCoordinator, Topic
+from .search.fleet import TOPIC_INDEX
+from .search.mst import MstKind, MstMessage
+from .search.power_diagram import WeightReport
+
+__all__ = ["SearchLink", "SearchParams", "attach_search", "declare_search_parameters"]
+
+
+@dataclass(frozen=True)
+class SearchParams:
+    mode: str  # "bo" | "random" | "off"
+    budget: int = 18
+    lambda_m_per_j: float = 1e-3
+    cell_size_m: float = 0.0  # 0: from the sensor range
+
+    def __post_init__(self) -> None:
+        if self.mode not in ("bo", "random", "off"):
+            raise ValueError(f"parameter search_mode must be auto, bo, random or off, got {self.mode!r}")
+        if self.budget < 1:
+            raise ValueError(f"parameter search_budget must be >= 1, got {self.budget}")
+        if not (math.isfinite(self.lambda_m_per_j) and self.lambda_m_per_j >= 0.0):
+            raise ValueError(f"parameter search_lambda must be >= 0, got {self.lambda_m_per_j}")
+        if not self.cell_size_m >= 0.0:
+            raise ValueError(f"parameter search_cell_m must be >= 0, got {self.cell_size_m}")
+
+
+def declare_search_parameters(node: Node, search_first: bool) -> SearchParams:
+    """Declare (if needed) and read the search parameters of ``node``."""
+    ro = {"read_only": True}
+    decl = [
+        ("search_mode", "auto", ParameterDescriptor(
+            description="coverage search: auto (bo if the scenario's mission.search_first) | bo | random | off",
+            **ro)),
+        ("search_budget", 18, ParameterDescriptor(
+            description="candidate evaluations, fleet-wide (CP III-F)",
+            integer_range=[IntegerRange(from_value=1, to_value=1000, step=1)], **ro)),
+        ("search_lambda", 1e-3, ParameterDescriptor(
+            description="lambda of the cost lambda*sum(E_i) + r_max [m/J]",
+            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1.0)], **ro)),
+        ("search_cell_m", 0.0, ParameterDescriptor(
+            description="coarse coverage cell edge [m]; 0: from the fire sensor range",
+            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10000.0)], **ro)),
+    ]  # fmt: skip
+    for name, default, desc in decl:
+        if not node.has_parameter(name):
+            node.declare_parameter(name, default, desc)
+    mode = str(node.get_parameter("search_mode").value)
+    if mode == "auto":
+        mode = "bo" if search_first else "off"
+    return SearchParams(
+        mode=mode,
+        budget=int(node.get_parameter("search_budget").value),
+        lambda_m_per_j=float(node.get_parameter("search_lambda").value),
+        cell_size_m=float(node.get_parameter("search_cell_m").value),
+    )
+
+
+# --- conversions (the only place coverage messages meet the coordinator's types) --------------------
+def _time_msg(t_s: float) -> TimeMsg:
+    ns = int(round(t_s * 1e9))
+    return TimeMsg(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
+
+
+def _step_of(stamp: TimeMsg, period_s: float) -> int:
+    """Header stamps are the bundle stamp t_{k+1} = (k + 1) T of the step they were sent at."""
+    return int(round((float(stamp.sec) + 1e-9 * float(stamp.nanosec)) / period_s)) - 1
+
+
+def to_msg(e: Envelope, period_s: float) -> CoverageWeight | CoverageCandidate | MstFragment:
+    m = e.msg
+    stamp = _time_msg((e.step + 1) * period_s)
+    if isinstance(m, WeightReport):
+        w = CoverageWeight(uav_id=e.sender, iteration=int(m.iteration), seed_x_m=float(m.seed_x_m),
+                           seed_y_m=float(m.seed_y_m), weight_m2=float(m.weight_m2),
+                           area_m2=float(m.area_m2), target_area_m2=float(m.target_area_m2))  # fmt: skip
+        w.header.stamp, w.header.frame_id = stamp, "map"
+        return w
+    if isinstance(m, CandidateMessage):
+        c = CoverageCandidate(uav_id=e.sender, kind=int(m.kind), candidate_id=int(m.candidate_id),
+                              seeds=[Point(x=float(x), y=float(y), z=0.0) for x, y in m.seeds_m],
+                              start_offsets=[float(s) for s in m.start_offsets], energy_j=float(m.energy_j),
+                              radio_radius_m=float(m.radio_radius_m), cost=float(m.cost))  # fmt: skip
+        c.header.stamp, c.header.frame_id = stamp, "map"
+        return c
+    f = MstFragment(uav_id=e.sender, kind=int(m.kind), round=int(m.round), sample_index=int(m.sample_index),
+                    fragment_id=int(m.fragment_id), edge_from=int(m.edge_from), edge_to=int(m.edge_to),
+                    edge_length_m=float(m.edge_length_m), radius_m=float(m.radius_m))  # fmt: skip
+    f.header.stamp = stamp
+    return f
+
+
+def weight_envelope(m: CoverageWeight, period_s: float) -> Envelope:
+    r = WeightReport(int(m.uav_id), int(m.iteration), m.seed_x_m, m.seed_y_m, m.weight_m2, m.area_m2,
+                     m.target_area_m2)  # fmt: skip
+    return Envelope(Topic.WEIGHTS, int(m.uav_id), _step_of(m.header.stamp, period_s), r)
+
+
+def candidate_envelope(m: CoverageCandidate, period_s: float) -> Envelope:
+    c = CandidateMessage(int(m.uav_id), CandidateKind(int(m.kind)), int(m.candidate_id),
+                         tuple((float(p.x), float(p.y)) for p in m.seeds),
+                         tuple(float(s) for s in m.start_offsets), float(m.energy_j), float(m.radio_radius_m),
+                         float(m.cost))  # fmt: skip
+    return Envelope(Topic.CANDIDATES, int(m.uav_id), _step_of(m.header.stamp, period_s), c)
+
+
+def mst_envelope(m: MstFragment, period_s: float) -> Envelope:
+    f = MstMessage(int(m.uav_id), MstKind(int(m.kind)), int(m.round), int(m.sample_index), int(m.fragment_id),
+                   int(m.edge_from), int(m.edge_to), float(m.edge_length_m), float(m.radius_m))  # fmt: skip
+    return Envelope(Topic.MST, int(m.uav_id), _step_of(m.header.stamp, period_s), f)
+
+
+# --- the link ------------------------------------------------------------------------------------------
+class SearchLink:
+    """Publishers, subscriptions and the per-step drive of one agent's :class:`SearchCoordinator`."""
+
+    def __init__(self, node: Node, agent: Agent, coordinator: SearchCoordinator) -> None:
+        self.node = node
+        self.agent = agent
+        self.coordinator = coordinator
+        self.period_s = float(agent.cfg.control_period_s)
+        self.uav_id = int(agent.cfg.uav_id)
+        q = topics.qos("fleet")
+        self._pub = {
+            Topic.WEIGHTS: node.create_publisher(CoverageWeight, topics.COVERAGE_WEIGHTS, q),
+            Topic.CANDIDATES: node.create_publisher(CoverageCandidate, topics.COVERAGE_CANDIDATES, q),
+            Topic.MST: node.create_publisher(MstFragment, topics.COVERAGE_MST, q),
+        }
+        node.create_subscription(CoverageWeight, topics.COVERAGE_WEIGHTS,
+                                 lambda m: self._receive(weight_envelope, m), q)  # fmt: skip
+        node.create_subscription(CoverageCandidate, topics.COVERAGE_CANDIDATES,
+                                 lambda m: self._receive(candidate_envelope, m), q)  # fmt: skip
+        node.create_subscription(
+            MstFragment, topics.COVERAGE_MST, lambda m: self._receive(mst_envelope, m), q
+        )
+        self._inbox: list[Envelope] = []
+        self.received = 0
+        self.lost = 0
+        self.rejected = 0
+
+    def _receive(self, convert, msg) -> None:
+        if int(msg.uav_id) == self.uav_id:
+            return  # our own broadcast
+        try:
+            e = convert(msg, self.period_s)
+        except ValueError:  # unknown kind constant
+            self.rejected += 1
+            return
+        if not 0 <= e.sender < self.agent.cfg.uav_count or e.step < 0:
+            self.rejected += 1
+            return
+        if self.agent.link.is_lost(e.sender, e.step, TOPIC_INDEX[e.topic]):
+            self.lost += 1
+            return
+        self.received += 1
+        self._inbox.append(e)
+
+    def on_step(self, t_s: float, step: int, alive_ids) -> None:
+        """Drive the coordinator for control step ``step`` (after ``Agent.step``) and publish."""
+        inbox, self._inbox = self._inbox, []
+        out = self.coordinator.on_step(t_s, step, alive_ids, inbox)
+        for e in out:
+            self._pub[e.topic].publish(to_msg(e, self.period_s))
+        log = self.node.get_logger()
+        for line in self.coordinator.log:
+            log.info(f"step {step}: {line}")
+        self.coordinator.log.clear()
+
+
+def attach_search(node: Node, agent: Agent, params: SearchParams | None = None) -> SearchLink | None:
+    """Set up the in-fleet search on an agent node; None when ``search_mode`` resolves to off."""
+    cfg = agent.cfg
+    params = params or declare_search_parameters(node, cfg.search_first)
+    if params.mode == "off":
+        return None
+    config = SearchConfig(
+        mode=params.mode,
+        budget=params.budget,
+        lambda_m_per_j=params.lambda_m_per_j,
+        cell_size_m=params.cell_size_m or None,
+        sensor_range_m=cfg.fire_range_m,
+        speed_mps=max(cfg.limits.v_stall_mps + 5.0, min(50.0, cfg.limits.v_max_mps)),
+    )
+    rng = np.random.default_rng([int(cfg.seed), int(cfg.uav_id), 0x5EA7C4])
+    coord = SearchCoordinator(cfg.uav_id, cfg.uav_count, cfg.area_m, cfg.seed, config, rng)
+    agent.planners[int(Objective.SEARCH)] = coord.planner
+    link = SearchLink(node, agent, coord)
+    node.get_logger().info(
+        f"coverage search: mode {params.mode}, budget {params.budget}, lambda {params.lambda_m_per_j:g} m/J, "
+        f"cell {coord.grid.cell_size_m:.1f} m ({coord.grid.nx}x{coord.grid.ny}), speed {config.speed_mps:.0f} m/s"
+    )
+    return link
