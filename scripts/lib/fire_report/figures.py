@@ -55,10 +55,12 @@ def _area(mission: Mission) -> tuple[tuple[float, float], tuple[float, float]]:
 
 
 def _positions_at(mission: Mission, t: float) -> dict[int, tuple[float, float]]:
-    """Latest estimated (x, y) of each UAV at or before ``t`` (first state if none before)."""
+    """Latest estimated (x, y) of each UAV at or before ``t`` (first state if none before);
+    a UAV whose vehicle crashed before ``t`` is left out (the fleet no longer partitions with it)."""
+    crashed = {e.uav_id for e in mission.world_events if e.type == TYPE_CRASH and e.t_s <= t}
     out = {}
     for uav, s in mission.states.items():
-        if s:
+        if s and uav not in crashed:
             i = max(0, int(np.searchsorted(s["t"], t, side="right")) - 1)
             out[uav] = (float(s["x"][i]), float(s["y"][i]))
     return out

@@ -34,7 +34,8 @@ def wrap_angle(a: np.ndarray) -> np.ndarray:
 
 
 def ekf_errors(mission: Mission, uav: int) -> dict[str, np.ndarray]:
-    """Estimate minus truth per axis for ``uav`` at the control steps both were recorded.
+    """Estimate minus truth per axis for ``uav`` at the control steps both were recorded and
+    the vehicle was airborne (FF Fig. 4 is about flight; on the ground the filter is idle).
 
     Returns t [s], x/y/z [m], yaw [rad] errors and trace_p (empty arrays when no match).
     """
@@ -43,6 +44,9 @@ def ekf_errors(mission: Mission, uav: int) -> dict[str, np.ndarray]:
     if not est or not tru:
         return empty
     _, ie, it = np.intersect1d(est["step"], tru["step"], return_indices=True)
+    if "status" in tru:
+        airborne = np.asarray(tru["status"])[it] == 1  # SensorBundle.VEHICLE_AIRBORNE
+        ie, it = ie[airborne], it[airborne]
     if ie.size == 0:
         return empty
     out = {"t": est["t"][ie]}
