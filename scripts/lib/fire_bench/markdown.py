@@ -70,6 +70,9 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
         f"{m.get('os')}; commit {m.get('commit')}, {m.get('date')}.",
         "",
     ]
+    notes = out / "notes.md"  # hand-written reading of the figures against the papers
+    if notes.is_file():
+        lines += [notes.read_text().rstrip(), ""]
     if "table1" in results:
         r = results["table1"]
         lines += [
