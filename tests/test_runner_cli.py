@@ -1,0 +1,66 @@
+"""run_mission rejects bad input with one clear line naming the problem, before starting anything."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _run(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    env = dict(
+        os.environ,
+        PYTHONPATH=os.pathsep.join(
+            [
+                str(ROOT / "scripts/lib"),
+                str(ROOT / "ros2_ws/src/fire_uav_common"),
+                os.environ.get("PYTHONPATH", ""),
+            ]
+        ),
+    )
+    return subprocess.run(
+        [sys.executable, "-m", "fire_mission.runner", *args],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        cwd=cwd,
+    )
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["no_such_scenario"], "unknown scenario 'no_such_scenario'; shipped: .*ff_two_fires"),
+        (["fault_drill", "--kill", "1at4"], "--kill expects K@T"),
+        (["fault_drill", "--freeze", "1@5:4"], "--freeze expects K@T1:T2 with T2 > T1"),
+        (["fault_drill", "--outage", "0>0@1:2", "--uavs", "3"], "both ends must be distinct"),
+        (["fault_drill", "--loss", "1.5"], "--loss expects a probability in \\[0, 1\\]"),
+        (["fault_drill", "--uavs", "3", "--kill", "5@4"], "fault names uav 5, but the fleet is uavs 0..2"),
+        (["fault_drill", "--uavs", "0"], "--uavs must be >= 1"),
+        (["fault_drill", "--rtf", "-2"], "--rtf must be a positive number"),
+        (["/nonexistent/x.yaml"], "scenario file not found: /nonexistent/x.yaml"),
+    ],
+)
+def test_bad_arguments_are_named(args, message):
+    r = _run(*args)
+    assert r.returncode == 2, r.stderr
+    import re
+
+    assert re.search(message, r.stderr), r.stderr
+    assert "Traceback" not in r.stderr
+
+
+def test_bad_scenario_field_is_named(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    text = (ROOT / "ros2_ws/src/fire_world_sim/scenarios/fault_drill.yaml").read_text()
+    bad.write_text(text.replace("sigma_m: 60.0", "sigma_m: -3.0"))
+    r = _run(str(bad))
+    assert r.returncode == 2
+    assert "bad.yaml" in r.stderr and "fires.analytic[0].sigma_m" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr
