@@ -236,8 +236,15 @@ def _skeleton(n: int, steps: int) -> dict:
             time.sleep(0.5)
         line = (Path(d) / "world.log").read_text().strip().splitlines()
         result = json.loads(line[-1]) if line and line[-1].startswith("{") else {"steps_per_s": None}
+        g.stop_all()  # agents print their CPU per step as they exit
+        per_step = []
+        for k in range(n):
+            tail = (Path(d) / f"agent_{k}.log").read_text().strip().splitlines()
+            rec = [json.loads(x) for x in tail if x.startswith("{")]
+            if rec:
+                per_step.append(rec[-1]["cpu_ms_per_step"])
     agents = [v for k, v in stats.items() if k.startswith("agent")]
-    result["agent_cpu_s_mean"] = _mean([a.cpu_s for a in agents])
+    result["agent_cpu_ms_per_step"] = _mean(per_step)
     result["agent_rss_mb_mean"] = _mean([a.rss_mb for a in agents])
     result["world_rss_mb"] = stats["world"].rss_mb if "world" in stats else None
     return result
@@ -264,12 +271,9 @@ def bench_scale(quick: bool) -> dict:
                 "slowdown_vs_skeleton": (sk["steps_per_s"] / rate)
                 if rate and sk.get("steps_per_s")
                 else None,
-                "agent_cpu_s_per_step": (_mean([a["cpu_s"] for a in agents]) / (duration * 10))
-                if agents
-                else None,
-                "skeleton_agent_cpu_s_per_step": (sk["agent_cpu_s_mean"] / (duration * 10))
-                if sk.get("agent_cpu_s_mean")
-                else None,
+                "agent_cpu_ms_per_step": _mean([a.get("cpu_ms_per_step") for a in agents]),
+                "skeleton_agent_cpu_ms_per_step": sk.get("agent_cpu_ms_per_step"),
+                "world_cpu_ms_per_step": procs.get("world", {}).get("cpu_ms_per_step"),
                 "agent_rss_mb": _mean([a["rss_mb"] for a in agents]),
                 "skeleton_agent_rss_mb": sk.get("agent_rss_mb_mean"),
                 "world_cpu_s": procs.get("world", {}).get("cpu_s"),
@@ -279,37 +283,44 @@ def bench_scale(quick: bool) -> dict:
     return {"mission_time_s": duration, "rows": rows}
 
 
+# per library benchmark: (quick args, full args)
+SCRIPT_ARGS = {
+    "agent": (["--duration", "60"], []),
+    "world": (["--steps", "100", "--warmup-s", "60"], []),
+    "perimeter": (["--quick"], []),
+    "search": (["--quick"], []),
+    "record": (["--seconds", "10"], []),
+}
+
+
 def _script(name: str, quick: bool) -> dict:
     """Run a library benchmark script (scripts/bench_<name>.py); keep its printed figures."""
+    from fire_mission.procs import private_domain_id
+
     path = ROOT / "scripts" / f"bench_{name}.py"
     if not path.is_file():
         return {"status": f"missing: {path.name}"}
-    args = [sys.executable, str(path)] + (["--quick"] if quick else [])
+    extra = SCRIPT_ARGS.get(name, ([], []))[0 if quick else 1]
     t0 = time.monotonic()
+    srcs = [
+        str(ROOT / "ros2_ws/src" / pk)
+        for pk in ("fire_uav_common", "fire_world_sim", "fire_uav_agent", "fire_perimeter_monitor")
+    ]
+    env = dict(
+        os.environ,
+        ROS_DOMAIN_ID=str(private_domain_id()),
+        PYTHONPATH=os.pathsep.join([*srcs, str(ROOT / "scripts/lib"), os.environ.get("PYTHONPATH", "")]),
+    )
     p = subprocess.run(
-        args,
+        [sys.executable, str(path), *extra],
         capture_output=True,
         text=True,
         check=False,
         timeout=3600,
-        env=dict(
-            os.environ,
-            PYTHONPATH=os.pathsep.join(
-                [
-                    str(ROOT / "ros2_ws/src" / pk)
-                    for pk in (
-                        "fire_uav_common",
-                        "fire_world_sim",
-                        "fire_uav_agent",
-                        "fire_perimeter_monitor",
-                    )
-                ]
-                + [str(ROOT / "scripts/lib"), os.environ.get("PYTHONPATH", "")]
-            ),
-        ),
+        env=env,
     )
     out = {
-        "command": " ".join(["scripts/" + path.name] + (["--quick"] if quick else [])),
+        "command": " ".join(["scripts/" + path.name, *extra]),
         "exit_code": p.returncode,
         "wall_s": round(time.monotonic() - t0, 1),
         "stdout": p.stdout[-6000:],

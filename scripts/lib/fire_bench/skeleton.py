@@ -94,6 +94,9 @@ class SkeletonAgent(Node):
         self.fires_pub = self.create_publisher(FireEstimateArray, topics.FLEET_FIRES, topics.qos("fleet"))
         self.create_subscription(SensorBundle, topics.SENSORS, self.on_bundle, topics.qos("lockstep"))
         self.heard = 0
+        self.cpu0: float | None = None  # process CPU time at the first bundle [s]
+        self.cpu_last = 0.0
+        self.bundles = 0
         self.create_subscription(UavState, topics.FLEET_STATE, self.on_peer, topics.qos("fleet"))
         self.create_subscription(FireEstimateArray, topics.FLEET_FIRES, self.on_peer, topics.qos("fleet"))
 
@@ -101,6 +104,9 @@ class SkeletonAgent(Node):
         self.heard += 1
 
     def on_bundle(self, b: SensorBundle) -> None:
+        if self.cpu0 is None:
+            self.cpu0 = time.process_time()
+        self.bundles += 1
         self.seq += 1
         s = UavState(uav_id=self.k, sequence=self.seq, step=b.step)
         s.header.stamp = b.header.stamp
@@ -114,6 +120,13 @@ class SkeletonAgent(Node):
         c.header.stamp = b.header.stamp
         c.twist.linear.x = 50.0
         self.cmd_pub.publish(c)
+        self.cpu_last = time.process_time()
+
+    def report(self) -> None:
+        """CPU per step over the stepping phase (first to last bundle), as one JSON line."""
+        if self.cpu0 is not None and self.bundles > 1:
+            ms = 1000 * (self.cpu_last - self.cpu0) / (self.bundles - 1)
+            print(json.dumps({"cpu_ms_per_step": ms, "bundles": self.bundles}), flush=True)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -130,6 +143,8 @@ def main(argv: list[str] | None = None) -> int:
     except (KeyboardInterrupt, ExternalShutdownException, SystemExit):
         pass
     finally:
+        if isinstance(node, SkeletonAgent):
+            node.report()
         node.destroy_node()
         rclpy.try_shutdown()
     return 0

@@ -264,6 +264,9 @@ class Supervisor:
         self.steps = 0
         self.done = False
         self.last_truth_wall = time.monotonic()
+        self.first_truth_wall: float | None = None
+        self.first_step = 0
+        self.cpu_at_first_step: dict[str, float] = {}
         self.pending: list[tuple[float, str, int, int]] = []  # (t, action, uav, signal)
         for k in args.kill:
             self.pending.append((k.t_s, f"kill uav {k.uav} at {k.t_s:g} s", k.uav, signal.SIGKILL))
@@ -295,6 +298,13 @@ class Supervisor:
     def _on_truth(self, msg) -> None:
         self.steps = max(self.steps, msg.step + 1)
         self.last_truth_wall = time.monotonic()
+        if self.first_truth_wall is None:
+            # the stepping phase starts here: rates and CPU per step leave start-up out
+            self.first_truth_wall, self.first_step = self.last_truth_wall, msg.step
+            for name, child in self.procs.children.items():
+                st = proc_sample(child.pid)
+                if st is not None:
+                    self.cpu_at_first_step[name] = st.cpu_s
         self.summary.fires_total = len(msg.fires)
         self.summary.fires_active = sum(1 for f in msg.fires if f.status == 0)
         self.summary.vehicles_alive = sum(1 for v in msg.vehicles if v.status != 3)
@@ -441,6 +451,13 @@ def run(args: argparse.Namespace) -> int:
                 sup.node.destroy_node()
             rclpy.try_shutdown()
     result = summary.as_dict(outcome=outcome, wall_s=time.monotonic() - wall0, steps=sup.steps if sup else 0)
+    if sup is not None and sup.first_truth_wall is not None and sup.last_truth_wall > sup.first_truth_wall:
+        stepped = sup.steps - 1 - sup.first_step
+        result["steps_per_wall_s"] = round(stepped / (sup.last_truth_wall - sup.first_truth_wall), 2)
+        result["steps_per_wall_s_note"] = "over the stepping phase (first to last truth message)"
+        for name, p in result["processes"].items():
+            if name in sup.cpu_at_first_step and stepped > 0:
+                p["cpu_ms_per_step"] = round(1000 * (p["cpu_s"] - sup.cpu_at_first_step[name]) / stepped, 3)
     result.update(
         {
             "scenario": scenario.name,

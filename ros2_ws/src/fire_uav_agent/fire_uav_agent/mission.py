@@ -10,9 +10,15 @@ Objectives are the ``UavState.OBJECTIVE_*`` constants (:class:`Objective`). Tran
   fire's estimated centre, then REFILL.
 * REFILL: request ACTION_REFILL while over a lake (the agent's guidance flies low and slow
   there, IV-D b); reassess when the tank is full.
-* LAND when the fleet agrees (IV-D d): this agent's own picture has every known fire
-  extinguished, or every alive peer's objective is LAND/LANDED; LANDED when the world reports
-  the vehicle landed.
+* LAND when the fleet agrees (IV-D d): this agent's own picture has had every known fire
+  extinguished for ``post_search_s`` (meanwhile it SEARCHes), or every alive peer's objective
+  is LAND/LANDED; LANDED when the world reports the vehicle landed.
+
+Deviation from IV-D d (land as soon as the fires are out): FF's UAVs know every fire; ours
+find fires only with their sensors, and a fleet that converged on the first fire it saw put
+it out and landed while a second fire, never seen, kept burning (FF two-fire scenario, 3 UAVs,
+seed 2). So after the last known fire is out the fleet sweeps the area for ``post_search_s``
+(staleness search) and lands only if nothing new turns up; a new detection resets the sweep.
 
 Deadlock of FF V-D (several UAVs circling a frozen centroid over one fire, none passing over
 the centre): if a UAV in SUPPRESS with water has not dropped for ``deadlock_timeout_s`` while
@@ -70,6 +76,7 @@ class MissionConfig:
     deadlock_centroid_move_m: float = 10.0
     attack_timeout_s: float = 30.0
     search_enabled: bool = True
+    post_search_s: float = 45.0  # search this long after the last known fire is out, then land
 
 
 @dataclass(frozen=True)
@@ -108,10 +115,16 @@ class Mission:
     _attack_since_s: float | None = None
     _drop_step_guard: int = 0
     _centroids: deque = field(default_factory=lambda: deque(maxlen=4000))
+    _all_out_since_s: float | None = None  # when this agent's picture last became "all out"
 
     def _fleet_agrees_out(self, v: MissionView) -> bool:
         if v.all_out:
-            return True
+            if self._all_out_since_s is None:
+                self._all_out_since_s = v.t_s
+            if v.t_s - self._all_out_since_s >= self.cfg.post_search_s or not self.cfg.search_enabled:
+                return True
+        else:
+            self._all_out_since_s = None
         peers = list(v.peer_objectives.values())
         return bool(peers) and all(o in (Objective.LAND, Objective.LANDED) for o in peers)
 

@@ -40,8 +40,22 @@ def test_transitions_takeoff_suppress_drop_refill_land():
     assert d.request == 2
     d = m.step(view(10.0, water_kg=2000.0, over_lake=True))
     assert d.objective == Objective.SUPPRESS  # reassess after refill: fire still burning
-    assert m.step(view(11.0, fires=(), all_out=True)).objective == Objective.LAND
-    assert m.step(view(12.0, vehicle=Vehicle.LANDED, fires=(), all_out=True)).objective == Objective.LANDED
+    # every known fire out: sweep the area for post_search_s before landing
+    assert m.step(view(11.0, fires=(), all_out=True)).objective == Objective.SEARCH
+    assert m.step(view(11.0 + 44.9, fires=(), all_out=True)).objective == Objective.SEARCH
+    assert m.step(view(11.0 + 45.0, fires=(), all_out=True)).objective == Objective.LAND
+    assert m.step(view(57.0, vehicle=Vehicle.LANDED, fires=(), all_out=True)).objective == Objective.LANDED
+
+
+def test_a_fire_found_during_the_sweep_resets_it():
+    m = Mission(MissionConfig(post_search_s=30.0))
+    m.step(view(0.0, vehicle=Vehicle.ON_GROUND))
+    assert m.step(view(1.0, fires=(), all_out=True)).objective == Objective.SEARCH
+    # a new fire appears at 20 s: suppress it, and the sweep starts again when it is out
+    assert m.step(view(20.0)).objective == Objective.SUPPRESS
+    assert m.step(view(40.0, fires=(), all_out=True)).objective == Objective.SEARCH
+    assert m.step(view(69.9, fires=(), all_out=True)).objective == Objective.SEARCH
+    assert m.step(view(70.0, fires=(), all_out=True)).objective == Objective.LAND
 
 
 def test_land_when_all_alive_peers_land_and_search_without_fires():
