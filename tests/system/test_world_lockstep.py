@@ -29,7 +29,6 @@ def _record_truth(procs, tmp_path: Path, tag: str, seed: int) -> list[bytes]:
     )
     for k in range(3):
         procs.start(f"stub_{tag}_{k}", [sys.executable, str(HERE / "stub_agent.py"), str(k)])
-    time.sleep(1.0)  # let the recorder poll the graph once before the world starts publishing
     world = procs.start(
         f"world_{tag}",
         ros_run_argv(
@@ -44,6 +43,8 @@ def _record_truth(procs, tmp_path: Path, tag: str, seed: int) -> list[bytes]:
                 "uav_count:=3",
                 "-p",
                 "max_duration_s:=8.0",
+                "-p",
+                "wait_for_subscribers:=1",
             ],
         ),
     )
@@ -63,16 +64,13 @@ def _record_truth(procs, tmp_path: Path, tag: str, seed: int) -> list[bytes]:
 def test_same_seed_gives_identical_truth(procs, tmp_path):
     a = _record_truth(procs, tmp_path, "a", seed=11)
     b = _record_truth(procs, tmp_path, "b", seed=11)
-    assert len(a) >= 70, f"only {len(a)} truth messages recorded for 80 steps"
-    n = min(len(a), len(b))
-    # the recorder may miss the first message or two while it discovers the topic; compare the
-    # common tail, aligned on the end (both runs end at the same step)
-    assert n >= 70
-    assert a[-n:] == b[-n:], "same seed, different truth"
+    # the world waits for the recorder (wait_for_subscribers), so both bags hold every step
+    assert len(a) >= 79, f"only {len(a)} truth messages recorded for 80 steps"
+    assert a == b, "same seed, different truth"
 
 
 def test_other_seed_gives_other_truth(procs, tmp_path):
     a = _record_truth(procs, tmp_path, "c", seed=11)
     b = _record_truth(procs, tmp_path, "d", seed=12)
-    n = min(len(a), len(b))
-    assert a[-n:] != b[-n:], "the seed has no effect on the world"
+    assert len(a) >= 79 and len(b) >= 79
+    assert a != b, "the seed has no effect on the world"

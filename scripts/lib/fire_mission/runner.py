@@ -206,6 +206,8 @@ def write_params(
     }
     if max_duration_s is not None:
         world["max_duration_s"] = float(max_duration_s)
+    # the supervisor subscribes to /world/truth; with a recorder, wait for it too (bag from step 0)
+    world["wait_for_subscribers"] = 1 if args.no_record else 2
     files["world"] = pdir / "world.yaml"
     files["world"].write_text(_yaml_params("/**", world))
     files["recorder"] = pdir / "recorder.yaml"

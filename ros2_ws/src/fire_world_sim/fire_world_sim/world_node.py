@@ -55,6 +55,7 @@ class WorldNodeConfig:
     startup_timeout_wall_s: float
     max_duration_s: float
     viz_rate_hz: float
+    wait_for_subscribers: int
 
 
 def stamp(ns: int) -> Time:
@@ -164,6 +165,15 @@ class WorldNode(Node):
         )
         self.declare_parameter("max_duration_s", 0.0, d("[s sim] mission limit; 0 = the scenario's"))
         self.declare_parameter(
+            "wait_for_subscribers",
+            0,
+            d(
+                "[-] before step 0, also wait (up to startup_timeout_wall_s) until /world/truth has this "
+                "many subscribers, e.g. the recorder, so a bag starts at step 0",
+                integer_range=[IntegerRange(from_value=0, to_value=1000, step=1)],
+            ),
+        )
+        self.declare_parameter(
             "viz_rate_hz",
             2.0,
             d("[Hz sim] /viz/* publication rate", floating_point_range=frange(0.01, 100.0)),
@@ -179,6 +189,7 @@ class WorldNode(Node):
             startup_timeout_wall_s=float(g("startup_timeout_wall_s").value),
             max_duration_s=float(g("max_duration_s").value),
             viz_rate_hz=float(g("viz_rate_hz").value),
+            wait_for_subscribers=int(g("wait_for_subscribers").value),
         )
         if not cfg.scenario_file:
             raise ConfigError("parameter scenario_file is required (path to a scenario YAML)")
@@ -199,10 +210,16 @@ class WorldNode(Node):
             or self.count_subscribers(topics.uav_topic(i, topics.SENSORS)) == 0
         ]
         waited_s = (self._steady.now().nanoseconds - self._start_wall_ns) * 1e-9
-        if missing and waited_s < self.cfg.startup_timeout_wall_s:
+        short = self.pub_truth.get_subscription_count() < self.cfg.wait_for_subscribers
+        if (missing or short) and waited_s < self.cfg.startup_timeout_wall_s:
             self.pub_clock.publish(ClockMsg(clock=stamp(0)))
             return
         self._startup_timer.cancel()
+        if short:
+            self.get_logger().warn(
+                f"starting with fewer than {self.cfg.wait_for_subscribers} /world/truth subscribers "
+                f"after {waited_s:.1f} s"
+            )
         if missing:
             self.get_logger().warn(f"starting without agents {missing} after {waited_s:.1f} s")
             for i in missing:
