@@ -255,13 +255,18 @@ class Supervisor:
     ) -> None:
         import rclpy
         from fire_uav_common import topics
-        from fire_uav_msgs.msg import MissionEvent, UavState, WorldTruth
+        from fire_uav_msgs.msg import FireEstimate, MissionEvent, SensorBundle, UavState, WorldTruth
         from rosgraph_msgs.msg import Clock
 
         self.procs, self.summary, self.args = procs, summary, args
         self.uav_count = uav_count
         self.control_period_s = control_period_s
         self.node = rclpy.create_node("mission_supervisor")
+        # message constants, kept here because fire_uav_msgs is imported only with ROS present
+        self.FIRE_ACTIVE = FireEstimate.STATUS_ACTIVE
+        self.VEHICLE_CRASHED = SensorBundle.VEHICLE_CRASHED
+        self.VEHICLE_LANDED = SensorBundle.VEHICLE_LANDED
+        self.MISSION_COMPLETE = MissionEvent.TYPE_MISSION_COMPLETE
         self.t_s = 0.0
         self.steps = 0
         self.done = False
@@ -308,16 +313,16 @@ class Supervisor:
                 if st is not None:
                     self.cpu_at_first_step[name] = st.cpu_s
         self.summary.fires_total = len(msg.fires)
-        self.summary.fires_active = sum(1 for f in msg.fires if f.status == 0)
-        self.summary.vehicles_alive = sum(1 for v in msg.vehicles if v.status != 3)
-        self.summary.vehicles_landed = sum(1 for v in msg.vehicles if v.status == 2)
+        self.summary.fires_active = sum(1 for f in msg.fires if f.status == self.FIRE_ACTIVE)
+        self.summary.vehicles_alive = sum(1 for v in msg.vehicles if v.status != self.VEHICLE_CRASHED)
+        self.summary.vehicles_landed = sum(1 for v in msg.vehicles if v.status == self.VEHICLE_LANDED)
         for v in msg.vehicles:
             self.summary.water_kg[v.uav_id] = float(v.water_kg)
 
     def _on_event(self, msg) -> None:
         t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
         self.summary.add(Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail))
-        if msg.type == 10:  # MISSION_COMPLETE
+        if msg.type == self.MISSION_COMPLETE:
             self.done = True
 
     def _on_state(self, msg) -> None:

@@ -9,9 +9,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-# MissionEvent.TYPE_* (kept here as plain ints so this module stays ROS-free)
-TYPE_TAKEOFF, TYPE_DROP, TYPE_REFILL, TYPE_CRASH, TYPE_EXTINGUISHED, TYPE_LANDED = 1, 2, 3, 4, 5, 6
-TYPE_PEER_CRASHED, TYPE_PEER_REJOINED, TYPE_MISSION_COMPLETE = 7, 8, 10
+# MissionEvent.TYPE_* as plain ints (ROS-free), one copy shared with the report
+from fire_report.data import (
+    TYPE_CRASH,
+    TYPE_DROP,
+    TYPE_EXTINGUISHED,
+    TYPE_LANDED,
+    TYPE_MISSION_COMPLETE,
+    TYPE_PEER_CRASHED,
+    TYPE_PEER_REJOINED,
+    TYPE_REFILL,
+)
 
 
 @dataclass

@@ -42,17 +42,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from fire_uav_common.angles import wrap_angle  # re-exported: callers import it from here
 from fire_uav_common.terrain import Terrain
 
 __all__ = ["EkfConfig", "Samples", "StateEkf", "wrap_angle"]
-
-
-def wrap_angle(a: float) -> float:
-    """Wrap an angle [rad] to (-pi, pi]."""
-    w = math.fmod(a + math.pi, 2.0 * math.pi)
-    if w <= 0.0:
-        w += 2.0 * math.pi
-    return w - math.pi
 
 
 @dataclass(frozen=True)

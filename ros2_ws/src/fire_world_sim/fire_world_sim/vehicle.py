@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from enum import IntEnum
 
 import numpy as np
+from fire_uav_common.angles import wrap_angle  # re-exported: callers import it from here
 from fire_uav_common.scenario import Vehicle as VehicleSpec
 from fire_uav_common.terrain import Lake, Terrain
 
@@ -58,14 +59,6 @@ class StepOutcome:
     clamped: bool = False
     missed: bool = False
     refill_done_kg: float = 0.0  # > 0 when the tank became full this step
-
-
-def wrap_angle(a: float) -> float:
-    """Wrap to (-pi, pi]."""
-    w = math.fmod(a + math.pi, 2 * math.pi)
-    if w <= 0:
-        w += 2 * math.pi
-    return w - math.pi
 
 
 class VehicleSim:
