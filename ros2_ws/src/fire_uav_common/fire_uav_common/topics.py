@@ -1,40 +1,79 @@
-"""Every topic name of the fleet, paired with its QoS, in one place (DESIGN "Processes and topics").
+"""Every topic of the fleet, paired with its type, QoS and loss-draw index, in one place.
 
-Per-vehicle topics are relative names under the ``uav_<k>`` namespace; :func:`uav_topic`
-gives the absolute form for nodes outside that namespace (the world, the recorder).
-This module imports only ``rclpy.qos`` data classes when asked for QoS profiles, so the
-names can be used from ROS-free code too.
+One :class:`TopicSpec` per topic (DESIGN "Processes and topics"). Every node, the runner and the
+recorder take names, types and QoS from here: ``create_publisher(spec.msg_class(), spec.name,
+spec.qos())``, or the helpers :func:`publisher` / :func:`subscription`. Per-vehicle topics are
+relative names under the ``uav_<k>`` namespace; :meth:`TopicSpec.for_uav` gives the absolute
+form for nodes outside that namespace (the world, the recorder).
+
+``loss_index`` is the topic's index in the seeded loss draw of the peer link
+(``rng.bernoulli(p, seed, "loss", sender, receiver, step, loss_index)``): every peer-to-peer topic
+has one, every other topic ``None``.
+
+This module imports rclpy only when asked for a QoS profile or a message class, so the names
+can be used from ROS-free code too.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import importlib
+import re
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     from rclpy.qos import QoSProfile
 
-# --- names -----------------------------------------------------------------------------
-CLOCK = "/clock"
-# per vehicle, relative to the uav_<k> namespace
-SENSORS = "sensors"  # fire_uav_msgs/SensorBundle       world -> agent k
-CMD = "cmd"  # geometry_msgs/TwistStamped             agent k -> world
-PAYLOAD = "payload"  # fire_uav_msgs/PayloadRequest   agent k -> world
-VIZ_AGENT = "viz"  # visualization_msgs/MarkerArray   agent k -> RViz/Foxglove
-# fleet (peer-to-peer), absolute
-FLEET_STATE = "/fleet/state"  # fire_uav_msgs/UavState
-FLEET_FIRES = "/fleet/fires"  # fire_uav_msgs/FireEstimateArray
-FLEET_PERIMETER = "/fleet/perimeter"  # fire_uav_msgs/PerimeterMap
-FLEET_EVENTS = "/fleet/events"  # fire_uav_msgs/MissionEvent (agents' own decisions)
-COVERAGE_WEIGHTS = "/fleet/coverage/weights"  # fire_uav_msgs/CoverageWeight
-COVERAGE_CANDIDATES = "/fleet/coverage/candidates"  # fire_uav_msgs/CoverageCandidate
-COVERAGE_MST = "/fleet/coverage/mst"  # fire_uav_msgs/MstFragment
-# world, absolute (agents never subscribe to these)
-WORLD_TRUTH = "/world/truth"  # fire_uav_msgs/WorldTruth
-WORLD_EVENTS = "/world/events"  # fire_uav_msgs/MissionEvent
-VIZ_WORLD = "/viz/world"  # visualization_msgs/MarkerArray
-VIZ_FIRE_GRID = "/viz/fire_grid"  # nav_msgs/OccupancyGrid
+__all__ = [
+    "ALL_TOPICS",
+    "QOS_KINDS",
+    "TopicSpec",
+    "publisher",
+    "qos",
+    "recorded_patterns",
+    "subscription",
+    "topic_by_name",
+    "uav_namespace",
+    "uav_topic",
+]
 
 UAV_NAMESPACE = "uav_{k}"
+
+#: QoS kind -> (reliable, transient_local, depth); see :func:`qos`
+QOS_KINDS: dict[str, tuple[bool, bool, int]] = {
+    "lockstep": (True, False, 20),
+    "clock": (True, False, 10),
+    "fleet": (True, False, 100),
+    "events": (True, True, 1000),
+    "truth": (True, False, 50),
+    "viz": (False, False, 5),
+    "latched": (True, True, 1),
+}
+
+
+def qos(kind: str) -> QoSProfile:
+    """QoS profile for a class of topic.
+
+    - ``"lockstep"``: sensors, commands, payload: reliable, depth 20 (the world waits for them).
+    - ``"clock"``: ``/clock``: reliable, depth 10.
+    - ``"fleet"``: peer-to-peer state: reliable on the wire; the injected loss is applied on
+      receipt (DESIGN "Faults"), so the real transport must not lose messages on its own.
+    - ``"events"``: reliable + transient local, depth 1000: a late recorder still gets them.
+    - ``"truth"``: reliable, depth 50.
+    - ``"viz"``: best effort, depth 5.
+    - ``"latched"``: reliable + transient local, depth 1 (static data such as ``/tf_static``).
+    """
+    if kind not in QOS_KINDS:
+        raise ValueError(f"unknown QoS kind {kind!r}; expected one of {sorted(QOS_KINDS)}")
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+    reliable, transient, depth = QOS_KINDS[kind]
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=depth,
+        reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE,
+    )
 
 
 def uav_namespace(uav_id: int) -> str:
@@ -45,31 +84,132 @@ def uav_namespace(uav_id: int) -> str:
 
 
 def uav_topic(uav_id: int, name: str) -> str:
-    """Absolute name of a per-vehicle topic, e.g. ``uav_topic(3, SENSORS) == '/uav_3/sensors'``."""
+    """Absolute name of a per-vehicle topic, e.g. ``uav_topic(3, SENSORS.name) == '/uav_3/sensors'``."""
     return f"{uav_namespace(uav_id)}/{name}"
 
 
-# --- QoS -----------------------------------------------------------------------------
-def qos(kind: str) -> QoSProfile:
-    """QoS profile for a class of topic.
+@dataclass(frozen=True)
+class TopicSpec:
+    """One topic: name, ROS type (``pkg/msg/Name``), QoS kind and loss-draw index.
 
-    - ``"lockstep"``: sensors, commands, payload: reliable, depth 20 (the world waits for them).
-    - ``"fleet"``: peer-to-peer state: reliable on the wire; the injected loss is applied on
-      receipt (DESIGN "Faults"), so the real transport must not lose messages on its own.
-    - ``"events"``: reliable + transient local, depth 1000: a late recorder still gets them.
-    - ``"truth"``: reliable, depth 50.
-    - ``"viz"``: best effort, depth 5.
+    ``name`` is absolute (``/fleet/state``) or, for per-vehicle topics (``per_uav``), relative to
+    the ``uav_<k>`` namespace (``sensors``).
     """
-    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-    table = {
-        "lockstep": (ReliabilityPolicy.RELIABLE, DurabilityPolicy.VOLATILE, 20),
-        "fleet": (ReliabilityPolicy.RELIABLE, DurabilityPolicy.VOLATILE, 100),
-        "events": (ReliabilityPolicy.RELIABLE, DurabilityPolicy.TRANSIENT_LOCAL, 1000),
-        "truth": (ReliabilityPolicy.RELIABLE, DurabilityPolicy.VOLATILE, 50),
-        "viz": (ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE, 5),
-    }
-    if kind not in table:
-        raise ValueError(f"unknown QoS kind {kind!r}; expected one of {sorted(table)}")
-    rel, dur, depth = table[kind]
-    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=depth, reliability=rel, durability=dur)
+    name: str
+    type: str
+    qos_kind: str
+    per_uav: bool = False
+    loss_index: int | None = None
+    recorded: bool = True
+    doc: str = ""
+
+    def __post_init__(self) -> None:
+        if self.qos_kind not in QOS_KINDS:
+            raise ValueError(f"topic {self.name}: unknown QoS kind {self.qos_kind!r}")
+        if self.per_uav == self.name.startswith("/"):
+            raise ValueError(f"topic {self.name}: per-vehicle names are relative, others absolute")
+
+    def qos(self) -> QoSProfile:
+        """The topic's rclpy QoS profile."""
+        return qos(self.qos_kind)
+
+    def msg_class(self) -> type:
+        """The generated Python message class (imports the message package)."""
+        pkg, kind, cls = self.type.split("/")
+        return getattr(importlib.import_module(f"{pkg}.{kind}"), cls)
+
+    def for_uav(self, uav_id: int) -> str:
+        """Absolute name for vehicle ``uav_id`` (per-vehicle topics only)."""
+        if not self.per_uav:
+            raise ValueError(f"topic {self.name} is not a per-vehicle topic")
+        return uav_topic(uav_id, self.name)
+
+    def pattern(self) -> str:
+        """Regular expression of every absolute name of this topic (for the recorder)."""
+        if self.per_uav:
+            return r"/uav_\d+/" + re.escape(self.name)
+        return re.escape(self.name)
+
+
+# --- the topics ----------------------------------------------------------------------------
+CLOCK_SPEC = TopicSpec("/clock", "rosgraph_msgs/msg/Clock", "clock", doc="world -> all")
+# per vehicle, relative to the uav_<k> namespace
+SENSORS_SPEC = TopicSpec("sensors", "fire_uav_msgs/msg/SensorBundle", "lockstep", per_uav=True,
+                         doc="world -> agent k")  # fmt: skip
+CMD_SPEC = TopicSpec(
+    "cmd", "geometry_msgs/msg/TwistStamped", "lockstep", per_uav=True, doc="agent k -> world"
+)
+PAYLOAD_SPEC = TopicSpec("payload", "fire_uav_msgs/msg/PayloadRequest", "lockstep", per_uav=True,
+                         doc="agent k -> world")  # fmt: skip
+VIZ_AGENT_SPEC = TopicSpec("viz", "visualization_msgs/msg/MarkerArray", "viz", per_uav=True,
+                           doc="agent k -> RViz/Foxglove")  # fmt: skip
+# fleet (peer-to-peer), absolute; loss_index: the topic's index in the peer link's loss draw
+FLEET_STATE_SPEC = TopicSpec("/fleet/state", "fire_uav_msgs/msg/UavState", "fleet", loss_index=0)
+FLEET_FIRES_SPEC = TopicSpec("/fleet/fires", "fire_uav_msgs/msg/FireEstimateArray", "fleet", loss_index=1)
+FLEET_PERIMETER_SPEC = TopicSpec("/fleet/perimeter", "fire_uav_msgs/msg/PerimeterMap", "fleet", loss_index=2)
+FLEET_EVENTS_SPEC = TopicSpec("/fleet/events", "fire_uav_msgs/msg/MissionEvent", "events",
+                              doc="agents' own decisions")  # fmt: skip
+COVERAGE_WEIGHTS_SPEC = TopicSpec("/fleet/coverage/weights", "fire_uav_msgs/msg/CoverageWeight", "fleet",
+                                  loss_index=3)  # fmt: skip
+COVERAGE_CANDIDATES_SPEC = TopicSpec("/fleet/coverage/candidates", "fire_uav_msgs/msg/CoverageCandidate",
+                                     "fleet", loss_index=4)  # fmt: skip
+COVERAGE_MST_SPEC = TopicSpec("/fleet/coverage/mst", "fire_uav_msgs/msg/MstFragment", "fleet", loss_index=5)
+# world, absolute (agents never subscribe to these)
+WORLD_TRUTH_SPEC = TopicSpec("/world/truth", "fire_uav_msgs/msg/WorldTruth", "truth", doc="world -> recorder")
+WORLD_EVENTS_SPEC = TopicSpec("/world/events", "fire_uav_msgs/msg/MissionEvent", "events")
+VIZ_WORLD_SPEC = TopicSpec("/viz/world", "visualization_msgs/msg/MarkerArray", "viz")
+VIZ_FIRE_GRID_SPEC = TopicSpec("/viz/fire_grid", "nav_msgs/msg/OccupancyGrid", "viz")
+VIZ_PERIMETER_SPEC = TopicSpec("/viz/perimeter", "visualization_msgs/msg/MarkerArray", "viz",
+                               doc="perimeter_viewer -> RViz/Foxglove")  # fmt: skip
+
+ALL_TOPICS: tuple[TopicSpec, ...] = (
+    CLOCK_SPEC, SENSORS_SPEC, CMD_SPEC, PAYLOAD_SPEC, VIZ_AGENT_SPEC,
+    FLEET_STATE_SPEC, FLEET_FIRES_SPEC, FLEET_PERIMETER_SPEC, FLEET_EVENTS_SPEC,
+    COVERAGE_WEIGHTS_SPEC, COVERAGE_CANDIDATES_SPEC, COVERAGE_MST_SPEC,
+    WORLD_TRUTH_SPEC, WORLD_EVENTS_SPEC, VIZ_WORLD_SPEC, VIZ_FIRE_GRID_SPEC, VIZ_PERIMETER_SPEC,
+)  # fmt: skip
+
+# Plain names, kept for call sites that only need the string (the spec is the source).
+CLOCK = CLOCK_SPEC.name
+SENSORS = SENSORS_SPEC.name
+CMD = CMD_SPEC.name
+PAYLOAD = PAYLOAD_SPEC.name
+VIZ_AGENT = VIZ_AGENT_SPEC.name
+FLEET_STATE = FLEET_STATE_SPEC.name
+FLEET_FIRES = FLEET_FIRES_SPEC.name
+FLEET_PERIMETER = FLEET_PERIMETER_SPEC.name
+FLEET_EVENTS = FLEET_EVENTS_SPEC.name
+COVERAGE_WEIGHTS = COVERAGE_WEIGHTS_SPEC.name
+COVERAGE_CANDIDATES = COVERAGE_CANDIDATES_SPEC.name
+COVERAGE_MST = COVERAGE_MST_SPEC.name
+WORLD_TRUTH = WORLD_TRUTH_SPEC.name
+WORLD_EVENTS = WORLD_EVENTS_SPEC.name
+VIZ_WORLD = VIZ_WORLD_SPEC.name
+VIZ_FIRE_GRID = VIZ_FIRE_GRID_SPEC.name
+VIZ_PERIMETER = VIZ_PERIMETER_SPEC.name
+
+
+def topic_by_name(name: str) -> TopicSpec:
+    """The spec of an absolute topic name (``/uav_3/cmd`` -> :data:`CMD_SPEC`); KeyError if unknown."""
+    for spec in ALL_TOPICS:
+        if re.fullmatch(spec.pattern(), name):
+            return spec
+    raise KeyError(f"no topic {name!r} in fire_uav_common.topics")
+
+
+def recorded_patterns() -> tuple[str, ...]:
+    """Regular expressions of every recorded topic (the recorder's default include list)."""
+    return tuple(spec.pattern() for spec in ALL_TOPICS if spec.recorded)
+
+
+def publisher(node: Any, spec: TopicSpec, uav_id: int | None = None) -> Any:
+    """``node.create_publisher`` for ``spec`` (absolute per-vehicle name when ``uav_id`` is given)."""
+    name = spec.for_uav(uav_id) if uav_id is not None else spec.name
+    return node.create_publisher(spec.msg_class(), name, spec.qos())
+
+
+def subscription(node: Any, spec: TopicSpec, callback: Any, uav_id: int | None = None, **kw: Any) -> Any:
+    """``node.create_subscription`` for ``spec`` (absolute per-vehicle name when ``uav_id`` is given)."""
+    name = spec.for_uav(uav_id) if uav_id is not None else spec.name
+    return node.create_subscription(spec.msg_class(), name, callback, spec.qos(), **kw)
