@@ -208,6 +208,14 @@ def test_from_dict_names_dict() -> None:
             with_(comms={"outages": [{"from": 0, "to": 1, "start_s": 3, "end_s": 2}]}),
             r"comms\.outages\[0\]\.end_s: must be > start_s",
         ),
+        (
+            with_(uavs={"count": 3}, comms={"outages": [{"from": 0, "to": 3, "start_s": 1, "end_s": 2}]}),
+            r"comms\.outages\[0\]\.to: UAV 3 does not exist: the fleet has ids 0\.\.2",
+        ),
+        (
+            with_(uavs={"count": 2}, comms={"outages": [{"from": 7, "to": 1, "start_s": 1, "end_s": 2}]}),
+            r"comms\.outages\[0\]\.from: UAV 7 does not exist",
+        ),
         (with_(mission={"use_safety_band": "yes"}), r"mission\.use_safety_band: must be true or false"),
         (with_(mission={"crash_threshold_steps": 0}), r"mission\.crash_threshold_steps: must be >= 1"),
         (

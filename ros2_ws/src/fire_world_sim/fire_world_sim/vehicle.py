@@ -18,23 +18,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from enum import IntEnum
 
 import numpy as np
 from fire_uav_common.angles import wrap_angle  # re-exported: callers import it from here
+from fire_uav_common.constants import VehicleStatus
 from fire_uav_common.scenario import Vehicle as VehicleSpec
 from fire_uav_common.terrain import Lake, Terrain
 
 __all__ = ["Command", "Status", "StepOutcome", "VehicleSim", "wrap_angle"]
 
 
-class Status(IntEnum):
-    """Mirrors ``SensorBundle.VEHICLE_*``."""
-
-    ON_GROUND = 0
-    AIRBORNE = 1
-    LANDED = 2
-    CRASHED = 3
+#: ``SensorBundle.VEHICLE_*`` (the one definition lives in fire_uav_common.constants)
+Status = VehicleStatus
 
 
 @dataclass(frozen=True)

@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from enum import IntEnum
 
+from fire_uav_common.constants import EventType
+from fire_uav_common.constants import PayloadAction as Action
 from fire_uav_common.rng import stream
 from fire_uav_common.scenario import Scenario
 
@@ -42,28 +43,6 @@ __all__ = [
     "VehicleTruthRecord",
     "World",
 ]
-
-
-class EventType(IntEnum):
-    """Mirrors ``MissionEvent.TYPE_*``."""
-
-    TAKEOFF = 1
-    DROP = 2
-    REFILL = 3
-    CRASH = 4
-    EXTINGUISHED = 5
-    LANDED = 6
-    COMMAND_CLAMPED = 9
-    MISSION_COMPLETE = 10
-    COMMAND_MISSED = 13
-    IGNITION = 14
-
-
-class Action(IntEnum):
-    """Mirrors ``PayloadRequest.ACTION_*``."""
-
-    DROP = 1
-    REFILL = 2
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,9 @@ from dataclasses import dataclass
 import rclpy
 from builtin_interfaces.msg import Time
 from fire_uav_common import topics
+from fire_uav_common.constants import CellState, EventType, FireStatus, PayloadAction, VehicleStatus
 from fire_uav_common.scenario import ScenarioError, load_scenario
+from fire_uav_common.stamps import NS_PER_S, stamp_to_ns, to_time_msg
 from fire_uav_msgs.msg import (
     FireDetection,
     FireTruth,
@@ -59,11 +61,8 @@ class WorldNodeConfig:
 
 
 def stamp(ns: int) -> Time:
-    return Time(sec=int(ns // 1_000_000_000), nanosec=int(ns % 1_000_000_000))
-
-
-def stamp_to_ns(t: Time) -> int:
-    return int(t.sec) * 1_000_000_000 + int(t.nanosec)
+    """Integer nanoseconds of sim time -> ``builtin_interfaces/Time``."""
+    return to_time_msg(ns, Time)
 
 
 class WorldNode(Node):
@@ -85,35 +84,23 @@ class WorldNode(Node):
         )
         self.done = Future()
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
-        self.pub_clock = self.create_publisher(ClockMsg, topics.CLOCK, topics.qos("lockstep"))
-        self.pub_truth = self.create_publisher(WorldTruth, topics.WORLD_TRUTH, topics.qos("truth"))
-        self.pub_events = self.create_publisher(MissionEvent, topics.WORLD_EVENTS, topics.qos("events"))
-        self.pub_viz = self.create_publisher(MarkerArray, topics.VIZ_WORLD, topics.qos("viz"))
-        self.pub_grid = self.create_publisher(OccupancyGrid, topics.VIZ_FIRE_GRID, topics.qos("viz"))
+        self.pub_clock = topics.publisher(self, topics.CLOCK_SPEC)
+        self.pub_truth = topics.publisher(self, topics.WORLD_TRUTH_SPEC)
+        self.pub_events = topics.publisher(self, topics.WORLD_EVENTS_SPEC)
+        self.pub_viz = topics.publisher(self, topics.VIZ_WORLD_SPEC)
+        self.pub_grid = topics.publisher(self, topics.VIZ_FIRE_GRID_SPEC)
         self.pub_sensors = {}
         for i in range(self.n):
-            self.pub_sensors[i] = self.create_publisher(
-                SensorBundle, topics.uav_topic(i, topics.SENSORS), topics.qos("lockstep")
-            )
-            self.create_subscription(
-                TwistStamped,
-                topics.uav_topic(i, topics.CMD),
-                lambda m, i=i: self._on_cmd(i, m),
-                topics.qos("lockstep"),
-            )
-            self.create_subscription(
-                PayloadRequest,
-                topics.uav_topic(i, topics.PAYLOAD),
-                lambda m, i=i: self._on_payload(i, m),
-                topics.qos("lockstep"),
-            )
+            self.pub_sensors[i] = topics.publisher(self, topics.SENSORS_SPEC, uav_id=i)
+            topics.subscription(self, topics.CMD_SPEC, lambda m, i=i: self._on_cmd(i, m), uav_id=i)
+            topics.subscription(self, topics.PAYLOAD_SPEC, lambda m, i=i: self._on_payload(i, m), uav_id=i)
         self._commands: dict[int, Command | None] = {}
         self._payload: dict[int, list[int]] = {}
         self._awaited_ns = 0  # stamp the answers must carry (t_k of the next step)
         self._waiting: set[int] = set()
         self._started = False
         self._last_viz_ns = -(10**18)
-        self._viz_period_ns = int(1e9 / self.cfg.viz_rate_hz)
+        self._viz_period_ns = int(NS_PER_S / self.cfg.viz_rate_hz)
         self._start_wall_ns = self._steady.now().nanoseconds
         self.pub_clock.publish(ClockMsg(clock=stamp(0)))
         if self.cfg.mode == "lockstep":
@@ -206,10 +193,10 @@ class WorldNode(Node):
         missing = [
             i
             for i in range(self.n)
-            if self.count_publishers(topics.uav_topic(i, topics.CMD)) == 0
-            or self.count_subscribers(topics.uav_topic(i, topics.SENSORS)) == 0
+            if self.count_publishers(topics.CMD_SPEC.for_uav(i)) == 0
+            or self.count_subscribers(topics.SENSORS_SPEC.for_uav(i)) == 0
         ]
-        waited_s = (self._steady.now().nanoseconds - self._start_wall_ns) * 1e-9
+        waited_s = (self._steady.now().nanoseconds - self._start_wall_ns) / NS_PER_S
         short = self.pub_truth.get_subscription_count() < self.cfg.wait_for_subscribers
         if (missing or short) and waited_s < self.cfg.startup_timeout_wall_s:
             self.pub_clock.publish(ClockMsg(clock=stamp(0)))
@@ -274,7 +261,7 @@ class WorldNode(Node):
             self._advance()
 
     def _on_payload(self, uid: int, msg: PayloadRequest) -> None:
-        if msg.action not in (PayloadRequest.ACTION_DROP, PayloadRequest.ACTION_REFILL):
+        if msg.action not in tuple(PayloadAction):
             self.get_logger().warn(
                 f"uav {uid}: unknown payload action {msg.action}", throttle_duration_sec=5.0
             )
@@ -291,7 +278,7 @@ class WorldNode(Node):
     # --- finishing ---------------------------------------------------------------------------
     def _finish(self, result: StepResult) -> None:
         self.get_logger().info(
-            f"mission complete at t = {result.stamp_ns * 1e-9:.1f} s: {result.complete_reason}"
+            f"mission complete at t = {result.stamp_ns / NS_PER_S:.1f} s: {result.complete_reason}"
         )
         for timer in (getattr(self, "_lockstep_timer", None), getattr(self, "_rt_timer", None)):
             if timer is not None:
@@ -307,7 +294,7 @@ class WorldNode(Node):
         self.pub_truth.publish(self._truth_msg(r))
         for e in r.events:
             self.pub_events.publish(self._event_msg(e))
-            if e.type in (4,):
+            if e.type == EventType.CRASH:
                 self.get_logger().warn(f"uav {e.uav_id} crashed: {e.detail}")
         if r.stamp_ns - self._last_viz_ns >= self._viz_period_ns or r.complete:
             self._last_viz_ns = r.stamp_ns
@@ -449,12 +436,12 @@ class WorldNode(Node):
             mk.pose.orientation.z = math.sin(v.yaw_rad / 2)
             mk.pose.orientation.w = math.cos(v.yaw_rad / 2)
             mk.scale.x, mk.scale.y, mk.scale.z = 15.0, 4.0, 4.0
-            crashed = v.status == 3
+            crashed = v.status == VehicleStatus.CRASHED
             mk.color.r, mk.color.g, mk.color.a = (1.0, 0.0, 1.0) if crashed else (0.1, 0.9, 1.0)
             arr.markers.append(mk)
         if not isinstance(self.world.fires, RasterFireModel):
             for f in r.fires:
-                if f.status != 0 or f.extent_m <= 0:
+                if f.status != FireStatus.ACTIVE or f.extent_m <= 0:
                     continue
                 mk = marker("fires", Marker.CYLINDER)
                 mk.pose.position = Point(x=float(f.x_m), y=float(f.y_m), z=0.0)
@@ -479,8 +466,8 @@ class WorldNode(Node):
 
         occ = np.zeros(state.shape, dtype=np.int8)  # unburned 0, wet 20, burnt 60, burning 100
         occ[fm.wet_grid()] = 20
-        occ[state == 2] = 60
-        occ[state == 1] = 100
+        occ[state == CellState.BURNED] = 60
+        occ[state == CellState.BURNING] = 100
         g.data = occ.ravel().tolist()
         return g
 

@@ -5,12 +5,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Protocol
 
+from fire_uav_common.constants import FireStatus
+
 from ..sensors import CellsSample
 
 __all__ = ["STATUS_ACTIVE", "STATUS_EXTINGUISHED", "FireModel", "FireTruthRecord"]
 
-STATUS_ACTIVE = 0  # FireEstimate.STATUS_ACTIVE
-STATUS_EXTINGUISHED = 1  # FireEstimate.STATUS_EXTINGUISHED
+# aliases of the one definition (fire_uav_common.constants.FireStatus)
+STATUS_ACTIVE, STATUS_EXTINGUISHED = FireStatus.ACTIVE, FireStatus.EXTINGUISHED
 
 
 @dataclass(frozen=True)

@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from fire_uav_common.constants import CellState
 from fire_uav_common.scenario import Raster
 from fire_uav_common.terrain import Terrain
 
@@ -32,9 +33,8 @@ from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spr
 
 __all__ = ["CELL_BURNED", "CELL_BURNING", "CELL_UNBURNED", "NEIGHBOURS", "RasterFireModel"]
 
-CELL_UNBURNED = 0  # FireCells.CELL_*
-CELL_BURNING = 1
-CELL_BURNED = 2
+# aliases of the one definition (fire_uav_common.constants.CellState)
+CELL_UNBURNED, CELL_BURNING, CELL_BURNED = CellState.UNBURNED, CellState.BURNING, CellState.BURNED
 
 #: 16-neighbourhood offsets (di rows = north, dj cols = east)
 NEIGHBOURS = (
