@@ -322,7 +322,9 @@ def _join(path: str, key: str) -> str:
     return f"{path}.{key}" if path else key
 
 
-def _mapping(ctx: _Ctx, value: Any, path: str, allowed: set[str], required: set[str] = frozenset()) -> dict:
+def _mapping(
+    ctx: _Ctx, value: Any, path: str, allowed: set[str], required: frozenset[str] | set[str] = frozenset()
+) -> dict:
     if value is None:
         value = {}
     if not isinstance(value, Mapping):
@@ -548,7 +550,7 @@ def _sensors(ctx: _Ctx, raw: Any) -> Sensors:
             else:
                 vals[n] = _num(ctx, sd, n, p, getattr(dflt, n), gt=0)
         out[key] = cls(**vals)
-    return Sensors(**out)
+    return Sensors(**out)  # type: ignore[arg-type]  # keys are the four field names
 
 
 def _raster(ctx: _Ctx, raw: Any) -> Raster:

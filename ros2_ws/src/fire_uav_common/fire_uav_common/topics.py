@@ -114,7 +114,7 @@ class TopicSpec:
         """The topic's rclpy QoS profile."""
         return qos(self.qos_kind)
 
-    def msg_class(self) -> type:
+    def msg_class(self) -> Any:
         """The generated Python message class (imports the message package)."""
         pkg, kind, cls = self.type.split("/")
         return getattr(importlib.import_module(f"{pkg}.{kind}"), cls)
