@@ -10,7 +10,8 @@ import sys
 
 import rclpy
 from fire_uav_common import topics
-from fire_uav_msgs.msg import SensorBundle
+from fire_uav_common.constants import EventType
+from fire_uav_msgs.msg import MissionEvent, SensorBundle
 from geometry_msgs.msg import TwistStamped
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -20,8 +21,19 @@ class StubAgent(Node):
     def __init__(self, k: int) -> None:
         super().__init__("stub_agent", namespace=topics.uav_namespace(k))
         self.k = k
-        self.pub = self.create_publisher(TwistStamped, topics.CMD, topics.qos("lockstep"))
-        self.create_subscription(SensorBundle, topics.SENSORS, self.on_bundle, topics.qos("lockstep"))
+        self.pub = topics.publisher(self, topics.CMD_SPEC)
+        self.sub = topics.subscription(self, topics.SENSORS_SPEC, self.on_bundle)
+        self.events = topics.publisher(self, topics.FLEET_EVENTS_SPEC)
+        # the lockstep start-up handshake: ready once the world's topics are matched
+        self.ready_timer = self.create_timer(0.05, self.say_ready)
+
+    def say_ready(self) -> None:
+        if self.pub.get_subscription_count() == 0 or self.sub.get_publisher_count() == 0:
+            return
+        self.ready_timer.cancel()
+        ev = MissionEvent(type=int(EventType.AGENT_READY), uav_id=self.k, peer_id=-1, fire_id=-1)
+        ev.detail = "stub ready"
+        self.events.publish(ev)
 
     def on_bundle(self, b: SensorBundle) -> None:
         c = TwistStamped()

@@ -62,6 +62,8 @@ class EventType(IntEnum):
     OBJECTIVE = 12
     COMMAND_MISSED = 13
     IGNITION = 14
+    AGENT_READY = 15
+    AGENT_LOST = 16
 
 
 class FireStatus(IntEnum):

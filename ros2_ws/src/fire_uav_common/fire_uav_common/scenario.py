@@ -700,7 +700,9 @@ def _comms(ctx: _Ctx, raw: Any, uav_count: int) -> Comms:
             raise ctx.fail(f"{op}.to", f"must differ from 'from' ({o.from_})")
         for key, uid in (("from", o.from_), ("to", o.to)):
             if uid >= uav_count:
-                raise ctx.fail(f"{op}.{key}", f"UAV {uid} does not exist: the fleet has ids 0..{uav_count - 1}")
+                raise ctx.fail(
+                    f"{op}.{key}", f"UAV {uid} does not exist: the fleet has ids 0..{uav_count - 1}"
+                )
         outages.append(o)
     return Comms(
         loss_probability=_num(ctx, d, "loss_probability", p, 0.05, ge=0, le=1), outages=tuple(outages)

@@ -16,6 +16,7 @@ import rclpy
 from builtin_interfaces.msg import Time
 from fire_uav_common import topics
 from fire_uav_common.constants import CellState, EventType, FireStatus, PayloadAction, VehicleStatus
+from fire_uav_common.lockstep import OfflineWindow, offline_uavs, parse_schedule
 from fire_uav_common.scenario import ScenarioError, load_scenario
 from fire_uav_common.stamps import NS_PER_S, stamp_to_ns, to_time_msg
 from fire_uav_msgs.msg import (
@@ -53,8 +54,9 @@ class WorldNodeConfig:
     uav_count: int
     mode: str
     real_time_factor: float
-    lockstep_timeout_wall_s: float
+    liveness_check_wall_s: float
     startup_timeout_wall_s: float
+    offline_schedule: tuple[OfflineWindow, ...]
     max_duration_s: float
     viz_rate_hz: float
     wait_for_subscribers: int
@@ -94,10 +96,13 @@ class WorldNode(Node):
             self.pub_sensors[i] = topics.publisher(self, topics.SENSORS_SPEC, uav_id=i)
             topics.subscription(self, topics.CMD_SPEC, lambda m, i=i: self._on_cmd(i, m), uav_id=i)
             topics.subscription(self, topics.PAYLOAD_SPEC, lambda m, i=i: self._on_payload(i, m), uav_id=i)
+        self._ready: set[int] = set()
+        topics.subscription(self, topics.FLEET_EVENTS_SPEC, self._on_fleet_event)
         self._commands: dict[int, Command | None] = {}
         self._payload: dict[int, list[int]] = {}
         self._awaited_ns = 0  # stamp the answers must carry (t_k of the next step)
         self._waiting: set[int] = set()
+        self._lost: set[int] = set()  # agents whose process is gone (unscheduled, DDS discovery)
         self._started = False
         self._last_viz_ns = -(10**18)
         self._viz_period_ns = int(NS_PER_S / self.cfg.viz_rate_hz)
@@ -105,10 +110,12 @@ class WorldNode(Node):
         self.pub_clock.publish(ClockMsg(clock=stamp(0)))
         if self.cfg.mode == "lockstep":
             self._startup_timer = self.create_timer(0.05, self._check_startup, clock=self._steady)
-            self._lockstep_timer = self.create_timer(
-                self.cfg.lockstep_timeout_wall_s, self._on_lockstep_timeout, clock=self._steady
+            # not a timeout: a live agent is waited for however slow it is; this only notices an
+            # agent whose process is gone (its publishers leave the DDS graph)
+            self._liveness_timer = self.create_timer(
+                self.cfg.liveness_check_wall_s, self._check_liveness, clock=self._steady
             )
-            self._lockstep_timer.cancel()
+            self._liveness_timer.cancel()
         else:
             period = self.world.control_period_s / self.cfg.real_time_factor
             self._rt_timer = self.create_timer(period, self._on_realtime_tick, clock=self._steady)
@@ -141,14 +148,28 @@ class WorldNode(Node):
         self.declare_parameter("mode", "lockstep", d("lockstep | realtime"))
         self.declare_parameter("real_time_factor", 1.0, d("realtime mode: sim seconds per wall second (> 0)"))
         self.declare_parameter(
-            "lockstep_timeout_wall_s",
+            "liveness_check_wall_s",
             0.5,
-            d("[s wall] wait for commands per step", floating_point_range=frange(0.001, 60.0)),
+            d(
+                "[s wall] lockstep: how often to check that the agents waited for still have a process "
+                "(DDS graph); never a timeout on a live agent",
+                floating_point_range=frange(0.01, 60.0),
+            ),
         )
         self.declare_parameter(
             "startup_timeout_wall_s",
-            30.0,
-            d("[s wall] wait for agents before step 0", floating_point_range=frange(0.0, 3600.0)),
+            120.0,
+            d(
+                "[s wall] wait for every agent's ready handshake before step 0",
+                floating_point_range=frange(0.0, 3600.0),
+            ),
+        )
+        self.declare_parameter(
+            "offline_schedule",
+            "",
+            d(
+                "lockstep fault schedule 'K@T1:T2;K@T1' [s sim]: agent K offline (frozen / killed); see fire_uav_common.lockstep"
+            ),
         )
         self.declare_parameter("max_duration_s", 0.0, d("[s sim] mission limit; 0 = the scenario's"))
         self.declare_parameter(
@@ -172,12 +193,15 @@ class WorldNode(Node):
             uav_count=int(g("uav_count").value),
             mode=str(g("mode").value),
             real_time_factor=float(g("real_time_factor").value),
-            lockstep_timeout_wall_s=float(g("lockstep_timeout_wall_s").value),
+            liveness_check_wall_s=float(g("liveness_check_wall_s").value),
             startup_timeout_wall_s=float(g("startup_timeout_wall_s").value),
+            offline_schedule=self._schedule(str(g("offline_schedule").value)),
             max_duration_s=float(g("max_duration_s").value),
             viz_rate_hz=float(g("viz_rate_hz").value),
             wait_for_subscribers=int(g("wait_for_subscribers").value),
         )
+        if any(w.uav_id >= 256 for w in cfg.offline_schedule):
+            raise ConfigError("parameter offline_schedule: UAV ids are 0..255")
         if not cfg.scenario_file:
             raise ConfigError("parameter scenario_file is required (path to a scenario YAML)")
         if cfg.mode not in ("lockstep", "realtime"):
@@ -188,13 +212,26 @@ class WorldNode(Node):
             raise ConfigError(f"parameter max_duration_s must be >= 0, got {cfg.max_duration_s}")
         return cfg
 
+    @staticmethod
+    def _schedule(text: str) -> tuple[OfflineWindow, ...]:
+        try:
+            return parse_schedule(text)
+        except ValueError as e:
+            raise ConfigError(f"parameter offline_schedule: {e}") from None
+
     # --- lockstep ----------------------------------------------------------------------------
+    def _on_fleet_event(self, msg: MissionEvent) -> None:
+        if msg.type == EventType.AGENT_READY and 0 <= msg.uav_id < self.n:
+            self._ready.add(int(msg.uav_id))
+
     def _check_startup(self) -> None:
+        """Step 0 starts when every agent said it is ready and the world's own topics are matched."""
         missing = [
             i
             for i in range(self.n)
-            if self.count_publishers(topics.CMD_SPEC.for_uav(i)) == 0
-            or self.count_subscribers(topics.SENSORS_SPEC.for_uav(i)) == 0
+            if i not in self._ready
+            or self.pub_sensors[i].get_subscription_count() == 0
+            or self.count_publishers(topics.CMD_SPEC.for_uav(i)) == 0
         ]
         waited_s = (self._steady.now().nanoseconds - self._start_wall_ns) / NS_PER_S
         short = self.pub_truth.get_subscription_count() < self.cfg.wait_for_subscribers
@@ -208,7 +245,10 @@ class WorldNode(Node):
                 f"after {waited_s:.1f} s"
             )
         if missing:
-            self.get_logger().warn(f"starting without agents {missing} after {waited_s:.1f} s")
+            self.get_logger().error(
+                f"starting without agents {missing}: no ready handshake after {waited_s:.1f} s "
+                "(startup_timeout_wall_s); this run is not reproducible"
+            )
             for i in missing:
                 self.world.vehicles[i].responsive = False
         else:
@@ -228,23 +268,54 @@ class WorldNode(Node):
             return
         self._awaited_ns = result.stamp_ns
         if self.cfg.mode == "lockstep":
-            self._waiting = set(self.world.awaited_uavs())
+            self._waiting = set(self.world.awaited_uavs()) - self._offline(result.step) - self._lost
             if not self._waiting:
                 self._advance_soon()
                 return
-            self._lockstep_timer.reset()
+            self._liveness_timer.reset()
+
+    def _offline(self, step: int) -> frozenset[int]:
+        """Agents the fault schedule takes offline during ``step`` (no bundle, not waited for)."""
+        return offline_uavs(self.cfg.offline_schedule, step, self.world.control_period_s)
 
     def _advance_soon(self) -> None:
         # nobody to wait for: step on the next executor turn (no recursion, no sleep)
-        self._lockstep_timer.cancel()
+        self._liveness_timer.cancel()
         t = self.create_timer(0.0, lambda: (self.destroy_timer(t), self._advance()), clock=self._steady)
 
-    def _on_lockstep_timeout(self) -> None:
-        self._lockstep_timer.cancel()
-        if self._waiting:
-            self.get_logger().debug(f"step {self.world.step_index}: no command from {sorted(self._waiting)}")
-        self._waiting = set()
-        self._advance()
+    def _check_liveness(self) -> None:
+        """Drop from the wait an agent whose process is gone: its command publisher left the graph.
+
+        Fast DDS removes a participant when its lease expires (10 s with the project's discovery
+        profile), so a killed agent not in the schedule holds the fleet up that long, once. This is
+        the only wall-clock-dependent path of lockstep, and it runs only for unscheduled deaths.
+        """
+        gone = sorted(i for i in self._waiting if self.count_publishers(topics.CMD_SPEC.for_uav(i)) == 0)
+        if not gone:
+            return
+        for i in gone:
+            self._lost.add(i)
+            self._waiting.discard(i)
+            self.get_logger().error(
+                f"step {self.world.step_index}: agent {i}'s process is gone (not in the fault schedule); "
+                "no longer waiting for it, so this run is not reproducible"
+            )
+            self.pub_events.publish(
+                MissionEvent(
+                    header=self._hdr(self._awaited_ns),
+                    type=int(EventType.AGENT_LOST),
+                    uav_id=i,
+                    peer_id=-1,
+                    fire_id=-1,
+                    x_m=math.nan,
+                    y_m=math.nan,
+                    value=0.0,
+                    detail="process gone from the DDS graph",
+                )
+            )
+        if not self._waiting and not self.done.done():
+            self._liveness_timer.cancel()
+            self._advance()
 
     def _on_cmd(self, uid: int, msg: TwistStamped) -> None:
         t = msg.twist
@@ -257,7 +328,7 @@ class WorldNode(Node):
         self._commands[uid] = cmd if cmd.is_finite() else None
         self._waiting.discard(uid)
         if not self._waiting and not self.done.done():
-            self._lockstep_timer.cancel()
+            self._liveness_timer.cancel()
             self._advance()
 
     def _on_payload(self, uid: int, msg: PayloadRequest) -> None:
@@ -280,7 +351,7 @@ class WorldNode(Node):
         self.get_logger().info(
             f"mission complete at t = {result.stamp_ns / NS_PER_S:.1f} s: {result.complete_reason}"
         )
-        for timer in (getattr(self, "_lockstep_timer", None), getattr(self, "_rt_timer", None)):
+        for timer in (getattr(self, "_liveness_timer", None), getattr(self, "_rt_timer", None)):
             if timer is not None:
                 timer.cancel()
         # keep spinning ~1 s wall so the last messages are delivered
@@ -289,8 +360,10 @@ class WorldNode(Node):
     # --- publishing --------------------------------------------------------------------------
     def _publish(self, r: StepResult) -> None:
         self.pub_clock.publish(ClockMsg(clock=stamp(r.stamp_ns)))
-        for uid, b in r.bundles.items():
-            self.pub_sensors[uid].publish(self._bundle_msg(b))
+        offline = self._offline(r.step) if self.cfg.mode == "lockstep" else frozenset()
+        for uid, b in sorted(r.bundles.items()):
+            if uid not in offline:  # an offline agent's computer reads no sensors
+                self.pub_sensors[uid].publish(self._bundle_msg(b))
         self.pub_truth.publish(self._truth_msg(r))
         for e in r.events:
             self.pub_events.publish(self._event_msg(e))
