@@ -117,6 +117,7 @@ class Vehicle:
     refill_rate_kgps: float = 400.0
     landing_height_m: float = 1.0
     command_timeout_s: float = 3.0
+    collision_radius_m: float = 3.0  # [m] two airborne vehicles closer than this (3-D) both crash; 0 = off
 
 
 @dataclass(frozen=True)
@@ -493,8 +494,9 @@ def _vehicle(ctx: _Ctx, raw: Any) -> Vehicle:
     d = _mapping(ctx, raw, p, set(names))
     vals = {}
     for k in names:
-        vals[k] = _num(ctx, d, k, p, getattr(defaults, k), ge=0 if k == "process_noise_sigma" else None)
-        if k != "process_noise_sigma" and not vals[k] > 0:
+        may_be_zero = k in ("process_noise_sigma", "collision_radius_m")
+        vals[k] = _num(ctx, d, k, p, getattr(defaults, k), ge=0 if may_be_zero else None)
+        if not may_be_zero and not vals[k] > 0:
             raise ctx.fail(_join(p, k), f"must be > 0, got {vals[k]:g}")
     v = Vehicle(**vals)
     if not v.v_max_mps > v.v_stall_mps:

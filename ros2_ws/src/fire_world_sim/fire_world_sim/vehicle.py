@@ -137,7 +137,7 @@ class VehicleSim:
             if silent_s >= self.spec.command_timeout_s - 1e-9:
                 self.responsive = False
                 if self.status != Status.LANDED:
-                    self._crash(f"no valid command for {silent_s:.1f} s")
+                    self.crash(f"no valid command for {silent_s:.1f} s")
                     out.crashed = True
             return out
         self.commands_missed = 0
@@ -176,7 +176,7 @@ class VehicleSim:
         self.v_lin_mps = self.v_z_mps = self.omega_z_radps = self.yaw_rate_radps = 0.0
         self.refilling = False
 
-    def _crash(self, reason: str) -> None:
+    def crash(self, reason: str) -> None:
         self.status = Status.CRASHED
         self.crash_reason = reason
         self.z_m = float(self.terrain.elevation(self.x_m, self.y_m))

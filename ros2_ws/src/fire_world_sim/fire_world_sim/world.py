@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
 from fire_uav_common.constants import EventType
 from fire_uav_common.constants import PayloadAction as Action
 from fire_uav_common.rng import stream
@@ -100,6 +101,8 @@ class StepResult:
     events: list[Event]
     complete: bool = False
     complete_reason: str = ""
+    min_separation_m: float = math.inf  # closest airborne pair so far [m] (physics rate)
+    collisions: int = 0  # colliding pairs so far
 
 
 CLAMP_EVENT_PERIOD_S = 5.0  # throttle of COMMAND_CLAMPED events per vehicle [s sim]
@@ -143,6 +146,8 @@ class World:
         self._last_clamp_event_ns = [-(10**18)] * self.uav_count
         self.complete = False
         self.complete_reason = ""
+        self.min_separation_m = math.inf  # closest 3-D approach of two airborne vehicles so far [m]
+        self.collisions = 0  # colliding pairs so far
 
     # --- queries -----------------------------------------------------------------------------
     @property
@@ -215,6 +220,7 @@ class World:
                         )
                     )
                 self._sample(v, bundles[v.uav_id], prev_ns, now_ns)
+            events += self._collisions(now_ns)
         # 4. fires
         t1_ns = t0_ns + self.period_ns
         for fid, what in self.fires.step(t0_s, self.control_period_s):
@@ -259,9 +265,49 @@ class World:
                         detail=self.complete_reason,
                     )
                 )
-        return StepResult(k, t1_ns, bundles, vehicles, fires, events, self.complete, self.complete_reason)
+        return StepResult(
+            k,
+            t1_ns,
+            bundles,
+            vehicles,
+            fires,
+            events,
+            self.complete,
+            self.complete_reason,
+            self.min_separation_m,
+            self.collisions,
+        )
 
     # --- helpers -----------------------------------------------------------------------------
+    def _collisions(self, t_ns: int) -> list[Event]:
+        """Track the closest airborne pair; crash both vehicles of every pair closer than the radius.
+
+        Checked at every physics substep in 3-D (DESIGN "Faults": separation is measured, never
+        assumed). Only airborne vehicles collide: on the ground they stand at their start poses.
+        """
+        air = [v for v in self.vehicles if v.status == Status.AIRBORNE]
+        if len(air) < 2:
+            return []
+        p = np.array([(v.x_m, v.y_m, v.z_m) for v in air])
+        d = np.sqrt(((p[:, None, :] - p[None, :, :]) ** 2).sum(axis=-1))
+        iu = np.triu_indices(len(air), 1)
+        self.min_separation_m = min(self.min_separation_m, float(d[iu].min()))
+        radius = self.scenario.vehicle.collision_radius_m
+        if radius <= 0:
+            return []
+        events: list[Event] = []
+        hit = [(a, b) for a, b in zip(*iu, strict=True) if d[a, b] < radius]
+        for a, b in hit:
+            self.collisions += 1
+            for me, other in ((air[a], air[b]), (air[b], air[a])):
+                if me.status == Status.CRASHED:
+                    continue
+                me.crash(f"collision with uav {other.uav_id} ({d[a, b]:.1f} m apart)")
+                events.append(
+                    Event(EventType.CRASH, t_ns, me.uav_id, -1, me.x_m, me.y_m, 0.0, me.crash_reason)
+                )
+        return events
+
     def _sample(self, v: VehicleSim, b: Bundle, prev_ns: int, now_ns: int) -> None:
         s = self.scenario.sensors
         suite = self.sensors[v.uav_id]

@@ -439,7 +439,12 @@ class WorldNode(Node):
         return Header(stamp=stamp(ns), frame_id=FRAME)
 
     def _truth_msg(self, r: StepResult) -> WorldTruth:
-        m = WorldTruth(header=self._hdr(r.stamp_ns), step=r.step)
+        m = WorldTruth(
+            header=self._hdr(r.stamp_ns),
+            step=r.step,
+            min_separation_m=float(r.min_separation_m),
+            collisions=int(r.collisions),
+        )
         for v in r.vehicles:
             m.vehicles.append(
                 VehicleTruth(

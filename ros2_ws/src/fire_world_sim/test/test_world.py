@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import math
 from pathlib import Path
 
 import pytest
@@ -115,3 +116,57 @@ def test_algorithm_modules_do_not_import_rclpy() -> None:
         names = [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
         names += [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
         assert not any(n.split(".")[0] == "rclpy" for n in names), path
+
+
+def _two_vehicles(dy_m: float, radius_m: float = 3.0) -> World:
+    """UAV 0 at (100, 500) heading east and UAV 1 at (900, 500 + dy) heading west, same altitude."""
+    sc = make_scenario(
+        lakes=[],
+        uavs={
+            "count": 2,
+            "first": {"x_m": 100.0, "y_m": 500.0, "yaw_rad": 0.0},
+            "spacing": {"dx_m": 0, "dy_m": 0},
+        },
+        vehicle={"process_noise_sigma": 0.0, "collision_radius_m": radius_m},
+        fires={"analytic": [{"x_m": 10.0, "y_m": 10.0, "sigma_m": 5.0}]},
+    )
+    w = World(sc, seed=0)
+    w.vehicles[1].x_m, w.vehicles[1].y_m, w.vehicles[1].yaw_rad = 900.0, 500.0 + dy_m, math.pi
+    return w
+
+
+def _fly_level(w: World, steps: int) -> list:
+    out = [w.step({0: Command(50.0, 10.0, 0.0), 1: Command(50.0, 10.0, 0.0)})]  # take off together
+    for _ in range(steps):
+        out.append(w.step({0: Command(50.0, 0.0, 0.0), 1: Command(50.0, 0.0, 0.0)}))
+    return out
+
+
+def test_head_on_collision_crashes_both() -> None:
+    w = _two_vehicles(dy_m=0.0)
+    res = _fly_level(w, 100)  # closing at 100 m/s from 800 m: they meet after ~8 s
+    crashes = [e for r in res for e in r.events if e.type == EventType.CRASH]
+    assert sorted(e.uav_id for e in crashes) == [0, 1]
+    assert "collision with uav 1" in next(e.detail for e in crashes if e.uav_id == 0)
+    assert res[-1].collisions == 1 and res[-1].min_separation_m < 3.0
+    # they met half way, x ~ 500 (both flew the same speed from 100 and 900)
+    assert all(abs(e.x_m - 500.0) < 5.0 for e in crashes)
+    assert all(v.status == Status.CRASHED for v in res[-1].vehicles)
+
+
+def test_passing_pair_measures_closest_approach_without_crashing() -> None:
+    w = _two_vehicles(dy_m=12.0)
+    res = _fly_level(w, 100)
+    assert not [e for r in res for e in r.events if e.type == EventType.CRASH]
+    assert res[-1].collisions == 0
+    # parallel opposite tracks 12 m apart: closest approach is 12 m, sampled at 100 Hz (1 m apart)
+    assert res[-1].min_separation_m == pytest.approx(12.0, abs=0.1)
+    # before they are both airborne there is no pair to measure
+    assert _two_vehicles(dy_m=12.0).step({}).min_separation_m == math.inf
+
+
+def test_collision_radius_zero_turns_collisions_off() -> None:
+    w = _two_vehicles(dy_m=0.0, radius_m=0.0)
+    res = _fly_level(w, 100)
+    assert res[-1].collisions == 0 and res[-1].min_separation_m < 1.0
+    assert all(v.status == Status.AIRBORNE for v in res[-1].vehicles)
