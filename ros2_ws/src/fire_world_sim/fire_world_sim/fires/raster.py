@@ -372,7 +372,7 @@ class RasterFireModel:
         self.t_s = t1
         events = [(n, "ignition") for n in self._start_ignitions(t1)]
         if t1 - self._t_updated >= self.update_period_s - 1e-9 or events:
-            was_active = self._active_ids()
+            was_active = self._active_ids(self._t_updated)  # burning at the previous update
             if self._set_wind(t1):
                 # burning cells re-derive their burn-out time under the new wind
                 burning = np.nonzero(self._burning(t1))
@@ -385,8 +385,8 @@ class RasterFireModel:
             events += [(n, "extinguished") for n in sorted(was_active - now_active) if self._ignited[n]]
         return events
 
-    def _active_ids(self) -> set[int]:
-        b = self._burning(self.t_s)
+    def _active_ids(self, t_s: float | None = None) -> set[int]:
+        b = self._burning(self.t_s if t_s is None else t_s)
         return set(np.unique(self.label[b]).tolist()) - {-1}
 
     def apply_drop(self, x_m: float, y_m: float, radius_m: float | None = None) -> list[int]:
