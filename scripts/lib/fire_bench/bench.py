@@ -337,7 +337,7 @@ BENCHES: dict[str, tuple[Callable[[bool], dict], float, float, str]] = {
         lambda q: _script("world", q),
         0.5,
         2,
-        "world step cost, analytic and 200x200 raster, 5 and 14 UAVs",
+        "world step cost (analytic, 200x200 raster, 5 and 14 UAVs), raster share, raster direction errors",
     ),
     "perimeter": (
         lambda q: _script("perimeter", q),

@@ -15,6 +15,10 @@ Extensions to docs/scenario.md (all optional, defaults keep the documented behav
 - ``fires.raster.wet_duration_s``: a wetted cell cannot ignite for this long (default 600 s).
 - ``fires.raster.spread_factor``: multiplies every rate of spread (default 1.0), to speed up
   demonstrations without changing the fuel physics.
+- ``fires.raster.wind_limit``: ``behave`` (default: Rothermel's 0.9 I_R limit as Behave applies
+  it), ``andrews2013`` (rate of spread capped at the effective wind speed) or ``none``.
+- ``fires.raster.ignitions[].start_s`` may be negative (a fire already burning when the
+  mission starts); ``fires.raster.wind[0].start_s`` must then be at or before the earliest one.
 """
 
 from __future__ import annotations
@@ -61,6 +65,8 @@ __all__ = [
 
 #: Anderson (1982) / Albini (1976) standard fuel model numbers the raster fire supports.
 FUEL_MODELS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13)
+#: ``fires.raster.wind_limit`` values (fire_world_sim.fires.rothermel.WIND_LIMITS)
+WIND_LIMITS = ("behave", "andrews2013", "none")
 
 
 class ScenarioError(ValueError):
@@ -239,6 +245,7 @@ class Raster:
     ignitions: tuple[Ignition, ...] = ()
     wet_duration_s: float = 600.0
     spread_factor: float = 1.0
+    wind_limit: str = "behave"  # behave | andrews2013 | none (fire_world_sim.fires.rothermel)
 
 
 @dataclass(frozen=True)
@@ -591,7 +598,7 @@ def _raster(ctx: _Ctx, raw: Any) -> Raster:
         keys = {"start_s", "speed_mps", "direction_deg"}
         wd = _mapping(ctx, item, wp, keys, {"speed_mps", "direction_deg"})
         w = Wind(
-            start_s=_num(ctx, wd, "start_s", wp, 0.0, ge=0),
+            start_s=_num(ctx, wd, "start_s", wp, 0.0),
             speed_mps=_num(ctx, wd, "speed_mps", wp, ge=0),
             direction_deg=_num(ctx, wd, "direction_deg", wp),
         )
@@ -600,22 +607,24 @@ def _raster(ctx: _Ctx, raw: Any) -> Raster:
                 f"{wp}.start_s", f"must be > the previous start_s ({winds[-1].start_s:g}), got {w.start_s:g}"
             )
         winds.append(w)
-    if not winds:
-        winds = list(dflt.wind)
-    elif winds[0].start_s != 0.0:
-        raise ctx.fail(
-            "fires.raster.wind[0].start_s",
-            f"must be 0 (wind must be defined from t=0), got {winds[0].start_s:g}",
-        )
     ignitions = []
     for i, item in enumerate(_list(ctx, d, "ignitions", p)):
         ip = f"fires.raster.ignitions[{i}]"
         idd = _mapping(ctx, item, ip, {"x_m", "y_m", "start_s"}, {"x_m", "y_m"})
         ignitions.append(
-            Ignition(
-                _num(ctx, idd, "x_m", ip), _num(ctx, idd, "y_m", ip), _num(ctx, idd, "start_s", ip, 0.0, ge=0)
-            )
+            Ignition(_num(ctx, idd, "x_m", ip), _num(ctx, idd, "y_m", ip), _num(ctx, idd, "start_s", ip, 0.0))
         )
+    first = min([0.0, *(ig.start_s for ig in ignitions)])
+    if not winds:
+        winds = [Wind(first, dflt.wind[0].speed_mps, dflt.wind[0].direction_deg)]
+    elif winds[0].start_s > first:
+        raise ctx.fail(
+            "fires.raster.wind[0].start_s",
+            f"must be 0 or earlier: at or before the earliest ignition ({first:g}), got {winds[0].start_s:g}",
+        )
+    wind_limit = _str(ctx, d, "wind_limit", p, dflt.wind_limit)
+    if wind_limit not in WIND_LIMITS:
+        raise ctx.fail("fires.raster.wind_limit", f"must be one of {list(WIND_LIMITS)}, got {wind_limit!r}")
     r = Raster(
         cell_size_m=_num(ctx, d, "cell_size_m", p, dflt.cell_size_m, gt=0),
         nx=_int(ctx, d, "nx", p, dflt.nx, ge=3),
@@ -628,6 +637,7 @@ def _raster(ctx: _Ctx, raw: Any) -> Raster:
         ignitions=tuple(ignitions),
         wet_duration_s=_num(ctx, d, "wet_duration_s", p, dflt.wet_duration_s, ge=0),
         spread_factor=_num(ctx, d, "spread_factor", p, dflt.spread_factor, gt=0),
+        wind_limit=wind_limit,
     )
     x_max = r.origin.x_m + r.nx * r.cell_size_m
     y_max = r.origin.y_m + r.ny * r.cell_size_m

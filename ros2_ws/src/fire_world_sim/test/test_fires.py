@@ -42,11 +42,12 @@ def test_rothermel_wind_and_slope_increase_spread() -> None:
     assert spread_params(fuel_model(1), 0.13).r0_mps == 0.0
 
 
-def test_length_to_breadth() -> None:
+def test_length_to_breadth_is_one_without_wind_grows_and_caps() -> None:
+    # the values themselves are checked against Behave in test_rothermel_behave.py
     assert length_to_breadth(0.0) == pytest.approx(1.0)
-    assert length_to_breadth(5 * MPH) == pytest.approx(
-        0.936 * math.exp(0.2566 * 5) + 0.461 * math.exp(-0.1548 * 5) - 0.397
-    )
+    u = np.linspace(0.0, 30.0, 61)
+    lb = length_to_breadth(u)
+    assert np.all(np.diff(lb) >= 0) and lb[-1] == pytest.approx(8.0)
 
 
 def run_raster(wind_mps: float, seconds: float, factor: float = 20.0) -> RasterFireModel:

@@ -3,7 +3,9 @@
 Values in the customary units of the sources: loads in tons/acre, surface-area-to-volume
 ratios in 1/ft, depth in ft, moisture of extinction as a fraction. The 10-h and 100-h
 classes have SAV 109 and 30 1/ft; heat content 8000 Btu/lb for every class; particle density
-32 lb/ft^3; total mineral content 0.0555; effective mineral content 0.010.
+32 lb/ft^3; total mineral content 0.0555; effective mineral content 0.010. Model 7's live woody
+SAV is 1500 1/ft as in Behave (Anderson 1982 prints 1550); with 1550 the head rate is 0.5-1.2 %
+below Behave's.
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ FUEL_MODELS: dict[int, FuelModel] = {
     4: _M(4, "chaparral (6 ft)", 5.01, 4.01, 2.0, 0.0, 5.01, 2000, 1500, 1500, 6.0, 0.20),
     5: _M(5, "brush (2 ft)", 1.0, 0.5, 0.0, 0.0, 2.0, 2000, 1500, 1500, 2.0, 0.20),
     6: _M(6, "dormant brush, hardwood slash", 1.5, 2.5, 2.0, 0.0, 0.0, 1750, 1500, 1500, 2.5, 0.25),
-    7: _M(7, "southern rough", 1.13, 1.87, 1.5, 0.0, 0.37, 1750, 1500, 1550, 2.5, 0.40),
+    7: _M(7, "southern rough", 1.13, 1.87, 1.5, 0.0, 0.37, 1750, 1500, 1500, 2.5, 0.40),  # Behave: 1500
     8: _M(8, "closed timber litter", 1.5, 1.0, 2.5, 0.0, 0.0, 2000, 1500, 1500, 0.2, 0.30),
     9: _M(9, "hardwood litter", 2.92, 0.41, 0.15, 0.0, 0.0, 2500, 1500, 1500, 0.2, 0.25),
     10: _M(10, "timber (litter and understory)", 3.01, 2.0, 5.01, 0.0, 2.0, 2000, 1500, 1500, 1.0, 0.25),

@@ -2,19 +2,47 @@
 
 Each cell of ``nx x ny`` squares of ``cell_size_m`` has a fuel model (scenario default plus
 rectangular patches; lake cells have no fuel), the dead fuel moisture of the scenario, and the
-terrain slope under its centre. Wind is piecewise constant in time. For every cell, Rothermel
-(1972) gives the head rate of spread and direction (wind and slope added as vectors); the
-spread rate toward each of 16 neighbours follows the ellipse of Anderson (1983) with the fire
-at its rear focus: ``R(theta) = R_head (1 - e) / (1 - e cos(theta - theta_head))``.
+terrain slope under its centre. Wind (midflame) is piecewise constant in time. For every cell,
+Rothermel (1972) gives the head rate of spread R_h and its direction (wind and slope added as
+vectors, :func:`~.rothermel.head_spread`), and Behave's length-to-width ratio L/W gives the
+spread ellipse with the ignition at its rear focus (Anderson 1983; Behave's
+``R(theta) = R_h (1 - e) / (1 - e cos theta)``).
 
-Propagation is by arrival time: a burning cell ignites neighbour k at
-``t_ign + d_k / R_k`` (minimum over all burning neighbours), computed with numpy over the
-bounding box of the burning cells; several hops per update are resolved by iterating.
-A cell burns from ``t_ign`` until ``t_ign + max(residence + crossing time, time to reach its
-still-unburned neighbours)``, then it is burnt out. A drop wets the cells within its radius:
-burning cells are extinguished (they spread no more) and unburned cells cannot ignite for
-``wet_duration_s``. Fire ids are the ignition indices; each cell carries the id of the
-ignition that reached it first. Time unit: seconds of sim time; lengths in metres.
+PM VI only says that "burning cells ignite their unburned neighboring cells" with Rothermel's
+rate and direction; a neighbour-to-neighbour scheme like that is exact only along neighbour
+directions (a 16-neighbour stencil made a grass fire 17-79 % too slow and locked its head to a
+grid axis). We keep the cell space and compute ARRIVAL TIMES of a front that moves with the
+elliptical wavelet in every direction (Huygens' principle, as FARSITE; the level-set form with
+the wavelet's normal speed is Richards 1990, used by WRF-SFIRE). The travel time of the
+wavelet of a cell over a displacement v [m] is the gauge of its ellipse
+
+    tau(v) = (a |v| - c (v . h)) / b^2                                            (1)
+
+with a = (R_h + R_b)/2, c = (R_h - R_b)/2, b^2 = R_h R_b, R_b = R_h (1 - e)/(1 + e) the backing
+rate and h the unit head direction: (1) is exact for a homogeneous ellipse (tau(R(theta) t u) =
+t). A cell's arrival time is the minimum over the segments [s1, s2] between two consecutive
+nodes of its 8- and 16-neighbour rings (24 segments, nodes already ignited, at least one of
+them burning) of
+
+    T(x) = min_{0 <= l <= 1}  (1 - l) T(s1) + l T(s2) + tau(x - s1 - l (s2 - s1))        (2)
+
+i.e. the front crossing the segment is interpolated linearly and the wavelet runs straight
+from the crossing point to x: a semi-Lagrangian (ordered-upwind, Sethian & Vladimirsky 2003)
+update whose minimiser has a closed form because (1) is a norm plus a linear term. With the
+segment end points (single-node Huygens updates) included, directions are no longer tied to
+the grid. tau is that of the TARGET cell (the fuel being burnt into), which also makes a
+non-burnable cell unreachable. Cells within 3 cells of an ignition point get the exact (1)
+from the point itself, so the first cell hops do not bias the fire.
+
+Propagation is batched every ``update_period_s``: the update runs over the narrow band of
+unburned cells within two cells of a burning one (numpy, gathered by flat index, memory O(band)),
+accepts every cell whose arrival time is <= t1 and iterates until nothing new ignites.
+A cell burns from ``t_ign`` until ``t_ign + max(residence + crossing time, tau to reach its
+still-unburned ring neighbours)``, then it is burnt out. A drop wets the cells within its
+radius: burning cells are extinguished (they spread no more) and unburned cells cannot ignite
+for ``wet_duration_s``. Fire ids are the ignition indices; each cell carries the id of the
+ignition that reached it first. Ignitions may start before t = 0: the model pre-burns from
+the earliest one to t = 0 at construction. Time unit: seconds of sim time; lengths in metres.
 """
 
 from __future__ import annotations
@@ -31,20 +59,27 @@ from .base import STATUS_ACTIVE, STATUS_EXTINGUISHED, FireTruthRecord
 from .fuel_models import fuel_model
 from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spread_params
 
-__all__ = ["CELL_BURNED", "CELL_BURNING", "CELL_UNBURNED", "NEIGHBOURS", "RasterFireModel"]
+__all__ = ["CELL_BURNED", "CELL_BURNING", "CELL_UNBURNED", "RING", "RasterFireModel"]
 
 # aliases of the one definition (fire_uav_common.constants.CellState)
 CELL_UNBURNED, CELL_BURNING, CELL_BURNED = CellState.UNBURNED, CellState.BURNING, CellState.BURNED
 
-#: 16-neighbourhood offsets (di rows = north, dj cols = east)
-NEIGHBOURS = (
-    (0, 1), (1, 0), (0, -1), (-1, 0),
-    (1, 1), (1, -1), (-1, 1), (-1, -1),
-    (1, 2), (2, 1), (2, -1), (1, -2), (-1, -2), (-2, -1), (-2, 1), (-1, 2),
-)  # fmt: skip
+
+def _ring(r: int) -> list[tuple[int, int]]:
+    """Offsets (di rows = north, dj cols = east) at Chebyshev distance r, ordered by angle."""
+    offs = [(di, dj) for di in range(-r, r + 1) for dj in range(-r, r + 1) if max(abs(di), abs(dj)) == r]
+    return sorted(offs, key=lambda o: math.atan2(o[0], o[1]))
+
+
+#: node offsets of the update (2): the 8- and the 16-neighbour ring, each ordered by angle
+RING = tuple(_ring(1) + _ring(2))
+#: segments (index pairs into RING) of consecutive nodes of each ring
+SEGMENTS = tuple((i, (i + 1) % 8) for i in range(8)) + tuple((8 + i, 8 + (i + 1) % 16) for i in range(16))
 PAD = 2
 MAX_BURN_S = 3600.0
 DEFAULT_DROP_RADIUS_M = 20.0
+SEED_RADIUS_CELLS = 3  # cells within this of an ignition point get the exact wavelet time (1)
+MAX_SWEEPS = 64  # acceptance passes per update (each pass ignites every cell due by t1)
 
 
 class RasterFireModel:
@@ -64,7 +99,9 @@ class RasterFireModel:
         self.nx, self.ny = spec.nx, spec.ny
         self.drop_radius_m = drop_radius_m if drop_radius_m is not None else DEFAULT_DROP_RADIUS_M
         self.update_period_s = update_period_s
+        self.wind_limit = getattr(spec, "wind_limit", "behave")
         shape = (self.ny + 2 * PAD, self.nx + 2 * PAD)
+        self._shape = shape
         self.xc = spec.origin.x_m + (np.arange(self.nx) + 0.5) * self.cs  # [m] cell centres east
         self.yc = spec.origin.y_m + (np.arange(self.ny) + 0.5) * self.cs  # [m] cell centres north
         xx, yy = np.meshgrid(self.xc, self.yc)
@@ -99,34 +136,58 @@ class RasterFireModel:
         self.label = np.full(shape, -1, dtype=np.int32)
         self.extinguished = np.zeros(shape, dtype=bool)
         self.wet_until = np.full(shape, -np.inf)
-        self._offsets = np.array(NEIGHBOURS)
-        self._dist = self.cs * np.hypot(self._offsets[:, 0], self._offsets[:, 1])
-        self._theta = np.arctan2(self._offsets[:, 0], self._offsets[:, 1])  # direction of each neighbour
-        self._travel = np.full((len(NEIGHBOURS), *shape), np.inf)  # [s] d_k / R_k per source cell
+        self._t_seed = np.full(shape, np.inf)  # exact wavelet times (1) near ignition points
+        self._seed_label = np.full(shape, -1, dtype=np.int32)
+        # update geometry: flat offsets of the ring nodes, vectors node -> target [m]
+        w = shape[1]
+        offs = np.array(RING)
+        self._ring_flat = offs[:, 0] * w + offs[:, 1]
+        self._vx = -offs[:, 1] * self.cs  # east
+        self._vy = -offs[:, 0] * self.cs  # north
+        self._vn = np.hypot(self._vx, self._vy)
+        seg = np.array(SEGMENTS)
+        self._s1, self._s2 = seg[:, 0], seg[:, 1]
+        dx = self._vx[self._s2] - self._vx[self._s1]
+        dy = self._vy[self._s2] - self._vy[self._s1]
+        self._dn = np.hypot(dx, dy)
+        self._dx, self._dy = dx, dy
+        self._p_par = (self._vx[self._s1] * dx + self._vy[self._s1] * dy) / self._dn  # v1 . d^
+        self._p_perp = np.abs(self._vx[self._s1] * dy - self._vy[self._s1] * dx) / self._dn  # |v1 x d^|
+        # per-cell wavelet (1): tau(v) = A |v| - Cx vx - Cy vy  [s/m]; A = inf where nothing burns
+        self._A = np.full(shape, np.inf)
+        self._Cx = np.zeros(shape)
+        self._Cy = np.zeros(shape)
         self._head = np.zeros(shape)  # [m/s] head rate of spread
+        self._head_dir = np.zeros(shape)  # [rad] head direction, ccw from +x
         self._res = np.zeros(shape)  # [s] residence + crossing time
         self._wind_index = -1
-        self.t_s = 0.0
-        self._t_updated = 0.0
+        starts = [ig.start_s for ig in spec.ignitions]
+        self.t_start_s = min([0.0, *starts])  # [s] the model's own clock starts here
+        self.t_s = self.t_start_s
+        self._t_updated = self.t_start_s
         self._drops = [0] * len(spec.ignitions)
         self._ignited = [False] * len(spec.ignitions)
         self._truth_cache: list[FireTruthRecord] | None = None
-        self._set_wind(0.0)
+        self._pending_events: list[tuple[int, str]] = []
+        self._set_wind(self.t_start_s)
+        if self.t_start_s < 0.0:
+            self._preburn()
 
     # --- spread rates ------------------------------------------------------------------------
-    def wind_at(self, t_s: float) -> tuple[float, float]:
-        """(speed [m/s], direction the wind blows toward [rad ccw from +x]) at t_s."""
-        w = self.spec.wind[0]
-        for seg in self.spec.wind:
-            if seg.start_s <= t_s + 1e-9:
-                w = seg
-        return w.speed_mps, math.radians(w.direction_deg)
-
-    def _set_wind(self, t_s: float) -> bool:
+    def _segment_index(self, t_s: float) -> int:
         idx = 0
         for i, seg in enumerate(self.spec.wind):
             if seg.start_s <= t_s + 1e-9:
                 idx = i
+        return idx
+
+    def wind_at(self, t_s: float) -> tuple[float, float]:
+        """(midflame speed [m/s], direction the wind blows toward [rad ccw from +x]) at t_s."""
+        w = self.spec.wind[self._segment_index(t_s)]
+        return w.speed_mps, math.radians(w.direction_deg)
+
+    def _set_wind(self, t_s: float) -> bool:
+        idx = self._segment_index(t_s)
         if idx == self._wind_index:
             return False
         self._wind_index = idx
@@ -138,19 +199,32 @@ class RasterFireModel:
         res = np.zeros((self.ny, self.nx))
         for m, p in self._params.items():
             mask = self.fuel == m
-            r, d, u = head_spread(p, speed, direction, self.slope_tan[mask], self.upslope_dir[mask])
+            r, d, u = head_spread(
+                p, speed, direction, self.slope_tan[mask], self.upslope_dir[mask], wind_limit=self.wind_limit
+            )
             head[mask] = np.asarray(r) * self.spec.spread_factor
             hdir[mask] = d
             ueff[mask] = u
             res[mask] = p.residence_time_s
-        ecc = ellipse_eccentricity(length_to_breadth(ueff))
+        ecc = np.asarray(ellipse_eccentricity(length_to_breadth(ueff)))
+        ok = head > 0
+        rh = np.where(ok, head, 1.0)
+        rb = rh * (1.0 - ecc) / (1.0 + ecc)  # backing rate
+        a = 0.5 * (rh + rb)
+        c = 0.5 * (rh - rb)
+        b2 = rh * rb
+        self._A[inner] = np.where(ok, a / b2, np.inf)
+        self._Cx[inner] = np.where(ok, c / b2 * np.cos(hdir), 0.0)
+        self._Cy[inner] = np.where(ok, c / b2 * np.sin(hdir), 0.0)
         self._head[inner] = head
-        self._res[inner] = res + np.where(head > 0, self.cs / np.maximum(head, 1e-9), 0.0)
-        for k in range(len(NEIGHBOURS)):
-            rk = head * (1.0 - ecc) / (1.0 - ecc * np.cos(self._theta[k] - hdir))
-            with np.errstate(divide="ignore"):
-                self._travel[k][inner] = np.where(rk > 1e-9, self._dist[k] / np.maximum(rk, 1e-12), np.inf)
+        self._head_dir[inner] = hdir
+        self._res[inner] = res + np.where(ok, self.cs / rh, 0.0)
         return True
+
+    def _tau(self, idx: np.ndarray, vx: np.ndarray, vy: np.ndarray) -> np.ndarray:
+        """Travel time (1) [s] of the wavelet of flat cells ``idx`` over (vx, vy) [m] (broadcast)."""
+        a = self._A.ravel()[idx]
+        return a * np.hypot(vx, vy) - self._Cx.ravel()[idx] * vx - self._Cy.ravel()[idx] * vy
 
     # --- state -------------------------------------------------------------------------------
     def _burning(self, t_s: float) -> np.ndarray:
@@ -160,13 +234,15 @@ class RasterFireModel:
         """Ignite padded cells ``idx`` at times ``t`` with fire ids ``labels``; set their burn-out time."""
         self.t_ign[idx] = t
         self.label[idx] = labels
-        ii, jj = idx
-        longest = self._res[idx].copy()
-        for k, (di, dj) in enumerate(NEIGHBOURS):
-            ni, nj = ii + di, jj + dj
-            pending = self.burnable[ni, nj] & (self.t_ign[ni, nj] > t) & ~self.extinguished[ni, nj]
-            tk = self._travel[k][idx]
-            longest = np.where(pending & np.isfinite(tk), np.maximum(longest, tk), longest)
+        self._t_seed[idx] = np.inf
+        flat = np.ravel_multi_index(idx, self._shape)
+        nb = flat[:, None] - self._ring_flat[None, :]  # the cells this one is a node for
+        pending = (
+            self.burnable.ravel()[nb] & (self.t_ign.ravel()[nb] > t[:, None]) & ~self.extinguished.ravel()[nb]
+        )
+        tau = self._tau(nb, self._vx[None, :], self._vy[None, :])
+        longest = np.max(np.where(pending, tau, 0.0), axis=1, initial=0.0)
+        longest = np.maximum(longest, self._res[idx])
         self.t_out[idx] = t + np.minimum(longest, MAX_BURN_S)
         self._truth_cache = None
 
@@ -192,44 +268,113 @@ class RasterFireModel:
                 np.array([ig.start_s]),
                 np.array([n], dtype=np.int32),
             )
+            self._seed(n, cell)
         return new
 
+    def _seed(self, n: int, cell: tuple[int, int]) -> None:
+        """Exact wavelet times (1) from ignition point ``n`` to the cells around ``cell``."""
+        ig = self.spec.ignitions[n]
+        k = SEED_RADIUS_CELLS
+        i0, i1 = max(cell[0] - k, PAD), min(cell[0] + k + 1, self.ny + PAD)
+        j0, j1 = max(cell[1] - k, PAD), min(cell[1] + k + 1, self.nx + PAD)
+        ii, jj = np.meshgrid(np.arange(i0, i1), np.arange(j0, j1), indexing="ij")
+        ii, jj = ii.ravel(), jj.ravel()
+        vx = self.xc[jj - PAD] - ig.x_m
+        vy = self.yc[ii - PAD] - ig.y_m
+        keep = np.hypot(vx, vy) <= k * self.cs
+        ii, jj, vx, vy = ii[keep], jj[keep], vx[keep], vy[keep]
+        flat = np.ravel_multi_index((ii, jj), self._shape)
+        t = ig.start_s + self._tau(flat, vx, vy)
+        sel = self.burnable[ii, jj] & ~np.isfinite(self.t_ign[ii, jj]) & (t < self._t_seed[ii, jj])
+        self._t_seed[ii[sel], jj[sel]] = t[sel]
+        self._seed_label[ii[sel], jj[sel]] = n
+
     def _propagate(self, t0: float, t1: float) -> None:
-        """Ignite every cell whose arrival time is <= t1 (iterating for multi-hop spread)."""
-        for _ in range(64):
-            src = (self.t_ign <= t1) & (self.t_out > t0) & ~self.extinguished
-            rows = np.flatnonzero(src.any(axis=1))
-            if rows.size == 0:
+        """Ignite every cell whose arrival time (2) is <= t1 (repeated passes for multi-hop spread)."""
+        t_ign = self.t_ign.ravel()
+        ext = self.extinguished.ravel()
+        burnable = self.burnable.ravel()
+        for _ in range(MAX_SWEEPS):
+            src = ((t_ign <= t1) & (self.t_out.ravel() > t0) & ~ext).ravel()
+            sidx = np.flatnonzero(src)
+            seeded = np.flatnonzero(np.isfinite(self._t_seed.ravel()))
+            if sidx.size == 0 and seeded.size == 0:
                 return
-            cols = np.flatnonzero(src.any(axis=0))
-            r0, r1 = max(rows[0] - PAD, PAD), min(rows[-1] + PAD + 1, self.ny + PAD)
-            c0, c1 = max(cols[0] - PAD, PAD), min(cols[-1] + PAD + 1, self.nx + PAD)
-            t_src = np.where(src, self.t_ign, np.inf)
-            best = np.full((r1 - r0, c1 - c0), np.inf)
-            best_lab = np.full((r1 - r0, c1 - c0), -1, dtype=np.int32)
-            for k, (di, dj) in enumerate(NEIGHBOURS):
-                ss = (slice(r0 - di, r1 - di), slice(c0 - dj, c1 - dj))
-                cand = t_src[ss] + self._travel[k][ss]
-                better = cand < best
-                best = np.where(better, cand, best)
-                best_lab = np.where(better, self.label[ss], best_lab)
-            box = (slice(r0, r1), slice(c0, c1))
-            t_arr = np.maximum(best, self.wet_until[box])
-            new = self.burnable[box] & ~np.isfinite(self.t_ign[box]) & ~self.extinguished[box] & (t_arr <= t1)
+            band = np.zeros(src.size, dtype=bool)
+            band[(sidx[:, None] + self._ring_flat[None, :]).ravel()] = True
+            band[seeded] = True
+            tgt = np.flatnonzero(band & burnable & ~np.isfinite(t_ign) & ~ext)
+            if tgt.size == 0:
+                return
+            best, lab = self._arrival(tgt, src, t1)
+            t_arr = np.maximum(best, self.wet_until.ravel()[tgt])
+            new = t_arr <= t1
             if not new.any():
                 return
-            ii, jj = np.nonzero(new)
-            self._ignite((ii + r0, jj + c0), np.maximum(t_arr[new], t0), best_lab[new])
+            idx = np.unravel_index(tgt[new], self._shape)
+            self._ignite(idx, t_arr[new], lab[new])
+
+    def _arrival(self, tgt: np.ndarray, src: np.ndarray, t1: float) -> tuple[np.ndarray, np.ndarray]:
+        """Arrival time (2) [s] and fire id of the flat target cells ``tgt``."""
+        nodes = tgt[:, None] + self._ring_flat[None, :]  # (n, 24)
+        t_node = self.t_ign.ravel()[nodes]
+        valid = (t_node <= t1) & ~self.extinguished.ravel()[nodes]
+        t_node = np.where(valid, t_node, np.inf)
+        burning = src[nodes]
+        a = self._A.ravel()[tgt][:, None]
+        cx = self._Cx.ravel()[tgt][:, None]
+        cy = self._Cy.ravel()[tgt][:, None]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            # single-node Huygens updates (segment end points)
+            single = t_node + a * self._vn - cx * self._vx - cy * self._vy
+            single = np.where(burning, single, np.inf)
+            # segments: f(l) = T1 + l (T2 - T1) + A |v1 + l d| - C . (v1 + l d)
+            s1, s2 = self._s1, self._s2
+            t1n, t2n = t_node[:, s1], t_node[:, s2]
+            ok = np.isfinite(t1n) & np.isfinite(t2n) & (burning[:, s1] | burning[:, s2]) & np.isfinite(a)
+            k = (t2n - t1n) - (cx * self._dx + cy * self._dy)
+            g = np.clip(-k / (a * self._dn), -0.999999, 0.999999)  # cos(angle(v, d)) at the minimum
+            lam = (g * self._p_perp / np.sqrt(1.0 - g * g) - self._p_par) / self._dn
+            lam = np.clip(np.where(ok, lam, 0.0), 0.0, 1.0)
+            vx = self._vx[s1] + lam * self._dx
+            vy = self._vy[s1] + lam * self._dy
+            seg = t1n + lam * (t2n - t1n) + a * np.hypot(vx, vy) - cx * vx - cy * vy
+            seg = np.where(ok, seg, np.inf)
+        cand = np.concatenate([single, seg], axis=1)
+        j = np.argmin(cand, axis=1)
+        best = cand[np.arange(tgt.size), j]
+        node = np.where(j < len(RING), j, self._s1[np.clip(j - len(RING), 0, len(SEGMENTS) - 1)])
+        lab = self.label.ravel()[nodes[np.arange(tgt.size), node]]
+        # exact times from the ignition points
+        seed = self._t_seed.ravel()[tgt]
+        use_seed = seed < best
+        best = np.where(use_seed, seed, best)
+        lab = np.where(use_seed, self._seed_label.ravel()[tgt], lab)
+        return best, lab
+
+    def _preburn(self) -> None:
+        """Burn from the earliest ignition (start_s < 0) to t = 0; their ignitions are reported
+        by the first step."""
+        t = self.t_start_s
+        while t < -1e-9:
+            dt = min(self.update_period_s, -t)
+            self._pending_events += self._advance(t + dt)
+            t += dt
+        self.t_s = 0.0
+        self._t_updated = 0.0
 
     # --- FireModel interface ---------------------------------------------------------------
     def step(self, t_s: float, dt_s: float) -> list[tuple[int, str]]:
-        t1 = t_s + dt_s
+        events, self._pending_events = self._pending_events, []
+        return [*events, *self._advance(t_s + dt_s)]
+
+    def _advance(self, t1: float) -> list[tuple[int, str]]:
         self.t_s = t1
         events = [(n, "ignition") for n in self._start_ignitions(t1)]
         if t1 - self._t_updated >= self.update_period_s - 1e-9 or events:
-            was_active = self._active_ids()
+            was_active = self._active_ids(self._t_updated)  # burning at the previous update
             if self._set_wind(t1):
-                # burning cells re-derive their pending spread under the new wind
+                # burning cells re-derive their burn-out time under the new wind
                 burning = np.nonzero(self._burning(t1))
                 if burning[0].size:
                     self._ignite(burning, self.t_ign[burning], self.label[burning])
@@ -240,8 +385,8 @@ class RasterFireModel:
             events += [(n, "extinguished") for n in sorted(was_active - now_active) if self._ignited[n]]
         return events
 
-    def _active_ids(self) -> set[int]:
-        b = self._burning(self.t_s)
+    def _active_ids(self, t_s: float | None = None) -> set[int]:
+        b = self._burning(self.t_s if t_s is None else t_s)
         return set(np.unique(self.label[b]).tolist()) - {-1}
 
     def apply_drop(self, x_m: float, y_m: float, radius_m: float | None = None) -> list[int]:
