@@ -6,11 +6,11 @@ import math
 
 import numpy as np
 import pytest
+from fire_uav_common.constants import CellState
 from fire_uav_common.scenario import AnalyticFire, Ignition, Raster, Wind
 from fire_uav_common.terrain import Terrain
 from fire_world_sim.fires import AnalyticFireModel, RasterFireModel
 from fire_world_sim.fires.fuel_models import fuel_model
-from fire_world_sim.fires.raster import CELL_BURNING, CELL_UNBURNED
 from fire_world_sim.fires.rothermel import length_to_breadth, rate_of_spread, spread_params
 
 CHAINS_PER_HOUR = 20.1168 / 3600.0  # [m/s]
@@ -67,7 +67,7 @@ def run_raster(wind_mps: float, seconds: float, factor: float = 20.0) -> RasterF
 
 
 def extents(m: RasterFireModel) -> tuple[int, int, int, int]:
-    ys, xs = np.nonzero(m.state_grid() != CELL_UNBURNED)
+    ys, xs = np.nonzero(m.state_grid() != CellState.UNBURNED)
     c = 40
     return xs.max() - c, c - xs.min(), ys.max() - c, c - ys.min()
 
@@ -77,11 +77,11 @@ def test_flat_no_wind_grows_as_a_circle() -> None:
     east, west, north, south = extents(m)
     assert min(east, west, north, south) >= 6
     assert max(east, west, north, south) - min(east, west, north, south) <= 1
-    g = m.state_grid() != CELL_UNBURNED
+    g = m.state_grid() != CellState.UNBURNED
     area = g.sum()
     r = (east + west + north + south) / 4 + 0.5
     assert area == pytest.approx(math.pi * r * r, rel=0.15)
-    assert (m.state_grid() == CELL_BURNING).any()
+    assert (m.state_grid() == CellState.BURNING).any()
 
 
 def test_wind_elongates_downwind() -> None:
@@ -97,7 +97,7 @@ def test_raster_drop_extinguishes_and_wets() -> None:
     assert not m.all_out
     hit = m.apply_drop(202.5, 202.5, 200.0)
     assert hit == [0]
-    assert not (m.state_grid() == CELL_BURNING).any() and m.all_out
+    assert not (m.state_grid() == CellState.BURNING).any() and m.all_out
     assert m.truth()[0].drops_received == 1 and m.truth()[0].status == 1
 
 

@@ -13,11 +13,11 @@ import math
 
 import numpy as np
 import pytest
+from fire_uav_common.constants import CellState
 from fire_uav_common.scenario import FuelPatch, Ignition, Raster, Wind
 from fire_uav_common.terrain import Lake, Terrain
 from fire_world_sim.fires import RasterFireModel
 from fire_world_sim.fires.fuel_models import fuel_model
-from fire_world_sim.fires.raster import CELL_BURNED, CELL_BURNING, CELL_UNBURNED
 from fire_world_sim.fires.rothermel import head_spread, spread_params
 
 FT_MIN = 0.3048 / 60.0  # [m/s]
@@ -38,7 +38,7 @@ def run(m: RasterFireModel, t0: float, t1: float, dt: float = 0.5) -> RasterFire
 
 
 def burnt_xy(m: RasterFireModel) -> tuple[np.ndarray, np.ndarray]:
-    ys, xs = np.nonzero(m.state_grid() != CELL_UNBURNED)
+    ys, xs = np.nonzero(m.state_grid() != CellState.UNBURNED)
     return m.xc[xs], m.yc[ys]
 
 
@@ -76,7 +76,7 @@ def test_no_wind_burnt_area_is_the_circle() -> None:
     )
     m = run(RasterFireModel(spec, Terrain()), 0.0, seconds)
     r = spread_params(fuel_model(1), 0.06).r0_mps * factor * seconds  # ~19 cells
-    area = (m.state_grid() != CELL_UNBURNED).sum() * CS * CS
+    area = (m.state_grid() != CellState.UNBURNED).sum() * CS * CS
     assert area == pytest.approx(math.pi * r * r, rel=0.03)
 
 
@@ -163,8 +163,8 @@ def test_fire_goes_around_a_lake_not_through_it() -> None:
     xx, yy = np.meshgrid(m.xc, m.yc)
     water = (xx - lake.x_m) ** 2 + (yy - lake.y_m) ** 2 <= lake.diameter_m**2 / 4
     g = m.state_grid()
-    assert (g[water] == CELL_UNBURNED).all()
-    assert (g[~water & (xx > 360.0)] != CELL_UNBURNED).any()  # the head passed it
+    assert (g[water] == CellState.UNBURNED).all()
+    assert (g[~water & (xx > 360.0)] != CellState.UNBURNED).any()  # the head passed it
 
 
 def test_fire_burning_before_t0_is_handed_over_grown() -> None:
@@ -197,7 +197,7 @@ def test_burns_out_and_reports_extinguished() -> None:
         t += 0.5
     assert m.all_out and events[0] == (0, "ignition") and events[-1] == (0, "extinguished")
     g = m.state_grid()
-    assert (g == CELL_BURNED).all() and not (g == CELL_BURNING).any()
+    assert (g == CellState.BURNED).all() and not (g == CellState.BURNING).any()
 
 
 def test_drop_on_the_head_stops_it_there() -> None:
@@ -208,8 +208,8 @@ def test_drop_on_the_head_stops_it_there() -> None:
     x, y = burnt_xy(m)
     head_x = x.max()
     # drench the whole front (burning cells) and a band ahead of it
-    while (m.state_grid() == CELL_BURNING).any():
-        ys, xs = np.nonzero(m.state_grid() == CELL_BURNING)
+    while (m.state_grid() == CellState.BURNING).any():
+        ys, xs = np.nonzero(m.state_grid() == CellState.BURNING)
         m.apply_drop(float(m.xc[xs[0]]), float(m.yc[ys[0]]), 30.0)
     assert m.all_out
     run(m, 100.0, 300.0)

@@ -1,12 +1,10 @@
 """Fire models behind one interface (:class:`FireModel`): analytic Gaussian (FF) and raster (PM VI)."""
 
 from .analytic import AnalyticFireModel
-from .base import STATUS_ACTIVE, STATUS_EXTINGUISHED, FireModel, FireTruthRecord
+from .base import FireModel, FireTruthRecord
 from .raster import RasterFireModel
 
 __all__ = [
-    "STATUS_ACTIVE",
-    "STATUS_EXTINGUISHED",
     "AnalyticFireModel",
     "FireModel",
     "FireTruthRecord",

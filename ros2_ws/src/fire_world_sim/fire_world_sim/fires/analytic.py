@@ -12,10 +12,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from fire_uav_common.constants import FireStatus
 from fire_uav_common.scenario import AnalyticFire
 
 from ..sensors import CellsSample
-from .base import STATUS_ACTIVE, STATUS_EXTINGUISHED, FireTruthRecord
+from .base import FireTruthRecord
 
 __all__ = ["AnalyticFireModel"]
 
@@ -82,7 +83,7 @@ class AnalyticFireModel:
         return [
             FireTruthRecord(
                 fire_id=i,
-                status=STATUS_EXTINGUISHED if f.out else STATUS_ACTIVE,
+                status=FireStatus.EXTINGUISHED if f.out else FireStatus.ACTIVE,
                 x_m=f.x_m,
                 y_m=f.y_m,
                 extent_m=0.0 if f.out else f.sigma_m,

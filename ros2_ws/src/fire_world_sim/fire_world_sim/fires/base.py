@@ -5,14 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Protocol
 
-from fire_uav_common.constants import FireStatus
-
 from ..sensors import CellsSample
 
-__all__ = ["STATUS_ACTIVE", "STATUS_EXTINGUISHED", "FireModel", "FireTruthRecord"]
-
-# aliases of the one definition (fire_uav_common.constants.FireStatus)
-STATUS_ACTIVE, STATUS_EXTINGUISHED = FireStatus.ACTIVE, FireStatus.EXTINGUISHED
+__all__ = ["FireModel", "FireTruthRecord"]
 
 
 @dataclass(frozen=True)

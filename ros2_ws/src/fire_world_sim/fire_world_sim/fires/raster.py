@@ -50,19 +50,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from fire_uav_common.constants import CellState
+from fire_uav_common.constants import CellState, FireStatus
 from fire_uav_common.scenario import Raster
 from fire_uav_common.terrain import Terrain
 
 from ..sensors import CellsSample
-from .base import STATUS_ACTIVE, STATUS_EXTINGUISHED, FireTruthRecord
+from .base import FireTruthRecord
 from .fuel_models import fuel_model
 from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spread_params
 
-__all__ = ["CELL_BURNED", "CELL_BURNING", "CELL_UNBURNED", "RING", "RasterFireModel"]
-
-# aliases of the one definition (fire_uav_common.constants.CellState)
-CELL_UNBURNED, CELL_BURNING, CELL_BURNED = CellState.UNBURNED, CellState.BURNING, CellState.BURNED
+__all__ = ["RING", "RasterFireModel"]
 
 
 def _ring(r: int) -> list[tuple[int, int]]:
@@ -427,9 +424,9 @@ class RasterFireModel:
         t = self.t_s
         ign = self.t_ign[inner] <= t
         burning = self._burning(t)[inner]
-        out = np.full((self.ny, self.nx), CELL_UNBURNED, dtype=np.uint8)
-        out[ign] = CELL_BURNED
-        out[burning] = CELL_BURNING
+        out = np.full((self.ny, self.nx), CellState.UNBURNED, dtype=np.uint8)
+        out[ign] = CellState.BURNED
+        out[burning] = CellState.BURNING
         return out
 
     def wet_grid(self) -> np.ndarray:
@@ -458,7 +455,7 @@ class RasterFireModel:
             out.append(
                 FireTruthRecord(
                     fire_id=i,
-                    status=STATUS_ACTIVE if (on or not started) else STATUS_EXTINGUISHED,
+                    status=FireStatus.ACTIVE if (on or not started) else FireStatus.EXTINGUISHED,
                     x_m=float(cx),
                     y_m=float(cy),
                     extent_m=math.sqrt(area / math.pi),
@@ -489,9 +486,9 @@ class RasterFireModel:
         box, xs, ys = win
         inside = (xs - x_m) ** 2 + (ys - y_m) ** 2 <= range_m**2
         t = self.t_s
-        state = np.full(xs.shape, CELL_UNBURNED, dtype=np.uint8)
-        state[self.t_ign[box] <= t] = CELL_BURNED
-        state[self._burning(t)[box]] = CELL_BURNING
+        state = np.full(xs.shape, CellState.UNBURNED, dtype=np.uint8)
+        state[self.t_ign[box] <= t] = CellState.BURNED
+        state[self._burning(t)[box]] = CellState.BURNING
         return CellsSample(
             stamp_ns,
             self.cs,
