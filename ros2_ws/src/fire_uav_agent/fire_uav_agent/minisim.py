@@ -1,4 +1,7 @@
-"""A small in-process world for fast agent tests and benchmarks (no ROS, no DDS).
+"""Deprecated: a small stand-in world, kept only for ``scripts/bench_agent.py`` and one slow test.
+
+Use :mod:`fire_uav_agent.testing.harness` (the real ``fire_world_sim`` World and the real Agents
+in lockstep) for fleet tests; this module will go once the benchmark moves to the harness.
 
 Not the project's world (fire_world_sim): a perfect-lockstep stand-in with the same contract
 (docs/protocol.md): FF Eq. 4 at ``physics_period_s`` with input noise, multi-rate sensors with

@@ -1,12 +1,8 @@
-"""Mission life-cycle (FF IV-D) and the whole pure agent in a small in-process world."""
+"""Mission life-cycle (FF IV-D). The whole fleet in the real world: test_harness.py."""
 
-import numpy as np
-from fire_uav_agent.agent_core import AgentConfig, EventType
-from fire_uav_agent.minisim import MiniWorld, SimFire
 from fire_uav_agent.mission import Mission, MissionConfig, MissionView, Objective
 from fire_uav_agent.peer_link import FireEntry
 from fire_uav_common.constants import VehicleStatus
-from fire_uav_common.terrain import Lake
 
 FIRE = FireEntry(1, True, 200.0, 100.0, 10.0)
 
@@ -75,45 +71,3 @@ def test_deadlock_breaker_switches_to_attack_run():
         m.step(view(0.1 * k, pos_xy=(100.0, 100.0), centroid_xy=(150.0, 100.0))).direct for k in range(1, 300)
     ]
     assert not any(directs[:190]) and all(directs[205:])
-
-
-def _fleet(n, loss=0.0):
-    return [
-        AgentConfig(
-            uav_id=i,
-            uav_count=n,
-            area_m=(0, 400, 0, 400),
-            lakes=(Lake(50, 50, 90),),
-            start_pose=(50.0, 150.0 + 30 * i, 0.0, -1.5708),
-            takeoff_interval_s=1.0,
-            loss_probability=loss,
-        )
-        for i in range(n)
-    ]
-
-
-def test_pure_fleet_completes_tiny_mission():
-    w = MiniWorld(_fleet(2, loss=0.05), [SimFire(200.0, 100.0, 6.0)], seed=0)
-    w.run(90.0)
-    assert w.fires[0].out
-    assert [v.status for v in w.vehicles] == [int(VehicleStatus.LANDED)] * 2
-    assert all(o.state.objective == Objective.LANDED for o in w.outputs)
-    e = np.array(w.errors)
-    assert np.median(np.hypot(e[:, 0], e[:, 1])) < 2.0
-
-
-def test_fleet_declares_killed_agent_crashed_after_10_steps():
-    w = MiniWorld(_fleet(3), [SimFire(300.0, 300.0, 20.0)], seed=1)
-    w.run(5.0)
-    w.vehicles[2].alive = False  # its process dies at step 50; last message is of step 49
-    k_dead = w.step_k
-    crash_steps = {}
-    for _ in range(30):
-        w.step()
-        for i in (0, 1):
-            for ev in w.outputs[i].events:
-                if ev.type == EventType.PEER_CRASHED:
-                    crash_steps[i] = w.outputs[i].step
-    # step k_dead still holds its step-(k_dead-1) state; k_dead+1 is the first miss, k_dead+10 the 10th
-    assert crash_steps == {0: k_dead + 10, 1: k_dead + 10}
-    assert 2 not in w.outputs[0].state.alive_peers and w.outputs[0].state.crashed_peers == (2,)
