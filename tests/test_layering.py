@@ -51,3 +51,42 @@ def test_algorithm_modules_do_not_import_ros():
 
 def test_there_are_algorithm_modules_to_check():
     assert len(_algorithm_modules()) >= 4
+
+
+def _imports(path: Path) -> list[tuple[int, str]]:
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name) for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            out.append((node.lineno, node.module))
+    return out
+
+
+def test_agent_package_uses_the_world_only_in_its_test_support():
+    """The agent knows the world through its sensors: only ``fire_uav_agent/testing/`` (the
+    in-process harness) may import fire_world_sim."""
+    pkg = ROOT / "ros2_ws/src/fire_uav_agent/fire_uav_agent"
+    offenders = [
+        f"{path.relative_to(ROOT)}:{line} imports {name}"
+        for path in pkg.rglob("*.py")
+        if "testing" not in path.relative_to(pkg).parts
+        for line, name in _imports(path)
+        if name.split(".")[0] == "fire_world_sim"
+    ]
+    assert not offenders, "fire_world_sim imported outside testing/:\n" + "\n".join(offenders)
+    harness = pkg / "testing" / "harness.py"
+    assert any(n.split(".")[0] == "fire_world_sim" for _, n in _imports(harness))  # the check sees imports
+
+
+def test_new_agent_modules_are_checked():
+    paths = {p.relative_to(ROOT / "ros2_ws/src").as_posix() for p in _algorithm_modules()}
+    for name in (
+        "agent_core",
+        "agent_config",
+        "agent_types",
+        "planning",
+        "staleness_search",
+        "testing/harness",
+    ):
+        assert f"fire_uav_agent/fire_uav_agent/{name}.py" in paths

@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from enum import IntEnum
 
 import numpy as np
+from fire_uav_common.constants import CellState, PerimeterDirection
 
 __all__ = [
     "CellGrid",
@@ -37,34 +37,25 @@ __all__ = [
     "FireMap",
     "angle_bin",
     "as_cell_arrays",
+    "direction_sign",
+    "reversed_direction",
     "perimeter_mask",
 ]
 
 
-class CellState(IntEnum):
-    """Raster cell state, as fire_uav_msgs/FireCells.CELL_*."""
-
-    UNBURNED = 0
-    BURNING = 1
-    BURNED = 2
+#: Travel direction around the fire (``PerimeterMap.DIRECTION_*``). CCW: the bin index (angle
+#: about the centre) increases, the fire is on the UAV's left.
+Direction = PerimeterDirection
 
 
-class Direction(IntEnum):
-    """Travel direction around the fire, as fire_uav_msgs/PerimeterMap.DIRECTION_*.
+def direction_sign(direction: PerimeterDirection) -> int:
+    """+1 for CCW (angle increases), -1 for CW."""
+    return 1 if direction == PerimeterDirection.CCW else -1
 
-    CCW: the bin index (angle about the centre) increases, the fire is on the UAV's left.
-    """
 
-    CCW = 0
-    CW = 1
-
-    @property
-    def sign(self) -> int:
-        """+1 for CCW (angle increases), -1 for CW."""
-        return 1 if self is Direction.CCW else -1
-
-    def reversed(self) -> Direction:
-        return Direction.CW if self is Direction.CCW else Direction.CCW
+def reversed_direction(direction: PerimeterDirection) -> PerimeterDirection:
+    """The opposite direction of travel."""
+    return PerimeterDirection.CW if direction == PerimeterDirection.CCW else PerimeterDirection.CCW
 
 
 def as_cell_arrays(observed_cells) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -27,7 +27,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .boundary import lookup_from_cells, nearest_boundary_cell, next_boundary_cell
-from .fire_map import CellGrid, Direction, FireMap, as_cell_arrays, circular_fill, perimeter_mask
+from .fire_map import (
+    CellGrid,
+    Direction,
+    FireMap,
+    as_cell_arrays,
+    circular_fill,
+    direction_sign,
+    perimeter_mask,
+    reversed_direction,
+)
 from .importance import WindowImportance, should_turn, window_importance
 from .shape import construct_perimeter, perimeter_cells_hull, resample_closed
 
@@ -349,7 +358,7 @@ class PerimeterMonitor:
         for p in live:
             rel = (p.angle_rad - mine + math.pi) % (2 * math.pi) - math.pi
             if abs(rel) < eps:  # same place: the lower id sees the peer just behind it
-                ahead = self.direction.sign * eps
+                ahead = direction_sign(self.direction) * eps
                 rel = -ahead if self.config.uav_id < p.peer_id else ahead
             owned &= d_me < adist(ang, mine + rel)
         return owned.astype(float)
@@ -395,7 +404,7 @@ class ImportanceMonitor(PerimeterMonitor):
         if self.direction_changes > 0 and self.run_cells < min_run:
             return  # hysteresis: finish the sweep first
         if should_turn(w.imp_back, (1.0 + c.turn_margin) * w.imp_front, turn_on_tie=c.turn_on_tie):
-            self.direction = self.direction.reversed()
+            self.direction = reversed_direction(self.direction)
             self.direction_changes += 1
             self.run_cells = 0
             self.prev_cell = None  # going back the way we came is now intended

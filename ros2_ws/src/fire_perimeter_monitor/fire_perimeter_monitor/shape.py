@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .fire_map import Direction, FireMap
+from .fire_map import Direction, FireMap, direction_sign
 
 __all__ = [
     "ConstructedPerimeter",
@@ -59,7 +59,7 @@ def construct_perimeter(
     if fresh_s is None:
         fresh_s = fmap.revisit_gap_s
     nb = fmap.bin_count
-    sign = direction.sign
+    sign = direction_sign(direction)
     bu = int(fmap.bin_of(uav_x_m, uav_y_m))
     uav = np.array([[uav_x_m, uav_y_m]], dtype=float)
     steps = np.arange(1, nb)

@@ -19,8 +19,6 @@ from rclpy.node import Node
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
-VIZ_PERIMETER = "/viz/perimeter"
-
 
 def perimeter_points(msg: PerimeterMap) -> list[tuple[float, float, float]]:
     """(x_m, y_m, importance) of every bin with a known outer distance, in angle order."""
@@ -38,8 +36,10 @@ def perimeter_points(msg: PerimeterMap) -> list[tuple[float, float, float]]:
 class PerimeterViewer(Node):
     def __init__(self) -> None:
         super().__init__("perimeter_viewer")
-        self.pub = self.create_publisher(MarkerArray, VIZ_PERIMETER, topics.qos("viz"))
-        self.create_subscription(PerimeterMap, topics.FLEET_PERIMETER, self.on_map, topics.qos("fleet"))
+        if not self.has_parameter("use_sim_time"):
+            self.declare_parameter("use_sim_time", True)
+        self.pub = topics.publisher(self, topics.VIZ_PERIMETER_SPEC)
+        topics.subscription(self, topics.FLEET_PERIMETER_SPEC, self.on_map)
 
     def on_map(self, msg: PerimeterMap) -> None:
         pts = perimeter_points(msg)

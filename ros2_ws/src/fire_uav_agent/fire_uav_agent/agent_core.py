@@ -1,19 +1,29 @@
-"""One UAV's brain without ROS: EKF + peer link + consensus + life-cycle + Lloyd control.
+"""One UAV's brain without ROS: the agent as six stages, one control step at a time.
 
-:class:`Agent.step` runs one control step exactly as docs/protocol.md "Agent, on SensorBundle
-k" item 3 orders it: EKF predict with the command sent for step k-1 and update with the
-bundle's samples; peer bookkeeping of the step-(k-1) peer messages; fire consensus; mission
-life-cycle; coverage control. It returns everything the node publishes (:class:`StepOutput`).
+:meth:`Agent.step` runs control step k exactly as docs/protocol.md "Agent, on SensorBundle k"
+item 3 orders it, as six named stages:
+
+1. :meth:`Agent._estimate` -- EKF predict with the command sent for step k-1 and update with the
+   bundle's samples (FF III-B, Eqs. 16-25);
+2. :meth:`Agent._link` -- peer bookkeeping of the step-(k-1) peer messages (FF IV-B, IV-C);
+3. :meth:`Agent._fuse` -- fire consensus with the peers' pictures and own detections (FF III-C);
+4. :meth:`Agent._decide` -- partition (FF Eqs. 6-7), target fire (Eq. 8), monitor role (PM) and
+   the mission life-cycle (FF IV-D);
+5. :meth:`Agent._guide` -- the target of the objective and the control law (FF Eqs. 8-15);
+6. :meth:`Agent._publish` -- what the node publishes (:class:`StepOutput`).
 
 Positions are [m; map frame], yaw [rad], speeds [m/s], times [s of sim time].
 
 Planner hook: objectives SEARCH and MONITOR take their target from a :class:`Planner`
-(``planners={Objective.SEARCH: ..., Objective.MONITOR: ...}``), which returns a waypoint or a
-density on the coverage grid (:class:`PlannerTarget`). The coverage-search planner
-(``fire_uav_agent.search``) and the perimeter monitor plug in there; without one, SEARCH uses
-:class:`StalenessSearch` (a greedy frontier on a "time since anyone's sensor saw this cell"
-density) and MONITOR is never chosen. ``monitor_assigner`` (optional) decides which fire, if
-any, this UAV monitors.
+(``planners={Objective.SEARCH: ..., Objective.MONITOR: ...}``, see :mod:`.planning`), which
+returns a waypoint or a density on the coverage grid (:class:`PlannerTarget`). The
+coverage-search planner (``fire_uav_agent.search``) and the perimeter monitor plug in there;
+without one, SEARCH uses :class:`StalenessSearch` and MONITOR is never chosen.
+``monitor_assigner`` (optional) decides which fire, if any, this UAV monitors.
+
+The config (:mod:`.agent_config`), the data types (:mod:`.agent_types`), the planner protocols
+(:mod:`.planning`) and the default search (:mod:`.staleness_search`) live in their own modules;
+their names are re-exported here.
 """
 
 from __future__ import annotations
@@ -21,29 +31,23 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, field
-from typing import Any, Protocol
+from dataclasses import dataclass
 
 import numpy as np
-from fire_uav_common.terrain import Lake, Terrain
+from fire_uav_common.constants import EventType, Objective, PayloadAction, VehicleStatus
+from fire_uav_common.terrain import Lake
+from fire_uav_common.topics import FLEET_PERIMETER_SPEC
 
+from .agent_config import AgentConfig, GuidanceConfig, config_from_scenario
+from .agent_types import AgentEvent, Bundle, MarkersData, OwnState, PeerPerimeter, StepOutput
 from .consensus import ConsensusConfig, FireConsensus
-from .coverage import (
-    ControlGains,
-    Grid,
-    VehicleLimits,
-    control_law,
-    gaussian_density,
-    make_grid,
-    mass_centroid,
-    own_cell,
-)
-from .estimation import EkfConfig, Samples, StateEkf
-from .mission import Decision, Mission, MissionConfig, MissionView, Objective, Vehicle
+from .coverage import control_law, gaussian_density, make_grid, mass_centroid, own_cell
+from .estimation import EkfConfig, StateEkf
+from .mission import Decision, Mission, MissionConfig, MissionView
 from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
-from .peer_link import FireEntry, Outage, PeerFires, PeerLink, PeerState
-
-TOPIC_PERIMETER = 2  # topic_index of /fleet/perimeter in the peer-link loss draw
+from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
+from .planning import Planner, PlannerTarget, PlannerView
+from .staleness_search import StalenessSearch
 
 __all__ = [
     "Agent",
@@ -51,6 +55,8 @@ __all__ = [
     "AgentEvent",
     "Bundle",
     "EventType",
+    "GuidanceConfig",
+    "MarkersData",
     "OwnState",
     "PeerPerimeter",
     "Planner",
@@ -62,343 +68,14 @@ __all__ = [
 ]
 
 
-class EventType:
-    """MissionEvent.TYPE_* the agent emits."""
-
-    PEER_CRASHED = 7
-    PEER_REJOINED = 8
-    FIRE_DETECTED = 11
-    OBJECTIVE = 12
-
-
-ACTION_DROP = 1
-ACTION_REFILL = 2
-
-
 @dataclass(frozen=True)
-class AgentConfig:
-    """Everything an agent knows a priori (scenario parts + parameters). Units in names."""
+class Situation:
+    """What :meth:`Agent._decide` found and :meth:`Agent._guide` acts on (one control step)."""
 
-    uav_id: int
-    uav_count: int
-    seed: int = 0
-    control_period_s: float = 0.1
-    physics_period_s: float = 0.01
-    area_m: tuple[float, float, float, float] = (0.0, 600.0, 0.0, 600.0)  # x_min, x_max, y_min, y_max
-    grid_resolution_m: float = 5.0
-    terrain: Terrain = field(default_factory=Terrain)
-    lakes: tuple[Lake, ...] = ()
-    start_pose: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)  # x, y, z [m], yaw [rad]
-    takeoff_interval_s: float = 2.0
-    limits: VehicleLimits = field(default_factory=VehicleLimits)
-    gains: ControlGains = field(default_factory=ControlGains)
-    flight_height_m: float = 30.0
-    water_capacity_kg: float = 2000.0
-    process_noise_sigma: float = 1.0
-    refill_height_m: float = 15.0
-    refill_speed_margin_mps: float = 10.0
-    landing_height_m: float = 1.0
-    sigma_gps_m: float = 3.0
-    sigma_alt_m: float = 1.5
-    alt_max_range_m: float = 40.0
-    sigma_gyro_radps: float = 0.3
-    fire_range_m: float = 70.0
-    loss_probability: float = 0.05
-    outages: tuple[Outage, ...] = ()
-    crash_threshold_steps: int = 10
-    sigma_water_m: float = 40.0
-    sigma_landing_m: float = 10.0
-    use_safety_band: bool = True
-    safety_radius_m: float = 10.0
-    extinction_extent_m: float = 2.0
-    search_first: bool = False
-    drop_radius_m: float = (
-        20.0  # water footprint radius (scenario fires.drop_radius_m; world hits within max(this, sigma))
-    )
-    land_approach_radius_m: float = 120.0  # start descending this close to the start point
-    monitors_per_fire: int = 0  # PM: UAVs per active fire that monitor its perimeter (scenario mission.)
-    monitor_circling: bool = False  # monitors circle (PM VI-E baseline) instead of importance-based
-    monitor_alpha: float = 1.0  # PM Eq. 7 heterogeneity-adjusting factor
-    perimeter_every_steps: int = 10  # publish the monitor's PerimeterMap every n steps (~1 Hz)
-
-    def __post_init__(self) -> None:
-        if not 0 <= self.uav_id < self.uav_count:
-            raise ValueError(
-                f"uav_id must be in 0..uav_count-1, got uav_id={self.uav_id}, uav_count={self.uav_count}"
-            )
-        if not self.control_period_s > 0 or not self.physics_period_s > 0:
-            raise ValueError("control_period_s and physics_period_s must be > 0")
-        if self.crash_threshold_steps < 1:
-            raise ValueError(f"crash_threshold_steps must be >= 1, got {self.crash_threshold_steps}")
-        if not 0.0 <= self.loss_probability <= 1.0:
-            raise ValueError(f"loss_probability must be in [0, 1], got {self.loss_probability}")
-
-
-def _get(obj: Any, *names: str, default: Any = None) -> Any:
-    for n in names:
-        if obj is not None and hasattr(obj, n):
-            return getattr(obj, n)
-        if isinstance(obj, Mapping) and n in obj:
-            return obj[n]
-    return default
-
-
-def config_from_scenario(
-    scenario: Any,
-    uav_id: int,
-    uav_count: int | None = None,
-    seed: int | None = None,
-    loss_probability: float | None = None,
-    outages: tuple[Outage, ...] | None = None,
-    crash_threshold_steps: int | None = None,
-) -> AgentConfig:
-    """Build the agent's a-priori config from a ``fire_uav_common.scenario.Scenario``.
-
-    Reads only area, terrain, lakes, timing, vehicle, sensors, uavs (own start pose), comms,
-    mission -- never the fires. Arguments not None override the scenario (runner flags).
-    """
-    n = int(uav_count if uav_count is not None else scenario.uavs.count)
-    pose = scenario.uav_start_poses(n)[uav_id]
-    if isinstance(pose, (tuple, list, np.ndarray)):
-        start = tuple(float(v) for v in pose[:4])
-    else:
-        start = (float(pose.x_m), float(pose.y_m), float(pose.z_m), float(pose.yaw_rad))
-    a, tm, veh, sens, mis, com = (
-        scenario.area,
-        scenario.timing,
-        scenario.vehicle,
-        scenario.sensors,
-        scenario.mission,
-        scenario.comms,
-    )
-    if outages is None:
-        outages = tuple(
-            Outage(
-                int(_get(o, "from_id", "from_", "from", "src")),
-                int(_get(o, "to_id", "to", "dst")),
-                float(o.start_s),
-                float(o.end_s),
-            )
-            for o in (_get(com, "outages", default=()) or ())
-        )
-    return AgentConfig(
-        uav_id=uav_id,
-        uav_count=n,
-        seed=int(seed if seed is not None else scenario.seed),
-        control_period_s=float(tm.control_period_s),
-        physics_period_s=float(tm.physics_period_s),
-        area_m=(float(a.x_min_m), float(a.x_max_m), float(a.y_min_m), float(a.y_max_m)),
-        grid_resolution_m=float(mis.grid_resolution_m),
-        terrain=scenario.terrain,
-        lakes=tuple(scenario.lakes),
-        start_pose=start,
-        takeoff_interval_s=float(scenario.uavs.takeoff_interval_s),
-        limits=VehicleLimits(
-            float(veh.v_stall_mps), float(veh.v_max_mps), float(veh.vz_max_mps), float(veh.omega_max_radps)
-        ),
-        flight_height_m=float(veh.flight_height_m),
-        water_capacity_kg=float(veh.water_capacity_kg),
-        process_noise_sigma=float(veh.process_noise_sigma),
-        refill_height_m=float(veh.refill_height_m),
-        refill_speed_margin_mps=float(veh.refill_speed_margin_mps),
-        landing_height_m=float(veh.landing_height_m),
-        sigma_gps_m=float(sens.gps.sigma_m),
-        sigma_alt_m=float(sens.altimeter.sigma_m),
-        alt_max_range_m=float(sens.altimeter.max_range_m),
-        sigma_gyro_radps=float(sens.gyro.sigma_radps),
-        fire_range_m=float(sens.fire.range_m),
-        loss_probability=float(loss_probability if loss_probability is not None else com.loss_probability),
-        outages=tuple(outages),
-        crash_threshold_steps=int(
-            crash_threshold_steps if crash_threshold_steps is not None else mis.crash_threshold_steps
-        ),
-        sigma_water_m=float(mis.sigma_water_m),
-        sigma_landing_m=float(mis.sigma_landing_m),
-        use_safety_band=bool(mis.use_safety_band),
-        safety_radius_m=float(mis.safety_radius_m),
-        search_first=bool(_get(mis, "search_first", default=False)),
-        drop_radius_m=float(_get(scenario.fires, "drop_radius_m", default=None) or 20.0),
-        monitors_per_fire=int(_get(mis, "monitors_per_fire", default=0) or 0),
-    )
-
-
-# --- bundle / outputs ---------------------------------------------------------------------
-@dataclass
-class Bundle:
-    """One SensorBundle, ROS-free. fires: (N, 4) rows (t_s, x_m, y_m, extent_m)."""
-
-    step: int
-    stamp_s: float  # t_{k+1}
-    samples: Samples
-    fires: np.ndarray
-    water_kg: float
-    vehicle: int  # SensorBundle.VEHICLE_*
-    control_period_s: float = 0.1
-    cells: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # FireCells: x_m, y_m, state
-    cell_size_m: float = 0.0  # [m] FireCells.cell_size_m, 0 without a raster fire
-
-
-@dataclass(frozen=True)
-class PeerPerimeter:
-    """A peer monitor's PerimeterMap, ROS-free (``summary``: PerimeterMonitor.to_summary() fields)."""
-
-    uav_id: int
-    sequence: int
-    step: int
-    fire_id: int
-    summary: dict
-
-
-@dataclass(frozen=True)
-class OwnState:
-    """Fields of this agent's UavState."""
-
-    uav_id: int
-    sequence: int
-    step: int
-    stamp_s: float
-    s: np.ndarray  # (x, y, z, yaw)
-    covariance: np.ndarray  # 4x4
-    objective: int
-    target_fire_id: int
-    water_kg: float
-    centroid_xy: tuple[float, float]
-    alive_peers: tuple[int, ...]
-    crashed_peers: tuple[int, ...]
-    packets_received: int
-    packets_lost: int
-    packets_rejected: int
-
-    def as_peer_state(self) -> PeerState:
-        return PeerState(
-            self.uav_id,
-            self.sequence,
-            self.step,
-            *(float(v) for v in self.s),
-            self.objective,
-            self.target_fire_id,
-            self.water_kg,
-            *self.centroid_xy,
-        )
-
-
-@dataclass(frozen=True)
-class AgentEvent:
-    type: int  # MissionEvent.TYPE_*
-    peer_id: int = -1
-    fire_id: int = -1
-    x_m: float = math.nan
-    y_m: float = math.nan
-    value: float = 0.0
-    detail: str = ""
-
-
-@dataclass(frozen=True)
-class MarkersData:
-    cell_boundary_xy: np.ndarray  # (K, 2) grid points on this agent's cell border
-    centroid_xy: tuple[float, float]
-    objective: int
-    text: str
-
-
-@dataclass(frozen=True)
-class StepOutput:
-    step: int
-    stamp_s: float
-    command: tuple[float, float, float]  # v_lin [m/s], v_z [m/s], omega_z [rad/s]
-    payload_requests: tuple[tuple[int, int], ...]  # (ACTION_*, target_fire_id)
-    state: OwnState
-    fires: tuple[FireEntry, ...]
-    fires_sequence: int
-    events: tuple[AgentEvent, ...]
-    markers: MarkersData | None
-    direct: bool  # attack run / stalled-refill mode in effect
-    perimeter: tuple[int, dict] | None = None  # (fire_id, PerimeterMap fields) to publish this step
-
-
-# --- planners -------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class PlannerView:
-    t_s: float
-    uav_id: int
-    s: np.ndarray  # own estimate (x, y, z, yaw)
-    grid: Grid
-    cell_mask: np.ndarray  # (M,) own Voronoi cell
-    peers_xy: dict[int, tuple[float, float]]  # alive flying peers' last known positions
-    fires: tuple[FireEntry, ...]
-    target_fire_id: int = -1  # MONITOR: the fire this UAV monitors
-    cells: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # this step's FireCells
-    cell_size_m: float = 0.0  # [m]
-    peer_roles: dict[int, tuple[int, int]] = field(
-        default_factory=dict
-    )  # alive peer -> (objective, target fire)
-    own_published_xy: tuple[float, float] | None = None  # own position as peers last received it
-    own_objective: int = -1
-    own_target_fire_id: int = -1
-
-
-@dataclass(frozen=True)
-class PlannerTarget:
-    """Either a waypoint [m; map] or a density on ``grid.points`` (then the cell centroid)."""
-
-    waypoint_xy: tuple[float, float] | None = None
-    density: np.ndarray | None = None
-    height_m: float | None = None  # above terrain; None: flight height
-    speed_cap_mps: float | None = None
-
-
-class Planner(Protocol):
-    def plan(self, view: PlannerView) -> PlannerTarget | None: ...
-
-
-class StalenessSearch:
-    """Default SEARCH planner: a greedy frontier over the fleet's staleness map.
-
-    Staleness = time since any UAV's fire sensor covered a grid point (saturating after
-    ``horizon_s``). Every agent updates the map from the same information (own estimate +
-    peers' states). The UAV flies to the *nearest of the stalest points of its own Voronoi
-    cell* (within ``stale_band`` of the cell's maximum staleness), so the fleet partitions the
-    search like the Lloyd controller partitions suppression.
-
-    Why not a staleness density and the Lloyd centroid: that was the first version, and in
-    system runs two UAVs circled fixed centroids for four minutes, 73 m from an undetected
-    fire: the fresh disc around a circling UAV balances the rest of its cell, an equilibrium
-    that stops exploring. A waypoint on the stale frontier is seen as the UAV reaches it, so
-    the target always moves on.
-    """
-
-    def __init__(
-        self, grid: Grid, sensor_range_m: float, horizon_s: float = 120.0, stale_band: float = 0.05
-    ) -> None:
-        self.grid = grid
-        self.r2 = sensor_range_m**2
-        self.horizon_s = horizon_s
-        self.stale_band = stale_band
-        self.last_seen = np.full(grid.points.shape[0], -horizon_s)
-
-    def observe(self, t_s: float, positions_xy: np.ndarray) -> None:
-        p = np.asarray(positions_xy, dtype=float).reshape(-1, 2)
-        if p.shape[0] == 0:
-            return
-        dx = self.grid.points[:, 0:1] - p[None, :, 0]
-        dy = self.grid.points[:, 1:2] - p[None, :, 1]
-        seen = ((dx * dx + dy * dy) <= self.r2).any(axis=1)
-        self.last_seen[seen] = t_s
-
-    def staleness(self, t_s: float) -> np.ndarray:
-        """Per grid point, in [0, 1]: 1 = not seen for ``horizon_s`` (or never)."""
-        return np.clip((t_s - self.last_seen) / self.horizon_s, 0.0, 1.0)
-
-    def plan(self, view: PlannerView) -> PlannerTarget | None:
-        age = self.staleness(view.t_s)
-        mask = view.cell_mask
-        cand = np.flatnonzero(mask) if mask is not None and np.any(mask) else np.arange(age.size)
-        a = age[cand]
-        sel = cand[a >= a.max() - self.stale_band]
-        pts = self.grid.points[sel]
-        d2 = (pts[:, 0] - view.s[0]) ** 2 + (pts[:, 1] - view.s[1]) ** 2
-        x, y = pts[int(np.argmin(d2))]
-        return PlannerTarget(waypoint_xy=(float(x), float(y)))
+    decision: Decision
+    aim: tuple[FireEntry, ...]  # active fires as suppression sees them (centred on known fronts)
+    lake: Lake | None  # nearest lake
+    view: PlannerView
 
 
 # --- the agent --------------------------------------------------------------------------------
@@ -412,14 +89,15 @@ class Agent:
         monitor_assigner: Callable[[PlannerView], int] | None = None,
     ) -> None:
         self.cfg = cfg
+        veh, sens, gd = cfg.vehicle, cfg.sensors, cfg.guidance
         self.ekf = StateEkf(
             EkfConfig(
                 dt_s=cfg.physics_period_s,
-                sigma_nu=(cfg.process_noise_sigma,) * 3,
-                sigma_gps_m=cfg.sigma_gps_m,
-                sigma_alt_m=cfg.sigma_alt_m,
-                sigma_gyro_radps=cfg.sigma_gyro_radps,
-                alt_max_range_m=cfg.alt_max_range_m,
+                sigma_nu=(veh.process_noise_sigma,) * 3,
+                sigma_gps_m=sens.gps.sigma_m,
+                sigma_alt_m=sens.altimeter.sigma_m,
+                sigma_gyro_radps=sens.gyro.sigma_radps,
+                alt_max_range_m=sens.altimeter.max_range_m,
             ),
             np.array(cfg.start_pose, dtype=float),
             cfg.terrain,
@@ -439,19 +117,21 @@ class Agent:
                 control_period_s=cfg.control_period_s,
                 sensor_range_m=cfg.fire_range_m,
                 extinction_extent_m=cfg.extinction_extent_m,
-                negative_range_m=min(50.0, 0.7 * cfg.fire_range_m),
+                negative_range_m=min(
+                    gd.consensus_negative_range_max_m, gd.consensus_negative_range_fraction * cfg.fire_range_m
+                ),
             ),
         )
         self.mission = Mission(
             MissionConfig(
                 takeoff_time_s=cfg.uav_id * cfg.takeoff_interval_s,
-                water_capacity_kg=cfg.water_capacity_kg,
+                water_capacity_kg=veh.water_capacity_kg,
                 search_enabled=True,
                 # release inside the footprint with a margin for estimation error (EKF ~1-2 m)
-                min_drop_radius_m=0.7 * cfg.drop_radius_m,
+                min_drop_radius_m=gd.drop_radius_fraction * cfg.drop_radius_m,
             )
         )
-        self.grid = make_grid(*cfg.area_m, cfg.grid_resolution_m)
+        self.grid = make_grid(*cfg.area_m, cfg.mission.grid_resolution_m)
         self.search = StalenessSearch(self.grid, cfg.fire_range_m)
         self.planners: dict[int, Planner] = dict(planners or {})
         self.planners.setdefault(int(Objective.SEARCH), self.search)
@@ -462,7 +142,7 @@ class Agent:
             self.monitor = MonitorPlanner(
                 cfg.uav_id,
                 MonitorPlannerConfig(
-                    speed_mps=cfg.limits.v_stall_mps + 5.0,
+                    speed_mps=cfg.limits.v_stall_mps + gd.monitor_speed_margin_mps,
                     alpha=cfg.monitor_alpha,
                     circling=cfg.monitor_circling,
                 ),
@@ -477,7 +157,7 @@ class Agent:
         self.perimeter_lost = 0
         self.last_step = -1
         self.last_command = np.zeros(3)
-        self._last_vehicle = int(Vehicle.ON_GROUND)
+        self._last_vehicle = int(VehicleStatus.ON_GROUND)
         self._seq = 0
         self._centroid = (cfg.start_pose[0], cfg.start_pose[1])
         self._cell = np.ones(self.grid.points.shape[0], dtype=bool)
@@ -485,7 +165,7 @@ class Agent:
 
     # --- lockstep helper ---------------------------------------------------------------------
     def expected_peer_messages(self, step: int) -> set[tuple[int, int]]:
-        """(peer, topic_index) of step ``step - 1`` the node should wait for before step ``step``."""
+        """(peer, loss_index) of step ``step - 1`` the node should wait for before step ``step``."""
         return self.link.expected(step - 1) if step >= 1 else set()
 
     def _world_applied(self, cmd: np.ndarray, airborne: bool) -> np.ndarray:
@@ -502,24 +182,52 @@ class Agent:
 
     # --- one control step -----------------------------------------------------------------------
     def step(
-        self, bundle: Bundle, inbox: Iterable[PeerState | PeerFires] = (), want_markers: bool = False
+        self,
+        bundle: Bundle,
+        inbox: Iterable[PeerState | PeerFires | PeerPerimeter] = (),
+        want_markers: bool = False,
     ) -> StepOutput | None:
         """Run control step ``bundle.step``; None if a newer bundle was already processed."""
         if bundle.step <= self.last_step:
             return None
-        cfg = self.cfg
-        T = cfg.control_period_s
-        t1 = bundle.stamp_s
+        vehicle = VehicleStatus(int(bundle.vehicle))
         events: list[AgentEvent] = []
-        vehicle = Vehicle(int(bundle.vehicle))
-        # 1. EKF (FF III-B)
-        moving = vehicle == Vehicle.AIRBORNE or self._last_vehicle == Vehicle.AIRBORNE
-        u = self._world_applied(self.last_command, self._last_vehicle == Vehicle.AIRBORNE)
-        if vehicle in (Vehicle.LANDED, Vehicle.ON_GROUND) and self._last_vehicle == Vehicle.AIRBORNE:
+        s = self._estimate(bundle, vehicle)
+        perimeters = self._link(bundle.step, inbox, events)
+        active = self._fuse(bundle, vehicle, s, events)
+        sit = self._decide(bundle, vehicle, s, active, perimeters, events)
+        cmd = self._guide(sit, vehicle, s)
+        return self._publish(bundle, sit.decision, s, cmd, events, want_markers)
+
+    def _estimate(self, bundle: Bundle, vehicle: VehicleStatus) -> np.ndarray:
+        """Stage 1, FF III-B: EKF over the step's samples; returns the estimate s = (x, y, z [m], yaw [rad]).
+
+        Predicts with the command sent for the previous step as the world applied it (clamped,
+        Eq. 5; zero speed and turn rate if the vehicle touched down during the step) at the
+        physics period (Eqs. 4, 16-17), and applies the GPS / altimeter / gyro samples in time
+        order at their own rates (sequential updates, Eqs. 18-25), from t_k = t_{k+1} - T to
+        t_{k+1} = ``bundle.stamp_s`` [s].
+        """
+        t1 = bundle.stamp_s
+        was_airborne = self._last_vehicle == VehicleStatus.AIRBORNE
+        moving = vehicle == VehicleStatus.AIRBORNE or was_airborne
+        u = self._world_applied(self.last_command, was_airborne)
+        if vehicle in (VehicleStatus.LANDED, VehicleStatus.ON_GROUND) and was_airborne:
             u = np.array([0.0, u[1], 0.0])  # touched down during the step
-        self.ekf.process(bundle.samples, u, t1 - T, t1, moving=moving)
-        s = self.ekf.s.copy()
-        # 2. peer bookkeeping (protocol "Peer link")
+        self.ekf.process(bundle.samples, u, t1 - self.cfg.control_period_s, t1, moving=moving)
+        return self.ekf.s.copy()
+
+    def _link(
+        self, step: int, inbox: Iterable[PeerState | PeerFires | PeerPerimeter], events: list[AgentEvent]
+    ) -> list[PeerPerimeter]:
+        """Stage 2, FF IV-B/IV-C: peer bookkeeping of the messages received since the last step.
+
+        States and fire pictures go through the peer link (loss on receipt, rejection, crash
+        declaration after ``crash_threshold_steps`` missed steps, rejoin); PEER_CRASHED /
+        PEER_REJOINED events are appended to ``events``. Returns the accepted peer perimeter maps
+        (PM), which are merged in :meth:`_decide`.
+        """
+        cfg = self.cfg
         msgs = sorted(
             inbox,
             key=lambda m: (m.step, m.uav_id if isinstance(m.uav_id, int) else -1, isinstance(m, PeerFires)),
@@ -531,25 +239,36 @@ class Agent:
             elif isinstance(m, PeerPerimeter):
                 if m.uav_id == cfg.uav_id or not 0 <= m.uav_id < cfg.uav_count:
                     continue
-                if self.link.is_lost(m.uav_id, m.step, TOPIC_PERIMETER):
+                if self.link.is_lost(m.uav_id, m.step, FLEET_PERIMETER_SPEC.loss_index):
                     self.perimeter_lost += 1
                     continue
                 perimeters.append(m)
             else:
                 self.link.receive_fires(m)
-        if bundle.step >= 1:
-            for ev in self.link.end_step(bundle.step):
+        if step >= 1:
+            for ev in self.link.end_step(step):
                 typ = EventType.PEER_CRASHED if ev.kind == "crashed" else EventType.PEER_REJOINED
                 events.append(
                     AgentEvent(
                         typ, peer_id=ev.peer_id, value=float(cfg.crash_threshold_steps), detail=ev.kind
                     )
                 )
-        peer_states = self.link.alive_states()
-        # 3. consensus (FF III-C)
-        self.fires.predict(T)
+        return perimeters
+
+    def _fuse(
+        self, bundle: Bundle, vehicle: VehicleStatus, s: np.ndarray, events: list[AgentEvent]
+    ) -> tuple[FireEntry, ...]:
+        """Stage 3, FF III-C (Eqs. 26-29): fire consensus; returns the active fires at t_{k+1}.
+
+        Predicts every track over one control period, fuses the alive peers' pictures
+        (freshness-weighted), then this UAV's own detections (airborne only) near its estimate
+        ``s``. A fire this UAV saw first adds a FIRE_DETECTED event to ``events``.
+        """
+        cfg = self.cfg
+        t1 = bundle.stamp_s
+        self.fires.predict(cfg.control_period_s)
         new_ids = self.fires.fuse(self.link.alive_fires(), t1)
-        det = bundle.fires if vehicle == Vehicle.AIRBORNE else np.zeros((0, 4))
+        det = bundle.fires if vehicle == VehicleStatus.AIRBORNE else np.zeros((0, 4))
         new_ids += self.fires.observe(det, (float(s[0]), float(s[1])), t1)
         for fid in new_ids:
             tr = self.fires.tracks.get(fid)
@@ -559,8 +278,27 @@ class Agent:
                         EventType.FIRE_DETECTED, fire_id=fid, x_m=tr.x_m, y_m=tr.y_m, detail="first seen"
                     )
                 )
-        active = tuple(self.fires.active())
-        # 4. partition (FF Eqs. 6-7) among flying alive UAVs
+        return tuple(self.fires.active())
+
+    def _decide(
+        self,
+        bundle: Bundle,
+        vehicle: VehicleStatus,
+        s: np.ndarray,
+        active: tuple[FireEntry, ...],
+        perimeters: list[PeerPerimeter],
+        events: list[AgentEvent],
+    ) -> Situation:
+        """Stage 4: partition, target fire, monitor role and life-cycle; returns the :class:`Situation`.
+
+        Own Voronoi cell among the flying alive UAVs with the safety band (FF Eqs. 6-7), the
+        target fire of largest mass in the cell (Eq. 8 per fire, else the nearest), the fleet's
+        staleness map, the fastest-spreading fronts and peers' perimeter maps (PM), this UAV's
+        monitor role, and the mission life-cycle (FF IV-D; an OBJECTIVE event on a change).
+        """
+        cfg = self.cfg
+        t1 = bundle.stamp_s
+        peer_states = self.link.alive_states()
         flying = {
             j: (p.x_m, p.y_m)
             for j, p in sorted(peer_states.items())
@@ -568,11 +306,10 @@ class Agent:
         }
         pos = np.array(s[:2])
         others = np.array(list(flying.values())).reshape(-1, 2)
-        band = cfg.safety_radius_m if cfg.use_safety_band else None
+        band = cfg.mission.safety_radius_m if cfg.mission.use_safety_band else None
         self._cell = own_cell(self.grid.points, pos, others, band)
-        if vehicle == Vehicle.AIRBORNE:
+        if vehicle == VehicleStatus.AIRBORNE:
             self.search.observe(t1, np.vstack([pos[None, :], others]))
-        # target fire = the one with the largest mass in this cell (Eq. 8 per fire)
         target_fire = -1
         if active:
             masses = [
@@ -588,7 +325,7 @@ class Agent:
         self._collect_fronts(active)
         pview = PlannerView(
             t1, cfg.uav_id, s, self.grid, self._cell, flying, active,
-            cells=bundle.cells if vehicle == Vehicle.AIRBORNE else None,
+            cells=bundle.cells if vehicle == VehicleStatus.AIRBORNE else None,
             cell_size_m=float(bundle.cell_size_m),
             peer_roles={j: (int(p.objective), int(p.target_fire_id)) for j, p in peer_states.items()},
             own_published_xy=self._pub_xy,
@@ -597,15 +334,15 @@ class Agent:
         )  # fmt: skip
         self._merge_perimeters(perimeters, flying, t1)
         monitor_fire = self.monitor_assigner(pview) if self.monitor_assigner is not None else -1
-        # 5. life-cycle (FF IV-D)
         prev_obj = self.mission.objective
+        aim = self._aim(active)
         dec = self.mission.step(
             MissionView(
                 t_s=t1,
                 vehicle=vehicle,
                 water_kg=float(bundle.water_kg),
                 pos_xy=(float(s[0]), float(s[1])),
-                fires=self._aim(active),
+                fires=aim,
                 all_out=self.fires.all_out(),
                 peer_objectives={j: p.objective for j, p in peer_states.items()},
                 over_lake=over_lake,
@@ -625,11 +362,30 @@ class Agent:
                     detail=f"{Objective(prev_obj).name} -> {dec.objective.name}",
                 )
             )
+        return Situation(dec, aim, lake, pview)
+
+    def _publish(
+        self,
+        bundle: Bundle,
+        dec: Decision,
+        s: np.ndarray,
+        cmd: tuple[float, float, float],
+        events: list[AgentEvent],
+        want_markers: bool,
+    ) -> StepOutput:
+        """Stage 6: everything the node publishes for this step, and the bookkeeping for the next.
+
+        The command [m/s, m/s, rad/s], the payload request of the decision (DROP on the target
+        fire or REFILL), the UavState fields (estimate, covariance, objective, peers, counters),
+        the fire picture with known fronts, the events, the markers when ``want_markers``, and a
+        monitor's PerimeterMap every ``perimeter_every_steps`` steps.
+        """
+        cfg = self.cfg
         requests: list[tuple[int, int]] = []
         if dec.request is not None:
-            requests.append((dec.request, dec.target_fire_id if dec.request == ACTION_DROP else -1))
-        # 6. guidance (FF Eqs. 8-15)
-        cmd = self._guidance(dec, vehicle, s, self._aim(active), lake, pview)
+            requests.append(
+                (int(dec.request), dec.target_fire_id if dec.request == PayloadAction.DROP else -1)
+            )
         perimeter = None
         mon = self.monitor.active if self.monitor is not None else None
         if (
@@ -640,7 +396,7 @@ class Agent:
         ):
             perimeter = (int(dec.target_fire_id), mon.to_summary())
         self.last_command = np.array(cmd, dtype=float)
-        self._last_vehicle = int(vehicle)
+        self._last_vehicle = int(bundle.vehicle)
         self.last_step = bundle.step
         self._seq += 1
         self._pub_xy = (float(s[0]), float(s[1]))
@@ -648,7 +404,7 @@ class Agent:
             uav_id=cfg.uav_id,
             sequence=self._seq,
             step=bundle.step,
-            stamp_s=t1,
+            stamp_s=bundle.stamp_s,
             s=s,
             covariance=self.ekf.P.copy(),
             objective=int(dec.objective),
@@ -661,20 +417,95 @@ class Agent:
             packets_lost=self.link.lost,
             packets_rejected=self.link.rejected,
         )
-        markers = self._markers(dec) if want_markers else None
         return StepOutput(
             step=bundle.step,
-            stamp_s=t1,
+            stamp_s=bundle.stamp_s,
             command=cmd,
             payload_requests=tuple(requests),
             state=state,
             fires=self._with_fronts(self.fires.entries()),
             fires_sequence=self._seq,
             events=tuple(events),
-            markers=markers,
+            markers=self._markers(dec) if want_markers else None,
             direct=dec.direct,
             perimeter=perimeter,
         )
+
+    def _guide(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray) -> tuple[float, float, float]:
+        """Stage 5, FF Eqs. 8-15: the command (v_lin [m/s], v_z [m/s], omega_z [rad/s]) for the objective.
+
+        SUPPRESS: centroid of the fire density in the own cell (Eq. 13) or, on an attack run,
+        the target fire itself; REFILL: the lake density (Eq. 14), low and slow near the lake
+        (FF IV-D b); LAND: the start-point density (Eq. 15), descending inside
+        ``guidance.land_approach_radius_m``; SEARCH / MONITOR: the planner's waypoint or density.
+        The target goes through the control law (Eqs. 10-12) at the objective's height above
+        terrain. Zero on the ground before takeoff, after landing or a crash.
+        """
+        cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
+        dec, active, lake, pview = sit.decision, sit.aim, sit.lake, sit.view
+        obj = dec.objective
+        if vehicle in (VehicleStatus.CRASHED, VehicleStatus.LANDED) or obj == Objective.LANDED:
+            return (0.0, 0.0, 0.0)
+        if obj == Objective.GROUNDED:
+            return (0.0, 0.0, 0.0)
+        if vehicle == VehicleStatus.ON_GROUND:  # takeoff slot reached: v >= v_stall and v_z > 0
+            return (lim.v_stall_mps, min(lim.vz_max_mps, cfg.gains.vz_cmd_max_mps), 0.0)
+        height = veh.flight_height_m
+        v_cap = None
+        pos = (float(s[0]), float(s[1]))
+        target: tuple[float, float]
+        if obj == Objective.SUPPRESS and active:
+            tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
+            if dec.direct:
+                target = (tgt.x_m, tgt.y_m)
+            else:
+                dens = gaussian_density(
+                    self.grid, [(f.x_m, f.y_m) for f in active], [f.extent_m for f in active]
+                )  # Eq. 13
+                target = self._centroid_of(dens, (tgt.x_m, tgt.y_m))
+        elif obj == Objective.REFILL and lake is not None:
+            lake_xy = (lake.x_m, lake.y_m)
+            if dec.direct:
+                target = lake_xy
+            else:
+                dens = gaussian_density(self.grid, [lake_xy], [cfg.mission.sigma_water_m])  # Eq. 14
+                target = self._centroid_of(dens, lake_xy)
+            if (
+                math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m)
+                < lake.diameter_m / 2 + gd.lake_approach_margin_m
+            ):
+                height = gd.refill_height_fraction * veh.refill_height_m  # low ...
+                v_cap = (
+                    lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
+                )  # ... and slow
+        elif obj == Objective.LAND:
+            start = (float(self._start_xy[0]), float(self._start_xy[1]))
+            dens = gaussian_density(self.grid, [start], [cfg.mission.sigma_landing_m])  # Eq. 15
+            target = self._centroid_of(dens, start)
+            d = math.hypot(pos[0] - start[0], pos[1] - start[1])
+            r = gd.land_approach_radius_m
+            if d < r:
+                v_cap = lim.v_stall_mps
+                low = gd.land_height_fraction * veh.landing_height_m
+                flat = gd.land_flat_fraction
+                height = low + (veh.flight_height_m - low) * max(0.0, (d - flat * r) / ((1.0 - flat) * r))
+                agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
+                if agl < gd.touchdown_agl_fraction * veh.landing_height_m:
+                    return (0.0, -gd.touchdown_sink_mps, 0.0)  # below stall speed near the ground: it lands
+        else:  # SEARCH, MONITOR, or SUPPRESS/REFILL without fire/lake
+            planner = self.planners.get(int(obj)) or self.search
+            plan = planner.plan(dataclasses.replace(pview, target_fire_id=int(dec.target_fire_id)))
+            if plan is None:
+                plan = self.search.plan(pview)
+            if plan.waypoint_xy is not None:
+                target = (float(plan.waypoint_xy[0]), float(plan.waypoint_xy[1]))
+            else:
+                target = self._centroid_of(np.asarray(plan.density, dtype=float), pos)
+            if plan.height_m is not None:
+                height = plan.height_m
+            v_cap = plan.speed_cap_mps
+        self._centroid = target
+        return control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
 
     # --- perimeter monitoring (PM) ----------------------------------------------------------------
     def assign_monitor(self, view: PlannerView) -> int:
@@ -749,75 +580,6 @@ class Agent:
     def _centroid_of(self, density: np.ndarray, fallback_xy: tuple[float, float]) -> tuple[float, float]:
         _, c = mass_centroid(self.grid.points, density, self._cell, self.grid.cell_area_m2)
         return (float(c[0]), float(c[1])) if c is not None else fallback_xy
-
-    def _guidance(
-        self,
-        dec: Decision,
-        vehicle: Vehicle,
-        s: np.ndarray,
-        active: tuple[FireEntry, ...],
-        lake: Lake | None,
-        pview: PlannerView,
-    ) -> tuple[float, float, float]:
-        cfg, lim = self.cfg, self.cfg.limits
-        obj = dec.objective
-        if vehicle in (Vehicle.CRASHED, Vehicle.LANDED) or obj == Objective.LANDED:
-            return (0.0, 0.0, 0.0)
-        if obj == Objective.GROUNDED:
-            return (0.0, 0.0, 0.0)
-        if vehicle == Vehicle.ON_GROUND:  # takeoff slot reached: v >= v_stall and v_z > 0
-            return (lim.v_stall_mps, min(lim.vz_max_mps, cfg.gains.vz_cmd_max_mps), 0.0)
-        height = cfg.flight_height_m
-        v_cap = None
-        pos = (float(s[0]), float(s[1]))
-        target: tuple[float, float]
-        if obj == Objective.SUPPRESS and active:
-            tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
-            if dec.direct:
-                target = (tgt.x_m, tgt.y_m)
-            else:
-                dens = gaussian_density(
-                    self.grid, [(f.x_m, f.y_m) for f in active], [f.extent_m for f in active]
-                )  # Eq. 13
-                target = self._centroid_of(dens, (tgt.x_m, tgt.y_m))
-        elif obj == Objective.REFILL and lake is not None:
-            lake_xy = (lake.x_m, lake.y_m)
-            if dec.direct:
-                target = lake_xy
-            else:
-                dens = gaussian_density(self.grid, [lake_xy], [cfg.sigma_water_m])  # Eq. 14
-                target = self._centroid_of(dens, lake_xy)
-            if math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m) < lake.diameter_m / 2 + 150.0:
-                height = 0.5 * cfg.refill_height_m  # low ...
-                v_cap = lim.v_stall_mps + 0.3 * cfg.refill_speed_margin_mps  # ... and slow (FF IV-D b)
-        elif obj == Objective.LAND:
-            start = (float(self._start_xy[0]), float(self._start_xy[1]))
-            dens = gaussian_density(self.grid, [start], [cfg.sigma_landing_m])  # Eq. 15
-            target = self._centroid_of(dens, start)
-            d = math.hypot(pos[0] - start[0], pos[1] - start[1])
-            r = cfg.land_approach_radius_m
-            if d < r:
-                v_cap = lim.v_stall_mps
-                height = 0.5 * cfg.landing_height_m + (
-                    cfg.flight_height_m - 0.5 * cfg.landing_height_m
-                ) * max(0.0, (d - 0.3 * r) / (0.7 * r))
-                agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
-                if agl < 0.8 * cfg.landing_height_m:
-                    return (0.0, -0.5, 0.0)  # below stall speed near the ground: the world lands it
-        else:  # SEARCH, MONITOR, or SUPPRESS/REFILL without fire/lake
-            planner = self.planners.get(int(obj)) or self.search
-            plan = planner.plan(dataclasses.replace(pview, target_fire_id=int(dec.target_fire_id)))
-            if plan is None:
-                plan = self.search.plan(pview)
-            if plan.waypoint_xy is not None:
-                target = (float(plan.waypoint_xy[0]), float(plan.waypoint_xy[1]))
-            else:
-                target = self._centroid_of(np.asarray(plan.density, dtype=float), pos)
-            if plan.height_m is not None:
-                height = plan.height_m
-            v_cap = plan.speed_cap_mps
-        self._centroid = target
-        return control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
 
     def _markers(self, dec: Decision) -> MarkersData:
         ny, nx = self.grid.shape

@@ -8,7 +8,6 @@ are in the pure modules.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import re
 
@@ -16,6 +15,8 @@ import numpy as np
 import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
+from fire_uav_common.constants import EventType, FireStatus, PayloadAction
+from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
 from fire_uav_msgs.msg import (
     FireEstimate,
     FireEstimateArray,
@@ -33,31 +34,24 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from visualization_msgs.msg import Marker, MarkerArray
 
-from .agent_core import Agent, AgentConfig, Bundle, PeerPerimeter, StepOutput, config_from_scenario
+from .agent_config import AgentConfig, config_from_scenario
+from .agent_core import Agent
+from .agent_types import Bundle, PeerPerimeter, StepOutput
 from .estimation import Samples
-from .peer_link import TOPIC_FIRES, TOPIC_STATE, FireEntry, Outage, PeerFires, PeerState
+from .peer_link import FireEntry, Outage, PeerFires, PeerState
 from .search_io import attach_search
 
 
 # --- conversions (the only place messages meet arrays) -----------------------------------------
-def _sec(t: TimeMsg) -> float:
-    return float(t.sec) + 1e-9 * float(t.nanosec)
-
-
-def _time_msg(t_s: float) -> TimeMsg:
-    ns = int(round(t_s * 1e9))
-    return TimeMsg(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
-
-
 def _to_bundle(msg: SensorBundle) -> Bundle:
-    gps = np.array([(_sec(g.header.stamp), g.x_m, g.y_m) for g in msg.gps], dtype=float).reshape(-1, 3)
+    gps = np.array([(stamp_to_s(g.header.stamp), g.x_m, g.y_m) for g in msg.gps], dtype=float).reshape(-1, 3)
     gps_var = np.array([g.variance_m2 for g in msg.gps], dtype=float)
-    alt = np.array([(_sec(r.header.stamp), r.range) for r in msg.altimeter], dtype=float).reshape(-1, 2)
-    gyro = np.array([(_sec(m.header.stamp), m.angular_velocity.z) for m in msg.gyro], dtype=float).reshape(
-        -1, 2
-    )
+    alt = np.array([(stamp_to_s(r.header.stamp), r.range) for r in msg.altimeter], dtype=float).reshape(-1, 2)
+    gyro = np.array(
+        [(stamp_to_s(m.header.stamp), m.angular_velocity.z) for m in msg.gyro], dtype=float
+    ).reshape(-1, 2)
     fires = np.array(
-        [(_sec(f.header.stamp), f.x_m, f.y_m, f.extent_m) for f in msg.fires], dtype=float
+        [(stamp_to_s(f.header.stamp), f.x_m, f.y_m, f.extent_m) for f in msg.fires], dtype=float
     ).reshape(-1, 4)
     c = msg.cells
     cells = None
@@ -71,7 +65,7 @@ def _to_bundle(msg: SensorBundle) -> Bundle:
         )
     return Bundle(
         step=int(msg.step),
-        stamp_s=_sec(msg.header.stamp),
+        stamp_s=stamp_to_s(msg.header.stamp),
         samples=Samples(gps, gps_var, alt, gyro),
         fires=fires,
         water_kg=float(msg.water_kg),
@@ -82,14 +76,15 @@ def _to_bundle(msg: SensorBundle) -> Bundle:
     )
 
 
-def _to_peer_perimeter(m: PerimeterMap) -> PeerPerimeter:
+def _to_peer_perimeter(m: PerimeterMap, control_period_s: float) -> PeerPerimeter:
+    """A peer's PerimeterMap; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
     summary = {
         "center_x_m": float(m.center_x_m),
         "center_y_m": float(m.center_y_m),
         "outer_distance_m": np.asarray(m.outer_distance_m, dtype=float),
         "outer_visit_time_s": np.asarray(m.outer_visit_time_s, dtype=float),
     }
-    step = int(round(_sec(m.header.stamp) / 0.1)) - 1  # the step whose bundle stamp it answers
+    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
     return PeerPerimeter(int(m.uav_id), int(m.sequence), step, int(m.fire_id), summary)
 
 
@@ -121,13 +116,13 @@ def _to_peer_fires(m: FireEstimateArray) -> PeerFires:
     entries = tuple(
         FireEntry(
             int(f.fire_id),
-            f.status == FireEstimate.STATUS_ACTIVE,
+            f.status == FireStatus.ACTIVE,
             f.x_m,
             f.y_m,
             f.extent_m,
             f.vx_mps,
             f.vy_mps,
-            _sec(f.last_measurement),
+            stamp_to_s(f.last_measurement),
             f.front_x_m,
             f.front_y_m,
             f.max_spread_rate_mps,
@@ -165,10 +160,10 @@ def _from_fires(out: StepOutput, stamp: TimeMsg) -> FireEstimateArray:
     for e in out.fires:
         f = FireEstimate()
         f.fire_id = e.fire_id
-        f.status = FireEstimate.STATUS_ACTIVE if e.active else FireEstimate.STATUS_EXTINGUISHED
+        f.status = int(FireStatus.ACTIVE if e.active else FireStatus.EXTINGUISHED)
         f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps = e.x_m, e.y_m, e.extent_m, e.vx_mps, e.vy_mps
-        f.last_measurement = _time_msg(
-            max(0.0, e.last_measurement_s) if math.isfinite(e.last_measurement_s) else 0.0
+        f.last_measurement = to_time_msg(
+            s_to_ns(max(0.0, e.last_measurement_s) if math.isfinite(e.last_measurement_s) else 0.0), TimeMsg
         )
         f.front_x_m, f.front_y_m, f.max_spread_rate_mps = e.front_x_m, e.front_y_m, e.max_spread_rate_mps
         m.fires.append(f)
@@ -264,25 +259,22 @@ class UavAgentNode(Node):
             f"uav {uid}/{self.cfg.uav_count} mode={self.mode} loss={self.cfg.loss_probability} "
             f"outages={len(self.cfg.outages)} crash_threshold={self.cfg.crash_threshold_steps}"
         )
-        # names: relative per-vehicle topics under the /uav_<id> namespace, unless launched without it
-        in_ns = self.get_namespace().rstrip("/") == topics.uav_namespace(uid)
-        name = (lambda t: t) if in_ns else (lambda t: topics.uav_topic(uid, t))
-        self.pub_cmd = self.create_publisher(TwistStamped, name(topics.CMD), topics.qos("lockstep"))
-        self.pub_payload = self.create_publisher(PayloadRequest, name(topics.PAYLOAD), topics.qos("lockstep"))
-        self.pub_viz = self.create_publisher(MarkerArray, name(topics.VIZ_AGENT), topics.qos("viz"))
-        self.pub_state = self.create_publisher(UavState, topics.FLEET_STATE, topics.qos("fleet"))
-        self.pub_fires = self.create_publisher(FireEstimateArray, topics.FLEET_FIRES, topics.qos("fleet"))
-        self.pub_events = self.create_publisher(MissionEvent, topics.FLEET_EVENTS, topics.qos("events"))
-        self.pub_perimeter = self.create_publisher(PerimeterMap, topics.FLEET_PERIMETER, topics.qos("fleet"))
-        self.create_subscription(
-            PerimeterMap, topics.FLEET_PERIMETER, self._on_perimeter, topics.qos("fleet")
-        )
+        # per-vehicle topics: relative names under the /uav_<id> namespace, absolute if launched without it
+        own = None if self.get_namespace().rstrip("/") == topics.uav_namespace(uid) else uid
+        self.pub_cmd = topics.publisher(self, topics.CMD_SPEC, own)
+        self.pub_payload = topics.publisher(self, topics.PAYLOAD_SPEC, own)
+        self.pub_viz = topics.publisher(self, topics.VIZ_AGENT_SPEC, own)
+        self.pub_state = topics.publisher(self, topics.FLEET_STATE_SPEC)
+        self.pub_fires = topics.publisher(self, topics.FLEET_FIRES_SPEC)
+        self.pub_events = topics.publisher(self, topics.FLEET_EVENTS_SPEC)
+        self.pub_perimeter = topics.publisher(self, topics.FLEET_PERIMETER_SPEC)
         self._perimeter_seq = 0
-        self.create_subscription(SensorBundle, name(topics.SENSORS), self._on_bundle, topics.qos("lockstep"))
-        self.create_subscription(UavState, topics.FLEET_STATE, self._on_state, topics.qos("fleet"))
-        self.create_subscription(FireEstimateArray, topics.FLEET_FIRES, self._on_fires, topics.qos("fleet"))
+        topics.subscription(self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter)
+        topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own)
+        topics.subscription(self, topics.FLEET_STATE_SPEC, self._on_state)
+        topics.subscription(self, topics.FLEET_FIRES_SPEC, self._on_fires)
         self._inbox: list[PeerState | PeerFires] = []
-        self._arrived: set[tuple[int, int, int]] = set()  # (step, sender, topic_index)
+        self._arrived: set[tuple[int, int, int]] = set()  # (step, sender, loss_index)
         self._pending: SensorBundle | None = None
         self._expected: set[tuple[int, int]] = set()
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -326,21 +318,16 @@ class UavAgentNode(Node):
                 Outage(int(a), int(b), float(s), float(e))
                 for a, b, s, e in zip(ofrom, oto, ostart, oend, strict=True)
             )
-        cfg = config_from_scenario(
-            scenario, uid, uav_count=count, seed=seed if seed >= 0 else None,
-            loss_probability=loss if loss >= 0 else None, outages=outages,
-            crash_threshold_steps=thr if thr > 0 else None,
-        )  # fmt: skip
         mpf = int(p("monitors_per_fire").value)
         planner = str(p("monitor_planner").value)
         if planner not in ("importance", "circling"):
             raise ValueError(f"parameter monitor_planner must be 'importance' or 'circling', got {planner!r}")
-        cfg = dataclasses.replace(
-            cfg,
-            monitors_per_fire=mpf if mpf >= 0 else cfg.monitors_per_fire,
-            monitor_circling=planner == "circling",
-            monitor_alpha=float(p("monitor_alpha").value),
-        )
+        cfg = config_from_scenario(
+            scenario, uid, uav_count=count, seed=seed if seed >= 0 else None,
+            loss_probability=loss if loss >= 0 else None, outages=outages,
+            crash_threshold_steps=thr if thr > 0 else None, monitors_per_fire=mpf if mpf >= 0 else None,
+            monitor_circling=planner == "circling", monitor_alpha=float(p("monitor_alpha").value),
+        )  # fmt: skip
         return cfg, mode, float(p("peer_wait_wall_s").value), int(p("marker_every_steps").value)
 
     # --- peer traffic ---------------------------------------------------------------------------------
@@ -348,19 +335,21 @@ class UavAgentNode(Node):
         if msg.uav_id == self.cfg.uav_id:
             return  # our own broadcast
         self._inbox.append(_to_peer_state(msg))
-        self._arrived.add((int(msg.step), int(msg.uav_id), TOPIC_STATE))
+        self._arrived.add((int(msg.step), int(msg.uav_id), topics.FLEET_STATE_SPEC.loss_index))
         self._maybe_run()
 
     def _on_perimeter(self, msg: PerimeterMap) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return
-        self._inbox.append(_to_peer_perimeter(msg))  # not waited for: merged at the next step
+        self._inbox.append(
+            _to_peer_perimeter(msg, self.cfg.control_period_s)
+        )  # not waited for: merged at the next step
 
     def _on_fires(self, msg: FireEstimateArray) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return
         self._inbox.append(_to_peer_fires(msg))
-        self._arrived.add((int(msg.step), int(msg.uav_id), TOPIC_FIRES))
+        self._arrived.add((int(msg.step), int(msg.uav_id), topics.FLEET_FIRES_SPEC.loss_index))
         self._maybe_run()
 
     # --- lockstep -------------------------------------------------------------------------------------
@@ -432,12 +421,12 @@ class UavAgentNode(Node):
         self.pub_state.publish(_from_state(out, stamp))
         self.pub_fires.publish(_from_fires(out, stamp))
         for action, fire_id in out.payload_requests:
-            req = PayloadRequest(uav_id=uid, action=action, target_fire_id=int(fire_id))
+            req = PayloadRequest(uav_id=uid, action=int(action), target_fire_id=int(fire_id))
             req.header.stamp = stamp
             req.header.frame_id = "map"
             self.pub_payload.publish(req)
-            what = "DROP" if action == PayloadRequest.ACTION_DROP else "REFILL"
-            if action == PayloadRequest.ACTION_DROP:
+            what = PayloadAction(action).name
+            if action == PayloadAction.DROP:
                 self.get_logger().info(f"step {out.step}: {what} on fire {fire_id}")
             else:
                 self.get_logger().debug(f"step {out.step}: {what}", throttle_duration_sec=2.0)
@@ -462,15 +451,15 @@ class UavAgentNode(Node):
             m.header.frame_id = "map"
             self.pub_events.publish(m)
             log = self.get_logger()
-            if ev.type == MissionEvent.TYPE_PEER_CRASHED:
+            if ev.type == EventType.PEER_CRASHED:
                 log.warning(
                     f"step {out.step}: peer {ev.peer_id} declared crashed ({int(ev.value)} missed steps)"
                 )
-            elif ev.type == MissionEvent.TYPE_PEER_REJOINED:
+            elif ev.type == EventType.PEER_REJOINED:
                 log.info(f"step {out.step}: peer {ev.peer_id} rejoined")
-            elif ev.type == MissionEvent.TYPE_FIRE_DETECTED:
+            elif ev.type == EventType.FIRE_DETECTED:
                 log.info(f"step {out.step}: fire {ev.fire_id} detected at ({ev.x_m:.0f}, {ev.y_m:.0f})")
-            elif ev.type == MissionEvent.TYPE_OBJECTIVE:
+            elif ev.type == EventType.OBJECTIVE:
                 log.info(f"step {out.step}: objective {ev.detail}")
 
 

@@ -1,4 +1,7 @@
-"""A small in-process world for fast agent tests and benchmarks (no ROS, no DDS).
+"""Deprecated: a small stand-in world, kept only for ``scripts/bench_agent.py`` and one slow test.
+
+Use :mod:`fire_uav_agent.testing.harness` (the real ``fire_world_sim`` World and the real Agents
+in lockstep) for fleet tests; this module will go once the benchmark moves to the harness.
 
 Not the project's world (fire_world_sim): a perfect-lockstep stand-in with the same contract
 (docs/protocol.md): FF Eq. 4 at ``physics_period_s`` with input noise, multi-rate sensors with
@@ -15,7 +18,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from fire_uav_common import rng
 
-from .agent_core import Agent, AgentConfig, Bundle, StepOutput
+from .agent_config import AgentConfig
+from .agent_core import Agent
+from .agent_types import Bundle, StepOutput
 from .estimation import Samples, wrap_angle
 from .peer_link import FireEntry, PeerFires, PeerState
 
@@ -68,7 +73,8 @@ class MiniWorld:
         self.p = (gps_p, alt_p, gyro_p)
         self.rng = rng.stream(seed, "minisim")
         self.vehicles = [
-            _Vehicle(np.array(c.start_pose, dtype=float), water_kg=c.water_capacity_kg) for c in configs
+            _Vehicle(np.array(c.start_pose, dtype=float), water_kg=c.vehicle.water_capacity_kg)
+            for c in configs
         ]
         self.step_k = 0
         self.pending: list[list[PeerState | PeerFires]] = [[] for _ in configs]
@@ -96,27 +102,27 @@ class MiniWorld:
                         np.clip(cmd[2], -lim.omega_max_radps, lim.omega_max_radps),
                     ]
                 )
-                w = u + self.rng.normal(0.0, c.process_noise_sigma, 3)
+                w = u + self.rng.normal(0.0, c.vehicle.process_noise_sigma, 3)
                 th = v.s[3]
                 v.s = v.s + self.dt * np.array([w[0] * math.cos(th), w[0] * math.sin(th), w[1], w[2]])
                 v.s[3] = wrap_angle(v.s[3])
                 e = float(terrain.elevation(v.s[0], v.s[1]))
                 v.s[2] = max(v.s[2], e)
                 if self.rng.random() < self.p[2]:
-                    gyro.append((t, w[2] + self.rng.normal(0.0, c.sigma_gyro_radps)))
+                    gyro.append((t, w[2] + self.rng.normal(0.0, c.sensors.gyro.sigma_radps)))
             if j % max(1, int(round(0.1 / self.dt))) == 0 and self.rng.random() < self.p[0]:
-                gps.append((t, *(v.s[:2] + self.rng.normal(0.0, c.sigma_gps_m, 2))))
+                gps.append((t, *(v.s[:2] + self.rng.normal(0.0, c.sensors.gps.sigma_m, 2))))
             if j % max(1, int(round(0.04 / self.dt))) == 0 and self.rng.random() < self.p[1]:
                 h = v.s[2] - float(terrain.elevation(v.s[0], v.s[1]))
-                if h <= c.alt_max_range_m:
-                    alt.append((t, h + self.rng.normal(0.0, c.sigma_alt_m)))
+                if h <= c.sensors.altimeter.max_range_m:
+                    alt.append((t, h + self.rng.normal(0.0, c.sensors.altimeter.sigma_m)))
         if v.status == 1:
             h = v.s[2] - float(terrain.elevation(v.s[0], v.s[1]))
-            if h < c.landing_height_m and cmd[0] < lim.v_stall_mps:
+            if h < c.vehicle.landing_height_m and cmd[0] < lim.v_stall_mps:
                 v.status = 2
         return Samples(
             gps=np.array(gps).reshape(-1, 3),
-            gps_var_m2=np.full(len(gps), c.sigma_gps_m**2),
+            gps_var_m2=np.full(len(gps), c.sensors.gps.sigma_m**2),
             alt=np.array(alt).reshape(-1, 2),
             gyro=np.array(gyro).reshape(-1, 2),
         )
@@ -174,10 +180,10 @@ class MiniWorld:
                     h = v.s[2] - float(c.terrain.elevation(v.s[0], v.s[1]))
                     if (
                         lake_ok
-                        and h <= c.refill_height_m
-                        and v.cmd[0] <= c.limits.v_stall_mps + c.refill_speed_margin_mps
+                        and h <= c.vehicle.refill_height_m
+                        and v.cmd[0] <= c.limits.v_stall_mps + c.vehicle.refill_speed_margin_mps
                     ):
-                        v.water_kg = min(c.water_capacity_kg, v.water_kg + 400.0 * self.T)
+                        v.water_kg = min(c.vehicle.water_capacity_kg, v.water_kg + 400.0 * self.T)
         for i, out in enumerate(outs):
             if out is None:
                 continue

@@ -34,32 +34,12 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, field
-from enum import IntEnum
+
+from fire_uav_common.constants import Objective, PayloadAction, VehicleStatus
 
 from .peer_link import FireEntry
 
-__all__ = ["Decision", "Mission", "MissionConfig", "MissionView", "Objective", "Vehicle"]
-
-
-class Objective(IntEnum):
-    """UavState.OBJECTIVE_*."""
-
-    GROUNDED = 0
-    SUPPRESS = 1
-    REFILL = 2
-    LAND = 3
-    SEARCH = 4
-    MONITOR = 5
-    LANDED = 6
-
-
-class Vehicle(IntEnum):
-    """SensorBundle.VEHICLE_*."""
-
-    ON_GROUND = 0
-    AIRBORNE = 1
-    LANDED = 2
-    CRASHED = 3
+__all__ = ["Decision", "Mission", "MissionConfig", "MissionView", "Objective", "VehicleStatus"]
 
 
 AIRBORNE_OBJECTIVES = (Objective.SUPPRESS, Objective.REFILL, Objective.SEARCH, Objective.MONITOR)
@@ -84,7 +64,7 @@ class MissionView:
     """What the life-cycle needs to know at one step. Positions [m; map]."""
 
     t_s: float
-    vehicle: Vehicle
+    vehicle: VehicleStatus
     water_kg: float
     pos_xy: tuple[float, float]
     fires: tuple[FireEntry, ...]  # this agent's active fires
@@ -164,12 +144,12 @@ class Mission:
         before = self.objective
         request = None
         direct = False
-        if v.vehicle == Vehicle.CRASHED:
+        if v.vehicle == VehicleStatus.CRASHED:
             return Decision(self.objective, self.target_fire_id, None, False, False)
-        if v.vehicle == Vehicle.LANDED and self.objective == Objective.LAND:
+        if v.vehicle == VehicleStatus.LANDED and self.objective == Objective.LAND:
             self._set(Objective.LANDED, v.t_s)
         elif self.objective == Objective.GROUNDED:
-            if v.t_s >= self.cfg.takeoff_time_s or v.vehicle == Vehicle.AIRBORNE:
+            if v.t_s >= self.cfg.takeoff_time_s or v.vehicle == VehicleStatus.AIRBORNE:
                 self._set(self._choose(v), v.t_s)
         elif self.objective == Objective.LAND or self.objective == Objective.LANDED:
             pass  # terminal: fires do not re-ignite in FF
@@ -182,7 +162,7 @@ class Mission:
                 self._set(self._choose(v), v.t_s)
             if self.objective == Objective.REFILL:
                 if v.over_lake and v.water_kg < self.cfg.water_capacity_kg:
-                    request = 2  # PayloadRequest.ACTION_REFILL
+                    request = PayloadAction.REFILL
                     self._since_s = v.t_s  # progress: restart the stall watch
                 direct = self._stalled(v)
         else:  # SUPPRESS, SEARCH, MONITOR
@@ -206,13 +186,13 @@ class Mission:
             if tgt is not None and v.water_kg > 0:
                 d = math.hypot(tgt.x_m - v.pos_xy[0], tgt.y_m - v.pos_xy[1])
                 if d <= max(tgt.extent_m, self.cfg.min_drop_radius_m):
-                    request = 1  # PayloadRequest.ACTION_DROP
+                    request = PayloadAction.DROP
                     self.drops += 1
                     self._set(Objective.REFILL, v.t_s)
                     self._drop_step_guard = 3
                     direct = False
         elif self.objective == Objective.MONITOR:
             self.target_fire_id = v.monitor_fire_id
-        elif request != 1:
+        elif request != PayloadAction.DROP:
             self.target_fire_id = -1
         return Decision(self.objective, self.target_fire_id, request, direct, self.objective != before)

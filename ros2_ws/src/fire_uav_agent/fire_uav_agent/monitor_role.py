@@ -22,8 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from fire_perimeter_monitor.planner import CirclingMonitor, ImportanceMonitor, MonitorConfig, PerimeterMonitor
+from fire_uav_common.constants import Objective
 
-from .mission import Objective
+from .planning import PlannerTarget, PlannerView
 
 __all__ = ["MonitorPlanner", "MonitorPlannerConfig", "RoleConfig", "assign_monitors", "eligible"]
 
@@ -119,9 +120,7 @@ class MonitorPlanner:
     def active(self) -> PerimeterMonitor | None:
         return self.monitors.get(self.fire_id)
 
-    def plan(self, view) -> object | None:  # PlannerView -> PlannerTarget | None
-        from .agent_core import PlannerTarget
-
+    def plan(self, view: PlannerView) -> PlannerTarget | None:
         fid = int(getattr(view, "target_fire_id", -1))
         fire = next((f for f in view.fires if f.fire_id == fid), None)
         cells = getattr(view, "cells", None)

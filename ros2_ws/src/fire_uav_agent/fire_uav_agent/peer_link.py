@@ -4,7 +4,8 @@ On receipt, a message from peer j to this agent i for step s is
 
 * *rejected* (counted) if its sender id is outside 0..N-1 or is i's own id, if it holds a
   NaN/inf, or if its sequence is not greater than the last accepted one from j on that topic;
-* *lost* (counted) if ``rng.bernoulli(loss_probability, seed, "loss", j, i, s, topic_index)``
+* *lost* (counted) if ``rng.bernoulli(loss_probability, seed, "loss", j, i, s, topic_index)`` (``topic_index``: the
+  topic's ``fire_uav_common.topics.TopicSpec.loss_index``)
   (deterministic whatever the arrival order) or if link (j, i) is in a scheduled outage at the
   step's stamp ``(s + 1) * T``;
 * otherwise *accepted*: it becomes j's last known state / fire picture (reused while j is not
@@ -25,10 +26,9 @@ from dataclasses import dataclass, field
 from enum import IntEnum
 
 from fire_uav_common import rng
+from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
 __all__ = [
-    "TOPIC_STATE",
-    "TOPIC_FIRES",
     "Outage",
     "PeerFires",
     "PeerLink",
@@ -36,8 +36,9 @@ __all__ = [
     "Verdict",
 ]
 
-TOPIC_STATE = 0  # topic_index of /fleet/state in the loss draw
-TOPIC_FIRES = 1  # topic_index of /fleet/fires
+# loss-draw indices (``TopicSpec.loss_index``) of the two topics the lockstep wait holds out for
+_STATE = int(FLEET_STATE_SPEC.loss_index)  # type: ignore[arg-type]
+_FIRES = int(FLEET_FIRES_SPEC.loss_index)  # type: ignore[arg-type]
 
 
 class Verdict(IntEnum):
@@ -122,7 +123,7 @@ class _Peer:
     missed: int = 0
     crashed: bool = False
     heard_since_bookkeeping: bool = False
-    last_seq: list[int] = field(default_factory=lambda: [0, 0])
+    last_seq: dict[int, int] = field(default_factory=lambda: {_STATE: 0, _FIRES: 0})
     state: PeerState | None = None
     fires: PeerFires | None = None
 
@@ -189,7 +190,7 @@ class PeerLink:
         for j, p in self.peers.items():
             if p.crashed:
                 continue
-            for ti in (TOPIC_STATE, TOPIC_FIRES):
+            for ti in (_STATE, _FIRES):
                 if not self.is_lost(j, step, ti):
                     out.add((j, ti))
         return out
@@ -217,20 +218,20 @@ class PeerLink:
         return Verdict.ACCEPTED
 
     def receive_state(self, msg: PeerState) -> Verdict:
-        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), TOPIC_STATE)
+        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), _STATE)
         if v == Verdict.ACCEPTED:
             p = self.peers[msg.uav_id]
-            p.last_seq[TOPIC_STATE] = msg.sequence
+            p.last_seq[_STATE] = msg.sequence
             p.state = msg
             p.heard_since_bookkeeping = True
             self.received += 1
         return v
 
     def receive_fires(self, msg: PeerFires) -> Verdict:
-        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), TOPIC_FIRES)
+        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), _FIRES)
         if v == Verdict.ACCEPTED:
             p = self.peers[msg.uav_id]
-            p.last_seq[TOPIC_FIRES] = msg.sequence
+            p.last_seq[_FIRES] = msg.sequence
             p.fires = msg
             self.received += 1
         return v

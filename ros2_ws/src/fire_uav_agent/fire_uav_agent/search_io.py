@@ -6,7 +6,7 @@ publishers and subscriptions of ``/fleet/coverage/{weights,candidates,mst}`` (na
 SEARCH planner. The node calls :meth:`SearchLink.on_step` once per control step after
 ``Agent.step``. Messages are converted here and nowhere else; the injected loss on receipt is the
 peer link's rule (``agent.link.is_lost(sender, step, topic_index)``: loss probability, seed and
-scheduled outages) with topic indexes :data:`fire_uav_agent.search.fleet.TOPIC_INDEX` (3, 4, 5).
+scheduled outages) with each topic's ``TopicSpec.loss_index`` (``search.coordinator.TOPIC_SPECS``).
 Nothing here waits: coverage messages are not part of the lockstep peer wait.
 
 Parameters (read once): ``search_mode`` (``auto`` | ``bo`` | ``random`` | ``off``; ``auto`` = ``bo``
@@ -23,17 +23,17 @@ from dataclasses import dataclass
 import numpy as np
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
+from fire_uav_common.constants import CandidateKind, MstKind, Objective
+from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_step, step_to_ns, to_time_msg
 from fire_uav_msgs.msg import CoverageCandidate, CoverageWeight, MstFragment
 from geometry_msgs.msg import Point
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.node import Node
 
 from .agent_core import Agent
-from .mission import Objective
-from .search.bayesopt import CandidateKind, CandidateMessage
-from .search.coordinator import Envelope, SearchConfig, SearchCoordinator, Topic
-from .search.fleet import TOPIC_INDEX
-from .search.mst import MstKind, MstMessage
+from .search.bayesopt import CandidateMessage
+from .search.coordinator import TOPIC_SPECS, Envelope, SearchConfig, SearchCoordinator, Topic
+from .search.mst import MstMessage
 from .search.power_diagram import WeightReport
 
 __all__ = ["SearchLink", "SearchParams", "attach_search", "declare_search_parameters"]
@@ -89,19 +89,14 @@ def declare_search_parameters(node: Node, search_first: bool) -> SearchParams:
 
 
 # --- conversions (the only place coverage messages meet the coordinator's types) --------------------
-def _time_msg(t_s: float) -> TimeMsg:
-    ns = int(round(t_s * 1e9))
-    return TimeMsg(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
-
-
 def _step_of(stamp: TimeMsg, period_s: float) -> int:
     """Header stamps are the bundle stamp t_{k+1} = (k + 1) T of the step they were sent at."""
-    return int(round((float(stamp.sec) + 1e-9 * float(stamp.nanosec)) / period_s)) - 1
+    return stamp_to_step(stamp_to_ns(stamp), s_to_ns(period_s))
 
 
 def to_msg(e: Envelope, period_s: float) -> CoverageWeight | CoverageCandidate | MstFragment:
     m = e.msg
-    stamp = _time_msg((e.step + 1) * period_s)
+    stamp = to_time_msg(step_to_ns(e.step, s_to_ns(period_s)), TimeMsg)
     if isinstance(m, WeightReport):
         w = CoverageWeight(uav_id=e.sender, iteration=int(m.iteration), seed_x_m=float(m.seed_x_m),
                            seed_y_m=float(m.seed_y_m), weight_m2=float(m.weight_m2),
@@ -152,19 +147,14 @@ class SearchLink:
         self.coordinator = coordinator
         self.period_s = float(agent.cfg.control_period_s)
         self.uav_id = int(agent.cfg.uav_id)
-        q = topics.qos("fleet")
-        self._pub = {
-            Topic.WEIGHTS: node.create_publisher(CoverageWeight, topics.COVERAGE_WEIGHTS, q),
-            Topic.CANDIDATES: node.create_publisher(CoverageCandidate, topics.COVERAGE_CANDIDATES, q),
-            Topic.MST: node.create_publisher(MstFragment, topics.COVERAGE_MST, q),
+        self._pub = {t: topics.publisher(node, spec) for t, spec in TOPIC_SPECS.items()}
+        convert = {
+            Topic.WEIGHTS: weight_envelope,
+            Topic.CANDIDATES: candidate_envelope,
+            Topic.MST: mst_envelope,
         }
-        node.create_subscription(CoverageWeight, topics.COVERAGE_WEIGHTS,
-                                 lambda m: self._receive(weight_envelope, m), q)  # fmt: skip
-        node.create_subscription(CoverageCandidate, topics.COVERAGE_CANDIDATES,
-                                 lambda m: self._receive(candidate_envelope, m), q)  # fmt: skip
-        node.create_subscription(
-            MstFragment, topics.COVERAGE_MST, lambda m: self._receive(mst_envelope, m), q
-        )
+        for t, spec in TOPIC_SPECS.items():
+            topics.subscription(node, spec, lambda m, c=convert[t]: self._receive(c, m))
         self._inbox: list[Envelope] = []
         self.received = 0
         self.lost = 0
@@ -181,7 +171,7 @@ class SearchLink:
         if not 0 <= e.sender < self.agent.cfg.uav_count or e.step < 0:
             self.rejected += 1
             return
-        if self.agent.link.is_lost(e.sender, e.step, TOPIC_INDEX[e.topic]):
+        if self.agent.link.is_lost(e.sender, e.step, TOPIC_SPECS[e.topic].loss_index):
             self.lost += 1
             return
         self.received += 1

@@ -4,7 +4,6 @@ import math
 
 import pytest
 from fire_uav_agent.peer_link import (
-    TOPIC_STATE,
     FireEntry,
     Outage,
     PeerFires,
@@ -12,6 +11,7 @@ from fire_uav_agent.peer_link import (
     PeerState,
     Verdict,
 )
+from fire_uav_common.topics import FLEET_STATE_SPEC
 
 
 def state(j: int, seq: int, step: int, x: float = 1.0) -> PeerState:
@@ -26,8 +26,8 @@ def test_loss_rate_matches_probability_and_is_order_independent():
     assert abs(lost - 0.05 * n) < 5 * math.sqrt(n * 0.05 * 0.95)
     assert link.lost == lost and link.received == n - lost and link.rejected == 0
     other = PeerLink(0, 2, seed=3, loss_probability=0.05, control_period_s=0.1)
-    assert [other.is_lost(1, k, TOPIC_STATE) for k in reversed(range(200))] == [
-        link.is_lost(1, k, TOPIC_STATE) for k in reversed(range(200))
+    assert [other.is_lost(1, k, FLEET_STATE_SPEC.loss_index) for k in reversed(range(200))] == [
+        link.is_lost(1, k, FLEET_STATE_SPEC.loss_index) for k in reversed(range(200))
     ]
 
 

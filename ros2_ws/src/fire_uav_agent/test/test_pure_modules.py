@@ -4,7 +4,10 @@ import ast
 from pathlib import Path
 
 PKG = Path(__file__).resolve().parents[1] / "fire_uav_agent"
-PURE = ["estimation", "peer_link", "consensus", "coverage", "mission", "agent_core", "minisim"]
+PURE = [
+    "estimation", "peer_link", "consensus", "coverage", "mission", "agent_core", "agent_config", "agent_types",
+    "planning", "staleness_search", "monitor_role", "minisim",
+]  # fmt: skip
 
 
 def test_no_rclpy_in_algorithm_modules():

@@ -224,6 +224,7 @@ def test_closed_loop_agents_fly_the_plan_and_find_the_fire() -> None:
     from fire_uav_agent.agent_core import AgentConfig
     from fire_uav_agent.minisim import MiniWorld, SimFire
     from fire_uav_agent.mission import Objective
+    from fire_uav_common.scenario import Mission
     from fire_uav_common.terrain import Lake
 
     cfgs = [
@@ -234,7 +235,7 @@ def test_closed_loop_agents_fly_the_plan_and_find_the_fire() -> None:
             start_pose=(60.0, 120.0 + 30 * i, 0.0, 0.0),
             takeoff_interval_s=1.0,
             lakes=(Lake(150.0, 60.0, 90.0),),
-            search_first=True,
+            mission=Mission(search_first=True),
         )  # fmt: skip
         for i in range(3)
     ]

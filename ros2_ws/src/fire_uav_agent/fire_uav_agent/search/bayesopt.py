@@ -32,23 +32,16 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
-from enum import IntEnum
 from typing import NamedTuple
 
 import numpy as np
+from fire_uav_common.constants import CandidateKind
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.gaussian_process import GaussianProcessRegressor
 from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
 
 from .errors import OptimizationError, SearchConfigError
 from .evaluate import Candidate, Evaluation, SearchProblem, evaluate_candidate
-
-
-class CandidateKind(IntEnum):
-    """Values equal ``fire_uav_msgs/CoverageCandidate`` KIND_* constants."""
-
-    PROPOSAL = 0
-    COST = 1
 
 
 class CandidateMessage(NamedTuple):

@@ -46,13 +46,20 @@ from enum import IntEnum
 from typing import NamedTuple
 
 import numpy as np
+from fire_uav_common.constants import CandidateKind, MstKind
+from fire_uav_common.topics import (
+    COVERAGE_CANDIDATES_SPEC,
+    COVERAGE_MST_SPEC,
+    COVERAGE_WEIGHTS_SPEC,
+    TopicSpec,
+)
 
-from ..agent_core import PlannerTarget, PlannerView
-from .bayesopt import BoAgent, BoConfig, CandidateKind, CandidateMessage, make_pool
+from ..planning import PlannerTarget, PlannerView
+from .bayesopt import BoAgent, BoConfig, CandidateMessage, make_pool
 from .energy import EnergyModel
 from .errors import MstError, SearchConfigError
 from .evaluate import Candidate, SearchProblem, evaluate_candidate, positions_normalised_time
-from .mst import MstAgent, MstKind, MstMessage, mission_radius_m
+from .mst import MstAgent, MstMessage, mission_radius_m
 from .power_diagram import (
     BalanceConfig,
     BalancerAgent,
@@ -78,6 +85,7 @@ __all__ = [
     "SearchCoordinator",
     "SearchPlan",
     "SearchPlanner",
+    "TOPIC_SPECS",
     "Topic",
     "default_cell_size_m",
 ]
@@ -91,6 +99,14 @@ class Topic(IntEnum):
     WEIGHTS = 0  # CoverageWeight
     CANDIDATES = 1  # CoverageCandidate
     MST = 2  # MstFragment
+
+
+#: the fleet topic of each coverage traffic kind (name, type, QoS, loss-draw index)
+TOPIC_SPECS: dict[Topic, TopicSpec] = {
+    Topic.WEIGHTS: COVERAGE_WEIGHTS_SPEC,
+    Topic.CANDIDATES: COVERAGE_CANDIDATES_SPEC,
+    Topic.MST: COVERAGE_MST_SPEC,
+}
 
 
 class Phase(IntEnum):

@@ -2,7 +2,7 @@
 
 For tests and benchmarks: the same loss rule as the peer link (docs/protocol.md "Peer link"):
 a message from ``j`` to ``i`` published at step ``s`` on coverage topic ``t`` is lost when
-``fire_uav_common.rng.bernoulli(p, seed, "loss", j, i, s, TOPIC_INDEX[t])``. Delivery takes
+``fire_uav_common.rng.bernoulli(p, seed, "loss", j, i, s, TOPIC_SPECS[t].loss_index)``. Delivery takes
 ``1 + delay`` steps, ``delay`` drawn uniformly in ``[0, max_extra_delay_steps]`` from a seeded
 generator (to exercise out-of-order arrival). Crashed agents stop stepping; the survivors learn it
 ``detect_steps`` later (the peer link's crash threshold).
@@ -16,12 +16,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from fire_uav_common import rng as fleet_rng
 
-from .coordinator import Envelope, SearchConfig, SearchCoordinator, Topic
+from .coordinator import TOPIC_SPECS, Envelope, SearchConfig, SearchCoordinator
 
-__all__ = ["TOPIC_INDEX", "FleetSim"]
-
-# topic_index of the coverage topics in the loss draw (0 state, 1 fires, 2 perimeter: peer_link/agent_core)
-TOPIC_INDEX = {Topic.WEIGHTS: 3, Topic.CANDIDATES: 4, Topic.MST: 5}
+__all__ = ["FleetSim"]
 
 
 @dataclass
@@ -76,7 +73,7 @@ class FleetSim:
                         continue
                     self.sent += 1
                     if fleet_rng.bernoulli(self.loss_probability, self.seed, "loss", c.uav_id, r, e.step,
-                                           TOPIC_INDEX[e.topic]):  # fmt: skip
+                                           TOPIC_SPECS[e.topic].loss_index):  # fmt: skip
                         self.lost += 1
                         continue
                     extra = int(self._net.integers(0, self.max_extra_delay_steps + 1))

@@ -29,21 +29,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from enum import IntEnum
 from typing import NamedTuple
 
 import numpy as np
+from fire_uav_common.constants import MstKind
 from scipy.sparse.csgraph import minimum_spanning_tree
 
 from .errors import MstError
-
-
-class MstKind(IntEnum):
-    """Message kinds; values equal ``fire_uav_msgs/MstFragment`` KIND_* constants."""
-
-    PROBE = 0
-    MERGE = 1
-    DONE = 2
 
 
 class MstMessage(NamedTuple):

@@ -1,0 +1,180 @@
+"""What an agent knows a priori: :class:`AgentConfig`, :class:`GuidanceConfig`, and the scenario mapping.
+
+:class:`AgentConfig` holds the scenario's own frozen sub-configs (``timing``, ``vehicle``,
+``sensors``, ``mission``: ``fire_uav_common.scenario``) instead of copies of their fields, so a
+new scenario field reaches the agent without being copied by hand. The agent never reads the
+scenario's ``fires`` (the truth), only ``fires.drop_radius_m`` (the footprint of its own drop).
+
+Units are in the field names: [m], [s], [m/s], [rad], [kg]; positions in the map frame.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Any
+
+from fire_uav_common import scenario as sc
+from fire_uav_common.terrain import Lake, Terrain
+
+from .coverage import ControlGains, VehicleLimits
+from .peer_link import Outage
+
+__all__ = ["DEFAULT_DROP_RADIUS_M", "AgentConfig", "GuidanceConfig", "config_from_scenario"]
+
+#: [m] drop footprint radius when the scenario leaves ``fires.drop_radius_m`` null (the raster default)
+DEFAULT_DROP_RADIUS_M = 20.0
+
+
+@dataclass(frozen=True)
+class GuidanceConfig:
+    """Named constants of the agent's guidance (FF Eqs. 8-15 around the Lloyd controller)."""
+
+    lake_approach_margin_m: float = 150.0  # [m] fly low and slow within lake radius + this (FF IV-D b)
+    refill_height_fraction: float = 0.5  # [-] approach height = this * vehicle.refill_height_m
+    refill_speed_fraction: float = 0.3  # [-] speed cap = v_stall + this * vehicle.refill_speed_margin_mps
+    land_approach_radius_m: float = 120.0  # [m] start descending this close to the start point
+    land_flat_fraction: float = 0.3  # [-] hold the lowest height inside this fraction of the radius
+    land_height_fraction: float = 0.5  # [-] lowest approach height = this * vehicle.landing_height_m
+    touchdown_agl_fraction: float = 0.8  # [-] below this * landing_height_m above ground: touch down
+    touchdown_sink_mps: float = 0.5  # [m/s] sink rate commanded at touch-down (v_lin = 0: the world lands it)
+    drop_radius_fraction: float = 0.7  # [-] release within this * drop_radius_m (EKF error margin)
+    consensus_negative_range_max_m: float = 50.0  # [m] cap of the "no fire here" range
+    consensus_negative_range_fraction: float = 0.7  # [-] "no fire here" range = this * sensor range
+    monitor_speed_margin_mps: float = 5.0  # [m/s] perimeter monitors fly at v_stall + this
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            name, value = f.name, getattr(self, f.name)
+            if not value >= 0:
+                raise ValueError(f"GuidanceConfig.{name} must be >= 0, got {value}")
+        if not 0 < self.land_flat_fraction < 1:
+            raise ValueError(
+                f"GuidanceConfig.land_flat_fraction must be in (0, 1), got {self.land_flat_fraction}"
+            )
+
+
+@dataclass(frozen=True)
+class AgentConfig:
+    """Everything an agent knows a priori (scenario parts + parameters). Units in names."""
+
+    uav_id: int
+    uav_count: int
+    seed: int = 0
+    area_m: tuple[float, float, float, float] = (0.0, 600.0, 0.0, 600.0)  # x_min, x_max, y_min, y_max
+    terrain: Terrain = field(default_factory=Terrain)
+    lakes: tuple[Lake, ...] = ()
+    start_pose: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)  # x, y, z [m], yaw [rad]
+    takeoff_interval_s: float = 2.0  # scenario uavs.takeoff_interval_s
+    timing: sc.Timing = field(default_factory=sc.Timing)
+    vehicle: sc.Vehicle = field(default_factory=sc.Vehicle)
+    sensors: sc.Sensors = field(default_factory=sc.Sensors)
+    mission: sc.Mission = field(default_factory=sc.Mission)
+    loss_probability: float = 0.05  # scenario comms.loss_probability, or the runner's override
+    outages: tuple[Outage, ...] = ()  # scenario comms.outages, or the runner's override
+    drop_radius_m: float = (
+        DEFAULT_DROP_RADIUS_M  # water footprint radius (world hits within max(this, sigma))
+    )
+    gains: ControlGains = field(default_factory=ControlGains)
+    guidance: GuidanceConfig = field(default_factory=GuidanceConfig)
+    extinction_extent_m: float = 2.0  # FF III-C step 4
+    monitor_circling: bool = False  # monitors circle (PM VI-E baseline) instead of importance-based
+    monitor_alpha: float = 1.0  # PM Eq. 7 heterogeneity-adjusting factor
+    perimeter_every_steps: int = 10  # publish the monitor's PerimeterMap every n steps (~1 Hz)
+
+    def __post_init__(self) -> None:
+        if not 0 <= self.uav_id < self.uav_count:
+            raise ValueError(
+                f"uav_id must be in 0..uav_count-1, got uav_id={self.uav_id}, uav_count={self.uav_count}"
+            )
+        if not self.control_period_s > 0 or not self.physics_period_s > 0:
+            raise ValueError("control_period_s and physics_period_s must be > 0")
+        if self.crash_threshold_steps < 1:
+            raise ValueError(f"crash_threshold_steps must be >= 1, got {self.crash_threshold_steps}")
+        if not 0.0 <= self.loss_probability <= 1.0:
+            raise ValueError(f"loss_probability must be in [0, 1], got {self.loss_probability}")
+
+    # --- views of the sub-configs (read-only) --------------------------------------------------
+    @property
+    def control_period_s(self) -> float:
+        """[s] control period T (scenario timing)."""
+        return self.timing.control_period_s
+
+    @property
+    def physics_period_s(self) -> float:
+        """[s] physics / EKF substep (scenario timing)."""
+        return self.timing.physics_period_s
+
+    @property
+    def limits(self) -> VehicleLimits:
+        """FF Eq. 5 limits of the scenario's vehicle."""
+        v = self.vehicle
+        return VehicleLimits(v.v_stall_mps, v.v_max_mps, v.vz_max_mps, v.omega_max_radps)
+
+    @property
+    def fire_range_m(self) -> float:
+        """[m] fire sensor range (scenario sensors.fire.range_m)."""
+        return self.sensors.fire.range_m
+
+    @property
+    def crash_threshold_steps(self) -> int:
+        return self.mission.crash_threshold_steps
+
+    @property
+    def monitors_per_fire(self) -> int:
+        return self.mission.monitors_per_fire
+
+    @property
+    def search_first(self) -> bool:
+        return self.mission.search_first
+
+
+def _outage(o: Any) -> Outage:
+    return Outage(int(o.from_), int(o.to), float(o.start_s), float(o.end_s))
+
+
+def config_from_scenario(
+    scenario: sc.Scenario,
+    uav_id: int,
+    uav_count: int | None = None,
+    seed: int | None = None,
+    loss_probability: float | None = None,
+    outages: tuple[Outage, ...] | None = None,
+    crash_threshold_steps: int | None = None,
+    monitors_per_fire: int | None = None,
+    **agent_options: Any,
+) -> AgentConfig:
+    """Build the agent's a-priori config from a ``fire_uav_common.scenario.Scenario``.
+
+    Reads only area, terrain, lakes, timing, vehicle, sensors, uavs (own start pose), comms,
+    mission and the drop footprint -- never the fires. Arguments not None override the scenario
+    (runner flags); ``agent_options`` are further :class:`AgentConfig` fields (monitor_alpha, ...).
+    """
+    n = int(uav_count if uav_count is not None else scenario.uavs.count)
+    a = scenario.area
+    mission = scenario.mission
+    if crash_threshold_steps is not None:
+        mission = dataclasses.replace(mission, crash_threshold_steps=int(crash_threshold_steps))
+    if monitors_per_fire is not None:
+        mission = dataclasses.replace(mission, monitors_per_fire=int(monitors_per_fire))
+    drop = scenario.fires.drop_radius_m
+    return AgentConfig(
+        uav_id=uav_id,
+        uav_count=n,
+        seed=int(seed if seed is not None else scenario.seed),
+        area_m=(float(a.x_min_m), float(a.x_max_m), float(a.y_min_m), float(a.y_max_m)),
+        terrain=scenario.terrain,
+        lakes=tuple(scenario.lakes),
+        start_pose=tuple(float(v) for v in scenario.uav_start_poses(n)[uav_id]),
+        takeoff_interval_s=float(scenario.uavs.takeoff_interval_s),
+        timing=scenario.timing,
+        vehicle=scenario.vehicle,
+        sensors=scenario.sensors,
+        mission=mission,
+        loss_probability=float(
+            loss_probability if loss_probability is not None else scenario.comms.loss_probability
+        ),
+        outages=tuple(outages) if outages is not None else tuple(_outage(o) for o in scenario.comms.outages),
+        drop_radius_m=float(drop) if drop else DEFAULT_DROP_RADIUS_M,
+        **agent_options,
+    )

@@ -1,0 +1,1 @@
+"""Test support for the agent package (never imported by the node): :mod:`.harness`."""
