@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-RECORDER = ROOT / "ros2_ws/install/fire_world_sim/lib/fire_world_sim/recorder"
+RECORDER = ROOT / "ros2_ws/install/fire_uav_recording/lib/fire_uav_recording/recorder"
 
 
 def publish(uavs: int, seconds: float, rate_hz: float = 10.0) -> int:
@@ -153,10 +153,9 @@ def bench_recorder(uavs: int, seconds: float, workdir: Path) -> dict[str, float]
         if rec is not None:
             stop(rec)
         stop(pub)
-    sys.path.insert(0, str(ROOT / "scripts/lib"))
-    from fire_report.data import bag_io
+    from fire_uav_recording import open_bag
 
-    with bag_io.open_bag(bag) as b:
+    with open_bag(bag) as b:
         span_s = (b.reader.end_time - b.reader.start_time) / 1e9
         count = b.reader.message_count
     size = sum(p.stat().st_size for p in bag.iterdir())

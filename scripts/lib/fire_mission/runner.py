@@ -420,7 +420,7 @@ def run(args: argparse.Namespace) -> int:
             if not args.no_record:
                 procs.start(
                     "recorder",
-                    ros_run_argv("fire_world_sim", "recorder", ["--params-file", str(params["recorder"])]),
+                    ros_run_argv("fire_uav_recording", "recorder", ["--params-file", str(params["recorder"])]),
                 )
                 _wait_for_node(sup.node, "recorder", 20.0, procs)
             for k in range(uav_count):

@@ -7,20 +7,14 @@ messages without one). Positions are metres in the ``map`` frame (x east, y nort
 from __future__ import annotations
 
 import math
-import sys
 from collections import defaultdict
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import fire_uav_recording as bag_io
 import numpy as np
 import yaml
-
-try:
-    from fire_world_sim import bag_io
-except ImportError:  # not sourced: use the source tree (bag_io is pure Python)
-    sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "ros2_ws" / "src" / "fire_world_sim"))
-    from fire_world_sim import bag_io
 
 from fire_report.errors import ReportError
 

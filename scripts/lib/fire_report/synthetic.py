@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from fire_report.data import bag_io  # puts fire_world_sim on the path if needed
+import fire_uav_recording as bag_io
 
 EKF_ERROR = {"x": 1.5, "y": -0.5, "z": 0.25, "yaw": 0.02}  # estimate - truth [m, m, m, rad]
 COVARIANCE_DIAG = (4.0, 4.0, 1.0, 0.01)  # trace 9.01
