@@ -45,7 +45,7 @@ SUBSCRIBER = textwrap.dedent(
 def env():
     e = dict(os.environ)
     e["ROS_DOMAIN_ID"] = str(45 + (os.getpid() % 50))  # private; distinct from parallel runs
-    e["PYTHONPATH"] = f"{ROOT / 'scripts/lib'}:{e.get('PYTHONPATH', '')}"
+    e["PYTHONPATH"] = f"{ROOT / 'tools'}:{e.get('PYTHONPATH', '')}"
     return e
 
 
