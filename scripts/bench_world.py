@@ -9,13 +9,10 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-for sub in ("fire_uav_common", "fire_world_sim"):
-    sys.path.insert(0, str(ROOT / "ros2_ws" / "src" / sub))
 
 from fire_uav_common.scenario import load_scenario  # noqa: E402
 from fire_world_sim.world import Command, World  # noqa: E402
