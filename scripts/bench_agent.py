@@ -7,12 +7,10 @@ Usage: .venv/bin/python scripts/bench_agent.py [--duration 120]
 """
 
 import argparse
-import sys
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT / "ros2_ws/src/fire_uav_common"), str(ROOT / "ros2_ws/src/fire_uav_agent")]
 
 import numpy as np  # noqa: E402
 from fire_uav_agent.agent_core import AgentConfig  # noqa: E402

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -27,8 +26,6 @@ from pathlib import Path
 import numpy as np
 
 _SRC = Path(__file__).resolve().parents[1] / "ros2_ws/src"
-for _pkg in ("fire_perimeter_monitor", "fire_world_sim", "fire_uav_common"):
-    sys.path.insert(0, str(_SRC / _pkg))
 
 from fire_perimeter_monitor.boundary import is_boundary_cell, lookup_from_grid  # noqa: E402
 from fire_perimeter_monitor.fire_map import CellGrid  # noqa: E402

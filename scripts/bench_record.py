@@ -22,13 +22,16 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-RECORDER = ROOT / "ros2_ws/install/fire_world_sim/lib/fire_world_sim/recorder"
+RECORDER = ROOT / "ros2_ws/install/fire_uav_recording/lib/fire_uav_recording/recorder"
 
 
 def publish(uavs: int, seconds: float, rate_hz: float = 10.0) -> int:
     """Publish fleet-shaped traffic for ``seconds`` of wall time (then exit 0)."""
     import rclpy
+    from builtin_interfaces.msg import Time
     from fire_uav_common import topics
+    from fire_uav_common.constants import EventType
+    from fire_uav_common.stamps import s_to_ns, to_time_msg
     from fire_uav_msgs.msg import (
         FireEstimate,
         FireEstimateArray,
@@ -44,20 +47,14 @@ def publish(uavs: int, seconds: float, rate_hz: float = 10.0) -> int:
 
     rclpy.init()
     node = Node("bench_publisher")
-    pc = node.create_publisher(Clock, topics.CLOCK, 10)
-    ps = [
-        node.create_publisher(SensorBundle, topics.uav_topic(k, topics.SENSORS), topics.qos("lockstep"))
-        for k in range(uavs)
-    ]
-    pcmd = [
-        node.create_publisher(TwistStamped, topics.uav_topic(k, topics.CMD), topics.qos("lockstep"))
-        for k in range(uavs)
-    ]
-    pst = node.create_publisher(UavState, topics.FLEET_STATE, topics.qos("fleet"))
-    pf = node.create_publisher(FireEstimateArray, topics.FLEET_FIRES, topics.qos("fleet"))
-    pe = node.create_publisher(MissionEvent, topics.WORLD_EVENTS, topics.qos("events"))
+    pc = topics.publisher(node, topics.CLOCK_SPEC)
+    ps = [topics.publisher(node, topics.SENSORS_SPEC, uav_id=k) for k in range(uavs)]
+    pcmd = [topics.publisher(node, topics.CMD_SPEC, uav_id=k) for k in range(uavs)]
+    pst = topics.publisher(node, topics.FLEET_STATE_SPEC)
+    pf = topics.publisher(node, topics.FLEET_FIRES_SPEC)
+    pe = topics.publisher(node, topics.WORLD_EVENTS_SPEC)
     ev = MissionEvent()
-    ev.type = MissionEvent.TYPE_IGNITION
+    ev.type = EventType.IGNITION
     ev.uav_id = ev.peer_id = -1
     ev.fire_id = 0
     ev.detail = "bench ignition"
@@ -67,8 +64,7 @@ def publish(uavs: int, seconds: float, rate_hz: float = 10.0) -> int:
 
     def tick() -> None:
         k = state["k"] = state["k"] + 1
-        c = Clock()
-        c.clock.sec, c.clock.nanosec = divmod(int(k * 1e9 / rate_hz), 10**9)
+        c = Clock(clock=to_time_msg(s_to_ns(k / rate_hz), Time))
         pc.publish(c)
         for u in range(uavs):
             b = SensorBundle()
@@ -153,11 +149,11 @@ def bench_recorder(uavs: int, seconds: float, workdir: Path) -> dict[str, float]
         if rec is not None:
             stop(rec)
         stop(pub)
-    sys.path.insert(0, str(ROOT / "scripts/lib"))
-    from fire_report.data import bag_io
+    from fire_uav_common.stamps import ns_to_s
+    from fire_uav_recording import open_bag
 
-    with bag_io.open_bag(bag) as b:
-        span_s = (b.reader.end_time - b.reader.start_time) / 1e9
+    with open_bag(bag) as b:
+        span_s = ns_to_s(b.reader.end_time - b.reader.start_time)
         count = b.reader.message_count
     size = sum(p.stat().st_size for p in bag.iterdir())
     return {
@@ -173,7 +169,6 @@ def bench_recorder(uavs: int, seconds: float, workdir: Path) -> dict[str, float]
 
 
 def bench_report(workdir: Path, uavs: int = 14, minutes: float = 10.0) -> dict[str, float]:
-    sys.path.insert(0, str(ROOT / "scripts/lib"))
     from fire_report.synthetic import SyntheticMission, write_synthetic_mission
 
     bag = workdir / "synthetic_10min"
@@ -184,7 +179,6 @@ def bench_report(workdir: Path, uavs: int = 14, minutes: float = 10.0) -> dict[s
     t1 = time.monotonic()
     out = subprocess.run(
         [sys.executable, "-m", "fire_report", str(bag), "-o", str(workdir / "report")],
-        env={**os.environ, "PYTHONPATH": f"{ROOT / 'scripts/lib'}:{os.environ.get('PYTHONPATH', '')}"},
         capture_output=True,
         text=True,
     )

@@ -20,17 +20,10 @@ sensor range (agents assumed at their path start when the plan is ready).
 from __future__ import annotations
 
 import argparse
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
-from threadpoolctl import threadpool_limits
-
-for _pkg in ("fire_uav_agent", "fire_uav_common", "fire_perimeter_monitor"):
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "ros2_ws" / "src" / _pkg))
-
-from fire_uav_agent.search import (  # noqa: E402
+from fire_uav_agent.search import (
     BoConfig,
     CoverageGrid,
     SearchProblem,
@@ -41,6 +34,7 @@ from fire_uav_agent.search import (  # noqa: E402
     run_async_bo,
     run_random_search,
 )
+from threadpoolctl import threadpool_limits
 
 
 def _stats(x: np.ndarray) -> str:

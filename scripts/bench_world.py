@@ -17,13 +17,10 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-for sub in ("fire_uav_common", "fire_world_sim"):
-    sys.path.insert(0, str(ROOT / "ros2_ws" / "src" / sub))
 
 import numpy as np  # noqa: E402
 from fire_uav_common.scenario import Ignition, Raster, Wind, load_scenario  # noqa: E402

@@ -16,6 +16,8 @@ source "$_fire_uav_root/ros2_ws/install/setup.bash"
 # install/setup.bash does not chain the venv prefix (gotcha 3): keep it last.
 case ":$AMENT_PREFIX_PATH:" in *":$_fire_uav_root/.venv:"*) ;; *) export AMENT_PREFIX_PATH="$AMENT_PREFIX_PATH:$_fire_uav_root/.venv" ;; esac
 export FIRE_UAV_ROOT="$_fire_uav_root"
+# this checkout's tools first, even when the venv is shared with another checkout
+case ":${PYTHONPATH:-}:" in *":$_fire_uav_root/tools:"*) ;; *) export PYTHONPATH="$_fire_uav_root/tools${PYTHONPATH:+:$PYTHONPATH}" ;; esac
 export RMW_IMPLEMENTATION=rmw_fastrtps_cpp
 export ROS_LOG_DIR="${ROS_LOG_DIR:-$_fire_uav_root/ros2_ws/log/ros}"
 export ROS_AUTOMATIC_DISCOVERY_RANGE="${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}"

@@ -12,11 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "scripts" / "lib"))
-
-from fire_mission.procs import ProcessGroup, private_domain_id  # noqa: E402
+from fire_mission.procs import ProcessGroup, private_domain_id
 
 
 def _need_ros_env() -> None:

@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def run_report(*args: str) -> subprocess.CompletedProcess:
-    env = {**os.environ, "PYTHONPATH": f"{ROOT / 'scripts/lib'}:{os.environ.get('PYTHONPATH', '')}"}
+    env = {**os.environ, "PYTHONPATH": f"{ROOT / 'tools'}:{os.environ.get('PYTHONPATH', '')}"}
     env.pop("FIRE_REPORT_DEBUG", None)
     return subprocess.run(
         [sys.executable, "-m", "fire_report", *args], capture_output=True, text=True, env=env, timeout=120

@@ -88,7 +88,7 @@ def test_report_writes_every_figure_and_page(synthetic, tmp_path):
 
 def test_killed_recording_is_read_up_to_the_last_flush(tmp_path):
     """A copy of a bag taken while open (what SIGKILL leaves) is salvaged with a warning."""
-    from fire_report.data import bag_io
+    import fire_uav_recording as bag_io
 
     ts = bag_io.fleet_typestore()
     Ev = ts.types["fire_uav_msgs/msg/MissionEvent"]

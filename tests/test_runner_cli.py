@@ -17,7 +17,7 @@ def _run(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
         os.environ,
         PYTHONPATH=os.pathsep.join(
             [
-                str(ROOT / "scripts/lib"),
+                str(ROOT / "tools"),
                 str(ROOT / "ros2_ws/src/fire_uav_common"),
                 os.environ.get("PYTHONPATH", ""),
             ]

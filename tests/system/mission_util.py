@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[2]
 def run_mission(out: Path, env: dict[str, str], *args: str, timeout_s: float = 400.0) -> tuple[dict, str]:
     """Run ``run_mission`` with ``args`` into ``out``; return (summary.json, runner stderr)."""
     e = dict(env)
-    e["PYTHONPATH"] = str(ROOT / "scripts/lib") + os.pathsep + e.get("PYTHONPATH", "")
+    e["PYTHONPATH"] = str(ROOT / "tools") + os.pathsep + e.get("PYTHONPATH", "")
     e.pop("ROS_DOMAIN_ID", None)  # the runner picks its own private domain
     proc = subprocess.run(
         [sys.executable, "-m", "fire_mission.runner", *args, "--out", str(out), "--quiet", "--no-report"],

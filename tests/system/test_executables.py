@@ -13,8 +13,8 @@ pytestmark = pytest.mark.system
 
 EXECUTABLES = [
     ("fire_world_sim", "world_node"),
-    ("fire_world_sim", "recorder"),
-    ("fire_world_sim", "replay"),
+    ("fire_uav_recording", "recorder"),
+    ("fire_uav_recording", "replay"),
     ("fire_uav_agent", "uav_agent"),
     ("fire_perimeter_monitor", "perimeter_viewer"),
 ]

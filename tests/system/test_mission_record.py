@@ -17,7 +17,7 @@ pytestmark = [pytest.mark.system, pytest.mark.slow]
 
 def test_recorded_mission_report_matches_live_and_replays(procs, ros_env, tmp_path):
     out = tmp_path / "run"
-    env = dict(ros_env, PYTHONPATH=str(ROOT / "scripts/lib") + os.pathsep + ros_env.get("PYTHONPATH", ""))
+    env = dict(ros_env, PYTHONPATH=str(ROOT / "tools") + os.pathsep + ros_env.get("PYTHONPATH", ""))
     env.pop("ROS_DOMAIN_ID", None)
     r = subprocess.run(
         [

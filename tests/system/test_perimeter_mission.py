@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import pytest
+from fire_uav_common.constants import EventType, Objective
 from mission_util import ROOT, assert_no_survivors, run_mission
 
 SCENARIO = ROOT / "ros2_ws/src/fire_world_sim/scenarios/monitor_grass.yaml"
-MONITOR = 5  # UavState.OBJECTIVE_MONITOR
-CRASH = 4  # MissionEvent.TYPE_CRASH
+MONITOR = Objective.MONITOR
+CRASH = EventType.CRASH
 
 
 @pytest.mark.system

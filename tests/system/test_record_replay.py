@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-LIB = ROOT / "ros2_ws/install/fire_world_sim/lib/fire_world_sim"
+LIB = ROOT / "ros2_ws/install/fire_uav_recording/lib/fire_uav_recording"
 BENCH = ROOT / "scripts/bench_record.py"
 
 pytestmark = [pytest.mark.system, pytest.mark.slow]
@@ -45,7 +45,7 @@ SUBSCRIBER = textwrap.dedent(
 def env():
     e = dict(os.environ)
     e["ROS_DOMAIN_ID"] = str(45 + (os.getpid() % 50))  # private; distinct from parallel runs
-    e["PYTHONPATH"] = f"{ROOT / 'scripts/lib'}:{e.get('PYTHONPATH', '')}"
+    e["PYTHONPATH"] = f"{ROOT / 'tools'}:{e.get('PYTHONPATH', '')}"
     return e
 
 
@@ -92,7 +92,7 @@ def record(env, bag: Path, seconds: float, stop_signal: int) -> tuple[int | None
 
 
 def test_record_sigint_then_replay(tmp_path, env):
-    from fire_report.data import bag_io
+    import fire_uav_recording as bag_io
 
     bag = tmp_path / "bag"
     rc, err = record(env, bag, 6.0, signal.SIGINT)
@@ -139,7 +139,7 @@ def test_record_sigint_then_replay(tmp_path, env):
 
 
 def test_record_sigkill_stays_readable(tmp_path, env):
-    from fire_report.data import bag_io
+    import fire_uav_recording as bag_io
 
     bag = tmp_path / "bag"
     rc, _ = record(env, bag, 6.0, signal.SIGKILL)
@@ -161,7 +161,7 @@ def test_record_sigkill_stays_readable(tmp_path, env):
 
 
 def test_record_sigterm_closes_the_bag(tmp_path, env):
-    from fire_report.data import bag_io
+    import fire_uav_recording as bag_io
 
     rc, err = record(env, tmp_path / "bag", 4.0, signal.SIGTERM)
     assert rc == 0, err

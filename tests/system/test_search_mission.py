@@ -8,11 +8,12 @@ staleness planner and the search assertions below fail.
 from __future__ import annotations
 
 import pytest
+from fire_uav_common.constants import EventType
 from mission_util import assert_no_survivors, run_mission
 
 pytestmark = [pytest.mark.system, pytest.mark.slow]
 
-TYPE_FIRE_DETECTED = 11  # MissionEvent.TYPE_FIRE_DETECTED
+TYPE_FIRE_DETECTED = EventType.FIRE_DETECTED
 
 
 def test_search_area_fire_is_found_then_extinguished(ros_env, tmp_path):

@@ -22,7 +22,7 @@ def _record_truth(procs, tmp_path: Path, tag: str, seed: int) -> list[bytes]:
     rec = procs.start(
         f"recorder_{tag}",
         ros_run_argv(
-            "fire_world_sim",
+            "fire_uav_recording",
             "recorder",
             ["-p", f"output:={bag}", "-p", f"scenario_file:={scen}", "-p", f"seed:={seed}"],
         ),

@@ -18,13 +18,11 @@ setup(
     zip_safe=True,
     maintainer="fire-uav team",
     maintainer_email="fire-uav@example.org",
-    description="World simulation of the fire UAV fleet: sim clock, fire models (analytic Gaussian, raster Rothermel), vehicles, sensors, suppression, scenarios; mission recorder and replay.",
+    description="World simulation of the fire UAV fleet: sim clock, fire models (analytic Gaussian, raster Rothermel), vehicles, sensors, suppression, scenarios.",
     license="Apache-2.0",
     entry_points={
         "console_scripts": [
             "world_node = fire_world_sim.world_node:main",
-            "recorder = fire_world_sim.recorder_node:main",
-            "replay = fire_world_sim.replay_node:main",
         ],
     },
 )

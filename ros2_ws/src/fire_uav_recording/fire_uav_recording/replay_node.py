@@ -9,7 +9,8 @@ Parameters (read once):
 - ``tick_period_wall_s`` (0.005): wall timer period of the publishing loop [s].
 - ``progress`` (true): progress bar on stderr.
 
-Messages are republished raw (CDR bytes as recorded) with the QoS their publishers offered.
+Messages are republished raw (CDR bytes as recorded): a topic of ``fire_uav_common.topics``
+with its spec's QoS, any other with the QoS its recorded publishers offered.
 The node uses the wall clock (``use_sim_time`` false): it is the clock authority of a replay.
 It exits when the bag is done or on SIGINT/SIGTERM.
 """
@@ -22,6 +23,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 
 import rclpy
+from builtin_interfaces.msg import Time as TimeMsg
+from fire_uav_common.stamps import ns_to_s, s_to_ns, to_time_msg
+from fire_uav_common.topics import CLOCK_SPEC
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
@@ -29,12 +33,11 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.task import Future
 from rosbags.interfaces import QosDurability, QosReliability
-from rosgraph_msgs.msg import Clock as ClockMsg
 
-from fire_world_sim import bag_io
-from fire_world_sim.recorder_node import message_class
+import fire_uav_recording as rec
+from fire_uav_recording.recorder_node import message_class, spec_of
 
-CLOCK_TOPIC = "/clock"
+CLOCK_TOPIC = CLOCK_SPEC.name
 
 
 class ReplayConfigError(ValueError):
@@ -52,8 +55,11 @@ class ReplayConfig:
 
 
 def publisher_qos(conn: object) -> QoSProfile:
-    """QoS for republishing: the recorded publishers' (reliable volatile depth 100 if unknown)."""
-    offered = bag_io.offered_qos(conn)  # type: ignore[arg-type]
+    """QoS for republishing: the topic spec's, else the recorded publishers' (reliable volatile depth 100 if unknown)."""
+    spec = spec_of(conn.topic)  # type: ignore[attr-defined]
+    if spec is not None and spec.type == conn.msgtype:  # type: ignore[attr-defined]
+        return spec.qos()
+    offered = rec.offered_qos(conn)  # type: ignore[arg-type]
     best_effort = any(q.reliability == QosReliability.BEST_EFFORT for q in offered)
     transient = bool(offered) and all(q.durability == QosDurability.TRANSIENT_LOCAL for q in offered)
     depth = max([1000 if transient else 100, *[q.depth for q in offered]])
@@ -97,7 +103,7 @@ class ReplayNode(Node):
         super().__init__("replay")
         self.config = self._read_config()
         self.finished: Future = Future()
-        cm = bag_io.open_bag(self.config.bag)
+        cm = rec.open_bag(self.config.bag)
         self._bag = cm.__enter__()
         self._bag_cm = cm
         for w in self._bag.warnings:
@@ -153,8 +159,9 @@ class ReplayNode(Node):
             wanted = set(have)
         self._pubs: dict[int, object] = {}
         for conn in bag.connections(sorted(wanted)):
+            spec = spec_of(conn.topic)
             try:
-                cls = message_class(conn.msgtype)
+                cls = spec.msg_class() if spec is not None and spec.type == conn.msgtype else message_class(conn.msgtype)
             except (ImportError, AttributeError, ValueError) as err:
                 self.get_logger().warning(
                     f"not replaying {conn.topic}: type {conn.msgtype} not importable ({err})"
@@ -162,15 +169,17 @@ class ReplayNode(Node):
                 continue
             self._pubs[conn.id] = self.create_publisher(cls, conn.topic, publisher_qos(conn))
         self._gen_clock = CLOCK_TOPIC not in have
-        self._clock_pub = self.create_publisher(ClockMsg, CLOCK_TOPIC, 10) if self._gen_clock else None
+        self._clock_pub = (
+            self.create_publisher(CLOCK_SPEC.msg_class(), CLOCK_SPEC.name, CLOCK_SPEC.qos()) if self._gen_clock else None
+        )
         reader = bag.reader
         self.bag_start_ns = reader.start_time
         self.bag_end_ns = max(reader.end_time, self.bag_start_ns)
-        self.first_ns = self.bag_start_ns + int(self.config.start_s * 1e9)
+        self.first_ns = self.bag_start_ns + s_to_ns(self.config.start_s)
         if self.first_ns >= self.bag_end_ns and reader.message_count:
             raise ReplayConfigError(
                 f"parameter start_s: {self.config.start_s} s is past the bag's end "
-                f"({(self.bag_end_ns - self.bag_start_ns) / 1e9:.1f} s)"
+                f"({ns_to_s(self.bag_end_ns - self.bag_start_ns):.1f} s)"
             )
         self._iter: Iterator[tuple[object, int, bytes]] = bag.raw_messages(
             topics=sorted({self._topic_of(cid) for cid in self._pubs}), start_ns=self.first_ns
@@ -179,12 +188,12 @@ class ReplayNode(Node):
         self.count = 0
         self.done = False
         self._wall0: float | None = None
-        self._bar = ProgressBar((self.bag_end_ns - self.first_ns) / 1e9, self.config.progress)
+        self._bar = ProgressBar(ns_to_s(self.bag_end_ns - self.first_ns), self.config.progress)
         wall = Clock(clock_type=ClockType.STEADY_TIME)
         self._timer = self.create_timer(self.config.tick_period_wall_s, self._tick, clock=wall)
         self.get_logger().info(
             f"replaying {len(self._pubs)} topics from {self.config.bag} at x{self.config.rate:g}, "
-            f"{(self.bag_end_ns - self.first_ns) / 1e9:.1f} s of bag time"
+            f"{ns_to_s(self.bag_end_ns - self.first_ns):.1f} s of bag time"
         )
 
     def _topic_of(self, cid: int) -> str:
@@ -196,7 +205,7 @@ class ReplayNode(Node):
         now = time.monotonic()
         if self._wall0 is None:
             self._wall0 = now
-        target_ns = self.first_ns + int((now - self._wall0) * self.config.rate * 1e9)
+        target_ns = self.first_ns + s_to_ns((now - self._wall0) * self.config.rate)
         try:
             while self._next is not None and self._next[1] <= target_ns:
                 conn, _t, raw = self._next
@@ -205,21 +214,19 @@ class ReplayNode(Node):
                     pub.publish(raw)  # type: ignore[attr-defined]
                     self.count += 1
                 self._next = next(self._iter, None)
-        except bag_io.BagError as err:
+        except rec.BagError as err:
             self.get_logger().error(str(err))
             self._finish()
             return
         if self._clock_pub is not None:
-            msg = ClockMsg()
-            t = min(target_ns, self.bag_end_ns)
-            msg.clock.sec, msg.clock.nanosec = divmod(t, 10**9)
+            msg = CLOCK_SPEC.msg_class()(clock=to_time_msg(min(target_ns, self.bag_end_ns), TimeMsg))
             self._clock_pub.publish(msg)
         self._bar.update(
-            min(target_ns, self.bag_end_ns - 1) / 1e9 - self.first_ns / 1e9, self.count, self.config.rate
+            ns_to_s(min(target_ns, self.bag_end_ns - 1) - self.first_ns), self.count, self.config.rate
         )
         if self._next is None:
             self._bar.update(
-                (self.bag_end_ns - self.first_ns) / 1e9, self.count, self.config.rate, force=True
+                ns_to_s(self.bag_end_ns - self.first_ns), self.count, self.config.rate, force=True
             )
             self._finish()
 
@@ -251,7 +258,7 @@ def main(args: list[str] | None = None) -> int:
     except (KeyboardInterrupt, ExternalShutdownException):
         if node is not None:
             node._bar.finish()
-    except (ReplayConfigError, bag_io.BagError) as err:
+    except (ReplayConfigError, rec.BagError) as err:
         rclpy.logging.get_logger("replay").error(str(err))
         rc = 1
     except Exception:  # a signal may shut the context down in the middle of a wait: that is a stop too

@@ -9,17 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-# MissionEvent.TYPE_* as plain ints (ROS-free), one copy shared with the report
-from fire_report.data import (
-    TYPE_CRASH,
-    TYPE_DROP,
-    TYPE_EXTINGUISHED,
-    TYPE_LANDED,
-    TYPE_MISSION_COMPLETE,
-    TYPE_PEER_CRASHED,
-    TYPE_PEER_REJOINED,
-    TYPE_REFILL,
-)
+from fire_uav_common.constants import EventType
 
 
 @dataclass
@@ -57,7 +47,7 @@ class LiveSummary:
 
     def add(self, ev: Event) -> None:
         self.events.append(ev)
-        if ev.type == TYPE_MISSION_COMPLETE:
+        if ev.type == EventType.MISSION_COMPLETE:
             self.complete_detail = ev.detail
             self.complete_success = ev.value >= 1.0
 
@@ -66,7 +56,7 @@ class LiveSummary:
 
     def drops(self) -> list[Event]:
         """Drops that released water (a drop request with an empty tank is not a drop)."""
-        return [e for e in self.of(TYPE_DROP) if e.value > 0]
+        return [e for e in self.of(EventType.DROP) if e.value > 0]
 
     def drop_intervals_s(self) -> list[float]:
         """Intervals between consecutive drops of the whole fleet (FF Table I)."""
@@ -81,13 +71,13 @@ class LiveSummary:
             per_fire[key] = per_fire.get(key, 0) + 1
         intervals = self.drop_intervals_s()
         crashes = [
-            {"uav_id": e.uav_id, "t_s": round(e.t_s, 3), "detail": e.detail} for e in self.of(TYPE_CRASH)
+            {"uav_id": e.uav_id, "t_s": round(e.t_s, 3), "detail": e.detail} for e in self.of(EventType.CRASH)
         ]
         declared: dict[int, list[dict]] = {}
-        for e in self.of(TYPE_PEER_CRASHED):
+        for e in self.of(EventType.PEER_CRASHED):
             declared.setdefault(e.peer_id, []).append({"by": e.uav_id, "t_s": round(e.t_s, 3)})
         rejoined = [
-            {"uav_id": e.peer_id, "by": e.uav_id, "t_s": round(e.t_s, 3)} for e in self.of(TYPE_PEER_REJOINED)
+            {"uav_id": e.peer_id, "by": e.uav_id, "t_s": round(e.t_s, 3)} for e in self.of(EventType.PEER_REJOINED)
         ]
         return {
             "outcome": outcome,
@@ -99,13 +89,13 @@ class LiveSummary:
             "fires_total": self.fires_total,
             "fires_active_at_end": self.fires_active,
             "extinguished": [
-                {"fire_id": e.fire_id, "t_s": round(e.t_s, 3)} for e in self.of(TYPE_EXTINGUISHED)
+                {"fire_id": e.fire_id, "t_s": round(e.t_s, 3)} for e in self.of(EventType.EXTINGUISHED)
             ],
             "drops_total": len(drops),
             "drops_per_fire": per_fire,
             "mean_inter_drop_interval_s": round(sum(intervals) / len(intervals), 3) if intervals else None,
-            "refills": len(self.of(TYPE_REFILL)),
-            "landed": sorted({e.uav_id for e in self.of(TYPE_LANDED)}),
+            "refills": len(self.of(EventType.REFILL)),
+            "landed": sorted({e.uav_id for e in self.of(EventType.LANDED)}),
             "crashes": crashes,
             "declared_crashed": {str(k): v for k, v in sorted(declared.items())},
             "rejoined": rejoined,

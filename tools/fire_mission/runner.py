@@ -23,11 +23,14 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from fire_uav_common.constants import EventType, FireStatus, VehicleStatus
+from fire_uav_common.stamps import stamp_to_s
+
 from fire_mission.procs import MissionError, ProcessGroup, private_domain_id, ros_run_argv
 from fire_mission.procstat import sample as proc_sample
 from fire_mission.summary import Event, LiveSummary, table
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[2]  # the checkout: tools/<package>/<module>.py
 
 
 # --- fault specifications ----------------------------------------------------------------
@@ -255,18 +258,11 @@ class Supervisor:
     ) -> None:
         import rclpy
         from fire_uav_common import topics
-        from fire_uav_msgs.msg import FireEstimate, MissionEvent, SensorBundle, UavState, WorldTruth
-        from rosgraph_msgs.msg import Clock
 
         self.procs, self.summary, self.args = procs, summary, args
         self.uav_count = uav_count
         self.control_period_s = control_period_s
         self.node = rclpy.create_node("mission_supervisor")
-        # message constants, kept here because fire_uav_msgs is imported only with ROS present
-        self.FIRE_ACTIVE = FireEstimate.STATUS_ACTIVE
-        self.VEHICLE_CRASHED = SensorBundle.VEHICLE_CRASHED
-        self.VEHICLE_LANDED = SensorBundle.VEHICLE_LANDED
-        self.MISSION_COMPLETE = MissionEvent.TYPE_MISSION_COMPLETE
         self.t_s = 0.0
         self.steps = 0
         self.done = False
@@ -281,14 +277,14 @@ class Supervisor:
             self.pending.append((f.start_s, f"freeze uav {f.uav} at {f.start_s:g} s", f.uav, signal.SIGSTOP))
             self.pending.append((f.end_s, f"resume uav {f.uav} at {f.end_s:g} s", f.uav, signal.SIGCONT))
         self.pending.sort()
-        self.node.create_subscription(Clock, topics.CLOCK, self._on_clock, 10)
-        self.node.create_subscription(WorldTruth, topics.WORLD_TRUTH, self._on_truth, topics.qos("truth"))
-        self.node.create_subscription(MissionEvent, topics.WORLD_EVENTS, self._on_event, topics.qos("events"))
-        self.node.create_subscription(MissionEvent, topics.FLEET_EVENTS, self._on_event, topics.qos("events"))
-        self.node.create_subscription(UavState, topics.FLEET_STATE, self._on_state, topics.qos("fleet"))
+        topics.subscription(self.node, topics.CLOCK_SPEC, self._on_clock)
+        topics.subscription(self.node, topics.WORLD_TRUTH_SPEC, self._on_truth)
+        topics.subscription(self.node, topics.WORLD_EVENTS_SPEC, self._on_event)
+        topics.subscription(self.node, topics.FLEET_EVENTS_SPEC, self._on_event)
+        topics.subscription(self.node, topics.FLEET_STATE_SPEC, self._on_state)
 
     def _on_clock(self, msg) -> None:
-        self.t_s = msg.clock.sec + msg.clock.nanosec * 1e-9
+        self.t_s = stamp_to_s(msg.clock)
         self.summary.mission_time_s = self.t_s
         while self.pending and self.pending[0][0] <= self.t_s + 1e-9:
             _, what, uav, sig = self.pending.pop(0)
@@ -313,21 +309,21 @@ class Supervisor:
                 if st is not None:
                     self.cpu_at_first_step[name] = st.cpu_s
         self.summary.fires_total = len(msg.fires)
-        self.summary.fires_active = sum(1 for f in msg.fires if f.status == self.FIRE_ACTIVE)
-        self.summary.vehicles_alive = sum(1 for v in msg.vehicles if v.status != self.VEHICLE_CRASHED)
-        self.summary.vehicles_landed = sum(1 for v in msg.vehicles if v.status == self.VEHICLE_LANDED)
+        self.summary.fires_active = sum(1 for f in msg.fires if f.status == FireStatus.ACTIVE)
+        self.summary.vehicles_alive = sum(1 for v in msg.vehicles if v.status != VehicleStatus.CRASHED)
+        self.summary.vehicles_landed = sum(1 for v in msg.vehicles if v.status == VehicleStatus.LANDED)
         for v in msg.vehicles:
             self.summary.water_kg[v.uav_id] = float(v.water_kg)
 
     def _on_event(self, msg) -> None:
-        t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        t = stamp_to_s(msg.header.stamp)
         self.summary.add(Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail))
-        if msg.type == self.MISSION_COMPLETE:
+        if msg.type == EventType.MISSION_COMPLETE:
             self.done = True
 
     def _on_state(self, msg) -> None:
         self.summary.packets[msg.uav_id] = (msg.packets_received, msg.packets_lost, msg.packets_rejected)
-        self.summary.last_state_t[msg.uav_id] = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+        self.summary.last_state_t[msg.uav_id] = stamp_to_s(msg.header.stamp)
         self.summary.alive_view[msg.uav_id] = list(msg.alive_peers)
         self.summary.objective[msg.uav_id] = int(msg.objective)
 
@@ -420,7 +416,7 @@ def run(args: argparse.Namespace) -> int:
             if not args.no_record:
                 procs.start(
                     "recorder",
-                    ros_run_argv("fire_world_sim", "recorder", ["--params-file", str(params["recorder"])]),
+                    ros_run_argv("fire_uav_recording", "recorder", ["--params-file", str(params["recorder"])]),
                 )
                 _wait_for_node(sup.node, "recorder", 20.0, procs)
             for k in range(uav_count):

@@ -12,7 +12,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from fire_report.data import bag_io  # puts fire_world_sim on the path if needed
+import fire_uav_recording as bag_io
+from fire_uav_common import topics
+from fire_uav_common.constants import EventType, FireStatus, Objective, VehicleStatus
+from fire_uav_common.stamps import s_to_ns, to_time_msg
 
 EKF_ERROR = {"x": 1.5, "y": -0.5, "z": 0.25, "yaw": 0.02}  # estimate - truth [m, m, m, rad]
 COVARIANCE_DIAG = (4.0, 4.0, 1.0, 0.01)  # trace 9.01
@@ -51,11 +54,6 @@ class SyntheticMission:
         return self.lost_final[uav % len(self.lost_final)]
 
 
-def _t(sec: float) -> tuple[int, int]:
-    ns = round(sec * 1e9)
-    return ns // 10**9, ns % 10**9
-
-
 def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = None) -> SyntheticMission:
     """Write the bag directory ``path`` (must not exist) for ``spec``; return ``spec``."""
     spec = spec or SyntheticMission()
@@ -77,8 +75,7 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
     import numpy as np
 
     def header(sec: float) -> Any:
-        s, ns = _t(sec)
-        return Header(stamp=Time(sec=s, nanosec=ns), frame_id="map")
+        return Header(stamp=to_time_msg(s_to_ns(sec), Time), frame_id="map")
 
     def event(
         sec: float,
@@ -115,36 +112,36 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
     }
     world_events: list[tuple[float, Any]] = []
     for f, uav, fid in spec.drops:
-        world_events.append((f * D, event(f * D, 2, uav=uav, fire=fid, detail="drop", value=2000.0)))
+        world_events.append((f * D, event(f * D, EventType.DROP, uav=uav, fire=fid, detail="drop", value=2000.0)))
     for f, fid in spec.extinguished:
-        world_events.append((f * D, event(f * D, 5, fire=fid, detail="out")))
+        world_events.append((f * D, event(f * D, EventType.EXTINGUISHED, fire=fid, detail="out")))
     if spec.crash:
-        world_events.append((crash_t, event(crash_t, 4, uav=spec.crash[1], detail="no command for 3.0 s")))
-    world_events.append((D, event(D, 10, detail="all fires out and every vehicle landed", value=1.0)))
+        world_events.append((crash_t, event(crash_t, EventType.CRASH, uav=spec.crash[1], detail="no command for 3.0 s")))
+    world_events.append((D, event(D, EventType.MISSION_COMPLETE, detail="all fires out and every vehicle landed", value=1.0)))
     fleet_events: list[tuple[float, Any]] = []
     if spec.peer_crashed:
         f, by, peer = spec.peer_crashed
-        fleet_events.append((f * D, event(f * D, 7, uav=by, peer=peer, detail="silent for 10 steps")))
+        fleet_events.append((f * D, event(f * D, EventType.PEER_CRASHED, uav=by, peer=peer, detail="silent for 10 steps")))
     pending_w = sorted(world_events, key=lambda x: x[0])
     pending_f = sorted(fleet_events, key=lambda x: x[0])
 
     with bag_io.BagWriter(path, custom_data=custom) as w:
-        c_clock = w.add_connection("/clock", Clock.__msgtype__, typestore=ts)
-        c_state = w.add_connection("/fleet/state", UavState.__msgtype__, typestore=ts)
-        c_fires = w.add_connection("/fleet/fires", FireEstimateArray.__msgtype__, typestore=ts)
-        c_truth = w.add_connection("/world/truth", WorldTruth.__msgtype__, typestore=ts)
-        c_wev = w.add_connection("/world/events", MissionEvent.__msgtype__, typestore=ts)
-        c_fev = w.add_connection("/fleet/events", MissionEvent.__msgtype__, typestore=ts)
-        c_per = w.add_connection("/fleet/perimeter", PerimeterMap.__msgtype__, typestore=ts)
+        c_clock = w.add_connection(topics.CLOCK, Clock.__msgtype__, typestore=ts)
+        c_state = w.add_connection(topics.FLEET_STATE, UavState.__msgtype__, typestore=ts)
+        c_fires = w.add_connection(topics.FLEET_FIRES, FireEstimateArray.__msgtype__, typestore=ts)
+        c_truth = w.add_connection(topics.WORLD_TRUTH, WorldTruth.__msgtype__, typestore=ts)
+        c_wev = w.add_connection(topics.WORLD_EVENTS, MissionEvent.__msgtype__, typestore=ts)
+        c_fev = w.add_connection(topics.FLEET_EVENTS, MissionEvent.__msgtype__, typestore=ts)
+        c_per = w.add_connection(topics.FLEET_PERIMETER, PerimeterMap.__msgtype__, typestore=ts)
 
         def put(conn: Any, t: float, msg: Any) -> None:
-            w.write(conn, round(t * 1e9), ts.serialize_cdr(msg, msg.__msgtype__))
+            w.write(conn, s_to_ns(t), ts.serialize_cdr(msg, msg.__msgtype__))
 
         cov = np.diag(COVARIANCE_DIAG).ravel()
         for k in range(n_steps):
             t = (k + 1) * spec.control_period_s
-            s, ns = _t(t)
-            put(c_clock, t, Clock(clock=Time(sec=s, nanosec=ns)))
+            stamp = to_time_msg(s_to_ns(t), Time)
+            put(c_clock, t, Clock(clock=stamp))
             vehicles, fires = [], []
             for u in range(spec.uav_count):
                 ang = 0.05 * t + 2 * math.pi * u / spec.uav_count
@@ -152,7 +149,7 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                 vehicles.append(
                     VehicleTruth(
                         uav_id=u,
-                        status=3 if t >= crash_t and spec.crash and u == spec.crash[1] else 1,
+                        status=VehicleStatus.CRASHED if t >= crash_t and spec.crash and u == spec.crash[1] else VehicleStatus.AIRBORNE,
                         x_m=x,
                         y_m=y,
                         z_m=z,
@@ -181,7 +178,7 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                         z_m=z + EKF_ERROR["z"],
                         yaw_rad=yaw + EKF_ERROR["yaw"],
                         covariance=cov.copy(),
-                        objective=1,
+                        objective=Objective.SUPPRESS,
                         target_fire_id=0,
                         water_kg=np.float32(1000),
                         centroid_x_m=x,
@@ -198,7 +195,7 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                 fires.append(
                     FireTruth(
                         fire_id=fid,
-                        status=1 if out else 0,
+                        status=FireStatus.EXTINGUISHED if out else FireStatus.ACTIVE,
                         x_m=fx,
                         y_m=fy,
                         extent_m=0.0 if out else sig,
@@ -213,13 +210,13 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                 ests = [
                     FireEstimate(
                         fire_id=fid,
-                        status=1 if t >= ext_t.get(fid, math.inf) else 0,
+                        status=FireStatus.EXTINGUISHED if t >= ext_t.get(fid, math.inf) else FireStatus.ACTIVE,
                         x_m=fx + u,
                         y_m=fy - u,
                         extent_m=sig,
                         vx_mps=0.0,
                         vy_mps=0.0,
-                        last_measurement=Time(sec=s, nanosec=ns),
+                        last_measurement=stamp,
                         front_x_m=math.nan,
                         front_y_m=math.nan,
                         max_spread_rate_mps=0.0,

@@ -5,7 +5,7 @@ Parameters (all read once at start-up):
 - ``scenario_file`` (string): scenario YAML, stored verbatim in the bag's metadata.
 - ``seed`` (int >= 0), ``uav_count`` (int >= 0): stored in the bag's metadata.
 - ``topics`` (string[]): regular expressions; a topic is recorded if one matches it fully.
-  Default: ``/clock``, ``/uav_<k>/*``, ``/fleet/*``, ``/world/*``, ``/viz/*``.
+  Default: every recorded topic of ``fire_uav_common.topics`` (``recorded_patterns()``).
 - ``exclude`` (string[]): regular expressions of topics never recorded.
 - ``discovery_period_wall_s`` (0.5): how often the graph is polled for new topics [s, wall].
 - ``flush_period_wall_s`` (1.0): how often the open MCAP chunk is written out [s, wall];
@@ -13,9 +13,11 @@ Parameters (all read once at start-up):
 - ``compress`` (true): zstd-compressed MCAP chunks.
 - ``use_sim_time`` (true): bag timestamps are sim time (``/clock``) at receipt.
 
-Messages are stamped with the node clock at receipt (sim time by default). Subscriptions
-take the QoS the publishers offer: best effort if any publisher is best effort, transient
-local if every publisher is (so a late recorder still gets the events).
+Messages are stamped with the node clock at receipt (sim time by default). A topic of
+``fire_uav_common.topics`` is subscribed with its spec's QoS (depth at least 100, so a burst
+is not dropped while the bag is flushed); any other topic with the QoS its publishers offer
+(rosbag2's adaptive rule). Either way the subscription is made compatible with every offered
+profile: best effort if a publisher is, volatile unless every publisher is transient local.
 """
 
 from __future__ import annotations
@@ -30,6 +32,8 @@ from importlib import metadata as _im
 from pathlib import Path
 
 import rclpy
+from fire_uav_common import topics
+from fire_uav_common.stamps import NS_PER_S
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
@@ -38,9 +42,10 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 
-from fire_world_sim import bag_io
+import fire_uav_recording as rec
 
-DEFAULT_TOPICS = (r"/clock", r"/uav_\d+/.*", r"/fleet/.*", r"/world/.*", r"/viz/.*")
+DEFAULT_TOPICS = topics.recorded_patterns()
+MIN_DEPTH = 100  # recorder queue depth floor per topic [messages]
 _INF_SEC, _INF_NSEC = 2147483647, 4294967295  # rosbag2's spelling of an infinite duration
 
 
@@ -78,9 +83,9 @@ def _compile(name: str, patterns: list[str]) -> tuple[re.Pattern[str], ...]:
 
 
 def software_version() -> str:
-    """``fire_world_sim <version>; rosbags <version>`` (versions of the installed distributions)."""
+    """``fire_uav_recording <v>; fire_world_sim <v>; rosbags <v>`` (installed distribution versions)."""
     parts = []
-    for dist in ("fire-world-sim", "rosbags"):
+    for dist in ("fire_uav_recording", "fire_world_sim", "rosbags"):
         try:
             parts.append(f"{dist} {_im.version(dist)}")
         except _im.PackageNotFoundError:
@@ -93,9 +98,9 @@ def to_bag_qos(profile: QoSProfile) -> Qos:
 
     def dur(d: object) -> QosTime:
         ns = int(getattr(d, "nanoseconds", 0))
-        if ns <= 0 or ns >= 2**63 - 1 or ns // 10**9 > _INF_SEC:
+        if ns <= 0 or ns >= 2**63 - 1 or ns // NS_PER_S > _INF_SEC:
             return QosTime(_INF_SEC, _INF_NSEC) if ns else QosTime(0, 0)
-        return QosTime(ns // 10**9, ns % 10**9)
+        return QosTime(*divmod(ns, NS_PER_S))
 
     return Qos(
         history=QosHistory(int(profile.history)),
@@ -110,11 +115,30 @@ def to_bag_qos(profile: QoSProfile) -> Qos:
     )
 
 
-def subscription_qos(offered: list[QoSProfile]) -> QoSProfile:
-    """A subscription QoS that matches every offered publisher profile (rosbag2's adaptive rule)."""
+def spec_of(topic: str) -> topics.TopicSpec | None:
+    """The fleet's spec of ``topic`` (``None`` for a topic fire_uav_common does not declare)."""
+    try:
+        return topics.topic_by_name(topic)
+    except KeyError:
+        return None
+
+
+def subscription_qos(offered: list[QoSProfile], spec: topics.TopicSpec | None = None) -> QoSProfile:
+    """A subscription QoS that matches every offered publisher profile.
+
+    Starts from ``spec.qos()`` (depth at least :data:`MIN_DEPTH`) when the topic has a spec, else
+    from rosbag2's adaptive rule; then gives up reliability / transient local where a
+    publisher does not offer it (a stricter subscription would never match that publisher).
+    """
     best_effort = any(p.reliability == ReliabilityPolicy.BEST_EFFORT for p in offered)
     transient = bool(offered) and all(p.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in offered)
-    depth = max([1000 if transient else 100, *[int(p.depth) for p in offered]])
+    if spec is not None:
+        want = spec.qos()
+        best_effort = best_effort or want.reliability == ReliabilityPolicy.BEST_EFFORT
+        transient = transient and want.durability == DurabilityPolicy.TRANSIENT_LOCAL
+        depth = max(MIN_DEPTH, int(want.depth))
+    else:
+        depth = max([1000 if transient else MIN_DEPTH, *[int(p.depth) for p in offered]])
     return QoSProfile(
         history=HistoryPolicy.KEEP_LAST,
         depth=depth,
@@ -124,7 +148,10 @@ def subscription_qos(offered: list[QoSProfile]) -> QoSProfile:
 
 
 def message_class(ros_type: str) -> type:
-    """``pkg/msg/Name`` -> the generated Python class (ImportError/AttributeError if not installed)."""
+    """``pkg/msg/Name`` -> the generated Python class (ImportError/AttributeError if not installed).
+
+    For types no spec of fire_uav_common.topics names (the recorder records what it finds).
+    """
     pkg, kind, name = ros_type.split("/")
     return getattr(importlib.import_module(f"{pkg}.{kind}"), name)
 
@@ -141,8 +168,8 @@ class RecorderNode(Node):
         self.config = self._read_config()
         self._subs: dict[str, object] = {}
         self._skipped: set[str] = set()
-        self._typestore = bag_io.fleet_typestore()
-        self._writer = bag_io.BagWriter(
+        self._typestore = rec.fleet_typestore()
+        self._writer = rec.BagWriter(
             self.config.output, custom_data=self._custom_data(), compress=self.config.compress
         )
         self._writer.open()
@@ -216,12 +243,12 @@ class RecorderNode(Node):
         cfg = self.config
         text = Path(cfg.scenario_file).read_text(encoding="utf8") if cfg.scenario_file else ""
         return {
-            bag_io.KEY_SCENARIO_FILE: cfg.scenario_file,
-            bag_io.KEY_SCENARIO_YAML: text,
-            bag_io.KEY_SEED: str(cfg.seed),
-            bag_io.KEY_UAV_COUNT: str(cfg.uav_count),
-            bag_io.KEY_SOFTWARE_VERSION: software_version(),
-            bag_io.KEY_RECORDER_STARTED: _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            rec.KEY_SCENARIO_FILE: cfg.scenario_file,
+            rec.KEY_SCENARIO_YAML: text,
+            rec.KEY_SEED: str(cfg.seed),
+            rec.KEY_UAV_COUNT: str(cfg.uav_count),
+            rec.KEY_SOFTWARE_VERSION: software_version(),
+            rec.KEY_RECORDER_STARTED: _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         }
 
     # --- discovery and recording ---------------------------------------------------------
@@ -237,11 +264,14 @@ class RecorderNode(Node):
                 self._skip(topic, f"has {len(types)} types {types}; recording none")
                 continue
             ros_type = types[0]
-            if not bag_io.ensure_type(self._typestore, ros_type):
+            spec = spec_of(topic)
+            if spec is not None and spec.type != ros_type:
+                spec = None  # someone publishes another type under a fleet name: record it as it is
+            if not rec.ensure_type(self._typestore, ros_type):
                 self._skip(topic, f"type {ros_type} has no .msg definition in AMENT_PREFIX_PATH")
                 continue
             try:
-                cls = message_class(ros_type)
+                cls = spec.msg_class() if spec is not None else message_class(ros_type)
             except (ImportError, AttributeError, ValueError) as err:
                 self._skip(topic, f"type {ros_type} not importable: {err}")
                 continue
@@ -252,7 +282,7 @@ class RecorderNode(Node):
                 typestore=self._typestore,
                 offered_qos_profiles=[to_bag_qos(q) for q in offered],
             )
-            qos = subscription_qos(offered)
+            qos = subscription_qos(offered, spec)
             self._subs[topic] = self.create_subscription(
                 cls, topic, partial(self._on_message, conn), qos, raw=True
             )
@@ -296,7 +326,7 @@ def main(args: list[str] | None = None) -> int:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except (RecorderConfigError, bag_io.BagError) as err:
+    except (RecorderConfigError, rec.BagError) as err:
         rclpy.logging.get_logger("recorder").error(str(err))
         rc = 1
     except Exception:  # a signal may shut the context down in the middle of a wait: that is a stop too

@@ -7,57 +7,30 @@ messages without one). Positions are metres in the ``map`` frame (x east, y nort
 from __future__ import annotations
 
 import math
-import sys
 from collections import defaultdict
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import fire_uav_recording as bag_io
 import numpy as np
 import yaml
-
-try:
-    from fire_world_sim import bag_io
-except ImportError:  # not sourced: use the source tree (bag_io is pure Python)
-    sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "ros2_ws" / "src" / "fire_world_sim"))
-    from fire_world_sim import bag_io
+from fire_uav_common.constants import EventType
+from fire_uav_common.stamps import stamp_to_s
+from fire_uav_common.topics import (
+    CLOCK,
+    FLEET_EVENTS,
+    FLEET_FIRES,
+    FLEET_PERIMETER,
+    FLEET_STATE,
+    WORLD_EVENTS,
+    WORLD_TRUTH,
+)
 
 from fire_report.errors import ReportError
 
-# topic names (fire_uav_common.topics is the authority; imported when available)
-try:
-    from fire_uav_common import topics as _topics
-
-    CLOCK, FLEET_STATE, FLEET_FIRES = _topics.CLOCK, _topics.FLEET_STATE, _topics.FLEET_FIRES
-    FLEET_PERIMETER, FLEET_EVENTS = _topics.FLEET_PERIMETER, _topics.FLEET_EVENTS
-    WORLD_TRUTH, WORLD_EVENTS = _topics.WORLD_TRUTH, _topics.WORLD_EVENTS
-except ImportError:  # pragma: no cover - same values, for a checkout without the package on the path
-    CLOCK, FLEET_STATE, FLEET_FIRES = "/clock", "/fleet/state", "/fleet/fires"
-    FLEET_PERIMETER, FLEET_EVENTS = "/fleet/perimeter", "/fleet/events"
-    WORLD_TRUTH, WORLD_EVENTS = "/world/truth", "/world/events"
-
-# MissionEvent.TYPE_* (fire_uav_msgs/msg/MissionEvent.msg)
-TYPE_NAMES = {
-    1: "takeoff",
-    2: "drop",
-    3: "refill",
-    4: "crash",
-    5: "extinguished",
-    6: "landed",
-    7: "peer_crashed",
-    8: "peer_rejoined",
-    9: "command_clamped",
-    10: "mission_complete",
-    11: "fire_detected",
-    12: "objective",
-    13: "command_missed",
-    14: "ignition",
-}
-TYPE_TAKEOFF, TYPE_DROP, TYPE_REFILL, TYPE_CRASH, TYPE_EXTINGUISHED, TYPE_LANDED = 1, 2, 3, 4, 5, 6
-TYPE_PEER_CRASHED, TYPE_PEER_REJOINED, TYPE_MISSION_COMPLETE, TYPE_IGNITION = 7, 8, 10, 14
-# UavState.OBJECTIVE_*
-OBJECTIVE_GROUNDED, OBJECTIVE_LAND, OBJECTIVE_LANDED = 0, 3, 6
-FIRE_EXTINGUISHED = 1  # FireEstimate.STATUS_EXTINGUISHED
+#: MissionEvent type -> its name in the report ("drop", "peer_crashed", ...)
+TYPE_NAMES: dict[int, str] = {int(e): e.name.lower() for e in EventType}
 
 
 @dataclass(frozen=True)
@@ -111,13 +84,12 @@ class Mission:
     @property
     def fire_ids(self) -> list[int]:
         ids = set(self.truth_fires) | {f for _, f in self.fire_estimates}
-        ids |= {e.fire_id for e in self.world_events if e.type in (TYPE_EXTINGUISHED, TYPE_IGNITION)}
+        ids |= {e.fire_id for e in self.world_events if e.type in (EventType.EXTINGUISHED, EventType.IGNITION)}
         return sorted(i for i in ids if i >= 0)
 
 
 def _stamp_s(msg: Any) -> float:
-    st = msg.header.stamp
-    return st.sec + st.nanosec * 1e-9
+    return stamp_to_s(msg.header.stamp)
 
 
 def _arrays(rows: list[dict[str, Any]]) -> dict[str, np.ndarray]:
@@ -178,7 +150,7 @@ def _load(bag: bag_io.MissionBag, path: str) -> Mission:
     t_min, t_max = math.inf, -math.inf
     for topic, t_ns, msg in bag.messages([t for t in wanted if t in mission.topics]):
         if topic == CLOCK:
-            t = msg.clock.sec + msg.clock.nanosec * 1e-9
+            t = stamp_to_s(msg.clock)
         elif topic == FLEET_STATE:
             t = _stamp_s(msg)
             states[int(msg.uav_id)].append(

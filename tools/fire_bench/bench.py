@@ -23,7 +23,7 @@ from pathlib import Path
 
 import yaml
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[2]  # the checkout: tools/<package>/<module>.py
 SCEN_DIR = ROOT / "ros2_ws/src/fire_world_sim/scenarios"
 
 # FF Table I: fleet size -> (mean drop interval [steps of the paper's sim], drops)
@@ -75,9 +75,7 @@ def machine() -> dict:
 def mission(scenario: str | Path, *args: str, timeout_s: float = 1800) -> dict:
     """One run_mission (no recording, no report); returns its summary.json."""
     with tempfile.TemporaryDirectory(prefix="bench-") as d:
-        env = dict(
-            os.environ, PYTHONPATH=str(ROOT / "scripts/lib") + os.pathsep + os.environ.get("PYTHONPATH", "")
-        )
+        env = dict(os.environ)
         env.pop("ROS_DOMAIN_ID", None)
         subprocess.run(
             [
@@ -211,11 +209,7 @@ def _skeleton(n: int, steps: int) -> dict:
     from fire_mission.procs import ProcessGroup, private_domain_id
     from fire_mission.procstat import sample
 
-    env = dict(
-        os.environ,
-        ROS_DOMAIN_ID=str(private_domain_id()),
-        PYTHONPATH=str(ROOT / "scripts/lib") + os.pathsep + os.environ.get("PYTHONPATH", ""),
-    )
+    env = dict(os.environ, ROS_DOMAIN_ID=str(private_domain_id()))
     with tempfile.TemporaryDirectory() as d, ProcessGroup(Path(d), env) as g:
         for k in range(n):
             g.start(
@@ -302,15 +296,8 @@ def _script(name: str, quick: bool) -> dict:
         return {"status": f"missing: {path.name}"}
     extra = SCRIPT_ARGS.get(name, ([], []))[0 if quick else 1]
     t0 = time.monotonic()
-    srcs = [
-        str(ROOT / "ros2_ws/src" / pk)
-        for pk in ("fire_uav_common", "fire_world_sim", "fire_uav_agent", "fire_perimeter_monitor")
-    ]
-    env = dict(
-        os.environ,
-        ROS_DOMAIN_ID=str(private_domain_id()),
-        PYTHONPATH=os.pathsep.join([*srcs, str(ROOT / "scripts/lib"), os.environ.get("PYTHONPATH", "")]),
-    )
+    # the packages come from the sourced workspace (scripts/env.sh), the tools from their install
+    env = dict(os.environ, ROS_DOMAIN_ID=str(private_domain_id()))
     p = subprocess.run(
         [sys.executable, str(path), *extra],
         capture_output=True,

@@ -12,14 +12,9 @@ import math
 from typing import Any
 
 import numpy as np
+from fire_uav_common.constants import EventType
 
 from fire_report.data import (
-    TYPE_CRASH,
-    TYPE_DROP,
-    TYPE_EXTINGUISHED,
-    TYPE_MISSION_COMPLETE,
-    TYPE_PEER_CRASHED,
-    TYPE_PEER_REJOINED,
     Mission,
 )
 
@@ -78,7 +73,7 @@ def outcome(mission: Mission) -> tuple[str, str]:
     vehicle landed); time_limit: value 0 (max_duration_s reached); incomplete: no completion
     event (the recording stopped first). See docs/protocol.md, Events.
     """
-    done = [e for e in mission.world_events if e.type == TYPE_MISSION_COMPLETE]
+    done = [e for e in mission.world_events if e.type == EventType.MISSION_COMPLETE]
     if not done:
         return "incomplete", "no MISSION_COMPLETE event in the bag"
     return ("complete" if done[-1].value >= 1.0 else "time_limit"), done[-1].detail
@@ -86,7 +81,7 @@ def outcome(mission: Mission) -> tuple[str, str]:
 
 def mission_duration_s(mission: Mission) -> float:
     """Sim time of MISSION_COMPLETE, else of the last message, measured from t = 0."""
-    done = [e.t_s for e in mission.world_events if e.type == TYPE_MISSION_COMPLETE]
+    done = [e.t_s for e in mission.world_events if e.type == EventType.MISSION_COMPLETE]
     return float(done[-1] if done else mission.t_last_s)
 
 
@@ -94,7 +89,7 @@ def compute_metrics(mission: Mission) -> dict[str, Any]:
     """Every metric of the report as a JSON-ready dict (see docs/recording.md for the keys)."""
     world, fleet = mission.world_events, mission.fleet_events
     # a drop request with an empty tank releases nothing: it is not a drop (value = kg released)
-    drops = [e for e in world if e.type == TYPE_DROP and e.value > 0]
+    drops = [e for e in world if e.type == EventType.DROP and e.value > 0]
     drop_times = np.asarray(sorted(e.t_s for e in drops), dtype=float)
     intervals = np.diff(drop_times)
     drops_per_fire: dict[str, int] = {}
@@ -106,7 +101,7 @@ def compute_metrics(mission: Mission) -> dict[str, Any]:
 
     extinction: dict[str, float] = {}
     for e in world:
-        if e.type == TYPE_EXTINGUISHED and _fire_key(e.fire_id) not in extinction:
+        if e.type == EventType.EXTINGUISHED and _fire_key(e.fire_id) not in extinction:
             extinction[_fire_key(e.fire_id)] = e.t_s
 
     packets: dict[str, dict[str, int]] = {}
@@ -149,17 +144,17 @@ def compute_metrics(mission: Mission) -> dict[str, Any]:
         "inter_drop_intervals_s": [float(x) for x in intervals],
         "extinction_times_s": dict(sorted(extinction.items())),
         "crash_events": [
-            {"t_s": e.t_s, "uav_id": e.uav_id, "detail": e.detail} for e in world if e.type == TYPE_CRASH
+            {"t_s": e.t_s, "uav_id": e.uav_id, "detail": e.detail} for e in world if e.type == EventType.CRASH
         ],
         "peers_declared_crashed": [
             {"t_s": e.t_s, "by_uav": e.uav_id, "peer_id": e.peer_id}
             for e in fleet
-            if e.type == TYPE_PEER_CRASHED
+            if e.type == EventType.PEER_CRASHED
         ],
         "peers_rejoined": [
             {"t_s": e.t_s, "by_uav": e.uav_id, "peer_id": e.peer_id}
             for e in fleet
-            if e.type == TYPE_PEER_REJOINED
+            if e.type == EventType.PEER_REJOINED
         ],
         "packets": packets,
         "packets_lost_total": int(sum(p["lost"] for p in packets.values())),

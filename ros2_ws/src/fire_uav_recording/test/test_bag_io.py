@@ -1,4 +1,4 @@
-"""fire_world_sim.bag_io: typestore, crash-safe writer, validating reader (no ROS processes)."""
+"""fire_uav_recording: typestore, crash-safe writer, validating reader (no ROS processes)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import sys
 import textwrap
 from pathlib import Path
 
+import fire_uav_recording as bag_io
 import pytest
-from fire_world_sim import bag_io
 
 
 def test_typestore_hashes_match_the_build():
@@ -51,7 +51,7 @@ def test_inspect_errors(tmp_path):
 WRITER_SCRIPT = textwrap.dedent(
     """
     import os, signal, sys
-    from fire_world_sim import bag_io
+    import fire_uav_recording as bag_io
     ts = bag_io.fleet_typestore()
     Clock = ts.types["rosgraph_msgs/msg/Clock"]
     Time = ts.types["builtin_interfaces/msg/Time"]

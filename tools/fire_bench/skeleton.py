@@ -19,7 +19,9 @@ import sys
 import time
 
 import rclpy
+from builtin_interfaces.msg import Time
 from fire_uav_common import topics
+from fire_uav_common.stamps import s_to_ns, stamp_to_ns, step_to_ns, to_time_msg
 from fire_uav_msgs.msg import FireEstimate, FireEstimateArray, GpsFix, SensorBundle, UavState
 from geometry_msgs.msg import TwistStamped
 from rclpy.executors import ExternalShutdownException
@@ -27,24 +29,19 @@ from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, Range
 
+CONTROL_PERIOD_S = 0.1
+PERIOD_NS = s_to_ns(CONTROL_PERIOD_S)
+
 
 class SkeletonWorld(Node):
     def __init__(self, n: int, steps: int) -> None:
         super().__init__("skeleton_world")
         self.n, self.steps, self.k = n, steps, 0
-        self.clock_pub = self.create_publisher(Clock, topics.CLOCK, 10)
-        self.sensor_pubs = [
-            self.create_publisher(SensorBundle, topics.uav_topic(i, topics.SENSORS), topics.qos("lockstep"))
-            for i in range(n)
-        ]
+        self.clock_pub = topics.publisher(self, topics.CLOCK_SPEC)
+        self.sensor_pubs = [topics.publisher(self, topics.SENSORS_SPEC, uav_id=i) for i in range(n)]
         self.answered: set[int] = set()
         for i in range(n):
-            self.create_subscription(
-                TwistStamped,
-                topics.uav_topic(i, topics.CMD),
-                lambda m, i=i: self.on_cmd(i, m),
-                topics.qos("lockstep"),
-            )
+            topics.subscription(self, topics.CMD_SPEC, lambda m, i=i: self.on_cmd(i, m), uav_id=i)
         self.t0 = None
         self.started = False
         self.create_timer(0.05, self.wait_for_agents)
@@ -53,19 +50,18 @@ class SkeletonWorld(Node):
         if self.started:
             return
         if all(p.get_subscription_count() > 0 for p in self.sensor_pubs) and all(
-            self.count_publishers(topics.uav_topic(i, topics.CMD)) > 0 for i in range(self.n)
+            self.count_publishers(topics.CMD_SPEC.for_uav(i)) > 0 for i in range(self.n)
         ):
             self.started = True
             self.t0 = time.monotonic()
             self.publish_step()
 
     def publish_step(self) -> None:
-        t_ns = (self.k + 1) * 100_000_000
-        stamp = rclpy.time.Time(nanoseconds=t_ns).to_msg()
+        stamp = to_time_msg(step_to_ns(self.k, PERIOD_NS), Time)
         self.clock_pub.publish(Clock(clock=stamp))
         self.answered.clear()
         for i, pub in enumerate(self.sensor_pubs):
-            b = SensorBundle(uav_id=i, step=self.k, control_period_s=0.1)
+            b = SensorBundle(uav_id=i, step=self.k, control_period_s=CONTROL_PERIOD_S)
             b.header.stamp = stamp
             b.gyro = [Imu() for _ in range(10)]
             b.altimeter = [Range() for _ in range(2 + self.k % 2)]
@@ -73,7 +69,7 @@ class SkeletonWorld(Node):
             pub.publish(b)
 
     def on_cmd(self, i: int, msg: TwistStamped) -> None:
-        if msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec != (self.k + 1) * 100_000_000:
+        if stamp_to_ns(msg.header.stamp) != step_to_ns(self.k, PERIOD_NS):
             return
         self.answered.add(i)
         if len(self.answered) == self.n:
@@ -89,16 +85,16 @@ class SkeletonAgent(Node):
     def __init__(self, k: int, n: int) -> None:
         super().__init__("skeleton_agent", namespace=topics.uav_namespace(k))
         self.k, self.seq = k, 0
-        self.cmd_pub = self.create_publisher(TwistStamped, topics.CMD, topics.qos("lockstep"))
-        self.state_pub = self.create_publisher(UavState, topics.FLEET_STATE, topics.qos("fleet"))
-        self.fires_pub = self.create_publisher(FireEstimateArray, topics.FLEET_FIRES, topics.qos("fleet"))
-        self.create_subscription(SensorBundle, topics.SENSORS, self.on_bundle, topics.qos("lockstep"))
+        self.cmd_pub = topics.publisher(self, topics.CMD_SPEC)
+        self.state_pub = topics.publisher(self, topics.FLEET_STATE_SPEC)
+        self.fires_pub = topics.publisher(self, topics.FLEET_FIRES_SPEC)
+        topics.subscription(self, topics.SENSORS_SPEC, self.on_bundle)
         self.heard = 0
         self.cpu0: float | None = None  # process CPU time at the first bundle [s]
         self.cpu_last = 0.0
         self.bundles = 0
-        self.create_subscription(UavState, topics.FLEET_STATE, self.on_peer, topics.qos("fleet"))
-        self.create_subscription(FireEstimateArray, topics.FLEET_FIRES, self.on_peer, topics.qos("fleet"))
+        topics.subscription(self, topics.FLEET_STATE_SPEC, self.on_peer)
+        topics.subscription(self, topics.FLEET_FIRES_SPEC, self.on_peer)
 
     def on_peer(self, msg) -> None:
         self.heard += 1

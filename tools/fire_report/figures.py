@@ -12,15 +12,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
+from fire_uav_common.constants import EventType, Objective
 from matplotlib.colors import ListedColormap
 
 from fire_report.data import (
-    OBJECTIVE_GROUNDED,
-    OBJECTIVE_LAND,
-    OBJECTIVE_LANDED,
-    TYPE_CRASH,
-    TYPE_DROP,
-    TYPE_PEER_CRASHED,
     Mission,
 )
 from fire_report.metrics import ekf_errors, perimeter_distance_error, voronoi_labels
@@ -57,7 +52,7 @@ def _area(mission: Mission) -> tuple[tuple[float, float], tuple[float, float]]:
 def _positions_at(mission: Mission, t: float) -> dict[int, tuple[float, float]]:
     """Latest estimated (x, y) of each UAV at or before ``t`` (first state if none before);
     a UAV whose vehicle crashed before ``t`` is left out (the fleet no longer partitions with it)."""
-    crashed = {e.uav_id for e in mission.world_events if e.type == TYPE_CRASH and e.t_s <= t}
+    crashed = {e.uav_id for e in mission.world_events if e.type == EventType.CRASH and e.t_s <= t}
     out = {}
     for uav, s in mission.states.items():
         if s and uav not in crashed:
@@ -73,17 +68,17 @@ def phase_times(mission: Mission) -> list[tuple[str, float]]:
         return []
     t0, t1 = float(all_t.min()), float(all_t.max())
     airborne = [
-        float(s["t"][np.argmax(s["objective"] != OBJECTIVE_GROUNDED)])
+        float(s["t"][np.argmax(s["objective"] != Objective.GROUNDED)])
         for s in mission.states.values()
-        if s and np.any(s["objective"] != OBJECTIVE_GROUNDED)
+        if s and np.any(s["objective"] != Objective.GROUNDED)
     ]
     t_take = max(airborne) if airborne else t0
-    drops = [e.t_s for e in mission.world_events if e.type == TYPE_DROP]
+    drops = [e.t_s for e in mission.world_events if e.type == EventType.DROP]
     t_fight = float(np.median(drops)) if drops else 0.5 * (t0 + t1)
     landing = [
-        float(s["t"][np.argmax(np.isin(s["objective"], (OBJECTIVE_LAND, OBJECTIVE_LANDED)))])
+        float(s["t"][np.argmax(np.isin(s["objective"], (Objective.LAND, Objective.LANDED)))])
         for s in mission.states.values()
-        if s and np.any(np.isin(s["objective"], (OBJECTIVE_LAND, OBJECTIVE_LANDED)))
+        if s and np.any(np.isin(s["objective"], (Objective.LAND, Objective.LANDED)))
     ]
     t_land = max(landing) if landing else t1
     return [("takeoff", t_take), ("firefighting", t_fight), ("landing", t_land)]
@@ -252,7 +247,7 @@ def fig_fire_estimates(mission: Mission, out: Path) -> list[Figure]:
 
 
 def fig_drops(mission: Mission, out: Path) -> list[Figure]:
-    drops = [e for e in mission.world_events if e.type == TYPE_DROP]
+    drops = [e for e in mission.world_events if e.type == EventType.DROP]
     if not drops:
         return []
     fig, axes = plt.subplots(1, 3, figsize=(14, 3.8))
@@ -302,8 +297,8 @@ def fig_perimeter(mission: Mission, out: Path) -> list[Figure]:
 
 def fig_faults(mission: Mission, out: Path) -> list[Figure]:
     states = {u: s for u, s in mission.states.items() if s}
-    crashes = [e for e in mission.world_events if e.type == TYPE_CRASH]
-    peer = [e for e in mission.fleet_events if e.type == TYPE_PEER_CRASHED]
+    crashes = [e for e in mission.world_events if e.type == EventType.CRASH]
+    peer = [e for e in mission.fleet_events if e.type == EventType.PEER_CRASHED]
     if not states and not crashes and not peer:
         return []
     fig, ax = plt.subplots(figsize=(10, 4))
