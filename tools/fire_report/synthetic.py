@@ -203,7 +203,10 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                         drops_received=0,
                     )
                 )
-            put(c_truth, t, WorldTruth(header=header(t), step=k, vehicles=vehicles, fires=fires))
+            truth = WorldTruth(
+                header=header(t), step=k, min_separation_m=math.inf, collisions=0, vehicles=vehicles, fires=fires
+            )
+            put(c_truth, t, truth)
             for u in range(spec.uav_count):
                 if spec.crash and u == spec.crash[1] and t >= crash_t:
                     continue
