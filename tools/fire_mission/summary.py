@@ -11,6 +11,17 @@ from dataclasses import dataclass, field
 
 from fire_uav_common.constants import EventType
 
+#: events the agents publish on /fleet/events (stamped with the step they answer)
+AGENT_EVENTS = frozenset(
+    {
+        EventType.PEER_CRASHED,
+        EventType.PEER_REJOINED,
+        EventType.FIRE_DETECTED,
+        EventType.OBJECTIVE,
+        EventType.AGENT_READY,
+    }
+)
+
 
 @dataclass
 class Event:
@@ -44,6 +55,35 @@ class LiveSummary:
     water_at_fault: dict[str, float] = field(default_factory=dict)  # fault text -> true water [kg]
     water_kg: dict[int, float] = field(default_factory=dict)  # uav -> true water now [kg]
     proc_stats: dict[str, object] = field(default_factory=dict)  # process name -> last ProcSample
+    _states: dict[int, dict[float, tuple]] = field(default_factory=dict)  # uav -> stamp -> state fields
+
+    def add_state(
+        self, uav: int, t_s: float, packets: tuple[int, int, int], alive: list[int], objective: int
+    ) -> None:
+        """A UavState the supervisor saw; the newest few per UAV are kept for :meth:`settle_states`."""
+        kept = self._states.setdefault(uav, {})
+        kept[round(t_s, 6)] = (packets, alive, objective)
+        for old in sorted(kept)[:-4]:
+            del kept[old]
+        self.last_state_t[uav] = max(kept)
+        self.packets[uav], self.alive_view[uav], self.objective[uav] = kept[max(kept)]
+
+    def settle_states(self) -> None:
+        """Keep, per UAV, its newest state stamped before the mission's last step.
+
+        The world ends the mission at the step it finds it complete; whether the supervisor sees
+        the agents' answers to that last step before it stops them depends on wall time, so they
+        are left out, and the summary is the same every time the mission is run.
+        """
+        end = round(self.mission_time_s, 6)
+        # the agents' own events answering the last step race the stop in the same way
+        self.events = [e for e in self.events if not (e.type in AGENT_EVENTS and e.t_s >= end - 1e-6)]
+        for uav, kept in self._states.items():
+            before = [t for t in kept if t < end - 1e-6]
+            if before:
+                t = max(before)
+                self.last_state_t[uav] = t
+                self.packets[uav], self.alive_view[uav], self.objective[uav] = kept[t]
 
     def add(self, ev: Event) -> None:
         self.events.append(ev)
@@ -52,7 +92,11 @@ class LiveSummary:
             self.complete_success = ev.value >= 1.0
 
     def of(self, type_: int) -> list[Event]:
-        return [e for e in self.events if e.type == type_]
+        """Events of one type in a total order (time, then fields: DDS delivers one step's events in any order)."""
+        return sorted(
+            (e for e in self.events if e.type == type_),
+            key=lambda e: (e.t_s, e.uav_id, e.peer_id, e.fire_id, e.value, e.detail),
+        )
 
     def drops(self) -> list[Event]:
         """Drops that released water (a drop request with an empty tank is not a drop)."""
@@ -77,7 +121,8 @@ class LiveSummary:
         for e in self.of(EventType.PEER_CRASHED):
             declared.setdefault(e.peer_id, []).append({"by": e.uav_id, "t_s": round(e.t_s, 3)})
         rejoined = [
-            {"uav_id": e.peer_id, "by": e.uav_id, "t_s": round(e.t_s, 3)} for e in self.of(EventType.PEER_REJOINED)
+            {"uav_id": e.peer_id, "by": e.uav_id, "t_s": round(e.t_s, 3)}
+            for e in self.of(EventType.PEER_REJOINED)
         ]
         return {
             "outcome": outcome,
@@ -117,7 +162,11 @@ class LiveSummary:
                     "value": e.value,
                     "detail": e.detail,
                 }
-                for e in sorted(self.events, key=lambda e: e.t_s)
+                # a total order: events of one step arrive in any order over DDS
+                for e in sorted(
+                    self.events,
+                    key=lambda e: (e.t_s, e.type, e.uav_id, e.peer_id, e.fire_id, e.value, e.detail),
+                )
             ],
             "processes": {
                 n: {

@@ -161,7 +161,11 @@ class ReplayNode(Node):
         for conn in bag.connections(sorted(wanted)):
             spec = spec_of(conn.topic)
             try:
-                cls = spec.msg_class() if spec is not None and spec.type == conn.msgtype else message_class(conn.msgtype)
+                cls = (
+                    spec.msg_class()
+                    if spec is not None and spec.type == conn.msgtype
+                    else message_class(conn.msgtype)
+                )
             except (ImportError, AttributeError, ValueError) as err:
                 self.get_logger().warning(
                     f"not replaying {conn.topic}: type {conn.msgtype} not importable ({err})"
@@ -170,7 +174,9 @@ class ReplayNode(Node):
             self._pubs[conn.id] = self.create_publisher(cls, conn.topic, publisher_qos(conn))
         self._gen_clock = CLOCK_TOPIC not in have
         self._clock_pub = (
-            self.create_publisher(CLOCK_SPEC.msg_class(), CLOCK_SPEC.name, CLOCK_SPEC.qos()) if self._gen_clock else None
+            self.create_publisher(CLOCK_SPEC.msg_class(), CLOCK_SPEC.name, CLOCK_SPEC.qos())
+            if self._gen_clock
+            else None
         )
         reader = bag.reader
         self.bag_start_ns = reader.start_time

@@ -26,6 +26,7 @@ from fire_uav_recording.metadata import KEY_CLOSED
 
 __all__ = ["BagWriter"]
 
+
 class _FlushingMcapWriter(McapWriter):
     """rosbags' MCAP storage writer that pushes each finished chunk to the OS at once."""
 

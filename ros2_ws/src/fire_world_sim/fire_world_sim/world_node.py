@@ -101,8 +101,10 @@ class WorldNode(Node):
         self._commands: dict[int, Command | None] = {}
         self._payload: dict[int, list[int]] = {}
         self._awaited_ns = 0  # stamp the answers must carry (t_k of the next step)
-        self._waiting: set[int] = set()
+        self._waiting: set[int] = set()  # agents whose command of this step is not in yet
+        self._waiting_payload: set[int] = set()  # ... whose payload request is not in yet
         self._lost: set[int] = set()  # agents whose process is gone (unscheduled, DDS discovery)
+        self._told_crashed: set[int] = set()  # agents sent a bundle saying their vehicle crashed
         self._started = False
         self._last_viz_ns = -(10**18)
         self._viz_period_ns = int(NS_PER_S / self.cfg.viz_rate_hz)
@@ -269,6 +271,9 @@ class WorldNode(Node):
         self._awaited_ns = result.stamp_ns
         if self.cfg.mode == "lockstep":
             self._waiting = set(self.world.awaited_uavs()) - self._offline(result.step) - self._lost
+            # every awaited agent sends exactly one PayloadRequest per step (ACTION_NONE if nothing):
+            # a request on its own topic may arrive after the command, so it is waited for too
+            self._waiting_payload = set(self._waiting)
             if not self._waiting:
                 self._advance_soon()
                 return
@@ -296,6 +301,7 @@ class WorldNode(Node):
         for i in gone:
             self._lost.add(i)
             self._waiting.discard(i)
+            self._waiting_payload.discard(i)
             self.get_logger().error(
                 f"step {self.world.step_index}: agent {i}'s process is gone (not in the fault schedule); "
                 "no longer waiting for it, so this run is not reproducible"
@@ -313,7 +319,11 @@ class WorldNode(Node):
                     detail="process gone from the DDS graph",
                 )
             )
-        if not self._waiting and not self.done.done():
+        self._maybe_advance()
+
+    def _maybe_advance(self) -> None:
+        """Step once every awaited agent's command and payload request of this step are in."""
+        if not self._waiting and not self._waiting_payload and not self.done.done():
             self._liveness_timer.cancel()
             self._advance()
 
@@ -327,9 +337,7 @@ class WorldNode(Node):
             return  # an old (or early) stamp is ignored
         self._commands[uid] = cmd if cmd.is_finite() else None
         self._waiting.discard(uid)
-        if not self._waiting and not self.done.done():
-            self._liveness_timer.cancel()
-            self._advance()
+        self._maybe_advance()
 
     def _on_payload(self, uid: int, msg: PayloadRequest) -> None:
         if msg.action not in tuple(PayloadAction):
@@ -337,9 +345,14 @@ class WorldNode(Node):
                 f"uav {uid}: unknown payload action {msg.action}", throttle_duration_sec=5.0
             )
             return
-        if self.cfg.mode == "lockstep" and stamp_to_ns(msg.header.stamp) != self._awaited_ns:
-            return
-        self._payload.setdefault(uid, []).append(int(msg.action))
+        if self.cfg.mode == "lockstep":
+            if not self._started or stamp_to_ns(msg.header.stamp) != self._awaited_ns:
+                return
+        if msg.action != PayloadAction.NONE:
+            self._payload.setdefault(uid, []).append(int(msg.action))
+        if self.cfg.mode == "lockstep":
+            self._waiting_payload.discard(uid)
+            self._maybe_advance()
 
     def _on_realtime_tick(self) -> None:
         if not self._started:
@@ -364,6 +377,20 @@ class WorldNode(Node):
         for uid, b in sorted(r.bundles.items()):
             if uid not in offline:  # an offline agent's computer reads no sensors
                 self.pub_sensors[uid].publish(self._bundle_msg(b))
+                if b.vehicle_status == VehicleStatus.CRASHED:
+                    self._told_crashed.add(uid)
+        # An agent whose vehicle fell while it was offline or silent gets one last bundle saying so,
+        # the first step it is online again: its final state tells the peers to stop waiting for it.
+        for v in r.vehicles:
+            if (
+                v.status == VehicleStatus.CRASHED
+                and v.uav_id not in self._told_crashed
+                and v.uav_id not in offline
+            ):
+                last = Bundle(v.uav_id, r.step, r.stamp_ns, self.world.control_period_s)
+                last.water_kg, last.vehicle_status = v.water_kg, int(VehicleStatus.CRASHED)
+                self.pub_sensors[v.uav_id].publish(self._bundle_msg(last))
+                self._told_crashed.add(v.uav_id)
         self.pub_truth.publish(self._truth_msg(r))
         for e in r.events:
             self.pub_events.publish(self._event_msg(e))
