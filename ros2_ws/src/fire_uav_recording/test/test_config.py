@@ -17,7 +17,9 @@ def declared(module: str) -> set[str]:
     return set(re.findall(r'declare_parameter\(\s*"(\w+)"', text))
 
 
-@pytest.mark.parametrize(("module", "config"), [("recorder_node.py", "recorder.yaml"), ("replay_node.py", "replay.yaml")])
+@pytest.mark.parametrize(
+    ("module", "config"), [("recorder_node.py", "recorder.yaml"), ("replay_node.py", "replay.yaml")]
+)
 def test_config_lists_every_parameter(module: str, config: str) -> None:
     params = yaml.safe_load((PKG / "config" / config).read_text())["/**"]["ros__parameters"]
     names = declared(module)
