@@ -48,7 +48,7 @@ from rclpy.qos import QoSProfile
 from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 
 import fire_uav_recording as rec
-from fire_uav_recording.raw_topics import (  # noqa: F401  (re-exported: the recorder's QoS rule)
+from fire_uav_recording.ros_io import (  # noqa: F401  (re-exported: the recorder's QoS rule)
     MIN_DEPTH,
     RawTopic,
     RawTopicFollower,

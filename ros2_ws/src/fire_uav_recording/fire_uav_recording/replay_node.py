@@ -35,7 +35,7 @@ from rclpy.task import Future
 from rosbags.interfaces import QosDurability, QosReliability
 
 import fire_uav_recording as rec
-from fire_uav_recording.raw_topics import message_class, spec_of
+from fire_uav_recording.ros_io import message_class, spec_of
 
 CLOCK_TOPIC = CLOCK_SPEC.name
 
