@@ -102,7 +102,10 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
             out, _ = proc.communicate()
     msgs = got["messages"]
     assert all(len(v) == 3 for v in msgs.values()), f"{ {k: len(v) for k, v in msgs.items()} }\n{out[-3000:]}"
-    for topic, ros_type in (("/viz/world", "visualization_msgs/msg/MarkerArray"), ("/tf", "tf2_msgs/msg/TFMessage")):
+    for topic, ros_type in (
+        ("/viz/world", "visualization_msgs/msg/MarkerArray"),
+        ("/tf", "tf2_msgs/msg/TFMessage"),
+    ):
         ch = channels[topic]
         assert (ch["encoding"], ch["schemaName"], ch["schemaEncoding"]) == ("cdr", ros_type, "ros2msg")
     # every mission topic is served, not only the two subscribed

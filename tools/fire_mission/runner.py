@@ -426,13 +426,17 @@ def run(args: argparse.Namespace) -> int:
             if not args.no_record:
                 procs.start(
                     "recorder",
-                    ros_run_argv("fire_uav_recording", "recorder", ["--params-file", str(params["recorder"])]),
+                    ros_run_argv(
+                        "fire_uav_recording", "recorder", ["--params-file", str(params["recorder"])]
+                    ),
                 )
                 _wait_for_node(sup.node, "recorder", 20.0, procs)
             if args.foxglove:
                 procs.start(
                     "foxglove_bridge",
-                    ros_run_argv("fire_uav_recording", "foxglove_bridge", ["-p", f"port:={args.foxglove_port}"]),
+                    ros_run_argv(
+                        "fire_uav_recording", "foxglove_bridge", ["-p", f"port:={args.foxglove_port}"]
+                    ),
                 )
                 _wait_for_node(sup.node, "foxglove_bridge", 20.0, procs)
                 print(f"[run_mission] Foxglove: ws://127.0.0.1:{args.foxglove_port}", file=sys.stderr)
