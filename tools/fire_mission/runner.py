@@ -239,6 +239,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-record", action="store_true", help="do not start the recorder")
     p.add_argument("--no-report", action="store_true", help="do not write the report after the run")
     p.add_argument(
+        "--foxglove",
+        action="store_true",
+        help="also start the Foxglove bridge (live view: WebSocket server on 127.0.0.1:PORT)",
+    )
+    p.add_argument(
+        "--foxglove-port", type=int, default=8765, metavar="PORT", help="the bridge's port (default 8765)"
+    )
+    p.add_argument(
         "--agent-arg",
         action="append",
         default=[],
@@ -496,6 +504,8 @@ def run(args: argparse.Namespace) -> int:
             raise MissionError(
                 f"--outage {o.src}>{o.dst}: both ends must be distinct uavs in 0..{uav_count - 1}"
             )
+    if not 0 <= args.foxglove_port <= 65535:
+        raise MissionError(f"--foxglove-port must be in 0..65535, got {args.foxglove_port}")
     if args.rtf <= 0 or not math.isfinite(args.rtf):
         raise MissionError(f"--rtf must be a positive number, got {args.rtf}")
     seed = args.seed if args.seed is not None else scenario.seed
@@ -539,6 +549,15 @@ def run(args: argparse.Namespace) -> int:
                     ),
                 )
                 _wait_for_node(sup.node, "recorder", 20.0, procs)
+            if args.foxglove:
+                procs.start(
+                    "foxglove_bridge",
+                    ros_run_argv(
+                        "fire_uav_recording", "foxglove_bridge", ["-p", f"port:={args.foxglove_port}"]
+                    ),
+                )
+                _wait_for_node(sup.node, "foxglove_bridge", 20.0, procs)
+                print(f"[run_mission] Foxglove: ws://127.0.0.1:{args.foxglove_port}", file=sys.stderr)
             for k in range(uav_count):
                 procs.start(
                     f"agent_{k}",

@@ -181,6 +181,8 @@ def _markers(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:
     cell = Marker(ns=ns, id=0, type=Marker.POINTS, action=Marker.ADD)
     cell.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in md.cell_boundary_xy]
     cell.scale.x = cell.scale.y = 2.0
+    if not cell.points:  # no cell yet (or lost): remove the old one rather than send an empty POINTS
+        cell.action = Marker.DELETE
     cell.color.g, cell.color.a = 1.0, 0.8
     cen = Marker(ns=ns, id=1, type=Marker.SPHERE, action=Marker.ADD)
     cen.pose.position = Point(x=md.centroid_xy[0], y=md.centroid_xy[1], z=z)
@@ -481,6 +483,21 @@ class UavAgentNode(Node):
         self.wait.prune(k)
 
     # --- output ---------------------------------------------------------------------------------------
+    def _publish_tf_estimate(self, out: StepOutput, stamp: TimeMsg) -> None:
+        """``/tf``: ``map -> uav_<k>/estimate``, this agent's own pose estimate (x, y, z [m], yaw [rad])."""
+        from geometry_msgs.msg import TransformStamped
+        from tf2_msgs.msg import TFMessage
+
+        if getattr(self, "_pub_tf", None) is None:
+            self._pub_tf = topics.publisher(self, topics.TF_SPEC)
+        x, y, z, yaw = (float(v) for v in out.state.s[:4])
+        t = TransformStamped()
+        t.header.stamp, t.header.frame_id = stamp, "map"
+        t.child_frame_id = f"uav_{self.cfg.uav_id}/estimate"
+        t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = x, y, z
+        t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        self._pub_tf.publish(TFMessage(transforms=[t]))
+
     def _publish(self, out: StepOutput, stamp: TimeMsg, coverage: list, final: bool) -> None:
         """Publish step ``out.step``: the state first (it tells peers what else to wait for)."""
         uid = self.cfg.uav_id
@@ -522,6 +539,7 @@ class UavAgentNode(Node):
         self.pub_cmd.publish(cmd)
         if out.markers is not None:
             self.pub_viz.publish(_markers(out, stamp, f"uav_{uid}"))
+        self._publish_tf_estimate(out, stamp)
         for ev in out.events:
             m = MissionEvent(
                 type=ev.type, uav_id=uid, peer_id=ev.peer_id, fire_id=int(ev.fire_id) if ev.fire_id < 2**31 else -1,

@@ -35,7 +35,7 @@ from rclpy.task import Future
 from rosbags.interfaces import QosDurability, QosReliability
 
 import fire_uav_recording as rec
-from fire_uav_recording.recorder_node import message_class, spec_of
+from fire_uav_recording.ros_io import message_class, spec_of
 
 CLOCK_TOPIC = CLOCK_SPEC.name
 
@@ -179,8 +179,9 @@ class ReplayNode(Node):
             else None
         )
         reader = bag.reader
-        self.bag_start_ns = reader.start_time
-        self.bag_end_ns = max(reader.end_time, self.bag_start_ns)
+        off = bag.log_time_offset_ns  # sim time throughout (raw_messages takes the offset off)
+        self.bag_start_ns = reader.start_time - off
+        self.bag_end_ns = max(reader.end_time - off, self.bag_start_ns)
         self.first_ns = self.bag_start_ns + s_to_ns(self.config.start_s)
         if self.first_ns >= self.bag_end_ns and reader.message_count:
             raise ReplayConfigError(
