@@ -314,10 +314,13 @@ class Supervisor:
         self.summary.vehicles_landed = sum(1 for v in msg.vehicles if v.status == VehicleStatus.LANDED)
         for v in msg.vehicles:
             self.summary.water_kg[v.uav_id] = float(v.water_kg)
+        self.summary.observe_truth(float(msg.min_separation_m), int(msg.collisions))
 
     def _on_event(self, msg) -> None:
         t = stamp_to_s(msg.header.stamp)
-        self.summary.add(Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail))
+        self.summary.add(
+            Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail, msg.x_m, msg.y_m)
+        )
         if msg.type == EventType.MISSION_COMPLETE:
             self.done = True
 
@@ -396,6 +399,7 @@ def run(args: argparse.Namespace) -> int:
     os.environ["ROS_DOMAIN_ID"] = str(domain)
     env = dict(os.environ, PYTHONUNBUFFERED="1", ROS_LOG_DIR=str(out / "ros_log"))
     summary = LiveSummary(uav_count=uav_count)
+    summary.home_xy = {i: (p[0], p[1]) for i, p in enumerate(scenario.uav_start_poses(uav_count))}
     print(
         f"[run_mission] scenario {scenario.name} ({scenario_path}), {uav_count} UAVs, seed {seed}, "
         f"mode {args.mode}, ROS_DOMAIN_ID {domain}, output {out}",
