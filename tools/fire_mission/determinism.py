@@ -64,28 +64,28 @@ class RunDiff:
         return "\n".join(lines)
 
 
-def _diff(a: object, b: object, path: str, out: list[str]) -> None:
+def _diff(a: object, b: object, path: str, out: list[str], skip: frozenset[str] = VOLATILE_KEYS) -> None:
     if isinstance(a, dict) and isinstance(b, dict):
         for k in sorted(set(a) | set(b), key=str):
-            if path == "" and k in VOLATILE_KEYS:
+            if path == "" and k in skip:
                 continue
             if k not in a or k not in b:
                 out.append(f"{path}{k}: only in run {'1' if k in a else '2'}")
             else:
-                _diff(a[k], b[k], f"{path}{k}.", out)
+                _diff(a[k], b[k], f"{path}{k}.", out, skip)
     elif isinstance(a, list) and isinstance(b, list):
         if len(a) != len(b):
             out.append(f"{path[:-1]}: {len(a)} vs {len(b)} entries")
         for i, (x, y) in enumerate(zip(a, b, strict=False)):
-            _diff(x, y, f"{path}{i}.", out)
+            _diff(x, y, f"{path}{i}.", out, skip)
     elif a != b:
         out.append(f"{path[:-1]}: {a!r} vs {b!r}")
 
 
-def compare_summaries(a: dict, b: dict) -> list[str]:
-    """Differences between two summary.json dicts, volatile fields left out."""
+def compare_summaries(a: dict, b: dict, ignore: tuple[str, ...] = ()) -> list[str]:
+    """Differences between two summary.json dicts, volatile fields (and ``ignore``) left out."""
     out: list[str] = []
-    _diff(a, b, "", out)
+    _diff(a, b, "", out, VOLATILE_KEYS | frozenset(ignore))
     return out
 
 
@@ -119,12 +119,13 @@ def compare_truth(bag_a: Path, bag_b: Path) -> tuple[tuple[int, int], int | None
     return counts, None, []
 
 
-def compare_runs(run_a: Path, run_b: Path) -> RunDiff:
-    """Compare two run directories (each with ``summary.json`` and ``bag/``)."""
+def compare_runs(run_a: Path, run_b: Path, ignore: tuple[str, ...] = ()) -> RunDiff:
+    """Compare two run directories (each with ``summary.json`` and ``bag/``); ``ignore``: more
+    top-level summary fields to leave out (e.g. ``faults_injected`` when one run had a stall)."""
     d = RunDiff()
     sa = json.loads((run_a / "summary.json").read_text())
     sb = json.loads((run_b / "summary.json").read_text())
-    d.summary = compare_summaries(sa, sb)
+    d.summary = compare_summaries(sa, sb, ignore)
     if (run_a / "bag").exists() and (run_b / "bag").exists():
         d.truth_messages, d.first_step, d.truth = compare_truth(run_a / "bag", run_b / "bag")
     else:

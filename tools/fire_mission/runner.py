@@ -436,10 +436,13 @@ class Supervisor:
             _, what, uav = self.water_watch.pop(0)
             if uav in self.summary.water_kg:
                 self.summary.water_at_fault[what] = self.summary.water_kg[uav]
+        self.summary.observe_truth(float(msg.min_separation_m), int(msg.collisions))
 
     def _on_event(self, msg) -> None:
         t = stamp_to_s(msg.header.stamp)
-        self.summary.add(Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail))
+        self.summary.add(
+            Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail, msg.x_m, msg.y_m)
+        )
         if msg.type == EventType.MISSION_COMPLETE:
             self.done = True
 
@@ -524,6 +527,7 @@ def run(args: argparse.Namespace) -> int:
     # PYTHONHASHSEED: no set or dict of strings may change its order between two runs
     env = dict(os.environ, PYTHONUNBUFFERED="1", PYTHONHASHSEED="0", ROS_LOG_DIR=str(out / "ros_log"))
     summary = LiveSummary(uav_count=uav_count)
+    summary.home_xy = {i: (p[0], p[1]) for i, p in enumerate(scenario.uav_start_poses(uav_count))}
     print(
         f"[run_mission] scenario {scenario.name} ({scenario_path}), {uav_count} UAVs, seed {seed}, "
         f"mode {args.mode}, ROS_DOMAIN_ID {domain}, output {out}",

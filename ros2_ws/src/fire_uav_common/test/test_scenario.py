@@ -252,3 +252,17 @@ def test_dataclasses_are_frozen(tmp_path: Path) -> None:
         s.seed = 3  # type: ignore[misc]
     with pytest.raises(AttributeError):
         s.area.x_min_m = 3  # type: ignore[misc]
+
+
+def test_prior_fires_mode_is_validated_and_defaults_to_unknown():
+    from fire_uav_common.scenario import ScenarioError, scenario_from_dict
+
+    base = {"name": "x", "area": {"x_min_m": 0, "x_max_m": 100, "y_min_m": 0, "y_max_m": 100}}
+    assert scenario_from_dict(base).mission.prior_fires == "unknown"
+    assert scenario_from_dict({**base, "mission": {"prior_fires": "known"}}).mission.prior_fires == "known"
+    with pytest.raises(
+        ScenarioError, match=r"mission\.prior_fires: must be one of unknown, known, got 'maybe'"
+    ):
+        scenario_from_dict({**base, "mission": {"prior_fires": "maybe"}})
+    with pytest.raises(ScenarioError, match=r"mission\.prior_position_sigma_m: must be >= 0"):
+        scenario_from_dict({**base, "mission": {"prior_position_sigma_m": -1}})
