@@ -181,6 +181,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--uavs", type=int, default=None, help="fleet size (default: the scenario's)")
     p.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="FIELD=VALUE",
+        help="override a scenario field, e.g. --set mission.prior_fires=known; the run's scenario is "
+        "written to OUT/scenario.yaml; repeatable",
+    )
+    p.add_argument(
         "--seed", type=int, default=None, help="seed for every random stream (default: the scenario's)"
     )
     p.add_argument("--mode", choices=["lockstep", "realtime"], default="lockstep")
@@ -278,6 +286,39 @@ def resolve_scenario(name: str) -> Path:
     raise MissionError(f"unknown scenario '{name}'; shipped: {', '.join(shipped) or 'none'}; or give a path")
 
 
+def parse_sets(items: list[str]) -> dict[str, object]:
+    """``--set a.b=VALUE`` items -> {"a.b": value}; values are read as YAML (numbers, true, names)."""
+    import yaml
+
+    out: dict[str, object] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key or not re.fullmatch(r"[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*", key):
+            raise MissionError(
+                f"--set expects FIELD.PATH=VALUE (e.g. mission.prior_fires=known), got '{item}'"
+            )
+        out[key] = yaml.safe_load(value)
+    return out
+
+
+def write_scenario(src: Path, overrides: dict[str, object], dst: Path) -> Path:
+    """The scenario with ``overrides`` applied, written to ``dst`` (every process then reads it)."""
+    import yaml
+
+    raw = yaml.safe_load(src.read_text(encoding="utf-8"))
+    for dotted, value in overrides.items():
+        node = raw
+        *parents, leaf = dotted.split(".")
+        for part in parents:
+            node = node.setdefault(part, {})
+        node[leaf] = value
+    dst.write_text(
+        f"# {src} with --set {' '.join(f'{k}={v}' for k, v in overrides.items())}\n"
+        + yaml.safe_dump(raw, sort_keys=False)
+    )
+    return dst.resolve()
+
+
 def _yaml_params(node: str, params: dict) -> str:
     import yaml
 
@@ -310,6 +351,11 @@ def write_params(
     from fire_uav_common.lockstep import format_schedule
 
     schedule = format_schedule(offline_windows(args))
+    # known-fires mode: the dispatch briefing (noisy estimates drawn next to the truth, seeded)
+    from fire_uav_common.scenario import load_scenario
+    from fire_world_sim.dispatch import prior_fire_estimates
+
+    briefing = prior_fire_estimates(load_scenario(scenario_path), seed)
     world["offline_schedule"] = schedule
     files["world"] = pdir / "world.yaml"
     files["world"].write_text(_yaml_params("/**", world))
@@ -338,6 +384,8 @@ def write_params(
             "outage_end_s": [o.end_s for o in args.outage],
             "offline_schedule": schedule,
         }
+        if briefing:
+            agent["prior_fires"] = [float(v) for f in briefing for v in f]
         if args.loss is not None:
             agent["loss_probability"] = float(args.loss)
         files[f"agent_{k}"] = pdir / f"agent_{k}.yaml"
@@ -492,8 +540,9 @@ def run(args: argparse.Namespace) -> int:
     from fire_uav_common.scenario import ScenarioError, load_scenario
 
     scenario_path = resolve_scenario(args.scenario)
+    overrides = parse_sets(args.set)
     try:
-        scenario = load_scenario(scenario_path)
+        scenario = load_scenario(scenario_path, overrides=overrides)
     except ScenarioError as e:
         raise MissionError(str(e)) from None
     uav_count = args.uavs if args.uavs is not None else scenario.uavs.count
@@ -520,6 +569,8 @@ def run(args: argparse.Namespace) -> int:
             f"{out / 'bag'} already exists: choose another --out (recordings are never overwritten)"
         )
     out.mkdir(parents=True, exist_ok=True)
+    if overrides:
+        scenario_path = write_scenario(scenario_path, overrides, out / "scenario.yaml")
     params = write_params(out, args, scenario_path, uav_count, seed, args.max_duration)
 
     domain = int(os.environ.get("FIRE_UAV_DOMAIN_ID", private_domain_id()))

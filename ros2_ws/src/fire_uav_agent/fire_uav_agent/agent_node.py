@@ -235,6 +235,11 @@ class UavAgentNode(Node):
                   floating_point_range=[FloatingPointRange(from_value=0.01, to_value=60.0)], **ro),
         )  # fmt: skip
         self.declare_parameter(
+            "prior_fires", [-1.0],
+            _desc("known-fires mode: the dispatch briefing as flat (x_m, y_m, extent_m) triples [m]; "
+                  "[-1.0]: none (the runner writes it when mission.prior_fires is known)", **ro),
+        )  # fmt: skip
+        self.declare_parameter(
             "offline_schedule", "",
             _desc("lockstep fault schedule 'K@T1:T2;K@T1' [s sim] (fire_uav_common.lockstep), the same "
                   "string the world gets: peers offline by it are not waited for", **ro),
@@ -342,8 +347,16 @@ class UavAgentNode(Node):
         planner = str(p("monitor_planner").value)
         if planner not in ("importance", "circling"):
             raise ValueError(f"parameter monitor_planner must be 'importance' or 'circling', got {planner!r}")
+        flat = [float(v) for v in p("prior_fires").value]
+        prior: tuple[tuple[float, float, float], ...] = ()
+        if flat != [-1.0]:
+            if len(flat) % 3:
+                raise ValueError(
+                    f"parameter prior_fires: {len(flat)} numbers, expected (x_m, y_m, extent_m) triples"
+                )
+            prior = tuple((flat[i], flat[i + 1], flat[i + 2]) for i in range(0, len(flat), 3))
         cfg = config_from_scenario(
-            scenario, uid, uav_count=count, seed=seed if seed >= 0 else None,
+            scenario, uid, uav_count=count, seed=seed if seed >= 0 else None, prior_fires=prior,
             loss_probability=loss if loss >= 0 else None, outages=outages,
             crash_threshold_steps=thr if thr > 0 else None, monitors_per_fire=mpf if mpf >= 0 else None,
             monitor_circling=planner == "circling", monitor_alpha=float(p("monitor_alpha").value),
