@@ -107,7 +107,8 @@ def check_bag(
         return out
     channels: dict[str, dict[str, str]] = {}
     counts: dict[str, int] = {}
-    t_min, t_max = None, None
+    t_min: int | None = None
+    t_max: int | None = None
     with info.mcap_path.open("rb") as f:
         reader = make_reader(f)
         header = reader.get_header()
@@ -128,15 +129,15 @@ def check_bag(
             where = f"channel {ch.topic}"
             if ch.message_encoding != "cdr":
                 out.append(f"{where}: message encoding {ch.message_encoding!r}, not cdr")
-            meta = dict(ch.metadata)
-            if "offered_qos_profiles" not in meta:
+            cmeta = dict(ch.metadata)
+            if "offered_qos_profiles" not in cmeta:
                 out.append(f"{where}: no offered_qos_profiles in the channel metadata")
             else:
-                _check_qos(where, yaml.safe_load(meta["offered_qos_profiles"]) or [], out)
-            if not _RIHS01.fullmatch(meta.get("topic_type_hash", "")):
-                out.append(f"{where}: topic_type_hash {meta.get('topic_type_hash')!r} is not a RIHS01 hash")
+                _check_qos(where, yaml.safe_load(cmeta["offered_qos_profiles"]) or [], out)
+            if not _RIHS01.fullmatch(cmeta.get("topic_type_hash", "")):
+                out.append(f"{where}: topic_type_hash {cmeta.get('topic_type_hash')!r} is not a RIHS01 hash")
             schema = summary.schemas.get(ch.schema_id)
-            channels[ch.topic] = {"type": schema.name if schema else "", **meta}
+            channels[ch.topic] = {"type": schema.name if schema else "", **cmeta}
         rosbag2_meta = [m for m in reader.iter_metadata() if m.name == "rosbag2"]
         if not rosbag2_meta or "serialized_metadata" not in rosbag2_meta[0].metadata:
             out.append("MCAP file has no 'rosbag2' metadata record with serialized_metadata")
@@ -163,7 +164,7 @@ def check_bag(
     if not info.has_metadata:
         out.append(f"{info.path}: no metadata.yaml (rosbag2 rebuilds it from the MCAP channels)")
         return out
-    meta = read_metadata(Path(info.path) / "metadata.yaml")
+    meta: dict[str, Any] = dict(read_metadata(Path(info.path) / "metadata.yaml"))
     missing, extra = METADATA_V9_KEYS - set(meta), set(meta) - METADATA_V9_KEYS
     if missing or extra:
         out.append(f"metadata.yaml: keys missing {sorted(missing)}, unknown {sorted(extra)} (v9 layout)")
@@ -176,10 +177,10 @@ def check_bag(
     total = sum(counts.values())
     if meta.get("message_count") != total:
         out.append(f"metadata.yaml: message_count {meta.get('message_count')} but the file has {total}")
-    if total:
+    if total and t_min is not None and t_max is not None:
         start = (meta.get("starting_time") or {}).get("nanoseconds_since_epoch")
         dur = (meta.get("duration") or {}).get("nanoseconds")
-        if start != t_min or dur != (t_max or 0) - (t_min or 0):
+        if start != t_min or dur != t_max - t_min:
             out.append(
                 f"metadata.yaml: starting_time/duration {start}/{dur} != the file's {t_min}/{t_max - t_min}"
             )
@@ -192,17 +193,17 @@ def check_bag(
         if set(tm) != TOPIC_V9_KEYS:
             out.append(f"{where}: keys {sorted(tm)} are not the v9 set")
         _check_qos(where, tm.get("offered_qos_profiles"), out)
-        ch = channels.get(name)
-        if ch is None:
+        chan = channels.get(str(name))
+        if chan is None:
             out.append(f"{where}: no such channel in the MCAP file")
             continue
-        if tm.get("type") != ch["type"]:
-            out.append(f"{where}: type {tm.get('type')} but the channel's schema is {ch['type']}")
-        if tm.get("type_description_hash") != ch.get("topic_type_hash"):
+        if tm.get("type") != chan["type"]:
+            out.append(f"{where}: type {tm.get('type')} but the channel's schema is {chan['type']}")
+        if tm.get("type_description_hash") != chan.get("topic_type_hash"):
             out.append(f"{where}: type_description_hash differs from the channel's topic_type_hash")
-        if entry.get("message_count") != counts.get(name, 0):
+        if entry.get("message_count") != counts.get(str(name), 0):
             out.append(
-                f"{where}: message_count {entry.get('message_count')} but the file has {counts.get(name, 0)}"
+                f"{where}: message_count {entry.get('message_count')} but the file has {counts.get(str(name), 0)}"
             )
     for name in set(channels) - seen:
         out.append(f"channel {name}: not in metadata.yaml")
