@@ -49,6 +49,13 @@ class Result:
         return 100.0 * self.count(*KILLED) / judged if judged else float("nan")
 
     def row(self) -> str:
+        unchecked = sum(1 for s in self.statuses.values() if s == "not checked")
+        if unchecked:  # a run that was stopped: no score
+            done = len(self.statuses) - unchecked
+            return (
+                f"| `{self.module}` | {len(self.statuses)} | {self.count(*KILLED)} | {self.count('survived')} "
+                f"| | {self.count('no tests')} | | incomplete: {done} of {len(self.statuses)} checked |"
+            )
         return (
             f"| `{self.module}` | {len(self.statuses)} | {self.count(*KILLED) - self.count('timeout')} "
             f"| {self.count('survived')} | {len(self.equivalent & self.statuses.keys())} "
@@ -91,19 +98,22 @@ def stage(module: str, tests: list[str]) -> Path:
     return d
 
 
-def run(module: str, tests: list[str], equivalent: set[str], show: bool) -> Result:
-    d = stage(module, tests)
+def run(module: str, tests: list[str], equivalent: set[str], show: bool, report_only: bool = False) -> Result:
+    d = STAGE / module if report_only else stage(module, tests)
+    if report_only and not (d / "mutants").is_dir():
+        raise SystemExit(f"mutation: module {module}: no earlier run in {d} (run without --report-only)")
     pkg_root = package_dir(module).parent
     env = dict(os.environ)
     paths = [str(p) for p in PACKAGE_ROOTS if p != pkg_root] + [str(ROOT / "tests" / "system")]
     env["PYTHONPATH"] = os.pathsep.join(paths)
     env.setdefault("PYTHONHASHSEED", "0")
     mutmut = [sys.executable, "-m", "mutmut"]
-    print(f"[mutation] {module}: mutmut run against {len(tests)} test file(s)", file=sys.stderr, flush=True)
-    with open(d / "mutmut-run.log", "w") as log:  # mutmut's progress spinner, kept out of the table
-        rc = subprocess.run([*mutmut, "run", "--max-children", "1"], cwd=d, env=env, stdout=log, stderr=log).returncode
-    if rc != 0:
-        raise SystemExit(f"mutation: module {module}: mutmut run failed (exit {rc}); see {d / 'mutmut-run.log'}")
+    if not report_only:
+        print(f"[mutation] {module}: mutmut run against {len(tests)} test file(s)", file=sys.stderr, flush=True)
+        with open(d / "mutmut-run.log", "w") as log:  # mutmut's progress spinner, kept out of the table
+            rc = subprocess.run([*mutmut, "run", "--max-children", "1"], cwd=d, env=env, stdout=log, stderr=log)
+        if rc.returncode != 0:
+            raise SystemExit(f"mutation: module {module}: mutmut run failed (exit {rc.returncode}); see {d}/mutmut-run.log")
     out = subprocess.run(
         [*mutmut, "results", "--all", "true"], cwd=d, env=env, check=True, capture_output=True, text=True
     ).stdout
@@ -115,7 +125,7 @@ def run(module: str, tests: list[str], equivalent: set[str], show: bool) -> Resu
     if not statuses:
         raise SystemExit(f"mutation: module {module}: mutmut reported no mutants:\n{out}")
     result = Result(module, statuses, equivalent & statuses.keys())
-    survivors = [k for k, s in statuses.items() if s not in KILLED and k not in equivalent]
+    survivors = [k for k, s in statuses.items() if s not in KILLED and s != "not checked" and k not in equivalent]
     for k in survivors:
         print(f"  {statuses[k]}: {k}")
         if show:
@@ -147,6 +157,7 @@ def main() -> int:
     ap.add_argument("modules", nargs="*", help="dotted module names (default: all in config/mutation.toml)")
     ap.add_argument("--list", action="store_true", help="list the modules and their tests")
     ap.add_argument("--show", action="store_true", help="print the diff of every surviving mutant")
+    ap.add_argument("--report-only", action="store_true", help="re-read the last run's results, run nothing")
     ap.add_argument("--no-doc", action="store_true", help=f"do not update {DOC.relative_to(ROOT)}")
     a = ap.parse_args()
     cfg = tomllib.loads(CONFIG.read_text())
@@ -161,7 +172,7 @@ def main() -> int:
     equivalent = set(cfg.get("equivalent", {}))
     results = []
     for m in a.modules or list(modules):
-        results.append(run(m, modules[m]["tests"], equivalent, a.show))
+        results.append(run(m, modules[m]["tests"], equivalent, a.show, a.report_only))
         print(results[-1].row(), flush=True)
         if not a.no_doc:
             update_doc(results[-1:])  # after each module: a long run that stops keeps what it measured
