@@ -1,0 +1,186 @@
+"""Driver behind scripts/mutation: runs mutmut on one pure module at a time.
+
+mutmut derives a mutant's module name from its path under ``src/``, while our packages live in
+``ros2_ws/src/<pkg>/<pkg>`` and ``tools/<pkg>``. So each module gets a stage directory
+(``ros2_ws/build/mutation/<module>``) holding ``src/<pkg>`` (a copy of its package) and a
+pyproject that tells mutmut to mutate that one file and run only the module's fast tests (from
+config/mutation.toml) in place, with the other packages importable unmutated via PYTHONPATH.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import tomllib
+
+ROOT = Path(__file__).resolve().parents[2]
+CONFIG = ROOT / "config" / "mutation.toml"
+DOC = ROOT / "docs" / "testing.md"
+STAGE = ROOT / "ros2_ws" / "build" / "mutation"
+PACKAGE_ROOTS = sorted(p for p in (ROOT / "ros2_ws" / "src").iterdir() if p.is_dir()) + [ROOT / "tools"]
+TABLE_START = "<!-- mutation-table:start -->"
+TABLE_END = "<!-- mutation-table:end -->"
+HEADER = (
+    "| module | mutants | killed | survived | equivalent | no tests | timeout | score |\n"
+    "|---|---:|---:|---:|---:|---:|---:|---:|"
+)
+KILLED = {"killed", "timeout", "caught by type check"}
+
+
+@dataclass
+class Result:
+    module: str
+    statuses: dict[str, str]
+    equivalent: set[str]
+
+    def count(self, *names: str) -> int:
+        return sum(1 for k, s in self.statuses.items() if s in names and k not in self.equivalent)
+
+    @property
+    def score(self) -> float:
+        judged = len(self.statuses) - len(self.equivalent & self.statuses.keys())
+        return 100.0 * self.count(*KILLED) / judged if judged else float("nan")
+
+    def row(self) -> str:
+        unchecked = sum(1 for s in self.statuses.values() if s == "not checked")
+        if unchecked:  # a run that was stopped: no score
+            done = len(self.statuses) - unchecked
+            return (
+                f"| `{self.module}` | {len(self.statuses)} | {self.count(*KILLED)} | {self.count('survived')} "
+                f"| | {self.count('no tests')} | | incomplete: {done} of {len(self.statuses)} checked |"
+            )
+        return (
+            f"| `{self.module}` | {len(self.statuses)} | {self.count(*KILLED) - self.count('timeout')} "
+            f"| {self.count('survived')} | {len(self.equivalent & self.statuses.keys())} "
+            f"| {self.count('no tests')} | {self.count('timeout')} | {self.score:.0f} % |"
+        )
+
+
+def package_dir(module: str) -> Path:
+    top = module.split(".")[0]
+    for root in PACKAGE_ROOTS:
+        if (root / top / "__init__.py").is_file():
+            return root / top
+    raise SystemExit(f"mutation: no package '{top}' under ros2_ws/src/* or tools/ (module {module})")
+
+
+def stage(module: str, tests: list[str]) -> Path:
+    pkg = package_dir(module)
+    rel = Path(*module.split(".")[1:]).with_suffix(".py")
+    if not (pkg / rel).is_file():
+        raise SystemExit(f"mutation: module {module}: no file {pkg / rel}")
+    missing = [t for t in tests if not (ROOT / t).is_file()]
+    if missing:
+        raise SystemExit(f"mutation: module {module}: test file(s) not found: {', '.join(missing)}")
+    d = STAGE / module
+    shutil.rmtree(d, ignore_errors=True)  # never reuse an old run's results
+    shutil.copytree(pkg, d / "src" / pkg.name, ignore=shutil.ignore_patterns("__pycache__"))
+    (d / "pytest.ini").write_text(
+        "[pytest]\naddopts = --import-mode=importlib -p no:cacheprovider -m 'not slow'\n"
+        "markers =\n    system: real ROS processes\n    slow: over ~20 s\n"
+    )
+    toml_list = lambda xs: "[" + ", ".join(f'"{x}"' for x in xs) + "]"  # noqa: E731
+    (d / "pyproject.toml").write_text(
+        "[tool.mutmut]\n"
+        'source_paths = ["src"]\n'
+        f'only_mutate = ["src/{pkg.name}/{rel.as_posix()}"]\n'
+        f"pytest_add_cli_args = {toml_list(['-c', str(d / 'pytest.ini'), '--rootdir', str(ROOT), '-q'])}\n"
+        f"pytest_add_cli_args_test_selection = {toml_list(str(ROOT / t) for t in tests)}\n"
+        "use_git_change_detection = false\n"
+    )
+    return d
+
+
+def run(module: str, tests: list[str], equivalent: set[str], show: bool, report_only: bool = False) -> Result:
+    d = STAGE / module if report_only else stage(module, tests)
+    if report_only and not (d / "mutants").is_dir():
+        raise SystemExit(f"mutation: module {module}: no earlier run in {d} (run without --report-only)")
+    pkg_root = package_dir(module).parent
+    env = dict(os.environ)
+    paths = [str(p) for p in PACKAGE_ROOTS if p != pkg_root] + [str(ROOT / "tests" / "system")]
+    env["PYTHONPATH"] = os.pathsep.join(paths)
+    env.setdefault("PYTHONHASHSEED", "0")
+    mutmut = [sys.executable, "-m", "mutmut"]
+    if not report_only:
+        print(f"[mutation] {module}: mutmut run against {len(tests)} test file(s)", file=sys.stderr, flush=True)
+        with open(d / "mutmut-run.log", "w") as log:  # mutmut's progress spinner, kept out of the table
+            rc = subprocess.run([*mutmut, "run", "--max-children", "1"], cwd=d, env=env, stdout=log, stderr=log)
+        if rc.returncode != 0:
+            raise SystemExit(f"mutation: module {module}: mutmut run failed (exit {rc.returncode}); see {d}/mutmut-run.log")
+    out = subprocess.run(
+        [*mutmut, "results", "--all", "true"], cwd=d, env=env, check=True, capture_output=True, text=True
+    ).stdout
+    statuses = {}
+    for line in out.splitlines():
+        m = re.match(r"\s*(\S+__mutmut_\d+): (.+)$", line)
+        if m:
+            statuses[m.group(1)] = m.group(2).strip()
+    if not statuses:
+        raise SystemExit(f"mutation: module {module}: mutmut reported no mutants:\n{out}")
+    result = Result(module, statuses, equivalent & statuses.keys())
+    survivors = [k for k, s in statuses.items() if s not in KILLED and s != "not checked" and k not in equivalent]
+    for k in survivors:
+        print(f"  {statuses[k]}: {k}")
+        if show:
+            diff = subprocess.run([*mutmut, "show", k], cwd=d, env=env, capture_output=True, text=True).stdout
+            print("    " + "\n    ".join(diff.strip().splitlines()[2:]))
+    return result
+
+
+def update_doc(results: list[Result]) -> None:
+    text = DOC.read_text() if DOC.exists() else f"# Testing\n\n{TABLE_START}\n{TABLE_END}\n"
+    if TABLE_START not in text:
+        raise SystemExit(f"mutation: {DOC} has no '{TABLE_START}' marker")
+    head, rest = text.split(TABLE_START, 1)
+    table, tail = rest.split(TABLE_END, 1)
+    rows = {}
+    for line in table.splitlines():
+        m = re.match(r"\| `([\w.]+)` \|", line)
+        if m:
+            rows[m.group(1)] = line
+    for r in results:
+        rows[r.module] = r.row()
+    order = list(tomllib.loads(CONFIG.read_text())["modules"])
+    lines = [rows.get(m, f"| `{m}` | not run yet | | | | | | |") for m in order]
+    DOC.write_text(f"{head}{TABLE_START}\n{HEADER}\n" + "\n".join(lines) + f"\n{TABLE_END}{tail}")
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(prog="scripts/mutation", description=__doc__.splitlines()[0])
+    ap.add_argument("modules", nargs="*", help="dotted module names (default: all in config/mutation.toml)")
+    ap.add_argument("--list", action="store_true", help="list the modules and their tests")
+    ap.add_argument("--show", action="store_true", help="print the diff of every surviving mutant")
+    ap.add_argument("--report-only", action="store_true", help="re-read the last run's results, run nothing")
+    ap.add_argument("--no-doc", action="store_true", help=f"do not update {DOC.relative_to(ROOT)}")
+    a = ap.parse_args()
+    cfg = tomllib.loads(CONFIG.read_text())
+    modules = cfg["modules"]
+    if a.list:
+        for m, v in modules.items():
+            print(f"{m}: {' '.join(v['tests'])}")
+        return 0
+    unknown = [m for m in a.modules if m not in modules]
+    if unknown:
+        raise SystemExit(f"mutation: unknown module(s) {', '.join(unknown)}; see scripts/mutation --list")
+    equivalent = set(cfg.get("equivalent", {}))
+    results = []
+    for m in a.modules or list(modules):
+        results.append(run(m, modules[m]["tests"], equivalent, a.show, a.report_only))
+        print(results[-1].row(), flush=True)
+        if not a.no_doc:
+            update_doc(results[-1:])  # after each module: a long run that stops keeps what it measured
+    print(HEADER)
+    for r in results:
+        print(r.row())
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
