@@ -22,6 +22,7 @@ monitors that meet fly apart in opposite directions.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -122,8 +123,8 @@ class PerimeterMonitor:
         c = config
         self.center_known = c.center_x_m is not None
         self.fire_map = FireMap(
-            c.center_x_m if self.center_known else 0.0,
-            c.center_y_m if self.center_known else 0.0,
+            c.center_x_m if c.center_x_m is not None else 0.0,
+            c.center_y_m if c.center_y_m is not None else 0.0,
             bin_count=c.bin_count,
             ignition_time_s=c.ignition_time_s,
             revisit_gap_s=c.gap_s,
@@ -140,7 +141,7 @@ class PerimeterMonitor:
         self.t_s: float = float("nan")
         self.last_window: WindowImportance | None = None
         self.last_cells_m: np.ndarray | None = None  # resampled perimeter of the last decision
-        self._lookup = None
+        self._lookup: Callable[[int, int], bool] | None = None
         self._link_m = 1.5 * math.sqrt(2) * c.cell_size_m
         self._lap = _Lap()
         self._peers: dict[int, _Peer] = {}
@@ -210,7 +211,8 @@ class PerimeterMonitor:
         first = self.next_waypoint()
         if self.grid is None or self.cell is None or self._lookup is None or n_cells <= 1:
             return first
-        prev, cur = self.cell, tuple(int(v) for v in self.grid.index(*first))
+        i, j = self.grid.index(*first)
+        prev, cur = self.cell, (int(i), int(j))
         for _ in range(n_cells - 1):
             nxt = next_boundary_cell(self._lookup, cur, self.direction, prev)
             if nxt is None or nxt == self.cell:

@@ -85,7 +85,8 @@ class RasterFire:
         for r in np.arange(0.0, max(mask.shape) * self.cell_size_m * 1.5, self.cell_size_m / 4):
             x = self.ignition_xy_m[0] + r * math.cos(angle_rad)
             y = self.ignition_xy_m[1] + r * math.sin(angle_rad)
-            c = tuple(int(v) for v in g.index(x, y))
+            i, j = g.index(x, y)
+            c = (int(i), int(j))
             if look(*c) and is_boundary_cell(look, c):
                 best = c
         return best  # type: ignore[return-value]

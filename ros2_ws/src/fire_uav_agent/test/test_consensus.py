@@ -101,8 +101,19 @@ def test_the_briefing_gives_every_agent_the_same_ids_and_a_detection_joins_it():
 def test_predict_moves_active_fires_by_their_drift_and_leaves_extinguished_ones():
     """Constant-drift kinematics (FF III-C, drift estimation): x(t + dt) = x(t) + v dt."""
     c = FireConsensus(0)
-    c.fuse({1: _pf(1, 0, [FireEntry(7, True, 100.0, 200.0, 10.0, 0.5, -0.25, 0.1),
-                          FireEntry(9, False, 500.0, 500.0, 0.0, 1.0, 1.0, 0.1)])}, 0.2)
+    c.fuse(
+        {
+            1: _pf(
+                1,
+                0,
+                [
+                    FireEntry(7, True, 100.0, 200.0, 10.0, 0.5, -0.25, 0.1),
+                    FireEntry(9, False, 500.0, 500.0, 0.0, 1.0, 1.0, 0.1),
+                ],
+            )
+        },
+        0.2,
+    )
     before = {e.fire_id: (e.x_m, e.y_m) for e in c.entries()}
     c.predict(4.0)
     after = {e.fire_id: (e.x_m, e.y_m) for e in c.entries()}

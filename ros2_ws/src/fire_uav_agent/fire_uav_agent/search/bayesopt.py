@@ -32,7 +32,7 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from fire_uav_common.constants import CandidateKind
@@ -274,7 +274,7 @@ def _trace(
     )
 
 
-Objective = Callable[[SearchProblem, Candidate], object]  # returns .cost, .energy_j, .radius_m
+Objective = Callable[[SearchProblem, Candidate], Any]  # returns an Evaluation-like .cost, .energy_j, .radius_m
 
 
 def run_async_bo(
@@ -296,10 +296,10 @@ def run_async_bo(
     agent_rngs = rng.spawn(n)
     net_rng = rng.spawn(1)[0]
     agents = [BoAgent(i, problem, pool, agent_rngs[i], config) for i in range(n)]
-    events: list[tuple[float, int, str, int, object]] = []
+    events: list[tuple[float, int, str, int, Any]] = []
     seq = 0
 
-    def push(t: float, kind: str, who: int, payload: object) -> None:
+    def push(t: float, kind: str, who: int, payload: Any) -> None:
         nonlocal seq
         heapq.heappush(events, (t, seq, kind, who, payload))
         seq += 1

@@ -526,7 +526,11 @@ class SearchCoordinator:
                     b.final_iteration = it
                     b.done_step = step
                     self._finish_plan(
-                        step, np.array([got[u].weight_m2 for u in b.alive]), b.agent.e_max, it, True
+                        step,
+                        np.array([r.weight_m2 for r in got.values() if r is not None]),
+                        b.agent.e_max,
+                        it,
+                        True,
                     )
                     break
             else:  # pragma: no cover - bounded by max_iterations

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -200,7 +201,7 @@ def head_spread(
     upslope_dir_rad: float,
     *,
     wind_limit: str = DEFAULT_WIND_LIMIT,
-) -> tuple[float, float, float]:
+) -> tuple[Any, Any, Any]:
     """(head rate [m/s], head direction [rad ccw from +x], effective wind [m/s]).
 
     ``wind_mps``: midflame wind speed. Wind and slope factors are added as vectors.
