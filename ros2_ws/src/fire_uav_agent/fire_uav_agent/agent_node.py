@@ -303,6 +303,7 @@ class UavAgentNode(Node):
         # not a timeout: while waiting, notice a peer whose process is gone (its publishers left the graph)
         self._liveness_timer = self.create_timer(self.liveness_s, self._check_liveness, clock=self._steady)
         self._liveness_timer.cancel()
+        self._wait_since_ns = 0
         # the start-up handshake: AGENT_READY once every fleet topic is matched with every peer
         self._ready_timer = self.create_timer(0.05, self._check_ready, clock=self._steady)
 
@@ -449,6 +450,7 @@ class UavAgentNode(Node):
             self._run()
             return
         if not self._maybe_run():
+            self._wait_since_ns = self._steady.now().nanoseconds
             self._liveness_timer.reset()
 
     def _maybe_run(self) -> bool:
@@ -465,6 +467,12 @@ class UavAgentNode(Node):
             self._liveness_timer.cancel()
             return
         k = int(self._pending.step)
+        waited_s = (self._steady.now().nanoseconds - self._wait_since_ns) / 1e9
+        if waited_s > 5.0:  # a long wait is worth a line (throttled): it names what is missing
+            self.get_logger().warning(
+                f"step {k}: waiting {waited_s:.0f} s for peers' step-{k - 1} messages: {self.wait.describe(k)}",
+                throttle_duration_sec=10.0,
+            )
         alive = {i.node_namespace for i in self.get_publishers_info_by_topic(topics.FLEET_STATE_SPEC.name)}
         for j in self.wait.missing(k):
             if topics.uav_namespace(j) not in alive:

@@ -105,6 +105,20 @@ class PeerWait:
                 out.append(j)
         return out
 
+    def describe(self, step: int) -> str:
+        """What is still missing for ``step``, for a log line (``"uav 2: state; uav 3: 1/2 on topic 5"``)."""
+        prev = step - 1
+        parts = []
+        for j in self.missing(step):
+            sent = self._sent.get((prev, j))
+            if sent is None:
+                parts.append(f"uav {j}: state of step {prev}")
+                continue
+            got = self._arrived.get((prev, j), {})
+            short = [f"{got.get(t, 0)}/{n} on topic {t}" for t, n in enumerate(sent) if got.get(t, 0) < n]
+            parts.append(f"uav {j}: " + ", ".join(short))
+        return "; ".join(parts)
+
     def ready(self, step: int) -> bool:
         """Whether every message the live peers sent at ``step - 1`` has arrived."""
         return not self.missing(step)

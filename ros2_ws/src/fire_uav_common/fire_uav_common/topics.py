@@ -39,13 +39,13 @@ __all__ = [
 
 UAV_NAMESPACE = "uav_{k}"
 
-#: QoS kind -> (reliable, transient_local, depth); see :func:`qos`
+#: QoS kind -> (reliable, transient_local, depth; 0 = keep all); see :func:`qos`
 QOS_KINDS: dict[str, tuple[bool, bool, int]] = {
-    "lockstep": (True, False, 20),
+    "lockstep": (True, False, 0),
     "clock": (True, False, 10),
-    "fleet": (True, False, 100),
+    "fleet": (True, False, 0),
     "events": (True, True, 1000),
-    "truth": (True, False, 50),
+    "truth": (True, False, 0),
     "viz": (False, False, 5),
     "latched": (True, True, 1),
     "tf": (True, False, 100),
@@ -55,12 +55,15 @@ QOS_KINDS: dict[str, tuple[bool, bool, int]] = {
 def qos(kind: str) -> QoSProfile:
     """QoS profile for a class of topic.
 
-    - ``"lockstep"``: sensors, commands, payload: reliable, depth 20 (the world waits for them).
+    - ``"lockstep"``: sensors, commands, payload: reliable, keep all (the world waits for them).
     - ``"clock"``: ``/clock``: reliable, depth 10.
-    - ``"fleet"``: peer-to-peer state: reliable on the wire; the injected loss is applied on
-      receipt (DESIGN "Faults"), so the real transport must not lose messages on its own.
+    - ``"fleet"``: peer-to-peer state: reliable, keep all. The injected loss is applied on
+      receipt (DESIGN "Faults"), and the lockstep wait counts every message a peer announced,
+      so the transport must never drop one: a KEEP_LAST history drops the oldest samples of a
+      burst (the CP MST phase sends ~100 messages in one step), and the fleet would wait for
+      them for ever.
     - ``"events"``: reliable + transient local, depth 1000: a late recorder still gets them.
-    - ``"truth"``: reliable, depth 50.
+    - ``"truth"``: reliable, keep all (nothing recorded is lost when the recorder lags).
     - ``"viz"``: best effort, depth 5.
     - ``"latched"``: reliable + transient local, depth 1 (static data such as ``/tf_static``).
     - ``"tf"``: ``/tf``: reliable, volatile, depth 100 (tf2's broadcaster default).
@@ -71,8 +74,8 @@ def qos(kind: str) -> QoSProfile:
 
     reliable, transient, depth = QOS_KINDS[kind]
     return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST,
-        depth=depth,
+        history=HistoryPolicy.KEEP_LAST if depth else HistoryPolicy.KEEP_ALL,
+        depth=depth or 1000,
         reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
         durability=DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE,
     )

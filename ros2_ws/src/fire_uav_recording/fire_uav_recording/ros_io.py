@@ -61,10 +61,12 @@ def subscription_qos(offered: list[QoSProfile], spec: topics.TopicSpec | None = 
         best_effort = best_effort or want.reliability == ReliabilityPolicy.BEST_EFFORT
         transient = transient and want.durability == DurabilityPolicy.TRANSIENT_LOCAL
         depth = max(MIN_DEPTH, int(want.depth))
+        keep_all = want.history == HistoryPolicy.KEEP_ALL  # the recorder loses nothing the fleet keeps
     else:
         depth = max([1000 if transient else MIN_DEPTH, *[int(p.depth) for p in offered]])
+        keep_all = False
     return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST,
+        history=HistoryPolicy.KEEP_ALL if keep_all else HistoryPolicy.KEEP_LAST,
         depth=depth,
         reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE,
         durability=DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE,

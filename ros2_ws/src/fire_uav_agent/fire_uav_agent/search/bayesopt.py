@@ -274,7 +274,9 @@ def _trace(
     )
 
 
-Objective = Callable[[SearchProblem, Candidate], Any]  # returns an Evaluation-like .cost, .energy_j, .radius_m
+Objective = Callable[
+    [SearchProblem, Candidate], Any
+]  # returns an Evaluation-like .cost, .energy_j, .radius_m
 
 
 def run_async_bo(
