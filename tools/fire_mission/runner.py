@@ -247,6 +247,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-record", action="store_true", help="do not start the recorder")
     p.add_argument("--no-report", action="store_true", help="do not write the report after the run")
     p.add_argument(
+        "--wall-epoch",
+        action="store_true",
+        help="stamp the bag from the wall-clock epoch of the recorder's start (the recorder's "
+        "stamp_wall_epoch), so Foxglove's timeline shows the real date; header stamps stay sim time",
+    )
+    p.add_argument(
         "--foxglove",
         action="store_true",
         help="also start the Foxglove bridge (live view: WebSocket server on 127.0.0.1:PORT)",
@@ -368,6 +374,7 @@ def write_params(
                 "scenario_file": str(scenario_path),
                 "seed": seed,
                 "uav_count": uav_count,
+                "stamp_wall_epoch": bool(args.wall_epoch),
             },
         )
     )
@@ -604,6 +611,12 @@ def run(args: argparse.Namespace) -> int:
                     ),
                 )
                 _wait_for_node(sup.node, "recorder", 20.0, procs)
+            if not args.no_record or args.foxglove:
+                # /fleet/perimeter drawn as markers on /viz/perimeter: recorded in every bag, live in Foxglove
+                procs.start(
+                    "perimeter_viewer", ros_run_argv("fire_perimeter_monitor", "perimeter_viewer", [])
+                )
+                _wait_for_node(sup.node, "perimeter_viewer", 20.0, procs)
             if args.foxglove:
                 procs.start(
                     "foxglove_bridge",

@@ -11,6 +11,7 @@ from fire_report.data import load_mission
 from fire_report.errors import ReportError
 from fire_report.figures import make_figures
 from fire_report.metrics import compute_metrics
+from fire_report.sections import Section, make_sections, render_section
 
 META_ROWS = (
     ("scenario file", "fire_uav.scenario_file"),
@@ -44,8 +45,14 @@ def _fmt(v: Any) -> str:
     return str(v)
 
 
-def render_html(metrics: dict[str, Any], custom: dict[str, str], figures: list[tuple[str, str]]) -> str:
-    """One self-contained page: metadata, summary metrics, EKF table, every figure."""
+def render_html(
+    metrics: dict[str, Any],
+    custom: dict[str, str],
+    figures: list[tuple[str, str]],
+    sections: list[Section] | None = None,
+) -> str:
+    """One self-contained page: metadata, summary metrics, EKF table, every figure, then one
+    section per capability the mission used (``fire_report.sections``)."""
     e = html.escape
     rows = "".join(f"<tr><th>{e(k)}</th><td>{e(custom.get(key, '-'))}</td></tr>" for k, key in META_ROWS)
     summ = "".join(f"<tr><th>{e(k)}</th><td>{e(_fmt(metrics.get(k)))}</td></tr>" for k in SUMMARY_KEYS)
@@ -75,6 +82,7 @@ figure{{margin:1.5em 0}}img{{max-width:100%}}figcaption{{color:#444}}.warn{{colo
 <h2>EKF error (|estimate - truth|, {ekf.get("samples", 0)} samples)</h2>
 <table><tr><th></th><th>p50</th><th>p90</th><th>p95</th><th>max</th></tr>{ekf_rows}</table>
 <h2>Figures</h2>{figs or "<p>No figure: the bag holds none of the topics they need.</p>"}
+{"".join(render_section(s) for s in sections or [])}
 </body></html>
 """
 
@@ -89,7 +97,10 @@ def write_report(bag: str | Path, out_dir: str | Path, *, salvage: bool = True) 
         raise ReportError(f"{out}: cannot create the output directory: {err.strerror}") from None
     metrics = compute_metrics(mission)
     figures = make_figures(mission, out)
-    metrics["figures"] = [name for name, _ in figures]
+    sections = make_sections(mission, out, salvage=salvage)
+    metrics["figures"] = [name for name, _ in figures] + [name for s in sections for name, _ in s.figures]
+    metrics["sections"] = {s.key: s.metrics for s in sections}
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2, default=str) + "\n", encoding="utf8")
-    (out / "index.html").write_text(render_html(metrics, mission.custom_data, figures), encoding="utf8")
+    page = render_html(metrics, mission.custom_data, figures, sections)
+    (out / "index.html").write_text(page, encoding="utf8")
     return metrics

@@ -553,6 +553,9 @@ class UavAgentNode(Node):
             self.pub_perimeter.publish(pm)
         if self.search_link is not None:
             self.search_link.publish(coverage)
+            plan = self.search_link.plan_marker(stamp)
+            if plan is not None:
+                self.pub_viz.publish(plan)
         cmd = TwistStamped()
         cmd.header.stamp = stamp
         cmd.header.frame_id = f"uav_{uid}"

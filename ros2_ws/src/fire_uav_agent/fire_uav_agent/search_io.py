@@ -30,6 +30,7 @@ from fire_uav_msgs.msg import CoverageCandidate, CoverageWeight, MstFragment
 from geometry_msgs.msg import Point
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.node import Node
+from visualization_msgs.msg import Marker, MarkerArray
 
 from .agent_core import Agent
 from .search.bayesopt import CandidateMessage
@@ -38,6 +39,8 @@ from .search.mst import MstMessage
 from .search.power_diagram import WeightReport
 
 __all__ = ["SearchLink", "SearchParams", "attach_search", "declare_search_parameters"]
+
+PATH_MARKER_STEP_M = 5.0  # [m] arc-length spacing of the planned-path marker's points
 
 
 @dataclass(frozen=True)
@@ -164,6 +167,7 @@ class SearchLink:
         self.received = 0
         self.lost = 0
         self.rejected = 0
+        self._plans_published = 0
 
     def _receive(self, convert, msg) -> None:
         if int(msg.uav_id) == self.uav_id:
@@ -202,6 +206,29 @@ class SearchLink:
     def publish(self, envelopes: list[Envelope]) -> None:
         for e in envelopes:
             self._pub[e.topic].publish(to_msg(e, self.period_s))
+
+    def plan_marker(self, stamp: TimeMsg) -> MarkerArray | None:
+        """The own planned STC path as a LINE_STRIP (ns ``uav_<k>_search_path``, id 0, map frame,
+        z = 0), once per new plan (None otherwise): on the agent's viz topic, so the bag records
+        what was planned next to what was flown (the report's CP section). Not a peer topic."""
+        plans = self.coordinator.plans
+        if len(plans) == self._plans_published:
+            return None
+        self._plans_published = len(plans)
+        path = plans[-1].paths.get(self.uav_id)
+        if path is None:
+            return None
+        s_m = np.linspace(0.0, path.length_m, max(2, math.ceil(path.length_m / PATH_MARKER_STEP_M)) + 1)
+        xy = path.positions_at(s_m)
+        m = Marker(ns=f"uav_{self.uav_id}_search_path", id=0, type=Marker.LINE_STRIP, action=Marker.ADD)
+        m.header.stamp, m.header.frame_id = stamp, "map"
+        m.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in xy]
+        m.scale.x = 2.0
+        m.color.r, m.color.g, m.color.b, m.color.a = 0.2, 0.4, 1.0, 0.9
+        m.text = (
+            f"candidate {plans[-1].candidate_id}, plan step {plans[-1].step}, length {path.length_m:.0f} m"
+        )
+        return MarkerArray(markers=[m])
 
     @staticmethod
     def counts(envelopes: list[Envelope]) -> dict[int, int]:
