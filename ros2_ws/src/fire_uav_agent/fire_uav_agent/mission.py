@@ -57,6 +57,7 @@ class MissionConfig:
     min_drop_radius_m: float = 3.0  # [m] drop within this of the target's estimated centre
     deadlock_timeout_s: float = 20.0
     deadlock_centroid_move_m: float = 10.0
+    deadlock_stuck_factor: float = 2.0  # [-] no drop for this * deadlock_timeout_s: attack directly
     attack_timeout_s: float = 30.0
     search_enabled: bool = True
     post_search_s: float = 45.0  # search this long after the last known fire is out, then land
@@ -141,7 +142,13 @@ class Mission:
             return False
         xs = [c[0] for c in window]
         ys = [c[1] for c in window]
-        return math.hypot(max(xs) - min(xs), max(ys) - min(ys)) < self.cfg.deadlock_centroid_move_m
+        if math.hypot(max(xs) - min(xs), max(ys) - min(ys)) < self.cfg.deadlock_centroid_move_m:
+            return True
+        # A centroid that drifts with its fire, or jitters as a neighbour circles, is not frozen,
+        # yet the UAV circling it never comes within the drop radius (fault_drill, 2 UAVs on one
+        # sigma-60 fire: each circles its half's centroid ~0.8 sigma out; 0 drops in 240 s).
+        # So a UAV with water that has not dropped for deadlock_stuck_factor * the timeout attacks too.
+        return v.t_s - self._since_s >= self.cfg.deadlock_stuck_factor * self.cfg.deadlock_timeout_s
 
     def step(self, v: MissionView) -> Decision:
         before = self.objective
