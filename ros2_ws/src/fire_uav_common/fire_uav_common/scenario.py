@@ -283,6 +283,7 @@ class Mission:
     safety_radius_m: float = 10.0
     monitors_per_fire: int = 0
     search_first: bool = False
+    tactic: str = "head"  # raster suppression: head | flank (TACTICS; fire_uav_agent.tactics)
 
 
 @dataclass(frozen=True)
@@ -734,7 +735,19 @@ def _mission(ctx: _Ctx, raw: Any) -> Mission:
         safety_radius_m=_num(ctx, d, "safety_radius_m", p, m.safety_radius_m, ge=0),
         monitors_per_fire=_int(ctx, d, "monitors_per_fire", p, m.monitors_per_fire, ge=0),
         search_first=_bool(ctx, d, "search_first", p, m.search_first),
+        tactic=_tactic(ctx, d, p, m.tactic),
     )
+
+
+#: ``mission.tactic`` values: head attack (fastest front first) or flank attack from an anchor
+TACTICS = ("head", "flank")
+
+
+def _tactic(ctx: _Ctx, d: dict, p: str, default: str) -> str:
+    t = _str(ctx, d, "tactic", p, default)
+    if t not in TACTICS:
+        raise ctx.fail(f"{p}.tactic", f"must be one of {list(TACTICS)}, got {t!r}")
+    return t
 
 
 _TOP = {
