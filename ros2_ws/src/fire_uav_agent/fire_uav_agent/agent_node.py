@@ -20,6 +20,7 @@ from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_st
 from fire_uav_msgs.msg import (
     FireEstimate,
     FireEstimateArray,
+    FireFront,
     MissionEvent,
     PayloadRequest,
     PerimeterMap,
@@ -38,6 +39,8 @@ from .agent_config import AgentConfig, config_from_scenario
 from .agent_core import Agent
 from .agent_types import Bundle, PeerPerimeter, StepOutput
 from .estimation import Samples
+from .fire_front import FrontCells
+from .front_consensus import PeerFront
 from .peer_link import FireEntry, Outage, PeerFires, PeerState
 from .search_io import attach_search
 
@@ -102,6 +105,40 @@ def _from_perimeter(out: StepOutput, stamp: TimeMsg, seq: int) -> PerimeterMap |
     m.spread_rate_mps = s["spread_rate_mps"].astype(np.float32).tolist()
     m.importance = s["importance"].astype(np.float32).tolist()
     m.direction, m.direction_changes = int(s["direction"]), int(s["direction_changes"])
+    return m
+
+
+def _to_peer_front(m: FireFront, control_period_s: float) -> PeerFront:
+    """A peer's FireFront; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
+    state = (
+        np.frombuffer(bytes(m.state), dtype=np.uint8)
+        if isinstance(m.state, (bytes, bytearray))
+        else np.asarray(m.state, dtype=np.uint8)
+    )
+    cells = FrontCells(
+        np.asarray(m.x_m, dtype=float),
+        np.asarray(m.y_m, dtype=float),
+        state.astype(np.int64),
+        np.asarray(m.observed_s, dtype=float),
+        np.asarray(m.spread_rate_mps, dtype=float),
+    )  # raises ValueError on unequal lengths: the caller drops the message
+    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
+    return PeerFront(int(m.uav_id), int(m.sequence), step, cells)
+
+
+def _from_front(out: StepOutput, stamp: TimeMsg, seq: int, cell_size_m: float) -> FireFront | None:
+    c = out.front
+    if not isinstance(c, FrontCells):
+        return None
+    m = FireFront()
+    m.header.stamp = stamp
+    m.header.frame_id = "map"
+    m.uav_id, m.sequence, m.cell_size_m = out.state.uav_id, seq, float(cell_size_m)
+    m.x_m = np.asarray(c.x_m, dtype=np.float32).tolist()
+    m.y_m = np.asarray(c.y_m, dtype=np.float32).tolist()
+    m.state = np.asarray(c.state, dtype=np.uint8).tobytes()
+    m.observed_s = np.asarray(c.t_obs_s, dtype=float).tolist()
+    m.spread_rate_mps = np.asarray(c.ros_mps, dtype=np.float32).tolist()
     return m
 
 
@@ -270,6 +307,9 @@ class UavAgentNode(Node):
         self.pub_perimeter = topics.publisher(self, topics.FLEET_PERIMETER_SPEC)
         self._perimeter_seq = 0
         topics.subscription(self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter)
+        self.pub_front = topics.publisher(self, topics.FLEET_FRONT_SPEC)
+        self._front_seq = 0
+        topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front)
         topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own)
         topics.subscription(self, topics.FLEET_STATE_SPEC, self._on_state)
         topics.subscription(self, topics.FLEET_FIRES_SPEC, self._on_fires)
@@ -344,6 +384,16 @@ class UavAgentNode(Node):
         self._inbox.append(
             _to_peer_perimeter(msg, self.cfg.control_period_s)
         )  # not waited for: merged at the next step
+
+    def _on_front(self, msg: FireFront) -> None:
+        if msg.uav_id == self.cfg.uav_id:
+            return
+        try:
+            self._inbox.append(_to_peer_front(msg, self.cfg.control_period_s))  # not waited for
+        except ValueError as err:
+            self.get_logger().warning(
+                f"FireFront from uav {msg.uav_id} dropped: {err}", throttle_duration_sec=5.0
+            )
 
     def _on_fires(self, msg: FireEstimateArray) -> None:
         if msg.uav_id == self.cfg.uav_id:
@@ -435,6 +485,11 @@ class UavAgentNode(Node):
             pm = _from_perimeter(out, stamp, self._perimeter_seq)
             if pm is not None:
                 self.pub_perimeter.publish(pm)
+        if out.front is not None and self.agent.front is not None:
+            self._front_seq += 1
+            fm = _from_front(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
+            if fm is not None:
+                self.pub_front.publish(fm)
         cmd = TwistStamped()
         cmd.header.stamp = stamp
         cmd.header.frame_id = f"uav_{uid}"
