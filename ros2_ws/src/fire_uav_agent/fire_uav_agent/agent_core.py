@@ -531,6 +531,8 @@ class Agent:
             if plan.height_m is not None:
                 height = plan.height_m
             v_cap = plan.speed_cap_mps
+        if self.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
+            height = self.tactic.layer_height_m(cfg.uav_id, veh.flight_height_m)
         self._centroid = target
         return control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
 
@@ -638,7 +640,8 @@ class Agent:
         gj = np.clip(np.floor((front.x_m - self.grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
         gi = np.clip(np.floor((front.y_m - self.grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
         in_cell = self._cell[gi * nx + gj]
-        xy = aim_on_front(None if c is None else (float(c[0]), float(c[1])), front, w, in_cell)
+        near = (float(s[0]), float(s[1])) if c is None else (float(c[0]), float(c[1]))
+        xy = aim_on_front(near, front, w, in_cell)
         if xy is None:
             return aim, False
         self._front_aim = xy

@@ -190,7 +190,9 @@ class FrontPicture:
             for dj in (-1, 0, 1):
                 if di or dj:
                     nb |= p[1 + di : 1 + di + self.ny, 1 + dj : 1 + dj + self.nx]
-        return burning & nb & (t_s - self.t_obs <= self.cfg.max_age_s)
+        with np.errstate(invalid="ignore"):
+            fresh = t_s - self.t_obs <= self.cfg.max_age_s
+        return burning & nb & fresh
 
     def front(self, t_s: float | None = None) -> FrontCells:
         """The active front at ``t_s`` [s] (default: the latest observation), with ROS [m/s] per cell."""

@@ -52,6 +52,7 @@ __all__ = [
     "choose_anchor",
     "front_density",
     "front_weights",
+    "layer_height",
     "release_now",
 ]
 
@@ -65,6 +66,8 @@ class TacticConfig:
     min_weight: float = 0.02  # [-] every front cell keeps this much weight
     min_burning_cells: int = 3  # [-] release rule
     release_radius_m: float = 16.0  # [m] release rule (drop footprint minus an EKF margin)
+    layers: int = 6  # [-] altitude layers of the fleet over a raster fire
+    layer_step_m: float = 3.5  # [m] between layers (> the 3 m default collision radius)
 
     def __post_init__(self) -> None:
         if self.tactic not in TACTICS:
@@ -77,6 +80,24 @@ class TacticConfig:
             raise ValueError(f"tactic min_burning_cells must be >= 1, got {self.min_burning_cells}")
         if not self.release_radius_m > 0:
             raise ValueError(f"tactic release_radius_m must be > 0, got {self.release_radius_m}")
+        if self.layers < 1:
+            raise ValueError(f"tactic layers must be >= 1, got {self.layers}")
+
+    def layer_height_m(self, uav_id: int, flight_height_m: float) -> float:
+        return layer_height(uav_id, flight_height_m, self.layers, self.layer_step_m)
+
+
+def layer_height(uav_id: int, flight_height_m: float, layers: int = 6, step_m: float = 3.5) -> float:
+    """Flight height [m above terrain] of ``uav_id`` in suppression: altitude layers centred on the
+    flight height (fire services separate aircraft over a fire by altitude); every objective that
+    flies at the flight height (search, monitor, suppress, refill transit) uses it.
+
+    Our addition, not in FF: the Voronoi cells keep UAVs apart only while each flies inside its
+    own cell, and over a fire they cross cells on drop and refill runs; at one common height two
+    crossing UAVs collide (the world's 3-D collision model). The layers span +-2.5 steps around
+    the flight height (21-39 m for the default 30 m, inside the 40 m altimeter range).
+    """
+    return flight_height_m + step_m * ((uav_id % layers) - (layers - 1) / 2.0)
 
 
 def choose_anchor(front: FrontCells) -> tuple[float, float] | None:
