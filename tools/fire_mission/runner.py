@@ -314,6 +314,9 @@ class Supervisor:
         self.summary.vehicles_landed = sum(1 for v in msg.vehicles if v.status == VehicleStatus.LANDED)
         for v in msg.vehicles:
             self.summary.water_kg[v.uav_id] = float(v.water_kg)
+        self.summary.add_truth(
+            stamp_to_s(msg.header.stamp), [(float(f.area_m2), f.status == FireStatus.ACTIVE) for f in msg.fires]
+        )
 
     def _on_event(self, msg) -> None:
         t = stamp_to_s(msg.header.stamp)
@@ -395,7 +398,7 @@ def run(args: argparse.Namespace) -> int:
     domain = int(os.environ.get("FIRE_UAV_DOMAIN_ID", private_domain_id()))
     os.environ["ROS_DOMAIN_ID"] = str(domain)
     env = dict(os.environ, PYTHONUNBUFFERED="1", ROS_LOG_DIR=str(out / "ros_log"))
-    summary = LiveSummary(uav_count=uav_count)
+    summary = LiveSummary(uav_count=uav_count, raster=scenario.fires.model == "raster")
     print(
         f"[run_mission] scenario {scenario.name} ({scenario_path}), {uav_count} UAVs, seed {seed}, "
         f"mode {args.mode}, ROS_DOMAIN_ID {domain}, output {out}",
