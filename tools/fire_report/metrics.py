@@ -199,7 +199,8 @@ def perimeter_errors(mission: Mission) -> dict[str, float]:
     """'uav/fire' -> mean perimeter distance error over the mission [m]."""
     out = {}
     for uav, fire in sorted(mission.perimeters):
-        e = perimeter_distance_error(mission, uav, fire)["error_m"]
+        fn = perimeter_distance_error_raster if mission.fire_grids else perimeter_distance_error
+        e = fn(mission, uav, fire)["error_m"]
         if e.size:
             out[f"{uav}/{fire}"] = float(e.mean())
     return out
@@ -301,3 +302,72 @@ def suppression_metrics(mission: Mission) -> dict[str, Any]:
     out["burned_area_m2"] = float(area[-1]) if area.size else None
     out["contained_at_s"] = containment_from_area(t, area, active)
     return out
+
+
+def baseline_area(mission: Mission) -> dict[str, Any] | None:
+    """The same scenario and seed with no fleet: burned area [m^2] over time (``World(no_fleet=True)``).
+
+    Run here from the scenario stored in the bag (the fire alone is deterministic and needs no
+    ROS); None when the bag has no raster scenario or fire_world_sim is not installed.
+    """
+    sc = mission.scenario
+    fires = sc.get("fires") if isinstance(sc, dict) else None
+    if not (isinstance(fires, dict) and fires.get("model") == "raster"):
+        return None
+    try:
+        from fire_uav_common.scenario import ScenarioError, scenario_from_dict
+        from fire_world_sim.world import World
+    except ImportError:
+        return None
+    try:
+        scenario = scenario_from_dict(sc)
+    except ScenarioError:
+        return None
+    seed = _int_or_none(mission.custom_data.get("fire_uav.seed"))
+    world = World(scenario, seed, no_fleet=True)
+    end = max(mission_duration_s(mission), 1.0)
+    while not world.complete and world.t_ns * 1e-9 < end - 1e-9:
+        world.step({})
+    m = world.measures
+    return {"t_s": np.asarray(m.area_t_s), "area_m2": np.asarray(m.area_m2)}
+
+
+def true_outer_distance(grid: dict[str, Any], center_xy: tuple[float, float], bins: int) -> np.ndarray:
+    """Per angle bin around ``center_xy``, the farthest burnt or burning cell of a /viz/fire_grid [m]
+    (PM's true perimeter for the distance-error metric); NaN where the bin has no such cell."""
+    data = grid["data"]
+    i, j = np.nonzero(data >= 60)  # burnt (60) or burning (100)
+    out = np.full(bins, np.nan)
+    if i.size == 0:
+        return out
+    res = grid["resolution"]
+    x = grid["origin"][0] + (j + 0.5) * res - center_xy[0]
+    y = grid["origin"][1] + (i + 0.5) * res - center_xy[1]
+    b = (np.floor(np.mod(np.arctan2(y, x), 2 * np.pi) / (2 * np.pi) * bins).astype(int)) % bins
+    d = np.hypot(x, y)
+    np.fmax.at(out, b, d)
+    return out
+
+
+def perimeter_distance_error_raster(mission: Mission, uav: int, fire: int) -> dict[str, np.ndarray]:
+    """PM distance error [m] per PerimeterMap against the true raster perimeter (/viz/fire_grid).
+
+    Mean over the bins known on both sides of |outer distance - true outer distance|, the true
+    one from the fire grid nearest in time (kept every 10 s) around the map's own centre. The
+    fleet's fire ids are not the world's, so no id matching is needed here.
+    """
+    per = mission.perimeters.get((uav, fire))
+    grids = mission.fire_grids
+    if not per or not grids:
+        return {"t": np.zeros(0), "error_m": np.zeros(0)}
+    gt = np.asarray([g["t"] for g in grids])
+    ts, errs = [], []
+    for k in range(per["t"].size):
+        g = grids[int(np.argmin(np.abs(gt - per["t"][k])))]
+        outer = per["outer"][k]
+        true = true_outer_distance(g, tuple(per["center"][k]), outer.size)
+        e = np.abs(outer - true)
+        if np.isfinite(e).any():
+            ts.append(per["t"][k])
+            errs.append(float(np.nanmean(e)))
+    return {"t": np.asarray(ts), "error_m": np.asarray(errs)}

@@ -33,6 +33,10 @@ SUMMARY_KEYS = (
     "packets_lost_total",
     "packets_rejected_total",
     "perimeter_distance_error_m",
+    "hit_rate",
+    "burned_area_m2",
+    "contained_at_s",
+    "water_on_burning_kg",
 )
 
 
