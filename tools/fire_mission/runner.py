@@ -204,6 +204,7 @@ def write_params(
         "scenario_file": str(scenario_path),
         "seed": seed,
         "uav_count": uav_count,
+        "no_fleet": uav_count == 0,
         "mode": args.mode,
         "real_time_factor": float(args.rtf),
     }
@@ -372,8 +373,8 @@ def run(args: argparse.Namespace) -> int:
     except ScenarioError as e:
         raise MissionError(str(e)) from None
     uav_count = args.uavs if args.uavs is not None else scenario.uavs.count
-    if uav_count < 1:
-        raise MissionError(f"--uavs must be >= 1, got {uav_count}")
+    if uav_count < 0:
+        raise MissionError(f"--uavs must be >= 0 (0: the fire alone, the suppression baseline), got {uav_count}")
     for k in [*(x.uav for x in args.kill), *(x.uav for x in args.freeze)]:
         if not 0 <= k < uav_count:
             raise MissionError(f"fault names uav {k}, but the fleet is uavs 0..{uav_count - 1}")
