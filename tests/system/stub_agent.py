@@ -10,8 +10,8 @@ import sys
 
 import rclpy
 from fire_uav_common import topics
-from fire_uav_common.constants import EventType
-from fire_uav_msgs.msg import MissionEvent, SensorBundle
+from fire_uav_common.constants import EventType, PayloadAction
+from fire_uav_msgs.msg import MissionEvent, PayloadRequest, SensorBundle
 from geometry_msgs.msg import TwistStamped
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -22,13 +22,18 @@ class StubAgent(Node):
         super().__init__("stub_agent", namespace=topics.uav_namespace(k))
         self.k = k
         self.pub = topics.publisher(self, topics.CMD_SPEC)
+        self.payload = topics.publisher(self, topics.PAYLOAD_SPEC)
         self.sub = topics.subscription(self, topics.SENSORS_SPEC, self.on_bundle)
         self.events = topics.publisher(self, topics.FLEET_EVENTS_SPEC)
         # the lockstep start-up handshake: ready once the world's topics are matched
         self.ready_timer = self.create_timer(0.05, self.say_ready)
 
     def say_ready(self) -> None:
-        if self.pub.get_subscription_count() == 0 or self.sub.get_publisher_count() == 0:
+        if 0 in (
+            self.pub.get_subscription_count(),
+            self.payload.get_subscription_count(),
+            self.sub.get_publisher_count(),
+        ):
             return
         self.ready_timer.cancel()
         ev = MissionEvent(type=int(EventType.AGENT_READY), uav_id=self.k, peer_id=-1, fire_id=-1)
@@ -41,6 +46,9 @@ class StubAgent(Node):
         c.twist.linear.x = 50.0  # above stall: take off and cruise
         c.twist.linear.z = 5.0 if b.step < 40 else 0.0
         c.twist.angular.z = 0.2 + 0.05 * self.k
+        self.payload.publish(
+            PayloadRequest(header=c.header, uav_id=self.k, action=int(PayloadAction.NONE), target_fire_id=-1)
+        )
         self.pub.publish(c)
 
 

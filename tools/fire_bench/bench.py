@@ -183,6 +183,86 @@ def bench_fire_share(quick: bool) -> dict:
     return out
 
 
+def bench_ff_known(quick: bool) -> dict:
+    """FF Table I, Fig. 14 and Fig. 15 in the known-fires mode (mission.prior_fires: known), in process.
+
+    The real World and Agents on the lockstep harness (``fire_mission.inprocess``; the process
+    fleet gives the same numbers per seed, slower), 3-14 UAVs x 3 seeds (full) or 3, 5, 8 x 1
+    seed (quick); Fig. 15 with 5 UAVs, fire 1 sigma 50 m, fire 2 sigma 15-50 m. Also the safety
+    figures of every run: collisions, closest approach, landing error, hit rate.
+    """
+    from fire_mission.inprocess import run_inprocess
+
+    known = {"mission.prior_fires": "known"}
+    sizes = [3, 5, 8] if quick else list(range(3, 15))
+    seeds = [1] if quick else [1, 2, 3]
+    rows = []
+    for n in sizes:
+        runs = []
+        for s in seeds:
+            log(f"ff_known: {n} UAVs, seed {s}")
+            runs.append(run_inprocess("ff_two_fires", uavs=n, seed=s, overrides=known))
+        per = [r.get("drops_per_fire", {}) for r in runs]
+        land = [max(r["landing_error_m"].values()) for r in runs if r.get("landing_error_m")]
+        rows.append(
+            {
+                "uavs": n,
+                "seeds": seeds,
+                "mean_interval_s": _mean([r.get("mean_inter_drop_interval_s") for r in runs]),
+                "drops": _mean([r.get("drops_total") for r in runs]),
+                "drops_fire0": _mean([p.get("0", 0) for p in per]),
+                "drops_fire1": _mean([p.get("1", 0) for p in per]),
+                "mission_time_s": _mean([r.get("mission_time_s") for r in runs]),
+                "completed": sum(r.get("outcome") == "complete" for r in runs),
+                "collisions": sum(r.get("collisions", 0) for r in runs),
+                "min_separation_m": min(
+                    (r["min_separation_m"] for r in runs if r.get("min_separation_m")), default=None
+                ),
+                "max_landing_error_m": max(land) if land else None,
+                "min_hit_rate": min(
+                    (r["hit_rate"] for r in runs if r.get("hit_rate") is not None), default=None
+                ),
+                "paper_interval": FF_TABLE_I.get(n, (None, None))[0],
+                "paper_drops": FF_TABLE_I.get(n, (None,) * 2)[1],
+            }
+        )
+    fig15 = []
+    with tempfile.TemporaryDirectory() as d:
+        for sigma in [25, 50] if quick else [15, 20, 25, 30, 40, 50]:
+            runs = []
+            for s in seeds:
+
+                def edit(data: dict, sigma: float = sigma) -> None:
+                    data["fires"]["analytic"][0]["sigma_m"] = 50.0
+                    data["fires"]["analytic"][1]["sigma_m"] = float(sigma)
+                    data.setdefault("mission", {})["prior_fires"] = "known"
+
+                log(f"ff_known: fig 15, fire 2 sigma {sigma} m, seed {s}")
+                runs.append(
+                    run_inprocess(
+                        derived_scenario("ff_two_fires", edit, Path(d), f"ff_k_{sigma}"), uavs=5, seed=s
+                    )
+                )
+            per = [r.get("drops_per_fire", {}) for r in runs]
+            fig15.append(
+                {
+                    "sigma2_m": sigma,
+                    "drops_fire0": _mean([p.get("0", 0) for p in per]),
+                    "drops_fire1": _mean([p.get("1", 0) for p in per]),
+                    "missed": _mean([p.get("missed", 0) for p in per]),
+                    "completed": sum(r.get("outcome") == "complete" for r in runs),
+                }
+            )
+    tot0 = sum(r["drops_fire0"] for r in rows)
+    tot1 = sum(r["drops_fire1"] for r in rows)
+    return {
+        "rows": rows,
+        "fig15": fig15,
+        "share_fire0": tot0 / (tot0 + tot1) if tot0 + tot1 else None,
+        "paper_share_fire0": 0.726,
+    }
+
+
 def bench_faults(quick: bool) -> dict:
     """Mission time and drops with 0, 1, 2 agents killed, and with 0%, 5%, 20%, 50% loss."""
     seeds = [1] if quick else [1, 2, 3]
@@ -347,6 +427,12 @@ BENCHES: dict[str, tuple[Callable[[bool], dict], float, float, str]] = {
     ),
     "table1": (bench_table1, 3, 90, "FF Table I: drop interval and drops vs fleet size"),
     "fire_share": (bench_fire_share, 2, 15, "FF Figs. 14-15: drops per fire vs fire size"),
+    "ff_known": (
+        bench_ff_known,
+        4,
+        60,
+        "FF Table I, Figs. 14-15 with known fires (in process); collisions, separation, landing, hit rate",
+    ),
     "faults": (bench_faults, 3, 40, "crash and loss: mission time and drops"),
 }
 

@@ -120,6 +120,48 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
             f"(paper: {_fmt(r.get('paper_share_fire0'))}; area share 0.67).",
             "",
         ]
+    if "ff_known" in results:
+        r = results["ff_known"]
+        lines += [
+            "## FF Table I and Figs. 14-15 with known fires (`mission.prior_fires: known`)",
+            "",
+            f"Command: `{r['command']}` ({r['wall_s']:.0f} s); in process (real World and Agents on the",
+            "lockstep harness). Drops per fire are Fig. 14; the safety columns are over every seed of a row.",
+            "",
+            _table(
+                r["rows"],
+                [
+                    ("uavs", "UAVs"),
+                    ("mean_interval_s", "interval [s]"),
+                    ("drops", "drops"),
+                    ("paper_interval", "paper interval"),
+                    ("paper_drops", "paper drops"),
+                    ("drops_fire0", "drops fire 1"),
+                    ("drops_fire1", "drops fire 2"),
+                    ("mission_time_s", "mission [s]"),
+                    ("completed", "completed"),
+                    ("collisions", "collisions"),
+                    ("min_separation_m", "min sep. [m]"),
+                    ("max_landing_error_m", "max landing err. [m]"),
+                    ("min_hit_rate", "min hit rate"),
+                ],
+            ),
+            f"Share of drops on fire 1 over all fleet sizes: {_fmt(r.get('share_fire0'))} "
+            f"(paper: {_fmt(r.get('paper_share_fire0'))}; area share of sigma 50 / 20 m: 0.86).",
+            "",
+            "Fig. 15 (5 UAVs, fire 1 sigma 50 m):",
+            "",
+            _table(
+                r.get("fig15", []),
+                [
+                    ("sigma2_m", "fire 2 sigma [m]"),
+                    ("drops_fire0", "drops fire 1"),
+                    ("drops_fire1", "drops fire 2"),
+                    ("missed", "missed"),
+                    ("completed", "completed"),
+                ],
+            ),
+        ]
     if "faults" in results:
         r = results["faults"]
         lines += [

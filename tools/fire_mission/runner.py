@@ -71,6 +71,79 @@ def _parse_freeze(text: str) -> Freeze:
     return Freeze(int(m[1]), float(m[2]), float(m[3]))
 
 
+@dataclass(frozen=True)
+class Stall:
+    uav: int
+    t_s: float
+    wall_ms: float
+
+
+def _parse_stall(text: str) -> Stall:
+    m = re.fullmatch(r"(\d+)@([0-9.]+):([0-9.]+)", text)
+    if not m or float(m[3]) <= 0:
+        raise argparse.ArgumentTypeError(
+            f"--stall expects K@T:MS (uav @ mission seconds : wall milliseconds > 0), got '{text}'"
+        )
+    return Stall(int(m[1]), float(m[2]), float(m[3]))
+
+
+def offline_windows(args: argparse.Namespace) -> tuple:
+    """The lockstep offline schedule of ``--kill`` and ``--freeze`` (fire_uav_common.lockstep)."""
+    from fire_uav_common.lockstep import OfflineWindow
+
+    ws = [OfflineWindow(k.uav, k.t_s) for k in args.kill]
+    ws += [OfflineWindow(f.uav, f.start_s, f.end_s) for f in args.freeze]
+    return tuple(sorted(ws, key=lambda w: (w.start_s, w.uav_id, w.end_s)))
+
+
+def signal_plan(args: argparse.Namespace, period_s: float) -> list[tuple[float, int, str, int, int]]:
+    """When the supervisor delivers each fault's signal: (clock [s], order, text, uav, signal).
+
+    The world and the agents take agent K out of the lockstep waits from the first step of its
+    window (step S1), whatever the signal does; the signal comes when ``/clock`` shows that the
+    world has finished step S1 + 1, so every message K sent before its window has been consumed
+    by its peers. A frozen agent is continued when the clock shows step S2 (its window's end)
+    has started, and the world is waiting for it again. So the moment the signal lands changes
+    nothing the fleet sees (docs/protocol.md "Lockstep").
+    """
+    from fire_uav_common.lockstep import first_step_at
+
+    plan = []
+    for k in args.kill:
+        s1 = first_step_at(k.t_s, period_s)
+        plan.append(
+            (
+                (s1 + 2) * period_s,
+                0,
+                f"kill uav {k.uav} at {k.t_s:g} s (offline from step {s1})",
+                k.uav,
+                signal.SIGKILL,
+            )
+        )
+    for f in args.freeze:
+        s1, s2 = first_step_at(f.start_s, period_s), first_step_at(f.end_s, period_s)
+        t_stop = (s1 + 2) * period_s
+        plan.append(
+            (
+                t_stop,
+                0,
+                f"freeze uav {f.uav} at {f.start_s:g} s (offline steps {s1}-{s2 - 1})",
+                f.uav,
+                signal.SIGSTOP,
+            )
+        )
+        plan.append(
+            (
+                max(t_stop, (s2 + 1) * period_s),
+                1,
+                f"resume uav {f.uav} at {f.end_s:g} s",
+                f.uav,
+                signal.SIGCONT,
+            )
+        )
+    return sorted(plan, key=lambda p: (p[0], p[1], p[3]))
+
+
 def _parse_outage(text: str) -> Outage:
     m = re.fullmatch(r"(\d+)>(\d+)@([0-9.]+):([0-9.]+)", text)
     if not m or float(m[4]) <= float(m[3]):
@@ -108,6 +181,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--uavs", type=int, default=None, help="fleet size (default: the scenario's)")
     p.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="FIELD=VALUE",
+        help="override a scenario field, e.g. --set mission.prior_fires=known; the run's scenario is "
+        "written to OUT/scenario.yaml; repeatable",
+    )
+    p.add_argument(
         "--seed", type=int, default=None, help="seed for every random stream (default: the scenario's)"
     )
     p.add_argument("--mode", choices=["lockstep", "realtime"], default="lockstep")
@@ -132,6 +213,21 @@ def build_parser() -> argparse.ArgumentParser:
         help="SIGSTOP agent K at T1 and SIGCONT it at T2 [s]; repeatable",
     )
     p.add_argument(
+        "--stall",
+        type=_parse_stall,
+        action="append",
+        default=[],
+        metavar="K@T:MS",
+        help="stop agent K for MS wall milliseconds at mission time T, as a slow machine would "
+        "(lockstep waits for it: nothing but wall time may change); repeatable",
+    )
+    p.add_argument(
+        "--check-determinism",
+        action="store_true",
+        help="run the mission twice (OUT/run1, OUT/run2) and compare the summaries and the "
+        "/world/truth messages of the two bags; exit 0 only if they are identical",
+    )
+    p.add_argument(
         "--outage",
         type=_parse_outage,
         action="append",
@@ -150,6 +246,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--no-record", action="store_true", help="do not start the recorder")
     p.add_argument("--no-report", action="store_true", help="do not write the report after the run")
+    p.add_argument(
+        "--foxglove",
+        action="store_true",
+        help="also start the Foxglove bridge (live view: WebSocket server on 127.0.0.1:PORT)",
+    )
+    p.add_argument(
+        "--foxglove-port", type=int, default=8765, metavar="PORT", help="the bridge's port (default 8765)"
+    )
     p.add_argument(
         "--agent-arg",
         action="append",
@@ -182,6 +286,39 @@ def resolve_scenario(name: str) -> Path:
     raise MissionError(f"unknown scenario '{name}'; shipped: {', '.join(shipped) or 'none'}; or give a path")
 
 
+def parse_sets(items: list[str]) -> dict[str, object]:
+    """``--set a.b=VALUE`` items -> {"a.b": value}; values are read as YAML (numbers, true, names)."""
+    import yaml
+
+    out: dict[str, object] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key or not re.fullmatch(r"[A-Za-z_][\w]*(\.[A-Za-z_][\w]*)*", key):
+            raise MissionError(
+                f"--set expects FIELD.PATH=VALUE (e.g. mission.prior_fires=known), got '{item}'"
+            )
+        out[key] = yaml.safe_load(value)
+    return out
+
+
+def write_scenario(src: Path, overrides: dict[str, object], dst: Path) -> Path:
+    """The scenario with ``overrides`` applied, written to ``dst`` (every process then reads it)."""
+    import yaml
+
+    raw = yaml.safe_load(src.read_text(encoding="utf-8"))
+    for dotted, value in overrides.items():
+        node = raw
+        *parents, leaf = dotted.split(".")
+        for part in parents:
+            node = node.setdefault(part, {})
+        node[leaf] = value
+    dst.write_text(
+        f"# {src} with --set {' '.join(f'{k}={v}' for k, v in overrides.items())}\n"
+        + yaml.safe_dump(raw, sort_keys=False)
+    )
+    return dst.resolve()
+
+
 def _yaml_params(node: str, params: dict) -> str:
     import yaml
 
@@ -212,6 +349,15 @@ def write_params(
         world["max_duration_s"] = float(max_duration_s)
     # the supervisor subscribes to /world/truth; with a recorder, wait for it too (bag from step 0)
     world["wait_for_subscribers"] = 1 if args.no_record else 2
+    from fire_uav_common.lockstep import format_schedule
+
+    schedule = format_schedule(offline_windows(args))
+    # known-fires mode: the dispatch briefing (noisy estimates drawn next to the truth, seeded)
+    from fire_uav_common.scenario import load_scenario
+    from fire_world_sim.dispatch import prior_fire_estimates
+
+    briefing = prior_fire_estimates(load_scenario(scenario_path), seed)
+    world["offline_schedule"] = schedule
     files["world"] = pdir / "world.yaml"
     files["world"].write_text(_yaml_params("/**", world))
     files["recorder"] = pdir / "recorder.yaml"
@@ -237,7 +383,10 @@ def write_params(
             "outage_to": [o.dst for o in args.outage],
             "outage_start_s": [o.start_s for o in args.outage],
             "outage_end_s": [o.end_s for o in args.outage],
+            "offline_schedule": schedule,
         }
+        if briefing:
+            agent["prior_fires"] = [float(v) for f in briefing for v in f]
         if args.loss is not None:
             agent["loss_probability"] = float(args.loss)
         files[f"agent_{k}"] = pdir / f"agent_{k}.yaml"
@@ -271,13 +420,14 @@ class Supervisor:
         self.first_truth_wall: float | None = None
         self.first_step = 0
         self.cpu_at_first_step: dict[str, float] = {}
-        self.pending: list[tuple[float, str, int, int]] = []  # (t, action, uav, signal)
-        for k in args.kill:
-            self.pending.append((k.t_s, f"kill uav {k.uav} at {k.t_s:g} s", k.uav, signal.SIGKILL))
-        for f in args.freeze:
-            self.pending.append((f.start_s, f"freeze uav {f.uav} at {f.start_s:g} s", f.uav, signal.SIGSTOP))
-            self.pending.append((f.end_s, f"resume uav {f.uav} at {f.end_s:g} s", f.uav, signal.SIGCONT))
-        self.pending.sort()
+        self.pending = signal_plan(args, control_period_s)  # (clock, order, text, uav, signal)
+        # the water on board where each fault's window starts (truth of that step: deterministic)
+        self.water_watch = sorted(
+            [(k.t_s, f"kill uav {k.uav} at {k.t_s:g} s", k.uav) for k in args.kill]
+            + [(f.start_s, f"freeze uav {f.uav} at {f.start_s:g} s", f.uav) for f in args.freeze]
+        )
+        self.stalls = sorted((s.t_s, s.uav, s.wall_ms) for s in args.stall)
+        self.resume_at: list[tuple[float, str]] = []  # (monotonic wall time, process) of stalls
         topics.subscription(self.node, topics.CLOCK_SPEC, self._on_clock)
         topics.subscription(self.node, topics.WORLD_TRUTH_SPEC, self._on_truth)
         topics.subscription(self.node, topics.WORLD_EVENTS_SPEC, self._on_event)
@@ -288,16 +438,31 @@ class Supervisor:
         self.t_s = stamp_to_s(msg.clock)
         self.summary.mission_time_s = self.t_s
         while self.pending and self.pending[0][0] <= self.t_s + 1e-9:
-            _, what, uav, sig = self.pending.pop(0)
+            _, _, what, uav, sig = self.pending.pop(0)
             name = f"agent_{uav}"
             if name in self.procs.children and self.procs.children[name].alive():
                 self.procs.signal(name, sig)
-                self.summary.faults.append(f"{what} (applied at {self.t_s:.2f} s)")
-                if uav in self.summary.water_kg:
-                    self.summary.water_at_fault[what] = self.summary.water_kg[uav]
-                self.node.get_logger().warn(f"fault injected: {what} (mission time {self.t_s:.2f} s)")
+                self.summary.faults.append(what)
+                self.node.get_logger().warn(
+                    f"fault injected: {what} (signal at mission time {self.t_s:.2f} s)"
+                )
             else:
                 self.summary.faults.append(f"{what}: not applied, agent not running")
+        while self.stalls and self.stalls[0][0] <= self.t_s + 1e-9:
+            t, uav, ms = self.stalls.pop(0)
+            name = f"agent_{uav}"
+            if name in self.procs.children and self.procs.children[name].alive():
+                self.procs.signal(name, signal.SIGSTOP)
+                self.resume_at.append((time.monotonic() + ms / 1000.0, name))
+                self.summary.faults.append(f"stall uav {uav} at {t:g} s for {ms:g} ms wall")
+
+    def resume_stalled(self) -> None:
+        """SIGCONT the agents whose stall has lasted its wall time (called from the supervise loop)."""
+        now = time.monotonic()
+        for due, name in [r for r in self.resume_at if r[0] <= now]:
+            self.resume_at.remove((due, name))
+            if self.procs.children[name].alive():
+                self.procs.signal(name, signal.SIGCONT)
 
     def _on_truth(self, msg) -> None:
         self.steps = max(self.steps, msg.step + 1)
@@ -318,18 +483,29 @@ class Supervisor:
         self.summary.add_truth(
             stamp_to_s(msg.header.stamp), [(float(f.area_m2), f.status == FireStatus.ACTIVE) for f in msg.fires]
         )
+        t = stamp_to_s(msg.header.stamp)
+        while self.water_watch and self.water_watch[0][0] <= t + 1e-9:
+            _, what, uav = self.water_watch.pop(0)
+            if uav in self.summary.water_kg:
+                self.summary.water_at_fault[what] = self.summary.water_kg[uav]
+        self.summary.observe_truth(float(msg.min_separation_m), int(msg.collisions))
 
     def _on_event(self, msg) -> None:
         t = stamp_to_s(msg.header.stamp)
-        self.summary.add(Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail))
+        self.summary.add(
+            Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail, msg.x_m, msg.y_m)
+        )
         if msg.type == EventType.MISSION_COMPLETE:
             self.done = True
 
     def _on_state(self, msg) -> None:
-        self.summary.packets[msg.uav_id] = (msg.packets_received, msg.packets_lost, msg.packets_rejected)
-        self.summary.last_state_t[msg.uav_id] = stamp_to_s(msg.header.stamp)
-        self.summary.alive_view[msg.uav_id] = list(msg.alive_peers)
-        self.summary.objective[msg.uav_id] = int(msg.objective)
+        self.summary.add_state(
+            int(msg.uav_id),
+            stamp_to_s(msg.header.stamp),
+            (msg.packets_received, msg.packets_lost, msg.packets_rejected),
+            list(msg.alive_peers),
+            int(msg.objective),
+        )
 
 
 class Progress:
@@ -368,14 +544,15 @@ def run(args: argparse.Namespace) -> int:
     from fire_uav_common.scenario import ScenarioError, load_scenario
 
     scenario_path = resolve_scenario(args.scenario)
+    overrides = parse_sets(args.set)
     try:
-        scenario = load_scenario(scenario_path)
+        scenario = load_scenario(scenario_path, overrides=overrides)
     except ScenarioError as e:
         raise MissionError(str(e)) from None
     uav_count = args.uavs if args.uavs is not None else scenario.uavs.count
     if uav_count < 0:
         raise MissionError(f"--uavs must be >= 0 (0: the fire alone, the suppression baseline), got {uav_count}")
-    for k in [*(x.uav for x in args.kill), *(x.uav for x in args.freeze)]:
+    for k in [*(x.uav for x in args.kill), *(x.uav for x in args.freeze), *(x.uav for x in args.stall)]:
         if not 0 <= k < uav_count:
             raise MissionError(f"fault names uav {k}, but the fleet is uavs 0..{uav_count - 1}")
     for o in args.outage:
@@ -383,6 +560,8 @@ def run(args: argparse.Namespace) -> int:
             raise MissionError(
                 f"--outage {o.src}>{o.dst}: both ends must be distinct uavs in 0..{uav_count - 1}"
             )
+    if not 0 <= args.foxglove_port <= 65535:
+        raise MissionError(f"--foxglove-port must be in 0..65535, got {args.foxglove_port}")
     if args.rtf <= 0 or not math.isfinite(args.rtf):
         raise MissionError(f"--rtf must be a positive number, got {args.rtf}")
     seed = args.seed if args.seed is not None else scenario.seed
@@ -394,12 +573,16 @@ def run(args: argparse.Namespace) -> int:
             f"{out / 'bag'} already exists: choose another --out (recordings are never overwritten)"
         )
     out.mkdir(parents=True, exist_ok=True)
+    if overrides:
+        scenario_path = write_scenario(scenario_path, overrides, out / "scenario.yaml")
     params = write_params(out, args, scenario_path, uav_count, seed, args.max_duration)
 
     domain = int(os.environ.get("FIRE_UAV_DOMAIN_ID", private_domain_id()))
     os.environ["ROS_DOMAIN_ID"] = str(domain)
-    env = dict(os.environ, PYTHONUNBUFFERED="1", ROS_LOG_DIR=str(out / "ros_log"))
+    # PYTHONHASHSEED: no set or dict of strings may change its order between two runs
+    env = dict(os.environ, PYTHONUNBUFFERED="1", PYTHONHASHSEED="0", ROS_LOG_DIR=str(out / "ros_log"))
     summary = LiveSummary(uav_count=uav_count, raster=scenario.fires.model == "raster")
+    summary.home_xy = {i: (p[0], p[1]) for i, p in enumerate(scenario.uav_start_poses(uav_count))}
     print(
         f"[run_mission] scenario {scenario.name} ({scenario_path}), {uav_count} UAVs, seed {seed}, "
         f"mode {args.mode}, ROS_DOMAIN_ID {domain}, output {out}",
@@ -420,9 +603,20 @@ def run(args: argparse.Namespace) -> int:
             if not args.no_record:
                 procs.start(
                     "recorder",
-                    ros_run_argv("fire_uav_recording", "recorder", ["--params-file", str(params["recorder"])]),
+                    ros_run_argv(
+                        "fire_uav_recording", "recorder", ["--params-file", str(params["recorder"])]
+                    ),
                 )
                 _wait_for_node(sup.node, "recorder", 20.0, procs)
+            if args.foxglove:
+                procs.start(
+                    "foxglove_bridge",
+                    ros_run_argv(
+                        "fire_uav_recording", "foxglove_bridge", ["-p", f"port:={args.foxglove_port}"]
+                    ),
+                )
+                _wait_for_node(sup.node, "foxglove_bridge", 20.0, procs)
+                print(f"[run_mission] Foxglove: ws://127.0.0.1:{args.foxglove_port}", file=sys.stderr)
             for k in range(uav_count):
                 procs.start(
                     f"agent_{k}",
@@ -457,6 +651,7 @@ def run(args: argparse.Namespace) -> int:
                     rclpy.spin_once(sup.node, timeout_sec=0.05)
                 sup.node.destroy_node()
             rclpy.try_shutdown()
+    summary.settle_states()
     result = summary.as_dict(outcome=outcome, wall_s=time.monotonic() - wall0, steps=sup.steps if sup else 0)
     if sup is not None and sup.first_truth_wall is not None and sup.last_truth_wall > sup.first_truth_wall:
         stepped = sup.steps - 1 - sup.first_step
@@ -519,7 +714,8 @@ def _supervise(
 
     last_sample = 0.0
     while True:
-        rclpy.spin_once(sup.node, timeout_sec=0.1)
+        rclpy.spin_once(sup.node, timeout_sec=0.02 if sup.resume_at else 0.1)
+        sup.resume_stalled()
         if time.monotonic() - last_sample > 1.0:
             last_sample = time.monotonic()
             for name, child in procs.children.items():
@@ -548,9 +744,18 @@ def _supervise(
             return "wall_timeout"
 
 
+def _terminate(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt  # SIGTERM ends the run like Ctrl-C: every child is stopped, the summary written
+
+
 def main(argv: list[str] | None = None) -> int:
+    signal.signal(signal.SIGTERM, _terminate)
     args = build_parser().parse_args(argv)
     try:
+        if args.check_determinism:
+            from fire_mission.determinism import check_twice
+
+            return check_twice(args, run)
         return run(args)
     except MissionError as e:
         print(f"run_mission: error: {e}", file=sys.stderr)

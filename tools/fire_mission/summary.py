@@ -12,6 +12,17 @@ from dataclasses import dataclass, field
 import numpy as np
 from fire_uav_common.constants import EventType
 
+#: events the agents publish on /fleet/events (stamped with the step they answer)
+AGENT_EVENTS = frozenset(
+    {
+        EventType.PEER_CRASHED,
+        EventType.PEER_REJOINED,
+        EventType.FIRE_DETECTED,
+        EventType.OBJECTIVE,
+        EventType.AGENT_READY,
+    }
+)
+
 
 @dataclass
 class Event:
@@ -22,6 +33,8 @@ class Event:
     fire_id: int
     value: float
     detail: str
+    x_m: float = math.nan  # where it happened [m; map], when the event says
+    y_m: float = math.nan
 
 
 @dataclass
@@ -71,19 +84,102 @@ class LiveSummary:
             "water_released_kg": round(out["water_released_kg"], 1),
             "water_on_burning_kg": round(out["water_on_burning_kg"], 1),
         }
+    # FF safety and life-cycle (from /world/truth): separation, collisions, landing at home
+    min_separation_m: float = math.inf  # closest 3-D approach of two airborne vehicles [m]
+    collisions: int = 0  # colliding pairs (the world crashes both)
+    home_xy: dict[int, tuple[float, float]] = field(default_factory=dict)  # uav -> takeoff point [m]
+    touchdown_xy: dict[int, tuple[float, float]] = field(default_factory=dict)  # uav -> where it landed [m]
+    _states: dict[int, dict[float, tuple]] = field(default_factory=dict)  # uav -> stamp -> state fields
+
+    def add_state(
+        self, uav: int, t_s: float, packets: tuple[int, int, int], alive: list[int], objective: int
+    ) -> None:
+        """A UavState the supervisor saw; the newest few per UAV are kept for :meth:`settle_states`."""
+        kept = self._states.setdefault(uav, {})
+        kept[round(t_s, 6)] = (packets, alive, objective)
+        for old in sorted(kept)[:-4]:
+            del kept[old]
+        self.last_state_t[uav] = max(kept)
+        self.packets[uav], self.alive_view[uav], self.objective[uav] = kept[max(kept)]
+
+    def settle_states(self) -> None:
+        """Keep, per UAV, its newest state stamped before the mission's last step.
+
+        The world ends the mission at the step it finds it complete; whether the supervisor sees
+        the agents' answers to that last step before it stops them depends on wall time, so they
+        are left out, and the summary is the same every time the mission is run.
+        """
+        end = round(self.mission_time_s, 6)
+        # the agents' own events answering the last step race the stop in the same way
+        self.events = [e for e in self.events if not (e.type in AGENT_EVENTS and e.t_s >= end - 1e-6)]
+        for uav, kept in self._states.items():
+            before = [t for t in kept if t < end - 1e-6]
+            if before:
+                t = max(before)
+                self.last_state_t[uav] = t
+                self.packets[uav], self.alive_view[uav], self.objective[uav] = kept[t]
 
     def add(self, ev: Event) -> None:
         self.events.append(ev)
+        if ev.type == EventType.LANDED and math.isfinite(ev.x_m) and math.isfinite(ev.y_m):
+            self.touchdown_xy.setdefault(ev.uav_id, (ev.x_m, ev.y_m))
         if ev.type == EventType.MISSION_COMPLETE:
             self.complete_detail = ev.detail
             self.complete_success = ev.value >= 1.0
 
     def of(self, type_: int) -> list[Event]:
-        return [e for e in self.events if e.type == type_]
+        """Events of one type in a total order (time, then fields: DDS delivers one step's events in any order)."""
+        return sorted(
+            (e for e in self.events if e.type == type_),
+            key=lambda e: (e.t_s, e.uav_id, e.peer_id, e.fire_id, e.value, e.detail),
+        )
 
     def drops(self) -> list[Event]:
         """Drops that released water (a drop request with an empty tank is not a drop)."""
         return [e for e in self.of(EventType.DROP) if e.value > 0]
+
+    def observe_truth(self, min_separation_m: float, collisions: int) -> None:
+        """One ``/world/truth`` sample: the world's running separation figures (FF Eq. 7 band, collisions)."""
+        if math.isfinite(min_separation_m):
+            self.min_separation_m = min(self.min_separation_m, float(min_separation_m))
+        self.collisions = max(self.collisions, int(collisions))
+
+    def landing_error_m(self) -> dict[int, float]:
+        """Per landed UAV: horizontal distance [m] from its touchdown point to its takeoff point (FF IV-D d)."""
+        return {
+            u: math.hypot(x - self.home_xy[u][0], y - self.home_xy[u][1])
+            for u, (x, y) in sorted(self.touchdown_xy.items())
+            if u in self.home_xy
+        }
+
+    def touchdown_spacing_m(self) -> float | None:
+        """Smallest horizontal distance [m] between two UAVs' touchdown points (None below two)."""
+        pts = list(self.touchdown_xy.values())
+        d = [math.dist(a, b) for i, a in enumerate(pts) for b in pts[i + 1 :]]
+        return min(d) if d else None
+
+    def hit_rate(self) -> float | None:
+        """Drops that hit a fire / drops that released water (None without drops)."""
+        drops = self.drops()
+        return sum(e.fire_id >= 0 for e in drops) / len(drops) if drops else None
+
+    def lake_passes(self) -> list[Event]:
+        """REFILL events: one per spell over a lake that took water (a pass, full or part-filled)."""
+        return [e for e in self.of(EventType.REFILL) if e.value > 0]
+
+    def refill_cycles(self) -> int:
+        """Refill cycles: per UAV, the spans between one drop and the next (or the end) with water taken.
+
+        A UAV that empties its tank and takes water in three short passes over the lake before its
+        next drop has made one cycle of three passes (FF IV-D b-c: drop, refill, reassess).
+        """
+        n = 0
+        for u in sorted({e.uav_id for e in self.lake_passes()}):
+            drops = sorted(e.t_s for e in self.drops() if e.uav_id == u)
+            passes = sorted(e.t_s for e in self.lake_passes() if e.uav_id == u)
+            bounds = [-math.inf, *drops, math.inf]
+            n += sum(any(a < t <= b for t in passes) for a, b in zip(bounds, bounds[1:], strict=False))
+        return n
 
     def drop_intervals_s(self) -> list[float]:
         """Intervals between consecutive drops of the whole fleet (FF Table I)."""
@@ -122,8 +218,18 @@ class LiveSummary:
             "drops_total": len(drops),
             "drops_per_fire": per_fire,
             "mean_inter_drop_interval_s": round(sum(intervals) / len(intervals), 3) if intervals else None,
-            "refills": len(self.of(EventType.REFILL)),
+            "hit_rate": None if self.hit_rate() is None else round(self.hit_rate(), 4),
+            "refills": self.refill_cycles(),
+            "lake_passes": len(self.lake_passes()),
             "landed": sorted({e.uav_id for e in self.of(EventType.LANDED)}),
+            "min_separation_m": round(self.min_separation_m, 3)
+            if math.isfinite(self.min_separation_m)
+            else None,
+            "collisions": self.collisions,
+            "landing_error_m": {str(k): round(v, 3) for k, v in self.landing_error_m().items()},
+            "touchdown_spacing_m": None
+            if self.touchdown_spacing_m() is None
+            else round(self.touchdown_spacing_m(), 3),
             "crashes": crashes,
             "declared_crashed": {str(k): v for k, v in sorted(declared.items())},
             "rejoined": rejoined,
@@ -146,7 +252,11 @@ class LiveSummary:
                     "value": e.value,
                     "detail": e.detail,
                 }
-                for e in sorted(self.events, key=lambda e: e.t_s)
+                # a total order: events of one step arrive in any order over DDS
+                for e in sorted(
+                    self.events,
+                    key=lambda e: (e.t_s, e.type, e.uav_id, e.peer_id, e.fire_id, e.value, e.detail),
+                )
             ],
             "processes": {
                 n: {
@@ -191,7 +301,13 @@ def table(summary: dict) -> str:
         ("drops", summary["drops_total"]),
         ("drops per fire", summary["drops_per_fire"]),
         ("mean inter-drop interval [s]", summary["mean_inter_drop_interval_s"]),
-        ("refills", summary["refills"]),
+        ("hit rate", summary.get("hit_rate")),
+        ("refill cycles / lake passes", f"{fmt(summary.get('refills'))} / {fmt(summary.get('lake_passes'))}"),
+        (
+            "min separation [m] / collisions",
+            f"{fmt(summary.get('min_separation_m'))} / {fmt(summary.get('collisions'))}",
+        ),
+        ("landing error [m]", summary.get("landing_error_m")),
         ("landed", summary["landed"]),
         ("crashes (world)", summary["crashes"]),
         ("declared crashed (peers)", {k: len(v) for k, v in summary["declared_crashed"].items()}),

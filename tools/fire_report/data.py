@@ -93,7 +93,9 @@ class Mission:
     @property
     def fire_ids(self) -> list[int]:
         ids = set(self.truth_fires) | {f for _, f in self.fire_estimates}
-        ids |= {e.fire_id for e in self.world_events if e.type in (EventType.EXTINGUISHED, EventType.IGNITION)}
+        ids |= {
+            e.fire_id for e in self.world_events if e.type in (EventType.EXTINGUISHED, EventType.IGNITION)
+        }
         return sorted(i for i in ids if i >= 0)
 
 

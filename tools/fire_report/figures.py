@@ -391,15 +391,15 @@ def fig_raster_front(mission: Mission, out: Path) -> list[Figure]:
     )  # fmt: skip
 
 
-def fig_burned_area(mission: Mission, out: Path) -> list[Figure]:
-    """Burned area over time against the same scenario and seed with no fleet (the baseline)."""
+def fig_burned_area(mission: Mission, out: Path, baseline: Mission | None = None) -> list[Figure]:
+    """Burned area over time, against the no-fleet baseline bag when given (``--baseline``)."""
     t, area, _ = burned_area_series(mission)
     fires = mission.scenario.get("fires") if isinstance(mission.scenario, dict) else None
     if t.size == 0 or not (isinstance(fires, dict) and fires.get("model") == "raster"):
         return []
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.plot(t, area / 1e4, color="tab:red", label=f"fleet ({len(mission.uav_ids)} UAVs)")
-    base = baseline_area(mission)
+    base = baseline_area(baseline)
     if base is not None:
         ax.plot(base["t_s"], base["area_m2"] / 1e4, "k--", label="no fleet (baseline)")
     ax.set_xlabel("sim time [s]")
@@ -415,9 +415,9 @@ ALL_FIGURES = (
 )  # fmt: skip
 
 
-def make_figures(mission: Mission, out: Path) -> list[Figure]:
+def make_figures(mission: Mission, out: Path, baseline: Mission | None = None) -> list[Figure]:
     """Write every figure the bag has data for into ``out``; return [(file, caption)]."""
     figs: list[Figure] = []
     for fn in ALL_FIGURES:
-        figs += fn(mission, out)
+        figs += fn(mission, out, baseline) if fn is fig_burned_area else fn(mission, out)
     return figs

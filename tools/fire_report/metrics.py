@@ -304,32 +304,13 @@ def suppression_metrics(mission: Mission) -> dict[str, Any]:
     return out
 
 
-def baseline_area(mission: Mission) -> dict[str, Any] | None:
-    """The same scenario and seed with no fleet: burned area [m^2] over time (``World(no_fleet=True)``).
-
-    Run here from the scenario stored in the bag (the fire alone is deterministic and needs no
-    ROS); None when the bag has no raster scenario or fire_world_sim is not installed.
-    """
-    sc = mission.scenario
-    fires = sc.get("fires") if isinstance(sc, dict) else None
-    if not (isinstance(fires, dict) and fires.get("model") == "raster"):
+def baseline_area(baseline: Mission | None) -> dict[str, Any] | None:
+    """Burned area [m^2] over time of a baseline mission (the same scenario and seed recorded with
+    ``scripts/run_mission SCENARIO --uavs 0``: the fire alone), or None without one."""
+    if baseline is None:
         return None
-    try:
-        from fire_uav_common.scenario import ScenarioError, scenario_from_dict
-        from fire_world_sim.world import World
-    except ImportError:
-        return None
-    try:
-        scenario = scenario_from_dict(sc)
-    except ScenarioError:
-        return None
-    seed = _int_or_none(mission.custom_data.get("fire_uav.seed"))
-    world = World(scenario, seed, no_fleet=True)
-    end = max(mission_duration_s(mission), 1.0)
-    while not world.complete and world.t_ns * 1e-9 < end - 1e-9:
-        world.step({})
-    m = world.measures
-    return {"t_s": np.asarray(m.area_t_s), "area_m2": np.asarray(m.area_m2)}
+    t, area, _ = burned_area_series(baseline)
+    return {"t_s": t, "area_m2": area} if t.size else None
 
 
 def true_outer_distance(grid: dict[str, Any], center_xy: tuple[float, float], bins: int) -> np.ndarray:

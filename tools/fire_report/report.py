@@ -83,16 +83,26 @@ figure{{margin:1.5em 0}}img{{max-width:100%}}figcaption{{color:#444}}.warn{{colo
 """
 
 
-def write_report(bag: str | Path, out_dir: str | Path, *, salvage: bool = True) -> dict[str, Any]:
-    """Read ``bag`` and write metrics.json, the PNG figures and index.html into ``out_dir``."""
+def write_report(
+    bag: str | Path, out_dir: str | Path, *, salvage: bool = True, baseline: str | Path | None = None
+) -> dict[str, Any]:
+    """Read ``bag`` and write metrics.json, the PNG figures and index.html into ``out_dir``.
+
+    ``baseline``: a bag of the same scenario and seed with no fleet (``--uavs 0``) for the
+    burned-area comparison (``baseline_burned_area_m2`` and the figure)."""
     mission = load_mission(bag, salvage=salvage)
+    base = load_mission(baseline, salvage=salvage) if baseline is not None else None
     out = Path(out_dir)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:
         raise ReportError(f"{out}: cannot create the output directory: {err.strerror}") from None
     metrics = compute_metrics(mission)
-    figures = make_figures(mission, out)
+    if base is not None:
+        from fire_report.metrics import suppression_metrics
+
+        metrics["baseline_burned_area_m2"] = suppression_metrics(base)["burned_area_m2"]
+    figures = make_figures(mission, out, base)
     metrics["figures"] = [name for name, _ in figures]
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2, default=str) + "\n", encoding="utf8")
     (out / "index.html").write_text(render_html(metrics, mission.custom_data, figures), encoding="utf8")

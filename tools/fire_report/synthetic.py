@@ -112,16 +112,24 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
     }
     world_events: list[tuple[float, Any]] = []
     for f, uav, fid in spec.drops:
-        world_events.append((f * D, event(f * D, EventType.DROP, uav=uav, fire=fid, detail="drop", value=2000.0)))
+        world_events.append(
+            (f * D, event(f * D, EventType.DROP, uav=uav, fire=fid, detail="drop", value=2000.0))
+        )
     for f, fid in spec.extinguished:
         world_events.append((f * D, event(f * D, EventType.EXTINGUISHED, fire=fid, detail="out")))
     if spec.crash:
-        world_events.append((crash_t, event(crash_t, EventType.CRASH, uav=spec.crash[1], detail="no command for 3.0 s")))
-    world_events.append((D, event(D, EventType.MISSION_COMPLETE, detail="all fires out and every vehicle landed", value=1.0)))
+        world_events.append(
+            (crash_t, event(crash_t, EventType.CRASH, uav=spec.crash[1], detail="no command for 3.0 s"))
+        )
+    world_events.append(
+        (D, event(D, EventType.MISSION_COMPLETE, detail="all fires out and every vehicle landed", value=1.0))
+    )
     fleet_events: list[tuple[float, Any]] = []
     if spec.peer_crashed:
         f, by, peer = spec.peer_crashed
-        fleet_events.append((f * D, event(f * D, EventType.PEER_CRASHED, uav=by, peer=peer, detail="silent for 10 steps")))
+        fleet_events.append(
+            (f * D, event(f * D, EventType.PEER_CRASHED, uav=by, peer=peer, detail="silent for 10 steps"))
+        )
     pending_w = sorted(world_events, key=lambda x: x[0])
     pending_f = sorted(fleet_events, key=lambda x: x[0])
 
@@ -149,7 +157,9 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                 vehicles.append(
                     VehicleTruth(
                         uav_id=u,
-                        status=VehicleStatus.CRASHED if t >= crash_t and spec.crash and u == spec.crash[1] else VehicleStatus.AIRBORNE,
+                        status=VehicleStatus.CRASHED
+                        if t >= crash_t and spec.crash and u == spec.crash[1]
+                        else VehicleStatus.AIRBORNE,
                         x_m=x,
                         y_m=y,
                         z_m=z,
@@ -188,6 +198,8 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                         packets_received=k,
                         packets_lost=lost,
                         packets_rejected=0,
+                        sent_per_topic=np.array([1, 1, 0, 0, 0, 0], dtype=np.uint16),
+                        final=False,
                     ),
                 )
             for fid, (fx, fy, sig) in fires0.items():
@@ -204,7 +216,12 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                     )
                 )
             truth = WorldTruth(
-                header=header(t), step=k, min_separation_m=math.inf, collisions=0, vehicles=vehicles, fires=fires
+                header=header(t),
+                step=k,
+                min_separation_m=math.inf,
+                collisions=0,
+                vehicles=vehicles,
+                fires=fires,
             )
             put(c_truth, t, truth)
             for u in range(spec.uav_count):
@@ -213,7 +230,9 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                 ests = [
                     FireEstimate(
                         fire_id=fid,
-                        status=FireStatus.EXTINGUISHED if t >= ext_t.get(fid, math.inf) else FireStatus.ACTIVE,
+                        status=FireStatus.EXTINGUISHED
+                        if t >= ext_t.get(fid, math.inf)
+                        else FireStatus.ACTIVE,
                         x_m=fx + u,
                         y_m=fy - u,
                         extent_m=sig,

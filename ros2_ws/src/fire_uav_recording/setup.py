@@ -23,6 +23,7 @@ setup(
         "console_scripts": [
             "recorder = fire_uav_recording.recorder_node:main",
             "replay = fire_uav_recording.replay_node:main",
+            "foxglove_bridge = fire_uav_recording.foxglove_bridge_node:main",
         ],
     },
 )

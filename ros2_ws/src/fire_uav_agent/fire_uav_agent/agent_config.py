@@ -11,6 +11,7 @@ Units are in the field names: [m], [s], [m/s], [rad], [kg]; positions in the map
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -19,6 +20,7 @@ from fire_uav_common.terrain import Lake, Terrain
 
 from .coverage import ControlGains, VehicleLimits
 from .peer_link import Outage
+from .separation import SeparationConfig
 
 __all__ = ["DEFAULT_DROP_RADIUS_M", "AgentConfig", "GuidanceConfig", "config_from_scenario"]
 
@@ -42,6 +44,9 @@ class GuidanceConfig:
     consensus_negative_range_max_m: float = 50.0  # [m] cap of the "no fire here" range
     consensus_negative_range_fraction: float = 0.7  # [-] "no fire here" range = this * sensor range
     monitor_speed_margin_mps: float = 5.0  # [m/s] perimeter monitors fly at v_stall + this
+    touchdown_radius_m: float = 2.5  # [m] touch down only this close to the takeoff point (FF IV-D d)
+    go_around_radius_m: float = 25.0  # [m] this close to the takeoff point, not lined up: fly straight out
+    go_around_heading_rad: float = 0.5  # [rad] "lined up": heading within this of the bearing to the point
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
@@ -77,6 +82,11 @@ class AgentConfig:
     )
     gains: ControlGains = field(default_factory=ControlGains)
     guidance: GuidanceConfig = field(default_factory=GuidanceConfig)
+    separation: SeparationConfig = field(default_factory=SeparationConfig)
+    avoidance: bool = True  # turn-rate-limited avoidance in every phase (:mod:`.separation`)
+    # known-fires mode (scenario mission.prior_fires: known): the dispatch briefing, (x_m, y_m, extent_m)
+    # per fire, the same for every agent (parameter prior_fires); () = find the fires with the sensors
+    prior_fires: tuple[tuple[float, float, float], ...] = ()
     extinction_extent_m: float = 2.0  # FF III-C step 4
     monitor_circling: bool = False  # monitors circle (PM VI-E baseline) instead of importance-based
     monitor_alpha: float = 1.0  # PM Eq. 7 heterogeneity-adjusting factor
@@ -94,6 +104,9 @@ class AgentConfig:
             raise ValueError(f"crash_threshold_steps must be >= 1, got {self.crash_threshold_steps}")
         if not 0.0 <= self.loss_probability <= 1.0:
             raise ValueError(f"loss_probability must be in [0, 1], got {self.loss_probability}")
+        for k, f in enumerate(self.prior_fires):
+            if len(f) != 3 or not all(math.isfinite(v) for v in f) or not f[2] > 0:
+                raise ValueError(f"prior_fires[{k}] must be finite (x_m, y_m, extent_m > 0), got {f!r}")
 
     # --- views of the sub-configs (read-only) --------------------------------------------------
     @property
@@ -124,6 +137,11 @@ class AgentConfig:
     @property
     def monitors_per_fire(self) -> int:
         return self.mission.monitors_per_fire
+
+    @property
+    def fires_known(self) -> bool:
+        """Known-fires mode (FF III-C): the fleet lands as soon as its fires are out, no sweep."""
+        return self.mission.prior_fires == "known"
 
     @property
     def search_first(self) -> bool:

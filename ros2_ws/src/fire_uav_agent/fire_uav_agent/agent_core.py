@@ -49,6 +49,7 @@ from .mission import Decision, Mission, MissionConfig, MissionView
 from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
 from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
+from .separation import Avoider
 from .staleness_search import StalenessSearch
 from .tactics import TacticConfig, aim_on_front, front_density, front_weights, release_now
 
@@ -125,11 +126,12 @@ class Agent:
                 ),
             ),
         )
+        self.fires.brief(cfg.prior_fires)
         self.mission = Mission(
             MissionConfig(
                 takeoff_time_s=cfg.uav_id * cfg.takeoff_interval_s,
                 water_capacity_kg=veh.water_capacity_kg,
-                search_enabled=True,
+                search_enabled=not cfg.fires_known,
                 # release inside the footprint with a margin for estimation error (EKF ~1-2 m)
                 min_drop_radius_m=gd.drop_radius_fraction * cfg.drop_radius_m,
             )
@@ -173,6 +175,9 @@ class Agent:
         self._front_aim: tuple[float, float] | None = None
         self._anchor: tuple[float, float] | None = None
         self.fronts_received = 0
+        self._peer_motion: dict[int, tuple[int, float, float, float, float]] = {}  # j -> step, x, y, vx, vy
+        self.avoidance_steps = 0  # control steps the separation filter changed the heading
+        self.avoider = Avoider(cfg.separation)
 
     # --- lockstep helper ---------------------------------------------------------------------
     def expected_peer_messages(self, step: int) -> set[tuple[int, int]]:
@@ -375,6 +380,8 @@ class Agent:
                 release=release,
             )
         )
+        if dec.request == PayloadAction.DROP and dec.target_fire_id >= 0:
+            self.fires.note_drop(dec.target_fire_id, (float(s[0]), float(s[1])), t1, cfg.drop_radius_m)
         if dec.changed:
             events.append(
                 AgentEvent(
@@ -507,18 +514,33 @@ class Agent:
                 )  # ... and slow
         elif obj == Objective.LAND:
             start = (float(self._start_xy[0]), float(self._start_xy[1]))
-            dens = gaussian_density(self.grid, [start], [cfg.mission.sigma_landing_m])  # Eq. 15
-            target = self._centroid_of(dens, start)
             d = math.hypot(pos[0] - start[0], pos[1] - start[1])
             r = gd.land_approach_radius_m
+            x0, x1, y0, y1 = cfg.area_m
+            home_in_area = x0 <= start[0] <= x1 and y0 <= start[1] <= y1
+            if d < r or not home_in_area:
+                target = start  # final approach: straight at the own takeoff point (FF IV-D d)
+            else:
+                dens = gaussian_density(self.grid, [start], [cfg.mission.sigma_landing_m])  # Eq. 15
+                target = self._centroid_of(dens, start)
             if d < r:
                 v_cap = lim.v_stall_mps
                 low = gd.land_height_fraction * veh.landing_height_m
                 flat = gd.land_flat_fraction
                 height = low + (veh.flight_height_m - low) * max(0.0, (d - flat * r) / ((1.0 - flat) * r))
                 agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
-                if agl < gd.touchdown_agl_fraction * veh.landing_height_m:
+                if agl < gd.touchdown_agl_fraction * veh.landing_height_m and d <= gd.touchdown_radius_m:
                     return (0.0, -gd.touchdown_sink_mps, 0.0)  # below stall speed near the ground: it lands
+                bearing = math.atan2(start[1] - pos[1], start[0] - pos[0])
+                if d < gd.go_around_radius_m and abs(math.remainder(bearing - float(s[3]), math.tau)) > (
+                    gd.go_around_heading_rad
+                ):
+                    # not lined up this close: a unicycle at v_stall circles a point inside its turning
+                    # circle for ever, so fly straight out and come back lined up
+                    self._centroid = start
+                    v, vz, _ = control_law(s, np.array(start), height, cfg.terrain, lim, cfg.gains, v_cap)
+                    cmd = (v, vz, 0.0)
+                    return self._separate(s, cmd, start, pview, straight=True) if cfg.avoidance else cmd
         else:  # SEARCH, MONITOR, or SUPPRESS/REFILL without fire/lake
             planner = self.planners.get(int(obj)) or self.search
             plan = planner.plan(dataclasses.replace(pview, target_fire_id=int(dec.target_fire_id)))
@@ -534,7 +556,55 @@ class Agent:
         if self.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
             height = self.tactic.layer_height_m(cfg.uav_id, veh.flight_height_m)
         self._centroid = target
-        return control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
+        cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
+        return self._separate(s, cmd, target, pview) if cfg.avoidance else cmd
+
+    def _separate(
+        self,
+        s: np.ndarray,
+        cmd: tuple[float, float, float],
+        target: tuple[float, float],
+        pview: PlannerView,
+        straight: bool = False,
+    ) -> tuple[float, float, float]:
+        """Turn-rate-limited avoidance (:mod:`.separation`) of the peers' predicted motion, every phase.
+
+        Peers' positions are their step k-1 estimates (time t_k), moved to t_{k+1} by the velocity
+        of their last two states; the heading the control law wants is replaced when a peer would
+        come closer than ``separation.radius_m`` within the horizon (turn at up to omega_max).
+        """
+        cfg, lim = self.cfg, self.cfg.limits
+        T = cfg.control_period_s
+        rows = []
+        for j, p in sorted(self.link.alive_states().items()):
+            if p.objective in (Objective.GROUNDED, Objective.LANDED):
+                continue
+            old = self._peer_motion.get(j)
+            vx = vy = 0.0
+            if old is not None and p.step > old[0]:
+                dt = (p.step - old[0]) * T
+                vx, vy = (p.x_m - old[1]) / dt, (p.y_m - old[2]) / dt
+                if math.hypot(vx, vy) > 1.5 * lim.v_max_mps:  # a jump (rejoin, GPS reset): no velocity
+                    vx = vy = 0.0
+            elif old is not None:
+                vx, vy = old[3], old[4]
+            if old is None or p.step != old[0]:
+                self._peer_motion[j] = (p.step, p.x_m, p.y_m, vx, vy)
+            lead = (self.last_step + 1 - p.step) * T  # from the peer's t to our t_{k+1}
+            rows.append((p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy))
+        if not rows:
+            return cmd
+        v, vz, om = cmd
+        want = float(s[3]) if straight else math.atan2(target[1] - s[1], target[0] - s[0])
+        head, changed, clear = self.avoider.step(
+            (float(s[0]), float(s[1]), float(s[2])), max(v, lim.v_stall_mps), want, np.array(rows)
+        )
+        if not changed:
+            return cmd
+        self.avoidance_steps += 1
+        err = float(np.arctan2(math.sin(head - s[3]), math.cos(head - s[3])))
+        om = max(-lim.omega_max_radps, min(lim.omega_max_radps, err / T))
+        return (v if clear else lim.v_stall_mps, vz, om)
 
     # --- perimeter monitoring (PM) ----------------------------------------------------------------
     def assign_monitor(self, view: PlannerView) -> int:

@@ -15,7 +15,8 @@ import numpy as np
 import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
-from fire_uav_common.constants import EventType, FireStatus, PayloadAction
+from fire_uav_common.constants import EventType, FireStatus, PayloadAction, VehicleStatus
+from fire_uav_common.lockstep import OfflineWindow, parse_schedule
 from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
 from fire_uav_msgs.msg import (
     FireEstimate,
@@ -41,6 +42,7 @@ from .agent_types import Bundle, PeerPerimeter, StepOutput
 from .estimation import Samples
 from .fire_front import FrontCells
 from .front_consensus import PeerFront
+from .lockstep_wait import PeerWait
 from .peer_link import FireEntry, Outage, PeerFires, PeerState
 from .search_io import attach_search
 
@@ -216,6 +218,8 @@ def _markers(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:
     cell = Marker(ns=ns, id=0, type=Marker.POINTS, action=Marker.ADD)
     cell.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in md.cell_boundary_xy]
     cell.scale.x = cell.scale.y = 2.0
+    if not cell.points:  # no cell yet (or lost): remove the old one rather than send an empty POINTS
+        cell.action = Marker.DELETE
     cell.color.g, cell.color.a = 1.0, 0.8
     cen = Marker(ns=ns, id=1, type=Marker.SPHERE, action=Marker.ADD)
     cen.pose.position = Point(x=md.centroid_xy[0], y=md.centroid_xy[1], z=z)
@@ -230,6 +234,12 @@ def _markers(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:
         m.header.frame_id = "map"
         arr.markers.append(m)
     return arr
+
+
+def _inbox_order(m: PeerState | PeerFires | PeerPerimeter) -> tuple[int, int, int, int]:
+    """(step, kind, sender, sequence): the order peer messages are handed to the agent."""
+    kind = 0 if isinstance(m, PeerState) else 1 if isinstance(m, PeerFires) else 2
+    return (int(m.step), kind, int(m.uav_id), int(m.sequence))
 
 
 # --- the node ------------------------------------------------------------------------------------
@@ -256,9 +266,20 @@ class UavAgentNode(Node):
             _desc("peer message loss on receipt [0, 1]; < 0: the scenario's comms.loss_probability", **ro),
         )  # fmt: skip
         self.declare_parameter(
-            "peer_wait_wall_s", 0.3,
-            _desc("lockstep: longest wall-time wait for peers' step k-1 messages [s]",
-                  floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10.0)], **ro),
+            "liveness_check_wall_s", 0.5,
+            _desc("lockstep: how often [s wall] to check that the peers waited for still have a process "
+                  "(DDS graph); a live peer is never timed out",
+                  floating_point_range=[FloatingPointRange(from_value=0.01, to_value=60.0)], **ro),
+        )  # fmt: skip
+        self.declare_parameter(
+            "prior_fires", [-1.0],
+            _desc("known-fires mode: the dispatch briefing as flat (x_m, y_m, extent_m) triples [m]; "
+                  "[-1.0]: none (the runner writes it when mission.prior_fires is known)", **ro),
+        )  # fmt: skip
+        self.declare_parameter(
+            "offline_schedule", "",
+            _desc("lockstep fault schedule 'K@T1:T2;K@T1' [s sim] (fire_uav_common.lockstep), the same "
+                  "string the world gets: peers offline by it are not waited for", **ro),
         )  # fmt: skip
         self.declare_parameter(
             "crash_threshold_steps", 0,
@@ -287,7 +308,7 @@ class UavAgentNode(Node):
             _desc("PM Eq. 7 heterogeneity-adjusting factor (>= 0)",
                   floating_point_range=[FloatingPointRange(from_value=0.0, to_value=100.0)], **ro),
         )  # fmt: skip
-        self.cfg, self.mode, self.peer_wait_s, self.marker_every = self._read_config()
+        self.cfg, self.mode, self.liveness_s, self.marker_every, schedule = self._read_config()
         self.agent = Agent(self.cfg)
         # CP coverage search over /fleet/coverage/* (None when search_mode resolves to off)
         self.search_link = attach_search(self, self.agent)
@@ -306,23 +327,27 @@ class UavAgentNode(Node):
         self.pub_events = topics.publisher(self, topics.FLEET_EVENTS_SPEC)
         self.pub_perimeter = topics.publisher(self, topics.FLEET_PERIMETER_SPEC)
         self._perimeter_seq = 0
-        topics.subscription(self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter)
+        self.sub_perimeter = topics.subscription(self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter)
         self.pub_front = topics.publisher(self, topics.FLEET_FRONT_SPEC)
         self._front_seq = 0
-        topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front)
-        topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own)
-        topics.subscription(self, topics.FLEET_STATE_SPEC, self._on_state)
-        topics.subscription(self, topics.FLEET_FIRES_SPEC, self._on_fires)
-        self._inbox: list[PeerState | PeerFires] = []
-        self._arrived: set[tuple[int, int, int]] = set()  # (step, sender, loss_index)
+        self.sub_front = topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front)
+        self.sub_sensors = topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own)
+        self.sub_state = topics.subscription(self, topics.FLEET_STATE_SPEC, self._on_state)
+        self.sub_fires = topics.subscription(self, topics.FLEET_FIRES_SPEC, self._on_fires)
+        if self.search_link is not None:
+            self.search_link.on_arrival = self._on_coverage_arrival
+        self._inbox: list[PeerState | PeerFires | PeerPerimeter] = []
         self._pending: SensorBundle | None = None
-        self._expected: set[tuple[int, int]] = set()
+        self.wait = PeerWait(uid, self.cfg.uav_count, self.cfg.control_period_s, schedule)
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
-        self._wait_timer = None
-        self._timeouts = 0
+        # not a timeout: while waiting, notice a peer whose process is gone (its publishers left the graph)
+        self._liveness_timer = self.create_timer(self.liveness_s, self._check_liveness, clock=self._steady)
+        self._liveness_timer.cancel()
+        # the start-up handshake: AGENT_READY once every fleet topic is matched with every peer
+        self._ready_timer = self.create_timer(0.05, self._check_ready, clock=self._steady)
 
     # --- parameters -------------------------------------------------------------------------------
-    def _read_config(self) -> tuple[AgentConfig, str, float, int]:
+    def _read_config(self) -> tuple[AgentConfig, str, float, int, tuple[OfflineWindow, ...]]:
         p = self.get_parameter
         uid = int(p("uav_id").value)
         if uid < 0:
@@ -362,115 +387,209 @@ class UavAgentNode(Node):
         planner = str(p("monitor_planner").value)
         if planner not in ("importance", "circling"):
             raise ValueError(f"parameter monitor_planner must be 'importance' or 'circling', got {planner!r}")
+        flat = [float(v) for v in p("prior_fires").value]
+        prior: tuple[tuple[float, float, float], ...] = ()
+        if flat != [-1.0]:
+            if len(flat) % 3:
+                raise ValueError(
+                    f"parameter prior_fires: {len(flat)} numbers, expected (x_m, y_m, extent_m) triples"
+                )
+            prior = tuple((flat[i], flat[i + 1], flat[i + 2]) for i in range(0, len(flat), 3))
         cfg = config_from_scenario(
-            scenario, uid, uav_count=count, seed=seed if seed >= 0 else None,
+            scenario, uid, uav_count=count, seed=seed if seed >= 0 else None, prior_fires=prior,
             loss_probability=loss if loss >= 0 else None, outages=outages,
             crash_threshold_steps=thr if thr > 0 else None, monitors_per_fire=mpf if mpf >= 0 else None,
             monitor_circling=planner == "circling", monitor_alpha=float(p("monitor_alpha").value),
         )  # fmt: skip
-        return cfg, mode, float(p("peer_wait_wall_s").value), int(p("marker_every_steps").value)
+        try:
+            schedule = parse_schedule(str(p("offline_schedule").value))
+        except ValueError as e:
+            raise ValueError(f"parameter offline_schedule: {e}") from None
+        return (
+            cfg,
+            mode,
+            float(p("liveness_check_wall_s").value),
+            int(p("marker_every_steps").value),
+            schedule,
+        )
 
     # --- peer traffic ---------------------------------------------------------------------------------
     def _on_state(self, msg: UavState) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return  # our own broadcast
+        self.wait.on_state(int(msg.uav_id), int(msg.step), tuple(msg.sent_per_topic), bool(msg.final))
         self._inbox.append(_to_peer_state(msg))
-        self._arrived.add((int(msg.step), int(msg.uav_id), topics.FLEET_STATE_SPEC.loss_index))
         self._maybe_run()
 
     def _on_perimeter(self, msg: PerimeterMap) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return
-        self._inbox.append(
-            _to_peer_perimeter(msg, self.cfg.control_period_s)
-        )  # not waited for: merged at the next step
+        pm = _to_peer_perimeter(msg, self.cfg.control_period_s)
+        self.wait.on_message(pm.uav_id, pm.step, topics.FLEET_PERIMETER_SPEC.loss_index)
+        self._inbox.append(pm)
+        self._maybe_run()
 
     def _on_front(self, msg: FireFront) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return
+        step = stamp_to_step(stamp_to_ns(msg.header.stamp), s_to_ns(self.cfg.control_period_s))
+        self.wait.on_message(int(msg.uav_id), step, topics.FLEET_FRONT_SPEC.loss_index)  # it arrived
         try:
-            self._inbox.append(_to_peer_front(msg, self.cfg.control_period_s))  # not waited for
-        except ValueError as err:
+            self._inbox.append(_to_peer_front(msg, self.cfg.control_period_s))
+        except ValueError as err:  # malformed: counted as arrived, its content dropped
             self.get_logger().warning(
                 f"FireFront from uav {msg.uav_id} dropped: {err}", throttle_duration_sec=5.0
             )
+        self._maybe_run()
 
     def _on_fires(self, msg: FireEstimateArray) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return
+        self.wait.on_message(int(msg.uav_id), int(msg.step), topics.FLEET_FIRES_SPEC.loss_index)
         self._inbox.append(_to_peer_fires(msg))
-        self._arrived.add((int(msg.step), int(msg.uav_id), topics.FLEET_FIRES_SPEC.loss_index))
+        self._maybe_run()
+
+    def _on_coverage_arrival(self, sender: int, step: int, loss_index: int) -> None:
+        self.wait.on_message(sender, step, loss_index)
         self._maybe_run()
 
     # --- lockstep -------------------------------------------------------------------------------------
+    def _check_ready(self) -> None:
+        """Say AGENT_READY (once) when the world's topics and every peer's fleet topics are matched.
+
+        A message published before its reader is matched is dropped by DDS, so step 0 may start
+        only when every writer has matched every peer reader; each agent checks its own writers
+        and readers against the DDS graph, and the world starts when all have said ready.
+        """
+        if self.pub_cmd.get_subscription_count() == 0 or self.pub_payload.get_subscription_count() == 0:
+            return
+        if self.sub_sensors.get_publisher_count() == 0:
+            return
+        peers = {topics.uav_namespace(j) for j in range(self.cfg.uav_count) if j != self.cfg.uav_id}
+        me = (self.get_name(), self.get_namespace())
+        endpoints = [(self.pub_state, True), (self.pub_fires, True), (self.pub_perimeter, True)]
+        endpoints += [(self.sub_state, False), (self.sub_fires, False), (self.sub_perimeter, False)]
+        if self.search_link is not None:
+            endpoints += self.search_link.endpoints()
+        for ep, is_pub in endpoints:
+            infos = (self.get_subscriptions_info_by_topic if is_pub else self.get_publishers_info_by_topic)(
+                ep.topic_name
+            )
+            others = [i for i in infos if (i.node_name, i.node_namespace) != me]
+            if not peers <= {i.node_namespace for i in others}:
+                return  # a peer is not discovered yet
+            matched = ep.get_subscription_count() if is_pub else ep.get_publisher_count()
+            if matched < len(others):
+                return  # discovered but not matched yet
+        self._ready_timer.cancel()
+        ev = MissionEvent(type=int(EventType.AGENT_READY), uav_id=self.cfg.uav_id, peer_id=-1, fire_id=-1)
+        ev.x_m = ev.y_m = math.nan
+        ev.detail = "ready: world and peers matched"
+        ev.header.frame_id = "map"
+        self.pub_events.publish(ev)
+        self.get_logger().info(f"ready for step 0 (world and {len(peers)} peers matched)")
+
     def _on_bundle(self, msg: SensorBundle) -> None:
         k = int(msg.step)
         if k <= self.agent.last_step or (self._pending is not None and k <= self._pending.step):
             return  # protocol item 1: answer only the newest bundle
         if self._pending is not None:
-            self._run(force=True)  # a newer bundle overtook the one we were waiting on
+            self._run()  # a newer bundle overtook the one we were waiting on (realtime)
             if k <= self.agent.last_step:
                 return
         self._pending = msg
         if self.mode == "realtime" or k == 0:
-            self._run(force=True)
+            self._run()
             return
-        self._expected = self.agent.expected_peer_messages(k)
         if not self._maybe_run():
-            self._cancel_timer()
-            self._wait_timer = self.create_timer(self.peer_wait_s, self._on_wait_timeout, clock=self._steady)
+            self._liveness_timer.reset()
 
     def _maybe_run(self) -> bool:
         if self._pending is None:
             return False
-        k = int(self._pending.step)
-        if all((k - 1, j, ti) in self._arrived for j, ti in self._expected):
+        if self.wait.ready(int(self._pending.step)):
             self._run()
             return True
         return False
 
-    def _on_wait_timeout(self) -> None:
-        self._cancel_timer()
+    def _check_liveness(self) -> None:
+        """Stop waiting for a peer whose process is gone (unscheduled death; not reproducible)."""
         if self._pending is None:
+            self._liveness_timer.cancel()
             return
         k = int(self._pending.step)
-        missing = sorted({j for j, ti in self._expected if (k - 1, j, ti) not in self._arrived})
-        self._timeouts += 1
-        self.get_logger().debug(
-            f"step {k}: peer wait timed out, missing {missing} ({self._timeouts} timeouts so far)",
-            throttle_duration_sec=5.0,
-        )
-        self._run(force=True)
+        alive = {i.node_namespace for i in self.get_publishers_info_by_topic(topics.FLEET_STATE_SPEC.name)}
+        for j in self.wait.missing(k):
+            if topics.uav_namespace(j) not in alive:
+                self.wait.mark_gone(j)
+                self.get_logger().error(
+                    f"step {k}: peer {j}'s process is gone (not in the fault schedule); no longer waiting "
+                    "for it, so this run is not reproducible"
+                )
+        self._maybe_run()
 
-    def _cancel_timer(self) -> None:
-        if self._wait_timer is not None:
-            self._wait_timer.cancel()
-            self.destroy_timer(self._wait_timer)
-            self._wait_timer = None
-
-    def _run(self, force: bool = False) -> None:
-        self._cancel_timer()
+    def _run(self) -> None:
+        self._liveness_timer.cancel()
         msg, self._pending = self._pending, None
         if msg is None:
             return
         k = int(msg.step)
-        take = [m for m in self._inbox if m.step < k]
+        # in a total order, not arrival order: fusion may depend on the order it sees messages in
+        take = sorted((m for m in self._inbox if m.step < k), key=_inbox_order)
         self._inbox = [m for m in self._inbox if m.step >= k]
-        self._arrived = {a for a in self._arrived if a[0] >= k - 1}
         want_markers = self.marker_every > 0 and k % self.marker_every == 0
         out = self.agent.step(_to_bundle(msg), take, want_markers=want_markers)
         if out is None:
             return
-        self._publish(out, msg.header.stamp)
+        coverage = []
         if self.search_link is not None:
-            self.search_link.on_step(out.stamp_s, out.step, out.state.alive_peers)
+            coverage = self.search_link.step(out.stamp_s, out.step, out.state.alive_peers)
+        final = int(msg.vehicle_status) == VehicleStatus.CRASHED
+        self._publish(out, msg.header.stamp, coverage, final)
+        self.wait.prune(k)
 
     # --- output ---------------------------------------------------------------------------------------
-    def _publish(self, out: StepOutput, stamp: TimeMsg) -> None:
+    def _publish_tf_estimate(self, out: StepOutput, stamp: TimeMsg) -> None:
+        """``/tf``: ``map -> uav_<k>/estimate``, this agent's own pose estimate (x, y, z [m], yaw [rad])."""
+        from geometry_msgs.msg import TransformStamped
+        from tf2_msgs.msg import TFMessage
+
+        if getattr(self, "_pub_tf", None) is None:
+            self._pub_tf = topics.publisher(self, topics.TF_SPEC)
+        x, y, z, yaw = (float(v) for v in out.state.s[:4])
+        t = TransformStamped()
+        t.header.stamp, t.header.frame_id = stamp, "map"
+        t.child_frame_id = f"uav_{self.cfg.uav_id}/estimate"
+        t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = x, y, z
+        t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        self._pub_tf.publish(TFMessage(transforms=[t]))
+
+    def _publish(self, out: StepOutput, stamp: TimeMsg, coverage: list, final: bool) -> None:
+        """Publish step ``out.step``: the state first (it tells peers what else to wait for)."""
         uid = self.cfg.uav_id
-        self.pub_state.publish(_from_state(out, stamp))
+        pm = None
+        if out.perimeter is not None:
+            self._perimeter_seq += 1
+            pm = _from_perimeter(out, stamp, self._perimeter_seq)
+        sent = [0] * (1 + max(s.loss_index for s in topics.ALL_TOPICS if s.loss_index is not None))
+        sent[topics.FLEET_STATE_SPEC.loss_index] = 1
+        sent[topics.FLEET_FIRES_SPEC.loss_index] = 1
+        sent[topics.FLEET_PERIMETER_SPEC.loss_index] = int(pm is not None)
+        fm = None
+        if out.front is not None and self.agent.front is not None:
+            self._front_seq += 1
+            fm = _from_front(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
+        sent[topics.FLEET_FRONT_SPEC.loss_index] = int(fm is not None)
+        if self.search_link is not None:
+            for index, n in self.search_link.counts(coverage).items():
+                sent[index] = n
+        state = _from_state(out, stamp)
+        state.sent_per_topic = sent
+        state.final = final
+        self.pub_state.publish(state)
         self.pub_fires.publish(_from_fires(out, stamp))
-        for action, fire_id in out.payload_requests:
+        # exactly one request per step (ACTION_NONE if nothing): the lockstep world waits for it
+        for action, fire_id in out.payload_requests or [(PayloadAction.NONE, -1)]:
             req = PayloadRequest(uav_id=uid, action=int(action), target_fire_id=int(fire_id))
             req.header.stamp = stamp
             req.header.frame_id = "map"
@@ -480,16 +599,12 @@ class UavAgentNode(Node):
                 self.get_logger().info(f"step {out.step}: {what} on fire {fire_id}")
             else:
                 self.get_logger().debug(f"step {out.step}: {what}", throttle_duration_sec=2.0)
-        if out.perimeter is not None:
-            self._perimeter_seq += 1
-            pm = _from_perimeter(out, stamp, self._perimeter_seq)
-            if pm is not None:
-                self.pub_perimeter.publish(pm)
-        if out.front is not None and self.agent.front is not None:
-            self._front_seq += 1
-            fm = _from_front(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
-            if fm is not None:
-                self.pub_front.publish(fm)
+        if pm is not None:
+            self.pub_perimeter.publish(pm)
+        if fm is not None:
+            self.pub_front.publish(fm)
+        if self.search_link is not None:
+            self.search_link.publish(coverage)
         cmd = TwistStamped()
         cmd.header.stamp = stamp
         cmd.header.frame_id = f"uav_{uid}"
@@ -497,6 +612,7 @@ class UavAgentNode(Node):
         self.pub_cmd.publish(cmd)
         if out.markers is not None:
             self.pub_viz.publish(_markers(out, stamp, f"uav_{uid}"))
+        self._publish_tf_estimate(out, stamp)
         for ev in out.events:
             m = MissionEvent(
                 type=ev.type, uav_id=uid, peer_id=ev.peer_id, fire_id=int(ev.fire_id) if ev.fire_id < 2**31 else -1,

@@ -50,7 +50,11 @@ import numpy as np
 
 from .peer_link import FireEntry, PeerFires
 
-__all__ = ["ConsensusConfig", "FireConsensus", "consensus_matrix", "consensus_row"]
+__all__ = ["PRIOR_FIRE_ID_BASE", "ConsensusConfig", "FireConsensus", "consensus_matrix", "consensus_row"]
+
+#: fleet-wide ids of briefed fires (known-fires mode): PRIOR_FIRE_ID_BASE + k for the k-th fire of
+#: the briefing; above every detection id (uav_id < 256, so (uav_id << 16) | n < 2**24), int32-safe
+PRIOR_FIRE_ID_BASE = 1 << 24
 
 
 def consensus_row(ages: np.ndarray) -> np.ndarray:
@@ -267,6 +271,39 @@ class FireConsensus:
                     tr.unseen_steps = 0
         self.merge()
         return [f for f in new_ids if f in self.tracks]
+
+    def brief(self, priors: tuple[tuple[float, float, float], ...], t_s: float = 0.0) -> list[int]:
+        """Known-fires mode: start with the briefing's (x_m, y_m, extent_m) per fire as measured at ``t_s``.
+
+        Every agent gets the same briefing, so the ids ``PRIOR_FIRE_ID_BASE + k`` agree fleet-wide
+        without a message; detections of a briefed fire associate with it (gate of the module doc).
+        """
+        ids = []
+        for k, (x, y, ext) in enumerate(priors):
+            fid = PRIOR_FIRE_ID_BASE + k
+            self.tracks[fid] = _Track(fid, True, float(x), float(y), float(ext), 0.0, 0.0, float(t_s))
+            ids.append(fid)
+        return ids
+
+    def note_drop(self, fire_id: int, xy_m: tuple[float, float], t_s: float, footprint_m: float) -> bool:
+        """Own drop released at ``xy_m`` on ``fire_id`` at ``t_s``: apply the known effect of a hit.
+
+        FF V-B models a drop as dividing the fire's area by four (sigma halves). Where the release
+        is within ``max(footprint_m, extent)`` of the estimated centre (the water reaches the core),
+        the estimate's extent halves at once and carries ``t_s`` as its newest measurement, so the
+        consensus (freshest data weigh most, Eqs. 27-28) spreads the smaller extent before the next
+        detection confirms it. Returns whether the estimate changed.
+        """
+        tr = self.tracks.get(self._resolve(fire_id))
+        if tr is None or not tr.active:
+            return False
+        if math.hypot(tr.x_m - xy_m[0], tr.y_m - xy_m[1]) > max(footprint_m, tr.extent_m):
+            return False
+        tr.extent_m /= 2.0
+        tr.lm_s = max(tr.lm_s, float(t_s))
+        if tr.extent_m < self.cfg.extinction_extent_m:  # the drop model puts it out (a detection revives it)
+            tr.active = False
+        return True
 
     def merge(self) -> None:
         """Fold active entries within the association gate of each other into the smaller id."""

@@ -6,8 +6,11 @@ Objectives are the ``UavState.OBJECTIVE_*`` constants (:class:`Objective`). Tran
 * Airborne objective choice (IV-D c, "reassess"): LAND if the fleet agrees every fire is out;
   REFILL if the tank holds less than ``min_water_fraction``; SUPPRESS if an active fire is known;
   else SEARCH (no fire known yet: FF assumes the fires are seen; our agents must find them).
-* SUPPRESS: drop (ACTION_DROP) when within ``max(extent, min_drop_radius_m)`` of the target
-  fire's estimated centre, then REFILL.
+* SUPPRESS: drop (ACTION_DROP) when within ``min_drop_radius_m`` of the target fire's estimated
+  centre, then REFILL. (Not within the estimated extent: the water reaches a fire within the
+  larger of the footprint and its true sigma, and an estimate that has not yet seen the last hit
+  believes the fire twice its size; releasing at 45 m from a sigma-25 fire missed, FF scenario,
+  5 UAVs. Inside the footprint with a margin for the estimation error, every release reaches it.)
 * REFILL: request ACTION_REFILL while over a lake (the agent's guidance flies low and slow
   there, IV-D b); reassess when the tank is full.
 * LAND when the fleet agrees (IV-D d): this agent's own picture has had every known fire
@@ -51,7 +54,7 @@ class MissionConfig:
     water_capacity_kg: float = 2000.0
     full_fraction: float = 0.98  # tank counts as full above this
     min_water_fraction: float = 0.5  # below this, refill before suppressing
-    min_drop_radius_m: float = 3.0  # drop within max(extent, this) of the target
+    min_drop_radius_m: float = 3.0  # [m] drop within this of the target's estimated centre
     deadlock_timeout_s: float = 20.0
     deadlock_centroid_move_m: float = 10.0
     attack_timeout_s: float = 30.0
@@ -186,7 +189,7 @@ class Mission:
                     direct = True
             if tgt is not None and v.water_kg > 0:
                 d = math.hypot(tgt.x_m - v.pos_xy[0], tgt.y_m - v.pos_xy[1])
-                if (d <= max(tgt.extent_m, self.cfg.min_drop_radius_m)) if v.release is None else v.release:
+                if (d <= self.cfg.min_drop_radius_m) if v.release is None else v.release:
                     request = PayloadAction.DROP
                     self.drops += 1
                     self._set(Objective.REFILL, v.t_s)

@@ -3,7 +3,7 @@
 ``attach_search(node, agent)`` declares the search parameters on the agent node, creates the
 publishers and subscriptions of ``/fleet/coverage/{weights,candidates,mst}`` (names and QoS from
 ``fire_uav_common.topics``), and plugs the coordinator's :class:`SearchPlanner` in as the agent's
-SEARCH planner. The node calls :meth:`SearchLink.on_step` once per control step after
+SEARCH planner. The node calls :meth:`SearchLink.step` once per control step after
 ``Agent.step``. Messages are converted here and nowhere else; the injected loss on receipt is the
 peer link's rule (``agent.link.is_lost(sender, step, topic_index)``: loss probability, seed and
 scheduled outages) with each topic's ``TopicSpec.loss_index`` (``search.coordinator.TOPIC_SPECS``).
@@ -18,6 +18,7 @@ from the sensor range).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -148,13 +149,17 @@ class SearchLink:
         self.period_s = float(agent.cfg.control_period_s)
         self.uav_id = int(agent.cfg.uav_id)
         self._pub = {t: topics.publisher(node, spec) for t, spec in TOPIC_SPECS.items()}
+        self._sub = {}
         convert = {
             Topic.WEIGHTS: weight_envelope,
             Topic.CANDIDATES: candidate_envelope,
             Topic.MST: mst_envelope,
         }
         for t, spec in TOPIC_SPECS.items():
-            topics.subscription(node, spec, lambda m, c=convert[t]: self._receive(c, m))
+            self._sub[t] = topics.subscription(node, spec, lambda m, c=convert[t]: self._receive(c, m))
+        #: called with (sender, step, loss_index) for every valid peer message, before the loss
+        #: draw (the node's lockstep wait counts physical arrivals)
+        self.on_arrival: Callable[[int, int, int], None] | None = None
         self._inbox: list[Envelope] = []
         self.received = 0
         self.lost = 0
@@ -171,22 +176,44 @@ class SearchLink:
         if not 0 <= e.sender < self.agent.cfg.uav_count or e.step < 0:
             self.rejected += 1
             return
+        if self.on_arrival is not None:
+            self.on_arrival(e.sender, e.step, TOPIC_SPECS[e.topic].loss_index)
         if self.agent.link.is_lost(e.sender, e.step, TOPIC_SPECS[e.topic].loss_index):
             self.lost += 1
             return
         self.received += 1
         self._inbox.append(e)
 
-    def on_step(self, t_s: float, step: int, alive_ids) -> None:
-        """Drive the coordinator for control step ``step`` (after ``Agent.step``) and publish."""
-        inbox, self._inbox = self._inbox, []
-        out = self.coordinator.on_step(t_s, step, alive_ids, inbox)
-        for e in out:
-            self._pub[e.topic].publish(to_msg(e, self.period_s))
+    def step(self, t_s: float, step: int, alive_ids) -> list[Envelope]:
+        """Run the coordinator for control step ``step`` (after ``Agent.step``) on the peers'
+        messages of earlier steps; returns what to publish (:meth:`publish`)."""
+        # a total order (per sender, DDS keeps each writer's order; across senders it does not)
+        take = sorted(
+            (e for e in self._inbox if e.step < step), key=lambda e: (e.step, int(e.topic), e.sender)
+        )
+        self._inbox = [e for e in self._inbox if e.step >= step]
+        out = self.coordinator.on_step(t_s, step, alive_ids, take)
         log = self.node.get_logger()
         for line in self.coordinator.log:
             log.info(f"step {step}: {line}")
         self.coordinator.log.clear()
+        return list(out)
+
+    def publish(self, envelopes: list[Envelope]) -> None:
+        for e in envelopes:
+            self._pub[e.topic].publish(to_msg(e, self.period_s))
+
+    @staticmethod
+    def counts(envelopes: list[Envelope]) -> dict[int, int]:
+        """Messages per loss index (the ``sent_per_topic`` entries of the step's UavState)."""
+        out = {TOPIC_SPECS[t].loss_index: 0 for t in TOPIC_SPECS}
+        for e in envelopes:
+            out[TOPIC_SPECS[e.topic].loss_index] += 1
+        return out
+
+    def endpoints(self) -> list[tuple[object, bool]]:
+        """(publisher or subscription, is_publisher) for the start-up matching check."""
+        return [(p, True) for p in self._pub.values()] + [(q, False) for q in self._sub.values()]
 
 
 def attach_search(node: Node, agent: Agent, params: SearchParams | None = None) -> SearchLink | None:

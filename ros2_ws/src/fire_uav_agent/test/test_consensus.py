@@ -73,3 +73,26 @@ def test_new_fire_id_scheme():
     c = FireConsensus(3)
     new = c.observe(np.array([[0.1, 0.0, 0.0, 10.0], [0.1, 500.0, 0.0, 10.0]]), None, 0.1)
     assert new == [(3 << 16) | 1, (3 << 16) | 2]
+
+
+# --- known effect of an own drop, briefing (known-fires mode) -----------------------------------
+def test_an_own_hit_halves_the_estimated_extent_at_once_and_a_miss_does_not():
+    from fire_uav_agent.consensus import FireConsensus
+
+    fc = FireConsensus(0)
+    [fid] = fc.observe(np.array([[1.0, 100.0, 100.0, 50.0]]), (100.0, 100.0), 1.0)
+    assert fc.note_drop(fid, (110.0, 100.0), 2.0, footprint_m=20.0)  # FF V-B: area / 4
+    (e,) = fc.active()
+    assert e.extent_m == pytest.approx(25.0) and e.last_measurement_s == 2.0
+    assert not fc.note_drop(fid, (100.0, 200.0), 3.0, footprint_m=20.0)  # 100 m off: no hit
+    assert fc.active()[0].extent_m == pytest.approx(25.0)
+
+
+def test_the_briefing_gives_every_agent_the_same_ids_and_a_detection_joins_it():
+    from fire_uav_agent.consensus import PRIOR_FIRE_ID_BASE, FireConsensus
+
+    a, b = FireConsensus(0), FireConsensus(3)
+    brief = ((300.0, 400.0, 50.0), (450.0, 50.0, 20.0))
+    assert a.brief(brief) == b.brief(brief) == [PRIOR_FIRE_ID_BASE, PRIOR_FIRE_ID_BASE + 1]
+    assert b.observe(np.array([[1.0, 455.0, 45.0, 21.0]]), (450.0, 50.0), 1.0) == []  # no new id
+    assert sorted(e.fire_id for e in b.active()) == [PRIOR_FIRE_ID_BASE, PRIOR_FIRE_ID_BASE + 1]

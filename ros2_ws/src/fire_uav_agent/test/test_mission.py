@@ -29,7 +29,11 @@ def test_transitions_takeoff_suppress_drop_refill_land():
     assert m.step(view(1.0, vehicle=VehicleStatus.ON_GROUND)).objective == Objective.GROUNDED
     d = m.step(view(4.0, vehicle=VehicleStatus.ON_GROUND))
     assert d.objective == Objective.SUPPRESS and d.changed
-    d = m.step(view(5.0, pos_xy=(195.0, 100.0)))  # within sigma of the target: drop
+    # within the estimated sigma (10 m) but outside min_drop_radius_m (3 m): no release, the
+    # estimate may not have seen the last hit yet
+    d = m.step(view(4.9, pos_xy=(195.0, 100.0)))
+    assert d.request is None and d.objective == Objective.SUPPRESS
+    d = m.step(view(5.0, pos_xy=(198.0, 100.0)))  # within min_drop_radius_m: drop
     assert d.request == 1 and d.target_fire_id == 1 and d.objective == Objective.REFILL
     for k in range(3):
         assert m.step(view(5.1 + k, water_kg=0.0)).objective == Objective.REFILL

@@ -92,7 +92,7 @@ def test_three_agents_agree_over_dds() -> None:
             ex.spin_once(timeout_sec=0.02)
         for k in range(150):
             for ln in links:
-                ln.on_step((k + 1) * T, k, [0, 1, 2])
+                ln.publish(ln.step((k + 1) * T, k, [0, 1, 2]))
             for _ in range(20):
                 ex.spin_once(timeout_sec=0.005)
             if all(ln.coordinator.phase == Phase.FLY for ln in links) and all(

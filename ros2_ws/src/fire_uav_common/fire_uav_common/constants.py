@@ -84,6 +84,7 @@ class CellState(IntEnum):
 class PayloadAction(IntEnum):
     """``PayloadRequest.ACTION_*``."""
 
+    NONE = 0
     DROP = 1
     REFILL = 2
 

@@ -48,6 +48,7 @@ QOS_KINDS: dict[str, tuple[bool, bool, int]] = {
     "truth": (True, False, 50),
     "viz": (False, False, 5),
     "latched": (True, True, 1),
+    "tf": (True, False, 100),
 }
 
 
@@ -62,6 +63,7 @@ def qos(kind: str) -> QoSProfile:
     - ``"truth"``: reliable, depth 50.
     - ``"viz"``: best effort, depth 5.
     - ``"latched"``: reliable + transient local, depth 1 (static data such as ``/tf_static``).
+    - ``"tf"``: ``/tf``: reliable, volatile, depth 100 (tf2's broadcaster default).
     """
     if kind not in QOS_KINDS:
         raise ValueError(f"unknown QoS kind {kind!r}; expected one of {sorted(QOS_KINDS)}")
@@ -164,6 +166,9 @@ VIZ_WORLD_SPEC = TopicSpec("/viz/world", "visualization_msgs/msg/MarkerArray", "
 VIZ_FIRE_GRID_SPEC = TopicSpec("/viz/fire_grid", "nav_msgs/msg/OccupancyGrid", "viz")
 VIZ_PERIMETER_SPEC = TopicSpec("/viz/perimeter", "visualization_msgs/msg/MarkerArray", "viz",
                                doc="perimeter_viewer -> RViz/Foxglove")  # fmt: skip
+# transforms (REP 105 style: map -> uav_<k> from the truth, map -> uav_<k>/estimate from agent k)
+TF_SPEC = TopicSpec("/tf", "tf2_msgs/msg/TFMessage", "tf", doc="world, agents -> RViz/Foxglove")
+TF_STATIC_SPEC = TopicSpec("/tf_static", "tf2_msgs/msg/TFMessage", "latched", doc="world -> RViz/Foxglove")
 
 ALL_TOPICS: tuple[TopicSpec, ...] = (
     CLOCK_SPEC, SENSORS_SPEC, CMD_SPEC, PAYLOAD_SPEC, VIZ_AGENT_SPEC,
@@ -171,6 +176,7 @@ ALL_TOPICS: tuple[TopicSpec, ...] = (
     COVERAGE_WEIGHTS_SPEC, COVERAGE_CANDIDATES_SPEC, COVERAGE_MST_SPEC,
     WORLD_TRUTH_SPEC, WORLD_EVENTS_SPEC, VIZ_WORLD_SPEC, VIZ_FIRE_GRID_SPEC, VIZ_PERIMETER_SPEC,
     FLEET_FRONT_SPEC,
+    TF_SPEC, TF_STATIC_SPEC,
 )  # fmt: skip
 
 # Plain names, kept for call sites that only need the string (the spec is the source).
@@ -192,6 +198,8 @@ VIZ_WORLD = VIZ_WORLD_SPEC.name
 VIZ_FIRE_GRID = VIZ_FIRE_GRID_SPEC.name
 VIZ_PERIMETER = VIZ_PERIMETER_SPEC.name
 FLEET_FRONT = FLEET_FRONT_SPEC.name
+TF = TF_SPEC.name
+TF_STATIC = TF_STATIC_SPEC.name
 
 
 def topic_by_name(name: str) -> TopicSpec:

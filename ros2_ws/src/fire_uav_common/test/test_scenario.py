@@ -262,3 +262,17 @@ def test_mission_tactic_head_by_default_flank_on_request_and_a_clear_error(tmp_p
         ScenarioError, match=r"s\.yaml: mission\.tactic: must be one of \['head', 'flank'\], got 'tail'"
     ):
         load_scenario(write(tmp_path, with_(mission={"tactic": "tail"})))
+
+
+def test_prior_fires_mode_is_validated_and_defaults_to_unknown():
+    from fire_uav_common.scenario import ScenarioError, scenario_from_dict
+
+    base = {"name": "x", "area": {"x_min_m": 0, "x_max_m": 100, "y_min_m": 0, "y_max_m": 100}}
+    assert scenario_from_dict(base).mission.prior_fires == "unknown"
+    assert scenario_from_dict({**base, "mission": {"prior_fires": "known"}}).mission.prior_fires == "known"
+    with pytest.raises(
+        ScenarioError, match=r"mission\.prior_fires: must be one of unknown, known, got 'maybe'"
+    ):
+        scenario_from_dict({**base, "mission": {"prior_fires": "maybe"}})
+    with pytest.raises(ScenarioError, match=r"mission\.prior_position_sigma_m: must be >= 0"):
+        scenario_from_dict({**base, "mission": {"prior_position_sigma_m": -1}})

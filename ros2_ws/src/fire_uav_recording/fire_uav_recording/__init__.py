@@ -16,6 +16,7 @@ from fire_uav_recording.bagfile import MCAP_MAGIC, BagInfo, inspect_bag
 from fire_uav_recording.errors import BagError
 from fire_uav_recording.metadata import (
     KEY_CLOSED,
+    KEY_LOG_TIME_OFFSET_NS,
     KEY_RECORDER_STARTED,
     KEY_SCENARIO_FILE,
     KEY_SCENARIO_YAML,
@@ -26,17 +27,20 @@ from fire_uav_recording.metadata import (
 from fire_uav_recording.reader import MissionBag, offered_qos, open_bag
 from fire_uav_recording.salvage import SalvageResult, repair_bag, salvage_mcap
 from fire_uav_recording.typestore import ensure_type, find_msg_dir, fleet_typestore, register_msg_dir
-from fire_uav_recording.writer import BagWriter
+from fire_uav_recording.writer import INFINITE_DURATION, ROS_DISTRO, BagWriter
 
 __all__ = [
     "KEY_CLOSED",
+    "KEY_LOG_TIME_OFFSET_NS",
     "KEY_RECORDER_STARTED",
     "KEY_SCENARIO_FILE",
     "KEY_SCENARIO_YAML",
     "KEY_SEED",
     "KEY_SOFTWARE_VERSION",
     "KEY_UAV_COUNT",
+    "INFINITE_DURATION",
     "MCAP_MAGIC",
+    "ROS_DISTRO",
     "BagError",
     "BagInfo",
     "BagWriter",

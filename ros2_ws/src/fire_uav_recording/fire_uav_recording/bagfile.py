@@ -27,7 +27,6 @@ class BagInfo:
     complete: bool  # the MCAP file ends with a footer (the writer closed it)
 
 
-
 def read_metadata(path: Path) -> dict[str, Any]:
     try:
         doc = yaml.safe_load(path.read_text(encoding="utf8"))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 __all__ = [
     "KEY_CLOSED",
+    "KEY_LOG_TIME_OFFSET_NS",
     "KEY_RECORDER_STARTED",
     "KEY_SCENARIO_FILE",
     "KEY_SCENARIO_YAML",
@@ -19,3 +20,4 @@ KEY_UAV_COUNT = "fire_uav.uav_count"  # int, as text
 KEY_SOFTWARE_VERSION = "fire_uav.software_version"  # versions of the recording package, the world, rosbags
 KEY_RECORDER_STARTED = "fire_uav.recorder_started_utc"  # ISO 8601 wall time
 KEY_CLOSED = "fire_uav.closed_cleanly"  # "true" once close() ran, "false" in the snapshots
+KEY_LOG_TIME_OFFSET_NS = "fire_uav.log_time_offset_ns"  # int, as text: bag time - sim time [ns] (0: sim time)

@@ -23,7 +23,7 @@ from rosbags.rosbag2 import ReaderError
 
 from fire_uav_recording.bagfile import BagInfo, inspect_bag
 from fire_uav_recording.errors import BagError, one_line
-from fire_uav_recording.metadata import KEY_CLOSED
+from fire_uav_recording.metadata import KEY_CLOSED, KEY_LOG_TIME_OFFSET_NS
 from fire_uav_recording.salvage import SalvageResult, salvage_mcap
 
 __all__ = ["MissionBag", "offered_qos", "open_bag"]
@@ -43,6 +43,17 @@ class MissionBag:
         return self.info.custom_data
 
     @property
+    def log_time_offset_ns(self) -> int:
+        """Bag log time minus sim time [ns]: the wall epoch a ``stamp_wall_epoch`` recorder added (else 0)."""
+        text = self.info.custom_data.get(KEY_LOG_TIME_OFFSET_NS, "0") or "0"
+        try:
+            return int(text)
+        except ValueError:
+            raise BagError(
+                f"{self.info.path}: metadata {KEY_LOG_TIME_OFFSET_NS} is not an integer: {text!r}"
+            ) from None
+
+    @property
     def topics(self) -> dict[str, str]:
         """Topic name -> message type (``pkg/msg/Name``)."""
         return {c.topic: c.msgtype for c in self.reader.connections}
@@ -56,12 +67,19 @@ class MissionBag:
     def raw_messages(
         self, topics: Sequence[str] | None = None, start_ns: int | None = None
     ) -> Iterator[tuple[Connection, int, bytes]]:
-        """(connection, bag timestamp [ns], CDR bytes) in time order; damage raises :class:`BagError`."""
+        """(connection, sim time [ns], CDR bytes) in time order; damage raises :class:`BagError`.
+
+        The time is the bag timestamp less :attr:`log_time_offset_ns` (sim time at receipt);
+        ``start_ns`` is sim time too.
+        """
         conns = self.connections(topics)
         if not conns:
             return
+        off = self.log_time_offset_ns
+        start = None if start_ns is None else start_ns + off
         try:
-            yield from self.reader.messages(connections=conns, start=start_ns)
+            for conn, t_ns, raw in self.reader.messages(connections=conns, start=start):
+                yield conn, t_ns - off, raw
         except (ReaderError, AnyReaderError, struct.error, ValueError, EOFError, OSError) as err:
             raise BagError(f"{self.info.mcap_path}: corrupted data: {one_line(err)}") from None
         except Exception as err:
@@ -70,7 +88,7 @@ class MissionBag:
             ) from None
 
     def messages(self, topics: Sequence[str] | None = None) -> Iterator[tuple[str, int, Any]]:
-        """(topic, bag timestamp [ns], deserialized message) in time order."""
+        """(topic, sim time [ns] (bag timestamp less the offset), deserialized message) in time order."""
         for conn, t_ns, raw in self.raw_messages(topics):
             try:
                 msg = self.reader.deserialize(raw, conn.msgtype)

@@ -12,6 +12,11 @@ Parameters (all read once at start-up):
   a SIGKILL loses at most this much.
 - ``compress`` (true): zstd-compressed MCAP chunks.
 - ``use_sim_time`` (true): bag timestamps are sim time (``/clock``) at receipt.
+- ``stamp_wall_epoch`` (false): add the wall-clock epoch of the recorder's start (whole
+  seconds) to every bag timestamp, so tools that show log times (Foxglove, ``ros2 bag info``)
+  show the real date instead of 1970; the offset is stored as ``fire_uav.log_time_offset_ns``
+  and :class:`fire_uav_recording.MissionBag` takes it off again (message header stamps stay sim
+  time).
 
 Messages are stamped with the node clock at receipt (sim time by default). A topic of
 ``fire_uav_common.topics`` is subscribed with its spec's QoS (depth at least 100, so a burst
@@ -23,9 +28,9 @@ profile: best effort if a publisher is, volatile unless every publisher is trans
 from __future__ import annotations
 
 import datetime as _dt
-import importlib
 import re
 import sys
+import time
 from dataclasses import dataclass
 from functools import partial
 from importlib import metadata as _im
@@ -39,14 +44,21 @@ from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import QoSProfile
 from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 
 import fire_uav_recording as rec
+from fire_uav_recording.ros_io import (  # noqa: F401  (re-exported: the recorder's QoS rule)
+    MIN_DEPTH,
+    RawTopic,
+    RawTopicFollower,
+    message_class,
+    spec_of,
+    subscription_qos,
+)
 
 DEFAULT_TOPICS = topics.recorded_patterns()
-MIN_DEPTH = 100  # recorder queue depth floor per topic [messages]
-_INF_SEC, _INF_NSEC = 2147483647, 4294967295  # rosbag2's spelling of an infinite duration
+_INF_SEC, _INF_NSEC = rec.INFINITE_DURATION  # rosbag2 Jazzy's spelling of an infinite duration
 
 
 class RecorderConfigError(ValueError):
@@ -64,6 +76,7 @@ class RecorderConfig:
     discovery_period_wall_s: float
     flush_period_wall_s: float
     compress: bool
+    stamp_wall_epoch: bool
 
     def wants(self, topic: str) -> bool:
         """Whether ``topic`` is recorded (full-match an include pattern and no exclude pattern)."""
@@ -98,7 +111,7 @@ def to_bag_qos(profile: QoSProfile) -> Qos:
 
     def dur(d: object) -> QosTime:
         ns = int(getattr(d, "nanoseconds", 0))
-        if ns <= 0 or ns >= 2**63 - 1 or ns // NS_PER_S > _INF_SEC:
+        if ns <= 0 or ns >= _INF_SEC * NS_PER_S + _INF_NSEC or ns // NS_PER_S > 2**31 - 1:
             return QosTime(_INF_SEC, _INF_NSEC) if ns else QosTime(0, 0)
         return QosTime(*divmod(ns, NS_PER_S))
 
@@ -115,47 +128,6 @@ def to_bag_qos(profile: QoSProfile) -> Qos:
     )
 
 
-def spec_of(topic: str) -> topics.TopicSpec | None:
-    """The fleet's spec of ``topic`` (``None`` for a topic fire_uav_common does not declare)."""
-    try:
-        return topics.topic_by_name(topic)
-    except KeyError:
-        return None
-
-
-def subscription_qos(offered: list[QoSProfile], spec: topics.TopicSpec | None = None) -> QoSProfile:
-    """A subscription QoS that matches every offered publisher profile.
-
-    Starts from ``spec.qos()`` (depth at least :data:`MIN_DEPTH`) when the topic has a spec, else
-    from rosbag2's adaptive rule; then gives up reliability / transient local where a
-    publisher does not offer it (a stricter subscription would never match that publisher).
-    """
-    best_effort = any(p.reliability == ReliabilityPolicy.BEST_EFFORT for p in offered)
-    transient = bool(offered) and all(p.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in offered)
-    if spec is not None:
-        want = spec.qos()
-        best_effort = best_effort or want.reliability == ReliabilityPolicy.BEST_EFFORT
-        transient = transient and want.durability == DurabilityPolicy.TRANSIENT_LOCAL
-        depth = max(MIN_DEPTH, int(want.depth))
-    else:
-        depth = max([1000 if transient else MIN_DEPTH, *[int(p.depth) for p in offered]])
-    return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST,
-        depth=depth,
-        reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE,
-    )
-
-
-def message_class(ros_type: str) -> type:
-    """``pkg/msg/Name`` -> the generated Python class (ImportError/AttributeError if not installed).
-
-    For types no spec of fire_uav_common.topics names (the recorder records what it finds).
-    """
-    pkg, kind, name = ros_type.split("/")
-    return getattr(importlib.import_module(f"{pkg}.{kind}"), name)
-
-
 class RecorderNode(Node):
     """Subscribes raw to every mission topic as it appears and writes it into one MCAP bag."""
 
@@ -166,9 +138,9 @@ class RecorderNode(Node):
             allow_undeclared_parameters=False,
         )
         self.config = self._read_config()
-        self._subs: dict[str, object] = {}
-        self._skipped: set[str] = set()
         self._typestore = rec.fleet_typestore()
+        self._offset_ns = (time.time_ns() // NS_PER_S) * NS_PER_S if self.config.stamp_wall_epoch else 0
+        self._follower = RawTopicFollower(self, self.config.wants, self._typestore, self._on_topic)
         self._writer = rec.BagWriter(
             self.config.output, custom_data=self._custom_data(), compress=self.config.compress
         )
@@ -198,6 +170,7 @@ class RecorderNode(Node):
         self.declare_parameter("discovery_period_wall_s", 0.5, ro)
         self.declare_parameter("flush_period_wall_s", 1.0, ro)
         self.declare_parameter("compress", True, ro)
+        self.declare_parameter("stamp_wall_epoch", False, ro)
         p = {
             name: self.get_parameter(name).value
             for name in (
@@ -210,6 +183,7 @@ class RecorderNode(Node):
                 "discovery_period_wall_s",
                 "flush_period_wall_s",
                 "compress",
+                "stamp_wall_epoch",
             )
         }
         if not p["output"]:
@@ -237,6 +211,7 @@ class RecorderNode(Node):
             discovery_period_wall_s=float(p["discovery_period_wall_s"]),
             flush_period_wall_s=float(p["flush_period_wall_s"]),
             compress=bool(p["compress"]),
+            stamp_wall_epoch=bool(p["stamp_wall_epoch"]),
         )
 
     def _custom_data(self) -> dict[str, str]:
@@ -249,55 +224,27 @@ class RecorderNode(Node):
             rec.KEY_UAV_COUNT: str(cfg.uav_count),
             rec.KEY_SOFTWARE_VERSION: software_version(),
             rec.KEY_RECORDER_STARTED: _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            rec.KEY_LOG_TIME_OFFSET_NS: str(self._offset_ns),
         }
 
     # --- discovery and recording ---------------------------------------------------------
     def _discover(self) -> None:
         """Subscribe to every wanted topic that has publishers and is not yet recorded."""
-        for topic, types in self.get_topic_names_and_types():
-            if topic in self._subs or topic in self._skipped or not self.config.wants(topic):
-                continue
-            pubs = self.get_publishers_info_by_topic(topic)
-            if not pubs:
-                continue  # only subscribers so far: wait for a publisher to learn its QoS
-            if len(types) != 1:
-                self._skip(topic, f"has {len(types)} types {types}; recording none")
-                continue
-            ros_type = types[0]
-            spec = spec_of(topic)
-            if spec is not None and spec.type != ros_type:
-                spec = None  # someone publishes another type under a fleet name: record it as it is
-            if not rec.ensure_type(self._typestore, ros_type):
-                self._skip(topic, f"type {ros_type} has no .msg definition in AMENT_PREFIX_PATH")
-                continue
-            try:
-                cls = spec.msg_class() if spec is not None else message_class(ros_type)
-            except (ImportError, AttributeError, ValueError) as err:
-                self._skip(topic, f"type {ros_type} not importable: {err}")
-                continue
-            offered = [p.qos_profile for p in pubs]
-            conn = self._writer.add_connection(
-                topic,
-                ros_type,
-                typestore=self._typestore,
-                offered_qos_profiles=[to_bag_qos(q) for q in offered],
-            )
-            qos = subscription_qos(offered, spec)
-            self._subs[topic] = self.create_subscription(
-                cls, topic, partial(self._on_message, conn), qos, raw=True
-            )
-            self.get_logger().info(
-                f"recording {topic} [{ros_type}] ({qos.reliability.name.lower()}, {qos.durability.name.lower()})"
-            )
+        self._follower.discover()
 
-    def _skip(self, topic: str, why: str) -> None:
-        self._skipped.add(topic)
-        self.get_logger().warning(f"not recording {topic}: {why}")
+    def _on_topic(self, topic: RawTopic):
+        conn = self._writer.add_connection(
+            topic.name,
+            topic.ros_type,
+            typestore=self._typestore,
+            offered_qos_profiles=[to_bag_qos(q) for q in topic.offered],
+        )
+        return partial(self._on_message, conn)
 
     def _on_message(self, conn: object, data: bytes) -> None:
         if self._closed:
             return
-        self._writer.write(conn, self.get_clock().now().nanoseconds, data)  # type: ignore[arg-type]
+        self._writer.write(conn, self.get_clock().now().nanoseconds + self._offset_ns, data)  # type: ignore[arg-type]
         self.messages_written += 1
 
     def _flush(self) -> None:
@@ -312,7 +259,7 @@ class RecorderNode(Node):
         self._writer.close()
         # not the node's logger: after a signal the context is gone and rosout would complain
         rclpy.logging.get_logger("recorder.bag").info(
-            f"closed {self.config.output}: {self.messages_written} messages on {len(self._subs)} topics"
+            f"closed {self.config.output}: {self.messages_written} messages on {len(self._follower.subscriptions)} topics"
         )
 
 

@@ -35,7 +35,7 @@ from rclpy.task import Future
 from rosbags.interfaces import QosDurability, QosReliability
 
 import fire_uav_recording as rec
-from fire_uav_recording.recorder_node import message_class, spec_of
+from fire_uav_recording.ros_io import message_class, spec_of
 
 CLOCK_TOPIC = CLOCK_SPEC.name
 
@@ -161,7 +161,11 @@ class ReplayNode(Node):
         for conn in bag.connections(sorted(wanted)):
             spec = spec_of(conn.topic)
             try:
-                cls = spec.msg_class() if spec is not None and spec.type == conn.msgtype else message_class(conn.msgtype)
+                cls = (
+                    spec.msg_class()
+                    if spec is not None and spec.type == conn.msgtype
+                    else message_class(conn.msgtype)
+                )
             except (ImportError, AttributeError, ValueError) as err:
                 self.get_logger().warning(
                     f"not replaying {conn.topic}: type {conn.msgtype} not importable ({err})"
@@ -170,11 +174,14 @@ class ReplayNode(Node):
             self._pubs[conn.id] = self.create_publisher(cls, conn.topic, publisher_qos(conn))
         self._gen_clock = CLOCK_TOPIC not in have
         self._clock_pub = (
-            self.create_publisher(CLOCK_SPEC.msg_class(), CLOCK_SPEC.name, CLOCK_SPEC.qos()) if self._gen_clock else None
+            self.create_publisher(CLOCK_SPEC.msg_class(), CLOCK_SPEC.name, CLOCK_SPEC.qos())
+            if self._gen_clock
+            else None
         )
         reader = bag.reader
-        self.bag_start_ns = reader.start_time
-        self.bag_end_ns = max(reader.end_time, self.bag_start_ns)
+        off = bag.log_time_offset_ns  # sim time throughout (raw_messages takes the offset off)
+        self.bag_start_ns = reader.start_time - off
+        self.bag_end_ns = max(reader.end_time - off, self.bag_start_ns)
         self.first_ns = self.bag_start_ns + s_to_ns(self.config.start_s)
         if self.first_ns >= self.bag_end_ns and reader.message_count:
             raise ReplayConfigError(

@@ -17,7 +17,14 @@ def declared(module: str) -> set[str]:
     return set(re.findall(r'declare_parameter\(\s*"(\w+)"', text))
 
 
-@pytest.mark.parametrize(("module", "config"), [("recorder_node.py", "recorder.yaml"), ("replay_node.py", "replay.yaml")])
+@pytest.mark.parametrize(
+    ("module", "config"),
+    [
+        ("recorder_node.py", "recorder.yaml"),
+        ("replay_node.py", "replay.yaml"),
+        ("foxglove_bridge_node.py", "foxglove_bridge.yaml"),
+    ],
+)
 def test_config_lists_every_parameter(module: str, config: str) -> None:
     params = yaml.safe_load((PKG / "config" / config).read_text())["/**"]["ros__parameters"]
     names = declared(module)
@@ -26,8 +33,9 @@ def test_config_lists_every_parameter(module: str, config: str) -> None:
     assert set(params) - names <= {"use_sim_time"}, f"{config} has unknown {sorted(set(params) - names)}"
 
 
-def test_recorder_default_topics_are_the_specs() -> None:
-    params = yaml.safe_load((PKG / "config" / "recorder.yaml").read_text())["/**"]["ros__parameters"]
+@pytest.mark.parametrize("config", ["recorder.yaml", "foxglove_bridge.yaml"])
+def test_default_topics_are_the_specs(config: str) -> None:
+    params = yaml.safe_load((PKG / "config" / config).read_text())["/**"]["ros__parameters"]
     assert tuple(params["topics"]) == recorded_patterns()
     for p in params["topics"]:
         re.compile(p)

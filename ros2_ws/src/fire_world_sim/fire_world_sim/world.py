@@ -243,17 +243,19 @@ class World:
         # 5. fire sensor (rate-limited, against the fire state at t_{k+1})
         spec = self.scenario.sensors.fire
         for v in self.vehicles:
-            if v.status == Status.CRASHED:
-                continue
+            if v.uav_id not in bundles:
+                continue  # crashed before this step: no bundle
             b = bundles[v.uav_id]
+            b.water_kg = v.water_kg
+            b.vehicle_status = int(v.status)
+            if v.status == Status.CRASHED:
+                continue  # crashed during this step: its agent learns it from this last bundle
             for j in range(self.substeps):
                 now_ns = t0_ns + (j + 1) * self.dt_ns
                 if samples_due(now_ns - self.dt_ns, now_ns, spec.rate_hz):
                     seen = self.fires.detections_near(v.x_m, v.y_m, spec.range_m)
                     b.fires += self.sensors[v.uav_id].sample_fires(now_ns, v.x_m, v.y_m, seen)
             b.cells = self.fires.cells_near(v.x_m, v.y_m, spec.range_m, t1_ns)
-            b.water_kg = v.water_kg
-            b.vehicle_status = int(v.status)
         self.step_index += 1
         fires = self.fires.truth()
         self._update_measures(t1_ns * 1e-9, fires)

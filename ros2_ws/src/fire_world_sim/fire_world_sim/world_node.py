@@ -1,7 +1,8 @@
 """ROS 2 adapter of :class:`fire_world_sim.world.World`: the clock authority of the fleet.
 
 Publishes ``/clock``, one ``SensorBundle`` per vehicle per control step, ``/world/truth``,
-``/world/events``, ``/viz/world`` and ``/viz/fire_grid``; subscribes ``/uav_<k>/cmd`` and
+``/world/events``, ``/viz/world``, ``/viz/fire_grid`` and ``/tf`` (``map -> uav_<k>``, truth, at the
+viz rate); subscribes ``/uav_<k>/cmd`` and
 ``/uav_<k>/payload`` (docs/protocol.md). The world itself runs on the steady wall clock;
 lockstep waiting is a steady-clock timer reset at each step, never a sleep.
 """
@@ -15,7 +16,7 @@ from dataclasses import dataclass
 import rclpy
 from builtin_interfaces.msg import Time
 from fire_uav_common import topics
-from fire_uav_common.constants import CellState, EventType, FireStatus, PayloadAction, VehicleStatus
+from fire_uav_common.constants import CellState, EventType, PayloadAction, VehicleStatus
 from fire_uav_common.lockstep import OfflineWindow, offline_uavs, parse_schedule
 from fire_uav_common.scenario import ScenarioError, load_scenario
 from fire_uav_common.stamps import NS_PER_S, stamp_to_ns, to_time_msg
@@ -29,7 +30,7 @@ from fire_uav_msgs.msg import (
     VehicleTruth,
     WorldTruth,
 )
-from geometry_msgs.msg import Point, TwistStamped
+from geometry_msgs.msg import Point, TransformStamped, TwistStamped
 from nav_msgs.msg import OccupancyGrid
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
@@ -38,8 +39,10 @@ from rclpy.node import Node
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
 from sensor_msgs.msg import Imu, Range
+from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
+from . import viz
 from .errors import ConfigError
 from .fires.raster import RasterFireModel
 from .world import Bundle, Command, Event, StepResult, World
@@ -93,6 +96,8 @@ class WorldNode(Node):
         self.pub_events = topics.publisher(self, topics.WORLD_EVENTS_SPEC)
         self.pub_viz = topics.publisher(self, topics.VIZ_WORLD_SPEC)
         self.pub_grid = topics.publisher(self, topics.VIZ_FIRE_GRID_SPEC)
+        self.pub_tf = topics.publisher(self, topics.TF_SPEC)
+        self._marker_book = viz.MarkerBook()
         self.pub_sensors = {}
         for i in range(self.n):
             self.pub_sensors[i] = topics.publisher(self, topics.SENSORS_SPEC, uav_id=i)
@@ -103,8 +108,10 @@ class WorldNode(Node):
         self._commands: dict[int, Command | None] = {}
         self._payload: dict[int, list[int]] = {}
         self._awaited_ns = 0  # stamp the answers must carry (t_k of the next step)
-        self._waiting: set[int] = set()
+        self._waiting: set[int] = set()  # agents whose command of this step is not in yet
+        self._waiting_payload: set[int] = set()  # ... whose payload request is not in yet
         self._lost: set[int] = set()  # agents whose process is gone (unscheduled, DDS discovery)
+        self._told_crashed: set[int] = set()  # agents sent a bundle saying their vehicle crashed
         self._started = False
         self._last_viz_ns = -(10**18)
         self._viz_period_ns = int(NS_PER_S / self.cfg.viz_rate_hz)
@@ -275,6 +282,9 @@ class WorldNode(Node):
         self._awaited_ns = result.stamp_ns
         if self.cfg.mode == "lockstep":
             self._waiting = set(self.world.awaited_uavs()) - self._offline(result.step) - self._lost
+            # every awaited agent sends exactly one PayloadRequest per step (ACTION_NONE if nothing):
+            # a request on its own topic may arrive after the command, so it is waited for too
+            self._waiting_payload = set(self._waiting)
             if not self._waiting:
                 self._advance_soon()
                 return
@@ -302,6 +312,7 @@ class WorldNode(Node):
         for i in gone:
             self._lost.add(i)
             self._waiting.discard(i)
+            self._waiting_payload.discard(i)
             self.get_logger().error(
                 f"step {self.world.step_index}: agent {i}'s process is gone (not in the fault schedule); "
                 "no longer waiting for it, so this run is not reproducible"
@@ -319,7 +330,11 @@ class WorldNode(Node):
                     detail="process gone from the DDS graph",
                 )
             )
-        if not self._waiting and not self.done.done():
+        self._maybe_advance()
+
+    def _maybe_advance(self) -> None:
+        """Step once every awaited agent's command and payload request of this step are in."""
+        if not self._waiting and not self._waiting_payload and not self.done.done():
             self._liveness_timer.cancel()
             self._advance()
 
@@ -333,9 +348,7 @@ class WorldNode(Node):
             return  # an old (or early) stamp is ignored
         self._commands[uid] = cmd if cmd.is_finite() else None
         self._waiting.discard(uid)
-        if not self._waiting and not self.done.done():
-            self._liveness_timer.cancel()
-            self._advance()
+        self._maybe_advance()
 
     def _on_payload(self, uid: int, msg: PayloadRequest) -> None:
         if msg.action not in tuple(PayloadAction):
@@ -343,9 +356,14 @@ class WorldNode(Node):
                 f"uav {uid}: unknown payload action {msg.action}", throttle_duration_sec=5.0
             )
             return
-        if self.cfg.mode == "lockstep" and stamp_to_ns(msg.header.stamp) != self._awaited_ns:
-            return
-        self._payload.setdefault(uid, []).append(int(msg.action))
+        if self.cfg.mode == "lockstep":
+            if not self._started or stamp_to_ns(msg.header.stamp) != self._awaited_ns:
+                return
+        if msg.action != PayloadAction.NONE:
+            self._payload.setdefault(uid, []).append(int(msg.action))
+        if self.cfg.mode == "lockstep":
+            self._waiting_payload.discard(uid)
+            self._maybe_advance()
 
     def _on_realtime_tick(self) -> None:
         if not self._started:
@@ -370,6 +388,20 @@ class WorldNode(Node):
         for uid, b in sorted(r.bundles.items()):
             if uid not in offline:  # an offline agent's computer reads no sensors
                 self.pub_sensors[uid].publish(self._bundle_msg(b))
+                if b.vehicle_status == VehicleStatus.CRASHED:
+                    self._told_crashed.add(uid)
+        # An agent whose vehicle fell while it was offline or silent gets one last bundle saying so,
+        # the first step it is online again: its final state tells the peers to stop waiting for it.
+        for v in r.vehicles:
+            if (
+                v.status == VehicleStatus.CRASHED
+                and v.uav_id not in self._told_crashed
+                and v.uav_id not in offline
+            ):
+                last = Bundle(v.uav_id, r.step, r.stamp_ns, self.world.control_period_s)
+                last.water_kg, last.vehicle_status = v.water_kg, int(VehicleStatus.CRASHED)
+                self.pub_sensors[v.uav_id].publish(self._bundle_msg(last))
+                self._told_crashed.add(v.uav_id)
         self.pub_truth.publish(self._truth_msg(r))
         for e in r.events:
             self.pub_events.publish(self._event_msg(e))
@@ -378,6 +410,7 @@ class WorldNode(Node):
         if r.stamp_ns - self._last_viz_ns >= self._viz_period_ns or r.complete:
             self._last_viz_ns = r.stamp_ns
             self.pub_viz.publish(self._markers(r))
+            self.pub_tf.publish(self._tf_msg(r))
             if isinstance(self.world.fires, RasterFireModel):
                 self.pub_grid.publish(self._grid_msg(r.stamp_ns))
 
@@ -496,44 +529,49 @@ class WorldNode(Node):
         )
 
     def _markers(self, r: StepResult) -> MarkerArray:
-        arr = MarkerArray()
+        """``/viz/world``: stable ids per UAV, fire and lake, DELETE for what is gone (:mod:`.viz`)."""
+        area = self.world.scenario.area
+        wanted = viz.world_markers(
+            r.vehicles,
+            r.fires,
+            self.world.scenario.lakes,
+            draw_fires=not isinstance(self.world.fires, RasterFireModel),
+            legend_xy_m=(area.x_min_m, area.y_max_m),
+        )
         hdr = self._hdr(r.stamp_ns)
-        mid = 0
-
-        def marker(ns: str, kind: int) -> Marker:
-            nonlocal mid
-            mid += 1
-            mk = Marker(header=hdr, ns=ns, id=mid, type=kind, action=Marker.ADD)
-            mk.pose.orientation.w = 1.0
-            return mk
-
-        for lake in self.world.scenario.lakes:
-            mk = marker("lakes", Marker.CYLINDER)
-            mk.pose.position = Point(x=lake.x_m, y=lake.y_m, z=0.0)
-            mk.scale.x = mk.scale.y = lake.diameter_m
-            mk.scale.z = 0.5
-            mk.color.b, mk.color.a = 1.0, 0.6
-            arr.markers.append(mk)
-        for v in r.vehicles:
-            mk = marker("vehicles", Marker.ARROW)
-            mk.pose.position = Point(x=float(v.x_m), y=float(v.y_m), z=float(v.z_m))
-            mk.pose.orientation.z = math.sin(v.yaw_rad / 2)
-            mk.pose.orientation.w = math.cos(v.yaw_rad / 2)
-            mk.scale.x, mk.scale.y, mk.scale.z = 15.0, 4.0, 4.0
-            crashed = v.status == VehicleStatus.CRASHED
-            mk.color.r, mk.color.g, mk.color.a = (1.0, 0.0, 1.0) if crashed else (0.1, 0.9, 1.0)
-            arr.markers.append(mk)
-        if not isinstance(self.world.fires, RasterFireModel):
-            for f in r.fires:
-                if f.status != FireStatus.ACTIVE or f.extent_m <= 0:
-                    continue
-                mk = marker("fires", Marker.CYLINDER)
-                mk.pose.position = Point(x=float(f.x_m), y=float(f.y_m), z=0.0)
-                mk.scale.x = mk.scale.y = 2.0 * float(f.extent_m)
-                mk.scale.z = 1.0
-                mk.color.r, mk.color.g, mk.color.a = 1.0, 0.3, 0.7
+        kinds = {
+            "arrow": Marker.ARROW,
+            "cylinder": Marker.CYLINDER,
+            "sphere": Marker.SPHERE,
+            "text": Marker.TEXT_VIEW_FACING,
+        }
+        arr = MarkerArray()
+        for spec in self._marker_book.frame(wanted):
+            mk = Marker(header=hdr, ns=spec.ns, id=spec.id)
+            if spec.action == "delete":
+                mk.action = Marker.DELETE
                 arr.markers.append(mk)
+                continue
+            mk.type, mk.action, mk.text = kinds[spec.kind], Marker.ADD, spec.text
+            mk.pose.position = Point(x=spec.x_m, y=spec.y_m, z=spec.z_m)
+            _, _, mk.pose.orientation.z, mk.pose.orientation.w = viz.yaw_quaternion(spec.yaw_rad)
+            mk.scale.x, mk.scale.y, mk.scale.z = spec.scale_m
+            mk.color.r, mk.color.g, mk.color.b, mk.color.a = spec.rgba
+            arr.markers.append(mk)
         return arr
+
+    def _tf_msg(self, r: StepResult) -> TFMessage:
+        """``/tf``: ``map -> uav_<k>`` from the truth (the frame of vehicle k's sensor headers)."""
+        msg = TFMessage()
+        for v in r.vehicles:
+            t = TransformStamped()
+            t.header = self._hdr(r.stamp_ns)
+            t.child_frame_id = f"uav_{v.uav_id}"
+            t.transform.translation.x, t.transform.translation.y = float(v.x_m), float(v.y_m)
+            t.transform.translation.z = float(v.z_m)
+            _, _, t.transform.rotation.z, t.transform.rotation.w = viz.yaw_quaternion(float(v.yaw_rad))
+            msg.transforms.append(t)
+        return msg
 
     def _grid_msg(self, ns: int) -> OccupancyGrid:
         fm = self.world.fires

@@ -152,6 +152,13 @@ def test_head_on_collision_crashes_both() -> None:
     # they met half way, x ~ 500 (both flew the same speed from 100 and 900)
     assert all(abs(e.x_m - 500.0) < 5.0 for e in crashes)
     assert all(v.status == Status.CRASHED for v in res[-1].vehicles)
+    # the bundle of the collision step tells each agent its vehicle fell; then no more bundles
+    k = next(i for i, r in enumerate(res) if any(e.type == EventType.CRASH for e in r.events))
+    assert (
+        res[k].bundles[0].vehicle_status == Status.CRASHED
+        and res[k].bundles[1].vehicle_status == Status.CRASHED
+    )
+    assert res[k + 1].bundles == {}
 
 
 def test_passing_pair_measures_closest_approach_without_crashing() -> None:

@@ -157,6 +157,13 @@ class Harness:
     def __post_init__(self) -> None:
         self.world = wsim.World(self.scenario, self.seed, self.uav_count)
         n = self.world.uav_count
+        if self.scenario.mission.prior_fires == "known" and "prior_fires" not in self.agent_options:
+            from fire_world_sim.dispatch import prior_fire_estimates  # the briefing, as the runner gives it
+
+            self.agent_options = {
+                **self.agent_options,
+                "prior_fires": tuple(prior_fire_estimates(self.scenario, self.world.seed)),
+            }
         self.agents = [
             Agent(
                 config_from_scenario(

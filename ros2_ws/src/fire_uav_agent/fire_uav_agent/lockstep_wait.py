@@ -1,0 +1,113 @@
+"""What an agent waits for before lockstep step k: every message its live peers sent at step k-1.
+
+docs/protocol.md "Lockstep". The wait has no wall-clock timeout, so it must know exactly which
+messages exist; it counts *physical* arrivals (the DDS transport is reliable), not what survives
+the injected loss: the seeded loss draw is applied afterwards, on receipt, by the peer link, so
+waiting for a message that the draw then drops changes nothing the agent decides.
+
+- Each peer's ``UavState`` of step k-1 carries ``sent_per_topic``: how many messages it sent at
+  that step on each peer topic (indexed by the topic's loss index, ``fire_uav_common.topics``).
+  The state message is published first; once it is in, the agent knows what else to wait for.
+- A peer is *live* at step s unless the fault schedule takes it offline at s
+  (``fire_uav_common.lockstep``), it sent a ``final`` state at an earlier step (its vehicle
+  crashed), or its process is gone (DDS graph, :meth:`PeerWait.mark_gone`: the only
+  wall-clock-dependent input, for unscheduled deaths).
+
+Every input is a step number or a message, so the set waited for, and so the fleet, is the same
+on an idle machine and a loaded one. ROS-free.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import dataclass, field
+
+from fire_uav_common.lockstep import OfflineWindow, offline_uavs
+from fire_uav_common.topics import FLEET_STATE_SPEC
+
+__all__ = ["PeerWait"]
+
+STATE_INDEX = FLEET_STATE_SPEC.loss_index
+
+
+@dataclass
+class PeerWait:
+    """Lockstep bookkeeping of one agent: which peer messages of which step have arrived."""
+
+    uav_id: int
+    uav_count: int
+    period_s: float
+    schedule: tuple[OfflineWindow, ...] = ()
+    _sent: dict[tuple[int, int], tuple[int, ...]] = field(default_factory=dict)  # (step, j) -> counts
+    _arrived: dict[tuple[int, int], dict[int, int]] = field(default_factory=lambda: defaultdict(dict))
+    _final_step: dict[int, int] = field(default_factory=dict)  # j -> step of its final state
+    _gone: set[int] = field(default_factory=set)
+
+    def __post_init__(self) -> None:
+        if not 0 <= self.uav_id < self.uav_count:
+            raise ValueError(f"uav_id {self.uav_id} outside 0..{self.uav_count - 1}")
+        if not self.period_s > 0:
+            raise ValueError(f"control period must be > 0 s, got {self.period_s}")
+
+    # --- inputs --------------------------------------------------------------------------------
+    def on_state(self, sender: int, step: int, sent_per_topic: tuple[int, ...], final: bool) -> None:
+        """A peer's UavState of ``step`` arrived (before any loss draw)."""
+        if not self._valid(sender, step):
+            return
+        self._sent[(step, sender)] = tuple(int(c) for c in sent_per_topic)
+        self.on_message(sender, step, STATE_INDEX)
+        if final:
+            self._final_step[sender] = min(step, self._final_step.get(sender, step))
+
+    def on_message(self, sender: int, step: int, loss_index: int) -> None:
+        """Any other peer message of ``step`` on the topic with ``loss_index`` arrived."""
+        if not self._valid(sender, step):
+            return
+        counts = self._arrived[(step, sender)]
+        counts[loss_index] = counts.get(loss_index, 0) + 1
+
+    def mark_gone(self, sender: int) -> None:
+        """The peer's process left the DDS graph (unscheduled death): stop waiting for it."""
+        self._gone.add(sender)
+
+    def prune(self, step: int) -> None:
+        """Forget bookkeeping of steps before ``step - 1`` (call after running ``step``)."""
+        for d in (self._sent, self._arrived):
+            for key in [k for k in d if k[0] < step - 1]:
+                del d[key]
+
+    # --- queries -------------------------------------------------------------------------------
+    def live_peers(self, step: int) -> list[int]:
+        """Peers that send messages at ``step``, in id order."""
+        off = offline_uavs(self.schedule, step, self.period_s)
+        return [
+            j
+            for j in range(self.uav_count)
+            if j != self.uav_id
+            and j not in off
+            and j not in self._gone
+            and not (j in self._final_step and self._final_step[j] < step)
+        ]
+
+    def missing(self, step: int) -> list[int]:
+        """Peers whose step-(``step`` - 1) messages are not all in yet (empty: run step ``step``)."""
+        if step < 1:
+            return []
+        prev = step - 1
+        out = []
+        for j in self.live_peers(prev):
+            sent = self._sent.get((prev, j))
+            if sent is None:
+                out.append(j)
+                continue
+            got = self._arrived.get((prev, j), {})
+            if any(got.get(t, 0) < n for t, n in enumerate(sent)):
+                out.append(j)
+        return out
+
+    def ready(self, step: int) -> bool:
+        """Whether every message the live peers sent at ``step - 1`` has arrived."""
+        return not self.missing(step)
+
+    def _valid(self, sender: int, step: int) -> bool:
+        return 0 <= sender < self.uav_count and sender != self.uav_id and step >= 0

@@ -1,0 +1,100 @@
+"""The lockstep wait: exactly the messages the live peers sent at step k-1, decided by steps only."""
+
+from __future__ import annotations
+
+import pytest
+from fire_uav_agent.lockstep_wait import PeerWait
+from fire_uav_common.lockstep import parse_schedule
+from fire_uav_common.topics import COVERAGE_MST_SPEC, FLEET_FIRES_SPEC, FLEET_PERIMETER_SPEC
+
+FIRES, PERIM, MST = FLEET_FIRES_SPEC.loss_index, FLEET_PERIMETER_SPEC.loss_index, COVERAGE_MST_SPEC.loss_index
+
+
+def sent(perimeter: int = 0, mst: int = 0) -> tuple[int, ...]:
+    c = [1, 1, perimeter, 0, 0, mst]
+    return tuple(c)
+
+
+def deliver(w: PeerWait, j: int, step: int, perimeter: int = 0, mst: int = 0, final: bool = False) -> None:
+    w.on_state(j, step, sent(perimeter, mst), final)
+    w.on_message(j, step, FIRES)
+    for _ in range(perimeter):
+        w.on_message(j, step, PERIM)
+    for _ in range(mst):
+        w.on_message(j, step, MST)
+
+
+def test_waits_for_every_live_peer_state_and_what_it_announces() -> None:
+    w = PeerWait(0, 3, 0.1)
+    assert w.ready(0)  # step 0 answers no peer
+    assert w.missing(5) == [1, 2]
+    w.on_state(1, 4, sent(perimeter=1, mst=2), False)
+    w.on_message(1, 4, FIRES)
+    assert w.missing(5) == [1, 2]  # 1 announced a perimeter map and two MST messages
+    w.on_message(1, 4, PERIM)
+    w.on_message(1, 4, MST)
+    assert w.missing(5) == [1, 2]
+    w.on_message(1, 4, MST)
+    assert w.missing(5) == [2]
+    deliver(w, 2, 4)
+    assert w.ready(5)
+    # messages of other steps do not count for step 5
+    w2 = PeerWait(0, 2, 0.1)
+    deliver(w2, 1, 3)
+    deliver(w2, 1, 5)
+    assert not w2.ready(5)
+
+
+def test_fires_before_state_is_counted_too() -> None:
+    w = PeerWait(1, 2, 0.1)
+    w.on_message(0, 7, FIRES)  # DDS delivers topics in any order
+    assert not w.ready(8)
+    w.on_state(0, 7, sent(), False)
+    assert w.ready(8)
+
+
+def test_scheduled_offline_peer_is_not_waited_for_in_its_window_only() -> None:
+    # peer 2 frozen from 1.0 s to 1.5 s: offline during steps 10..14 (0.1 s steps)
+    w = PeerWait(0, 3, 0.1, parse_schedule("2@1.0:1.5"))
+    for step in range(8, 17):
+        deliver(w, 1, step)
+    assert w.missing(10) == [2]  # step 9 messages: peer 2 still live at 9
+    for k in range(11, 16):
+        assert w.ready(k), k  # steps 10..14: only peer 1 sends
+    assert w.missing(16) == [2]  # step 15: back
+
+
+def test_killed_peer_is_never_waited_for_again() -> None:
+    w = PeerWait(0, 2, 0.25, parse_schedule("1@2.0"))  # offline from step 8
+    assert w.live_peers(7) == [1] and w.live_peers(8) == [] and w.live_peers(10**6) == []
+
+
+def test_final_state_ends_the_wait_for_that_peer() -> None:
+    w = PeerWait(0, 2, 0.1)
+    deliver(w, 1, 20, final=True)  # its vehicle crashed during step 20
+    assert w.ready(21)
+    assert w.live_peers(20) == [1] and w.live_peers(21) == []
+    assert w.ready(30)
+
+
+def test_gone_peer_and_pruning() -> None:
+    w = PeerWait(0, 3, 0.1)
+    deliver(w, 1, 4)
+    assert w.missing(5) == [2]
+    w.mark_gone(2)
+    assert w.ready(5)
+    w.prune(5)
+    assert w.ready(5)  # step 4 kept
+    w.prune(7)
+    assert not w.ready(5)  # step 4 forgotten
+
+
+def test_invalid_inputs() -> None:
+    with pytest.raises(ValueError, match="uav_id 3 outside 0..2"):
+        PeerWait(3, 3, 0.1)
+    with pytest.raises(ValueError, match="control period must be > 0"):
+        PeerWait(0, 3, 0.0)
+    w = PeerWait(0, 2, 0.1)
+    w.on_state(7, 1, sent(), False)  # unknown sender: ignored, not a crash
+    w.on_state(0, 1, sent(), False)  # itself: ignored
+    assert w.missing(2) == [1]

@@ -1,0 +1,189 @@
+"""Live bridge to Foxglove: every mission topic, raw CDR with its ros2msg schema, over Foxglove's
+WebSocket protocol (the official ``foxglove-sdk`` server).
+
+Parameters (all read once at start-up):
+- ``host`` ("127.0.0.1"), ``port`` (8765; 0 = any free port, logged): where the server listens.
+- ``topics`` (string[]): regular expressions; a topic is served if one matches it fully.
+  Default: every recorded topic of ``fire_uav_common.topics`` (``/tf`` and ``/tf_static`` too).
+- ``exclude`` (string[]): regular expressions of topics never served.
+- ``discovery_period_wall_s`` (0.5): how often the graph is polled for new topics [s, wall].
+- ``use_sim_time`` (true): the log time of each message is sim time (``/clock``) at receipt,
+  and the server broadcasts ``/clock`` as its time (the ``time`` capability), so Foxglove's
+  timeline is the mission's.
+
+Discovery, the QoS rule and the schema text are the recorder's
+(:mod:`fire_uav_recording.ros_io`): a Foxglove channel is announced with
+``message_encoding="cdr"`` and ``Schema(name="pkg/msg/Type", encoding="ros2msg", data=...)``,
+the same text the bag's schema record holds, and receives the subscription's bytes unchanged.
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+from dataclasses import dataclass
+
+import foxglove
+import rclpy
+from fire_uav_common import topics
+from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
+from rclpy.clock import Clock, ClockType
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+
+import fire_uav_recording as rec
+from fire_uav_recording.ros_io import RawTopic, RawTopicFollower, schema_text
+
+DEFAULT_TOPICS = topics.recorded_patterns()  # what the recorder records, /tf and /tf_static included
+
+
+class BridgeConfigError(ValueError):
+    """A bridge parameter is invalid (message names the parameter)."""
+
+
+@dataclass(frozen=True)
+class BridgeConfig:
+    host: str
+    port: int
+    include: tuple[re.Pattern[str], ...]
+    exclude: tuple[re.Pattern[str], ...]
+    discovery_period_wall_s: float
+
+    def wants(self, topic: str) -> bool:
+        """Whether ``topic`` is served (full-match an include pattern and no exclude pattern)."""
+        return any(p.fullmatch(topic) for p in self.include) and not any(
+            p.fullmatch(topic) for p in self.exclude
+        )
+
+
+def _compile(name: str, patterns: list[str]) -> tuple[re.Pattern[str], ...]:
+    out = []
+    for p in patterns:
+        try:
+            out.append(re.compile(p))
+        except re.error as err:
+            raise BridgeConfigError(f"parameter {name}: bad regular expression {p!r}: {err}") from None
+    return tuple(out)
+
+
+class FoxgloveBridgeNode(Node):
+    """Serves every wanted topic on a Foxglove WebSocket server, raw CDR, log time = sim time."""
+
+    def __init__(self) -> None:
+        super().__init__(
+            "foxglove_bridge",
+            parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)],
+        )
+        self.config = self._read_config()
+        self._typestore = rec.fleet_typestore()
+        self._channels: dict[str, foxglove.Channel] = {}
+        self.messages_sent = 0
+        try:
+            self.server = foxglove.start_server(
+                name="fire_uav",
+                host=self.config.host,
+                port=self.config.port,
+                capabilities=[foxglove.Capability.Time],
+                supported_encodings=["cdr"],
+            )
+        except Exception as err:  # the SDK raises its own error type for a port in use
+            raise BridgeConfigError(
+                f"parameters host/port: cannot listen on {self.config.host}:{self.config.port}: {err}"
+            ) from None
+        self._follower = RawTopicFollower(self, self.config.wants, self._typestore, self._on_topic)
+        wall = Clock(clock_type=ClockType.STEADY_TIME)
+        self._timer = self.create_timer(
+            self.config.discovery_period_wall_s, self._follower.discover, clock=wall
+        )
+        self.get_logger().info(f"Foxglove WebSocket server on ws://{self.config.host}:{self.server.port}")
+        self._follower.discover()
+
+    def _read_config(self) -> BridgeConfig:
+        ro = ParameterDescriptor(read_only=True)
+        self.declare_parameter("host", "127.0.0.1", ro)
+        self.declare_parameter(
+            "port",
+            8765,
+            ParameterDescriptor(read_only=True, integer_range=[IntegerRange(from_value=0, to_value=65535)]),
+        )
+        self.declare_parameter("topics", list(DEFAULT_TOPICS), ro)
+        self.declare_parameter("exclude", [""], ro)
+        self.declare_parameter("discovery_period_wall_s", 0.5, ro)
+        g = self.get_parameter
+        period = float(g("discovery_period_wall_s").value)
+        if not 0.01 <= period <= 60.0:
+            raise BridgeConfigError(
+                f"parameter discovery_period_wall_s: must be in [0.01, 60] s, got {period}"
+            )
+        host = str(g("host").value)
+        if not host:
+            raise BridgeConfigError("parameter host: empty (e.g. 127.0.0.1)")
+        include = [t for t in g("topics").value if t]
+        if not include:
+            raise BridgeConfigError("parameter topics: empty; nothing would be served")
+        return BridgeConfig(
+            host=host,
+            port=int(g("port").value),
+            include=_compile("topics", include),
+            exclude=_compile("exclude", [t for t in g("exclude").value if t]),
+            discovery_period_wall_s=period,
+        )
+
+    def _on_topic(self, topic: RawTopic):
+        try:
+            text = schema_text(self._typestore, topic.ros_type)
+        except rec.BagError as err:
+            self.get_logger().warning(f"not serving {topic.name}: {err}")
+            return None
+        channel = foxglove.Channel(
+            topic.name,
+            message_encoding="cdr",
+            schema=foxglove.Schema(name=topic.ros_type, encoding="ros2msg", data=text.encode()),
+            metadata={"topic_type_hash": self._typestore.hash_rihs01(topic.ros_type)},
+        )
+        self._channels[topic.name] = channel
+        is_clock = topic.name == topics.CLOCK_SPEC.name
+
+        def forward(data: bytes) -> None:
+            now_ns = self.get_clock().now().nanoseconds
+            channel.log(bytes(data), log_time=now_ns)
+            self.messages_sent += 1
+            if is_clock:
+                self.server.broadcast_time(now_ns)
+
+        return forward
+
+    def close(self) -> None:
+        """Stop the server (idempotent)."""
+        server, self.server = getattr(self, "server", None), None
+        if server is not None:
+            server.stop()
+
+
+def main(args: list[str] | None = None) -> int:
+    """Serve until SIGINT/SIGTERM; 0 on a clean stop, 1 on a bad parameter."""
+    rclpy.init(args=args)
+    node: FoxgloveBridgeNode | None = None
+    rc = 0
+    try:
+        node = FoxgloveBridgeNode()
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except BridgeConfigError as err:
+        rclpy.logging.get_logger("foxglove_bridge").error(str(err))
+        rc = 1
+    except Exception:  # a signal may shut the context down in the middle of a wait: that is a stop too
+        if rclpy.ok():
+            raise
+    finally:
+        if node is not None:
+            node.close()
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return rc
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,134 @@
+"""Live review: ``run_mission --foxglove`` serves the mission over Foxglove's WebSocket protocol.
+
+A client that speaks the protocol (subprotocol ``foxglove.sdk.v1``, the ``websockets`` package)
+connects while the mission runs, subscribes to ``/viz/world`` and ``/tf`` and decodes their
+binary message frames with the schemas the server announced, using ``mcap-ros2-support``'s
+decoder generator (independent of the rosbags code that wrote the schema text). The world runs
+in realtime mode, which needs no start-up handshake.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import os
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import time
+
+import pytest
+from mission_util import ROOT
+
+pytestmark = [pytest.mark.system, pytest.mark.slow]
+
+websockets = pytest.importorskip("websockets")
+from mcap_ros2._dynamic import generate_dynamic  # noqa: E402
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+async def _collect(port: int, want: set[str], per_topic: int, deadline: float) -> tuple[dict, dict]:
+    """(advertised channels by topic, decoded messages by topic) once each topic has per_topic."""
+    while True:
+        try:
+            ws = await websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"])
+            break
+        except OSError:
+            if time.monotonic() > deadline:
+                raise
+            await asyncio.sleep(0.5)
+    channels: dict[str, dict] = {}
+    subs: dict[int, str] = {}
+    decoders: dict[str, object] = {}
+    got: dict[str, list] = {t: [] for t in want}
+    times: dict[str, list[int]] = {t: [] for t in want}
+    async with ws:
+        assert ws.subprotocol == "foxglove.sdk.v1"
+        while time.monotonic() < deadline and any(len(v) < per_topic for v in got.values()):
+            try:
+                frame = await asyncio.wait_for(ws.recv(), timeout=1.0)
+            except asyncio.TimeoutError:
+                continue
+            if isinstance(frame, str):
+                msg = json.loads(frame)
+                if msg.get("op") == "advertise":
+                    new = []
+                    for ch in msg["channels"]:
+                        channels[ch["topic"]] = ch
+                        if ch["topic"] in want and ch["topic"] not in subs.values():
+                            sid = len(subs) + 1
+                            subs[sid] = ch["topic"]
+                            decoders[ch["topic"]] = generate_dynamic(ch["schemaName"], ch["schema"])[
+                                ch["schemaName"]
+                            ]
+                            new.append({"id": sid, "channelId": ch["id"]})
+                    if new:
+                        await ws.send(json.dumps({"op": "subscribe", "subscriptions": new}))
+                continue
+            if frame[0] != 0x01:  # 0x02: server time broadcast
+                continue
+            sid, log_time = struct.unpack_from("<IQ", frame, 1)
+            topic = subs.get(sid)
+            if topic is not None and len(got[topic]) < per_topic:
+                got[topic].append(decoders[topic](frame[13:]))
+                times[topic].append(log_time)
+    return channels, {"messages": got, "log_times": times}
+
+
+def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_path):
+    port = _free_port()
+    env = dict(ros_env)
+    env["PYTHONPATH"] = str(ROOT / "tools") + os.pathsep + env.get("PYTHONPATH", "")
+    env.pop("ROS_DOMAIN_ID", None)
+    cmd = [sys.executable, "-m", "fire_mission.runner", "tiny_test", "--mode", "realtime", "--rtf", "2",
+           "--max-duration", "60", "--foxglove", "--foxglove-port", str(port), "--out", str(tmp_path / "run"),
+           "--quiet", "--no-report"]  # fmt: skip
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        channels, got = asyncio.run(_collect(port, {"/viz/world", "/tf"}, 3, time.monotonic() + 120))
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            out, _ = proc.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, _ = proc.communicate()
+    msgs = got["messages"]
+    assert all(len(v) == 3 for v in msgs.values()), f"{ {k: len(v) for k, v in msgs.items()} }\n{out[-3000:]}"
+    for topic, ros_type in (
+        ("/viz/world", "visualization_msgs/msg/MarkerArray"),
+        ("/tf", "tf2_msgs/msg/TFMessage"),
+    ):
+        ch = channels[topic]
+        assert (ch["encoding"], ch["schemaName"], ch["schemaEncoding"]) == ("cdr", ros_type, "ros2msg")
+    # every mission topic is served, not only the two subscribed
+    assert {"/clock", "/world/truth", "/uav_0/sensors"} <= set(channels)
+    arr = msgs["/viz/world"][-1]
+    keys = {(m.ns, m.id) for m in arr.markers}
+    assert {("uav", 0), ("uav", 1)} <= keys and all(m.header.frame_id == "map" for m in arr.markers)
+    frames = {t.child_frame_id for m in msgs["/tf"] for t in m.transforms}
+    assert {"uav_0", "uav_1"} <= frames  # the world's truth frames
+    # log time is sim time (a mission starts at 0; wall-clock epoch would be > 1e18 ns)
+    t = got["log_times"]["/viz/world"]
+    assert all(0 <= x < 120 * 10**9 for x in t) and t == sorted(t)
+    stamp = arr.markers[0].header.stamp
+    assert abs(t[-1] - (stamp.sec * 10**9 + stamp.nanosec)) < 2 * 10**9
+    # the bag of the same run reads as rosbag2's own, every message through rclpy's deserializer
+    from fire_uav_recording.conformance import check_bag
+    from fire_uav_recording.ros_io import message_class
+    from rclpy.serialization import deserialize_message
+
+    classes: dict[str, type] = {}
+
+    def rclpy_deserialize(msgtype: str, data: bytes) -> object:
+        cls = classes.setdefault(msgtype, message_class(msgtype))
+        return deserialize_message(data, cls)
+
+    assert check_bag(tmp_path / "run" / "bag", deserialize=rclpy_deserialize) == []
