@@ -42,7 +42,7 @@ def _run(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
         (["fault_drill", "--outage", "0>0@1:2", "--uavs", "3"], "both ends must be distinct"),
         (["fault_drill", "--loss", "1.5"], "--loss expects a probability in \\[0, 1\\]"),
         (["fault_drill", "--uavs", "3", "--kill", "5@4"], "fault names uav 5, but the fleet is uavs 0..2"),
-        (["fault_drill", "--uavs", "0"], "--uavs must be >= 1"),
+        (["fault_drill", "--uavs", "-1"], "--uavs must be >= 0"),
         (["fault_drill", "--rtf", "-2"], "--rtf must be a positive number"),
         (["/nonexistent/x.yaml"], "scenario file not found: /nonexistent/x.yaml"),
     ],

@@ -347,6 +347,7 @@ def write_params(
         "scenario_file": str(scenario_path),
         "seed": seed,
         "uav_count": uav_count,
+        "no_fleet": uav_count == 0,
         "mode": args.mode,
         "real_time_factor": float(args.rtf),
     }
@@ -486,6 +487,10 @@ class Supervisor:
         self.summary.vehicles_landed = sum(1 for v in msg.vehicles if v.status == VehicleStatus.LANDED)
         for v in msg.vehicles:
             self.summary.water_kg[v.uav_id] = float(v.water_kg)
+        self.summary.add_truth(
+            stamp_to_s(msg.header.stamp),
+            [(float(f.area_m2), f.status == FireStatus.ACTIVE) for f in msg.fires],
+        )
         t = stamp_to_s(msg.header.stamp)
         while self.water_watch and self.water_watch[0][0] <= t + 1e-9:
             _, what, uav = self.water_watch.pop(0)
@@ -553,8 +558,10 @@ def run(args: argparse.Namespace) -> int:
     except ScenarioError as e:
         raise MissionError(str(e)) from None
     uav_count = args.uavs if args.uavs is not None else scenario.uavs.count
-    if uav_count < 1:
-        raise MissionError(f"--uavs must be >= 1, got {uav_count}")
+    if uav_count < 0:
+        raise MissionError(
+            f"--uavs must be >= 0 (0: the fire alone, the suppression baseline), got {uav_count}"
+        )
     for k in [*(x.uav for x in args.kill), *(x.uav for x in args.freeze), *(x.uav for x in args.stall)]:
         if not 0 <= k < uav_count:
             raise MissionError(f"fault names uav {k}, but the fleet is uavs 0..{uav_count - 1}")
@@ -584,7 +591,7 @@ def run(args: argparse.Namespace) -> int:
     os.environ["ROS_DOMAIN_ID"] = str(domain)
     # PYTHONHASHSEED: no set or dict of strings may change its order between two runs
     env = dict(os.environ, PYTHONUNBUFFERED="1", PYTHONHASHSEED="0", ROS_LOG_DIR=str(out / "ros_log"))
-    summary = LiveSummary(uav_count=uav_count)
+    summary = LiveSummary(uav_count=uav_count, raster=scenario.fires.model == "raster")
     summary.home_xy = {i: (p[0], p[1]) for i, p in enumerate(scenario.uav_start_poses(uav_count))}
     print(
         f"[run_mission] scenario {scenario.name} ({scenario_path}), {uav_count} UAVs, seed {seed}, "

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
 from fire_uav_common.constants import EventType
 
 #: events the agents publish on /fleet/events (stamped with the step they answer)
@@ -57,6 +58,33 @@ class LiveSummary:
     water_at_fault: dict[str, float] = field(default_factory=dict)  # fault text -> true water [kg]
     water_kg: dict[int, float] = field(default_factory=dict)  # uav -> true water now [kg]
     proc_stats: dict[str, object] = field(default_factory=dict)  # process name -> last ProcSample
+    raster: bool = False  # the scenario's fire model is the raster fire
+    area_t_s: list[float] = field(default_factory=list)  # [s] /world/truth stamps
+    area_m2: list[float] = field(default_factory=list)  # [m^2] burned area (sum over fires) at area_t_s
+    area_active: list[bool] = field(default_factory=list)  # any fire active at area_t_s
+
+    def add_truth(self, t_s: float, fires: list[tuple[float, bool]]) -> None:
+        """One /world/truth sample: ``fires`` as (area_m2, active) per fire."""
+        self.area_t_s.append(t_s)
+        self.area_m2.append(float(sum(a for a, _ in fires)))
+        self.area_active.append(any(on for _, on in fires))
+
+    def suppression(self) -> dict:
+        """hit_rate, burned_area_m2, contained_at_s, water (issue [suppression]), as the report
+        computes them from the bag (``fire_report.metrics``), from what the supervisor saw."""
+        from fire_report.metrics import containment_from_area, drop_outcomes
+
+        out = drop_outcomes(self.events, self.raster)
+        return {
+            "hit_rate": round(out["hit_rate"], 4) if out["hit_rate"] is not None else None,
+            "burned_area_m2": self.area_m2[-1] if self.area_m2 else None,
+            "contained_at_s": containment_from_area(
+                np.asarray(self.area_t_s), np.asarray(self.area_m2), np.asarray(self.area_active, dtype=bool)
+            ),
+            "water_released_kg": round(out["water_released_kg"], 1),
+            "water_on_burning_kg": round(out["water_on_burning_kg"], 1),
+        }
+
     # FF safety and life-cycle (from /world/truth): separation, collisions, landing at home
     min_separation_m: float = math.inf  # closest 3-D approach of two airborne vehicles [m]
     collisions: int = 0  # colliding pairs (the world crashes both)
@@ -209,6 +237,7 @@ class LiveSummary:
             "packets_received": sum(p[0] for p in self.packets.values()),
             "packets_lost": sum(p[1] for p in self.packets.values()),
             "packets_rejected": sum(p[2] for p in self.packets.values()),
+            **self.suppression(),
             "faults_injected": self.faults,
             "water_at_fault_kg": self.water_at_fault,
             "last_state_t_s": {str(k): round(v, 3) for k, v in sorted(self.last_state_t.items())},
@@ -288,6 +317,9 @@ def table(summary: dict) -> str:
             "packets received / lost / rejected",
             f"{summary['packets_received']} / {summary['packets_lost']} / {summary['packets_rejected']}",
         ),
+        ("hit rate", summary.get("hit_rate")),
+        ("burned area [m^2]", summary.get("burned_area_m2")),
+        ("contained at [s]", summary.get("contained_at_s")),
         ("faults injected", summary["faults_injected"]),
     ]
     w = max(len(k) for k, _ in rows)

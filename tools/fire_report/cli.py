@@ -17,6 +17,7 @@ def main(argv: list[str] | None = None) -> int:
         description="Metrics, figures and index.html for a recorded mission bag (no ROS needed).",
     )
     parser.add_argument("bag", help="rosbag2 directory (or .mcap file) written by the recorder")
+    parser.add_argument("--baseline", help="bag of the same scenario and seed with no fleet (--uavs 0)")
     parser.add_argument("-o", "--out", help="output directory (default: <bag>_report next to the bag)")
     parser.add_argument(
         "--strict",
@@ -29,7 +30,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         from fire_report.report import write_report
 
-        metrics = write_report(bag, out, salvage=not args.strict)
+        metrics = write_report(bag, out, salvage=not args.strict, baseline=args.baseline)
     except ReportError as err:
         sys.stderr.write(f"report: error: {err}\n")
         return 2

@@ -21,13 +21,17 @@ from fire_uav_common.topics import (
     CLOCK,
     FLEET_EVENTS,
     FLEET_FIRES,
+    FLEET_FRONT,
     FLEET_PERIMETER,
     FLEET_STATE,
+    VIZ_FIRE_GRID,
     WORLD_EVENTS,
     WORLD_TRUTH,
 )
 
 from fire_report.errors import ReportError
+
+FIRE_GRID_EVERY_S = 10.0  # [s] keep one /viz/fire_grid per this much sim time
 
 #: MissionEvent type -> its name in the report ("drop", "peer_crashed", ...)
 TYPE_NAMES: dict[int, str] = {int(e): e.name.lower() for e in EventType}
@@ -76,6 +80,11 @@ class Mission:
     perimeters: dict[tuple[int, int], dict[str, np.ndarray]] = field(default_factory=dict)
     world_events: list[Event] = field(default_factory=list)
     fleet_events: list[Event] = field(default_factory=list)
+    # raster fire (/viz/fire_grid), one per FIRE_GRID_EVERY_S: t [s], origin (x, y) [m], resolution [m],
+    # data (ny, nx) int8 as the world publishes it (unburned 0, wet 20, burnt 60, burning 100)
+    fire_grids: list[dict[str, Any]] = field(default_factory=list)
+    # per UAV (/fleet/front): list of {t, x (n,), y (n,), state (n,)} -- its shared front picture
+    fronts: dict[int, list[dict[str, Any]]] = field(default_factory=dict)
 
     @property
     def uav_ids(self) -> list[int]:
@@ -149,6 +158,7 @@ def _load(bag: bag_io.MissionBag, path: str) -> Mission:
     fest: dict[tuple[int, int], list[dict[str, Any]]] = defaultdict(list)
     perim: dict[tuple[int, int], list[dict[str, Any]]] = defaultdict(list)
     wanted = [CLOCK, FLEET_STATE, FLEET_FIRES, FLEET_PERIMETER, FLEET_EVENTS, WORLD_TRUTH, WORLD_EVENTS]
+    wanted += [VIZ_FIRE_GRID, FLEET_FRONT]
     t_min, t_max = math.inf, -math.inf
     for topic, t_ns, msg in bag.messages([t for t in wanted if t in mission.topics]):
         if topic == CLOCK:
@@ -210,6 +220,29 @@ def _load(bag: bag_io.MissionBag, path: str) -> Mission:
                     "t": t,
                     "center": (msg.center_x_m, msg.center_y_m),
                     "outer": np.asarray(msg.outer_distance_m, dtype=float),
+                }
+            )
+        elif topic == VIZ_FIRE_GRID:
+            t = _stamp_s(msg)
+            grids = mission.fire_grids
+            if not grids or t - grids[-1]["t"] >= FIRE_GRID_EVERY_S - 1e-6:
+                info = msg.info
+                grids.append(
+                    {
+                        "t": t,
+                        "origin": (float(info.origin.position.x), float(info.origin.position.y)),
+                        "resolution": float(info.resolution),
+                        "data": np.asarray(msg.data, dtype=np.int8).reshape(info.height, info.width),
+                    }
+                )
+        elif topic == FLEET_FRONT:
+            t = _stamp_s(msg)
+            mission.fronts.setdefault(int(msg.uav_id), []).append(
+                {
+                    "t": t,
+                    "x": np.asarray(msg.x_m, dtype=float),
+                    "y": np.asarray(msg.y_m, dtype=float),
+                    "state": np.asarray(msg.state, dtype=np.uint8),
                 }
             )
         elif topic in (WORLD_EVENTS, FLEET_EVENTS):

@@ -18,7 +18,14 @@ from matplotlib.colors import ListedColormap
 from fire_report.data import (
     Mission,
 )
-from fire_report.metrics import ekf_errors, perimeter_distance_error, voronoi_labels
+from fire_report.metrics import (
+    baseline_area,
+    burned_area_series,
+    ekf_errors,
+    perimeter_distance_error,
+    perimeter_distance_error_raster,
+    voronoi_labels,
+)
 
 Figure = tuple[str, str]
 DPI = 110
@@ -283,7 +290,8 @@ def fig_perimeter(mission: Mission, out: Path) -> list[Figure]:
         outer = p["outer"][-1]
         ang = (np.arange(outer.size) + 0.5) * 2 * np.pi / max(outer.size, 1)
         axp.plot(np.append(ang, ang[:1]), np.append(outer, outer[:1]), label=f"UAV {u} / fire {fid}")
-        e = perimeter_distance_error(mission, u, fid)
+        fn = perimeter_distance_error_raster if mission.fire_grids else perimeter_distance_error
+        e = fn(mission, u, fid)
         if e["t"].size:
             axe.plot(e["t"], e["error_m"], label=f"UAV {u} / fire {fid}")
     axp.set_title("last perimeter map: outer distance per bin [m]")
@@ -330,12 +338,86 @@ def fig_faults(mission: Mission, out: Path) -> list[Figure]:
     )
 
 
-ALL_FIGURES = (fig_voronoi, fig_tracks, fig_ekf, fig_fire_estimates, fig_drops, fig_perimeter, fig_faults)
+# --- raster suppression (issue [suppression]) -------------------------------------------------------
+GRID_COLORS = ListedColormap(["#f2efe6", "#8fc1e3", "#555555", "#ff6a00"])  # unburned, wet, burnt, burning
 
 
-def make_figures(mission: Mission, out: Path) -> list[Figure]:
+def _grid_index(data: np.ndarray) -> np.ndarray:
+    return np.select([data >= 100, data >= 60, data >= 20], [3, 2, 1], 0)
+
+
+def fig_raster_front(mission: Mission, out: Path) -> list[Figure]:
+    """FF Fig. 11 for a raster fire: the true grid at four times with the fleet's shared front
+    (/fleet/front), the drops so far (hit: filled, missed: open) and the UAVs' Voronoi cells."""
+    grids = mission.fire_grids
+    if not grids:
+        return []
+    picks = sorted({int(round(k)) for k in np.linspace(0, len(grids) - 1, 4)})
+    fig, axes = plt.subplots(1, len(picks), figsize=(4.2 * len(picks), 4.4), squeeze=False)
+    (x0, x1), (y0, y1) = _area(mission)
+    drops = [e for e in mission.world_events if e.type == EventType.DROP and e.value > 0]
+    for ax, k in zip(axes[0], picks, strict=True):
+        g = grids[k]
+        t = g["t"]
+        ny, nx = g["data"].shape
+        r = g["resolution"]
+        ox, oy = g["origin"]
+        ax.imshow(_grid_index(g["data"]), origin="lower", cmap=GRID_COLORS, vmin=0, vmax=3,
+                  extent=(ox, ox + nx * r, oy, oy + ny * r), interpolation="nearest")  # fmt: skip
+        pos = _positions_at(mission, t)
+        if pos:
+            sites = np.array(list(pos.values()))
+            xs, ys, lab = voronoi_labels(sites, (x0, x1), (y0, y1), max((x1 - x0) / 200, 2.0))
+            ax.contour(xs, ys, lab, levels=np.arange(len(sites)) + 0.5, colors="k", linewidths=0.5, alpha=0.6)
+            ax.plot(sites[:, 0], sites[:, 1], "^", color="navy", ms=5)
+        for _uav, rows in sorted(mission.fronts.items()):
+            before = [f for f in rows if f["t"] <= t]
+            if before:
+                f = before[-1]
+                on = f["state"] == 1  # FireCells.CELL_BURNING
+                ax.plot(f["x"][on], f["y"][on], ".", ms=1.5, color="magenta", alpha=0.6)
+        for e in drops:
+            if e.t_s <= t:
+                hit = e.fire_id >= 0
+                ax.plot(e.x_m, e.y_m, "o", ms=4, mfc="tab:blue" if hit else "none", mec="tab:blue", alpha=0.8)
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+        ax.set_aspect("equal")
+        ax.set_title(f"t = {t:.0f} s", fontsize=9)
+    return _save(
+        fig, out, "raster_front.png",
+        "Raster fire (grey burnt, orange burning, blue wet) with the fleet's shared front (magenta), drops "
+        "(filled: wet a burning cell) and the UAVs' Voronoi cells.",
+    )  # fmt: skip
+
+
+def fig_burned_area(mission: Mission, out: Path, baseline: Mission | None = None) -> list[Figure]:
+    """Burned area over time, against the no-fleet baseline bag when given (``--baseline``)."""
+    t, area, _ = burned_area_series(mission)
+    fires = mission.scenario.get("fires") if isinstance(mission.scenario, dict) else None
+    if t.size == 0 or not (isinstance(fires, dict) and fires.get("model") == "raster"):
+        return []
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(t, area / 1e4, color="tab:red", label=f"fleet ({len(mission.uav_ids)} UAVs)")
+    base = baseline_area(baseline)
+    if base is not None:
+        ax.plot(base["t_s"], base["area_m2"] / 1e4, "k--", label="no fleet (baseline)")
+    ax.set_xlabel("sim time [s]")
+    ax.set_ylabel("burned area [ha]")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    return _save(fig, out, "burned_area.png", "Burned area over time, with the fleet and with no fleet.")
+
+
+ALL_FIGURES = (
+    fig_voronoi, fig_tracks, fig_ekf, fig_fire_estimates, fig_drops, fig_perimeter, fig_faults,
+    fig_raster_front, fig_burned_area,
+)  # fmt: skip
+
+
+def make_figures(mission: Mission, out: Path, baseline: Mission | None = None) -> list[Figure]:
     """Write every figure the bag has data for into ``out``; return [(file, caption)]."""
     figs: list[Figure] = []
     for fn in ALL_FIGURES:
-        figs += fn(mission, out)
+        figs += fn(mission, out, baseline) if fn is fig_burned_area else fn(mission, out)
     return figs

@@ -9,10 +9,11 @@ counters from the last ``UavState`` of each UAV; EKF errors from ``UavState`` ma
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import numpy as np
-from fire_uav_common.constants import EventType
+from fire_uav_common.constants import EventType, FireStatus
 
 from fire_report.data import (
     Mission,
@@ -162,6 +163,7 @@ def compute_metrics(mission: Mission) -> dict[str, Any]:
         "link_outages_scheduled": outages,
         "ekf_error": ekf,
         "perimeter_distance_error_m": perimeter_errors(mission),
+        **suppression_metrics(mission),
         "event_counts": dict(sorted(event_counts.items())),
         "recorder_closed_cleanly": mission.custom_data.get("fire_uav.closed_cleanly") == "true",
         "warnings": list(mission.warnings),
@@ -197,7 +199,8 @@ def perimeter_errors(mission: Mission) -> dict[str, float]:
     """'uav/fire' -> mean perimeter distance error over the mission [m]."""
     out = {}
     for uav, fire in sorted(mission.perimeters):
-        e = perimeter_distance_error(mission, uav, fire)["error_m"]
+        fn = perimeter_distance_error_raster if mission.fire_grids else perimeter_distance_error
+        e = fn(mission, uav, fire)["error_m"]
         if e.size:
             out[f"{uav}/{fire}"] = float(e.mean())
     return out
@@ -217,3 +220,135 @@ def voronoi_labels(
     gx, gy = np.meshgrid(xs, ys)
     d2 = (gx[..., None] - sites_xy[:, 0]) ** 2 + (gy[..., None] - sites_xy[:, 1]) ** 2
     return xs, ys, np.argmin(d2, axis=-1)
+
+
+# --- suppression measures (issue [suppression]), recomputed from the bag ---------------------------
+CONTAINMENT_WINDOW_S = 60.0  # [s] as fire_world_sim.measures.CONTAINMENT_WINDOW_S
+_CELLS_BURNING = re.compile(r"(\d+) of (\d+) cells burning")
+
+
+def containment_from_area(t_s: np.ndarray, area_m2: np.ndarray, active: np.ndarray) -> float | None:
+    """Time to containment [s] from the burned-area history of ``/world/truth``, or None.
+
+    Same definition as the world's (``fire_world_sim.measures.Containment``), recomputed from
+    what the bag holds: the fire is contained at a sample t when no fire is active, or when the
+    burned area has not grown in (t - 60 s, t] (the area grows exactly when a cell ignites);
+    the result is the first sample from which that holds to the end. The world uses the cells'
+    exact ignition times; this uses the sample at which the area changed, so the two agree to
+    within the fire's propagation update (0.5 s). ``active``: any fire ACTIVE at each sample.
+    """
+    t = np.asarray(t_s, dtype=float)
+    a = np.asarray(area_m2, dtype=float)
+    on = np.asarray(active, dtype=bool)
+    if t.size == 0:
+        return None
+    grew = np.r_[True, np.diff(a) > 0]
+    last_growth = np.maximum.accumulate(np.where(grew, t, -np.inf))
+    quiet = ~on | (t - last_growth >= CONTAINMENT_WINDOW_S - 1e-9)
+    if not quiet[-1]:
+        return None
+    breaks = np.flatnonzero(~quiet)
+    first = int(breaks[-1]) + 1 if breaks.size else 0
+    return float(t[first])
+
+
+def drop_outcomes(events: list, is_raster: bool) -> dict[str, Any]:
+    """Hit rate and water on burning cells [kg] from ``/world/events`` DROP events.
+
+    A drop (value = kg released > 0) hits when it names a fire (``fire_id`` >= 0: it wet at
+    least one burning cell). Water on burning cells: raster drops carry "B of M cells burning"
+    in their detail (kg x B / M); an analytic hit counts its whole load.
+    """
+    drops = [e for e in events if e.type == EventType.DROP and e.value > 0]
+    hits = [e for e in drops if e.fire_id >= 0]
+    on = 0.0
+    for e in drops:
+        m = _CELLS_BURNING.search(e.detail)
+        if m and int(m.group(2)) > 0:
+            on += e.value * int(m.group(1)) / int(m.group(2))
+        elif not is_raster and e.fire_id >= 0:
+            on += e.value
+    return {
+        "drops": len(drops),
+        "hits": len(hits),
+        "hit_rate": len(hits) / len(drops) if drops else None,
+        "water_released_kg": float(sum(e.value for e in drops)),
+        "water_on_burning_kg": on,
+    }
+
+
+def burned_area_series(mission: Mission) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(t [s], burned area [m^2] summed over fires, any fire active) per ``/world/truth`` sample."""
+    fires = [f for f in mission.truth_fires.values() if f]
+    if not fires:
+        return np.zeros(0), np.zeros(0), np.zeros(0, dtype=bool)
+    t = np.unique(np.concatenate([f["t"] for f in fires]))
+    area = np.zeros(t.size)
+    active = np.zeros(t.size, dtype=bool)
+    for f in fires:
+        idx = np.clip(np.searchsorted(f["t"], t, side="right") - 1, 0, f["t"].size - 1)
+        seen = t >= f["t"][0]
+        area += np.where(seen, f["area"][idx], 0.0)
+        active |= seen & (f["status"][idx] == FireStatus.ACTIVE)
+    return t, area, active
+
+
+def suppression_metrics(mission: Mission) -> dict[str, Any]:
+    """hit_rate, burned_area_m2, contained_at_s (+ drops, water) from the bag, any fire model."""
+    fires = mission.scenario.get("fires") if isinstance(mission.scenario, dict) else None
+    is_raster = isinstance(fires, dict) and fires.get("model") == "raster"
+    t, area, active = burned_area_series(mission)
+    out = drop_outcomes(mission.world_events, is_raster)
+    out["burned_area_m2"] = float(area[-1]) if area.size else None
+    out["contained_at_s"] = containment_from_area(t, area, active)
+    return out
+
+
+def baseline_area(baseline: Mission | None) -> dict[str, Any] | None:
+    """Burned area [m^2] over time of a baseline mission (the same scenario and seed recorded with
+    ``scripts/run_mission SCENARIO --uavs 0``: the fire alone), or None without one."""
+    if baseline is None:
+        return None
+    t, area, _ = burned_area_series(baseline)
+    return {"t_s": t, "area_m2": area} if t.size else None
+
+
+def true_outer_distance(grid: dict[str, Any], center_xy: tuple[float, float], bins: int) -> np.ndarray:
+    """Per angle bin around ``center_xy``, the farthest burnt or burning cell of a /viz/fire_grid [m]
+    (PM's true perimeter for the distance-error metric); NaN where the bin has no such cell."""
+    data = grid["data"]
+    i, j = np.nonzero(data >= 60)  # burnt (60) or burning (100)
+    out = np.full(bins, np.nan)
+    if i.size == 0:
+        return out
+    res = grid["resolution"]
+    x = grid["origin"][0] + (j + 0.5) * res - center_xy[0]
+    y = grid["origin"][1] + (i + 0.5) * res - center_xy[1]
+    b = (np.floor(np.mod(np.arctan2(y, x), 2 * np.pi) / (2 * np.pi) * bins).astype(int)) % bins
+    d = np.hypot(x, y)
+    np.fmax.at(out, b, d)
+    return out
+
+
+def perimeter_distance_error_raster(mission: Mission, uav: int, fire: int) -> dict[str, np.ndarray]:
+    """PM distance error [m] per PerimeterMap against the true raster perimeter (/viz/fire_grid).
+
+    Mean over the bins known on both sides of |outer distance - true outer distance|, the true
+    one from the fire grid nearest in time (kept every 10 s) around the map's own centre. The
+    fleet's fire ids are not the world's, so no id matching is needed here.
+    """
+    per = mission.perimeters.get((uav, fire))
+    grids = mission.fire_grids
+    if not per or not grids:
+        return {"t": np.zeros(0), "error_m": np.zeros(0)}
+    gt = np.asarray([g["t"] for g in grids])
+    ts, errs = [], []
+    for k in range(per["t"].size):
+        g = grids[int(np.argmin(np.abs(gt - per["t"][k])))]
+        outer = per["outer"][k]
+        true = true_outer_distance(g, tuple(per["center"][k]), outer.size)
+        e = np.abs(outer - true)
+        if np.isfinite(e).any():
+            ts.append(per["t"][k])
+            errs.append(float(np.nanmean(e)))
+    return {"t": np.asarray(ts), "error_m": np.asarray(errs)}

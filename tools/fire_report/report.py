@@ -34,6 +34,10 @@ SUMMARY_KEYS = (
     "packets_lost_total",
     "packets_rejected_total",
     "perimeter_distance_error_m",
+    "hit_rate",
+    "burned_area_m2",
+    "contained_at_s",
+    "water_on_burning_kg",
 )
 
 
@@ -87,16 +91,26 @@ figure{{margin:1.5em 0}}img{{max-width:100%}}figcaption{{color:#444}}.warn{{colo
 """
 
 
-def write_report(bag: str | Path, out_dir: str | Path, *, salvage: bool = True) -> dict[str, Any]:
-    """Read ``bag`` and write metrics.json, the PNG figures and index.html into ``out_dir``."""
+def write_report(
+    bag: str | Path, out_dir: str | Path, *, salvage: bool = True, baseline: str | Path | None = None
+) -> dict[str, Any]:
+    """Read ``bag`` and write metrics.json, the PNG figures and index.html into ``out_dir``.
+
+    ``baseline``: a bag of the same scenario and seed with no fleet (``--uavs 0``) for the
+    burned-area comparison (``baseline_burned_area_m2`` and the figure)."""
     mission = load_mission(bag, salvage=salvage)
+    base = load_mission(baseline, salvage=salvage) if baseline is not None else None
     out = Path(out_dir)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:
         raise ReportError(f"{out}: cannot create the output directory: {err.strerror}") from None
     metrics = compute_metrics(mission)
-    figures = make_figures(mission, out)
+    if base is not None:
+        from fire_report.metrics import suppression_metrics
+
+        metrics["baseline_burned_area_m2"] = suppression_metrics(base)["burned_area_m2"]
+    figures = make_figures(mission, out, base)
     sections = make_sections(mission, out, salvage=salvage)
     metrics["figures"] = [name for name, _ in figures] + [name for s in sections for name, _ in s.figures]
     metrics["sections"] = {s.key: s.metrics for s in sections}

@@ -91,6 +91,7 @@ class AgentConfig:
     monitor_circling: bool = False  # monitors circle (PM VI-E baseline) instead of importance-based
     monitor_alpha: float = 1.0  # PM Eq. 7 heterogeneity-adjusting factor
     perimeter_every_steps: int = 10  # publish the monitor's PerimeterMap every n steps (~1 Hz)
+    front_every_steps: int = 10  # raster: publish the front picture (FireFront) every n steps (~1 Hz)
 
     def __post_init__(self) -> None:
         if not 0 <= self.uav_id < self.uav_count:

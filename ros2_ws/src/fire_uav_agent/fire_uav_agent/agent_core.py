@@ -36,19 +36,22 @@ from dataclasses import dataclass
 import numpy as np
 from fire_uav_common.constants import EventType, Objective, PayloadAction, VehicleStatus
 from fire_uav_common.terrain import Lake
-from fire_uav_common.topics import FLEET_PERIMETER_SPEC
+from fire_uav_common.topics import FLEET_FRONT_SPEC, FLEET_PERIMETER_SPEC
 
 from .agent_config import AgentConfig, GuidanceConfig, config_from_scenario
 from .agent_types import AgentEvent, Bundle, MarkersData, OwnState, PeerPerimeter, StepOutput
 from .consensus import ConsensusConfig, FireConsensus
 from .coverage import control_law, gaussian_density, make_grid, mass_centroid, own_cell
 from .estimation import EkfConfig, StateEkf
+from .fire_front import FrontConfig, FrontPicture
+from .front_consensus import FrontSharing, PeerFront
 from .mission import Decision, Mission, MissionConfig, MissionView
 from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
 from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
 from .separation import Avoider
 from .staleness_search import StalenessSearch
+from .tactics import TacticConfig, aim_on_front, front_density, front_weights, release_now
 
 __all__ = [
     "Agent",
@@ -164,6 +167,14 @@ class Agent:
         self._centroid = (cfg.start_pose[0], cfg.start_pose[1])
         self._cell = np.ones(self.grid.points.shape[0], dtype=bool)
         self._start_xy = np.array(cfg.start_pose[:2], dtype=float)
+        # raster suppression (issue [suppression]): front picture, sharing, tactic
+        self.front: FrontPicture | None = None  # made at the first FireCells with a cell size
+        self.front_sharing = FrontSharing()
+        self.tactic = TacticConfig(tactic=cfg.mission.tactic, release_radius_m=0.8 * cfg.drop_radius_m)
+        self._peer_fronts: list[PeerFront] = []
+        self._front_aim: tuple[float, float] | None = None
+        self._anchor: tuple[float, float] | None = None
+        self.fronts_received = 0
         self._peer_motion: dict[int, tuple[int, float, float, float, float]] = {}  # j -> step, x, y, vx, vy
         self.avoidance_steps = 0  # control steps the separation filter changed the heading
         self.avoider = Avoider(cfg.separation)
@@ -189,7 +200,7 @@ class Agent:
     def step(
         self,
         bundle: Bundle,
-        inbox: Iterable[PeerState | PeerFires | PeerPerimeter] = (),
+        inbox: Iterable[PeerState | PeerFires | PeerPerimeter | PeerFront] = (),
         want_markers: bool = False,
     ) -> StepOutput | None:
         """Run control step ``bundle.step``; None if a newer bundle was already processed."""
@@ -223,7 +234,10 @@ class Agent:
         return self.ekf.s.copy()
 
     def _link(
-        self, step: int, inbox: Iterable[PeerState | PeerFires | PeerPerimeter], events: list[AgentEvent]
+        self,
+        step: int,
+        inbox: Iterable[PeerState | PeerFires | PeerPerimeter | PeerFront],
+        events: list[AgentEvent],
     ) -> list[PeerPerimeter]:
         """Stage 2, FF IV-B/IV-C: peer bookkeeping of the messages received since the last step.
 
@@ -248,6 +262,11 @@ class Agent:
                     self.perimeter_lost += 1
                     continue
                 perimeters.append(m)
+            elif isinstance(m, PeerFront):
+                if m.uav_id == cfg.uav_id or not 0 <= m.uav_id < cfg.uav_count:
+                    continue
+                if not self.link.is_lost(m.uav_id, m.step, FLEET_FRONT_SPEC.loss_index):
+                    self._peer_fronts.append(m)
             else:
                 self.link.receive_fires(m)
         if step >= 1:
@@ -275,6 +294,7 @@ class Agent:
         new_ids = self.fires.fuse(self.link.alive_fires(), t1)
         det = bundle.fires if vehicle == VehicleStatus.AIRBORNE else np.zeros((0, 4))
         new_ids += self.fires.observe(det, (float(s[0]), float(s[1])), t1)
+        self._fuse_front(bundle, vehicle, t1)
         for fid in new_ids:
             tr = self.fires.tracks.get(fid)
             if tr is not None and fid >> 16 == cfg.uav_id:
@@ -341,6 +361,9 @@ class Agent:
         monitor_fire = self.monitor_assigner(pview) if self.monitor_assigner is not None else -1
         prev_obj = self.mission.objective
         aim = self._aim(active)
+        release = None
+        if self.front is not None:
+            aim, release = self._target_front(bundle, s, aim)
         dec = self.mission.step(
             MissionView(
                 t_s=t1,
@@ -354,6 +377,7 @@ class Agent:
                 centroid_xy=self._centroid,
                 target_fire_id=target_fire,
                 monitor_fire_id=monitor_fire,
+                release=release,
             )
         )
         if dec.request == PayloadAction.DROP and dec.target_fire_id >= 0:
@@ -436,6 +460,7 @@ class Agent:
             markers=self._markers(dec) if want_markers else None,
             direct=dec.direct,
             perimeter=perimeter,
+            front=self._front_message(bundle),
         )
 
     def _guide(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray) -> tuple[float, float, float]:
@@ -463,7 +488,9 @@ class Agent:
         target: tuple[float, float]
         if obj == Objective.SUPPRESS and active:
             tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
-            if dec.direct:
+            if self._front_aim is not None:  # raster: the aim point on the front (tactics)
+                target = self._front_aim
+            elif dec.direct:
                 target = (tgt.x_m, tgt.y_m)
             else:
                 dens = gaussian_density(
@@ -526,6 +553,8 @@ class Agent:
             if plan.height_m is not None:
                 height = plan.height_m
             v_cap = plan.speed_cap_mps
+        if self.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
+            height = self.tactic.layer_height_m(cfg.uav_id, veh.flight_height_m)
         self._centroid = target
         cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
         return self._separate(s, cmd, target, pview) if cfg.avoidance else cmd
@@ -640,6 +669,72 @@ class Agent:
             if e.fire_id in self._fronts else e
             for e in active
         )  # fmt: skip
+
+    # --- raster suppression (issue [suppression]; fire_front, front_consensus, tactics) ---------
+    def _fuse_front(self, bundle: Bundle, vehicle: VehicleStatus, t_s: float) -> None:
+        """Own FireCells (airborne) and the peers' shared fronts into this UAV's front picture."""
+        if self.front is None and bundle.cell_size_m > 0:
+            self.front = FrontPicture(FrontConfig(self.cfg.area_m, float(bundle.cell_size_m)))
+        if self.front is None:
+            self._peer_fronts.clear()
+            return
+        if vehicle == VehicleStatus.AIRBORNE and bundle.cells is not None:
+            self.front.observe(*bundle.cells, t_s)
+        for pf in self._peer_fronts:
+            try:
+                self.front.merge(pf.cells)
+                self.fronts_received += 1
+            except ValueError:
+                pass  # malformed peer message: ignored
+        self._peer_fronts.clear()
+
+    def _target_front(
+        self, bundle: Bundle, s: np.ndarray, aim: tuple[FireEntry, ...]
+    ) -> tuple[tuple[FireEntry, ...], bool | None]:
+        """Aim point on the front (Eq. 13' density, Lloyd centroid in the own cell, tactics) and the
+        release verdict. The active fire nearest the aim point is re-centred there (extent 0)."""
+        assert self.front is not None
+        self._front_aim = None
+        front = self.front.front(bundle.stamp_s)
+        if len(front) == 0 or not aim:
+            return aim, None if not aim else False
+        if self.tactic.tactic == "flank" and self._anchor is None:
+            from .tactics import choose_anchor
+
+            self._anchor = choose_anchor(front)
+        w = front_weights(front, self.tactic, self._anchor)
+        dens = front_density(self.grid, front, w, self.tactic.sigma_m)
+        _, c = mass_centroid(self.grid.points, dens, self._cell, self.grid.cell_area_m2)
+        res = self.grid.resolution_m
+        ny, nx = self.grid.shape
+        gj = np.clip(np.floor((front.x_m - self.grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
+        gi = np.clip(np.floor((front.y_m - self.grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
+        in_cell = self._cell[gi * nx + gj]
+        near = (float(s[0]), float(s[1])) if c is None else (float(c[0]), float(c[1]))
+        xy = aim_on_front(near, front, w, in_cell)
+        if xy is None:
+            return aim, False
+        self._front_aim = xy
+        k = min(range(len(aim)), key=lambda n: math.hypot(aim[n].x_m - xy[0], aim[n].y_m - xy[1]))
+        aim = tuple(
+            dataclasses.replace(e, x_m=xy[0], y_m=xy[1], extent_m=0.0) if n == k else e
+            for n, e in enumerate(aim)
+        )
+        speed = max(self.cfg.limits.v_stall_mps, float(self.last_command[0]))
+        ok = release_now(
+            bundle.cells,
+            (float(s[0]), float(s[1])),
+            float(s[3]),
+            speed * self.cfg.control_period_s,
+            self.tactic,
+        )
+        return aim, ok
+
+    def _front_message(self, bundle: Bundle):
+        """This step's FireFront payload (every ``front_every_steps`` steps), or None."""
+        if self.front is None or bundle.step % max(1, self.cfg.front_every_steps) != 0:
+            return None
+        return self.front_sharing.message(self.front, bundle.stamp_s)
 
     # --- helpers --------------------------------------------------------------------------------
     def _nearest_lake(self, pos: np.ndarray) -> Lake | None:

@@ -21,6 +21,7 @@ from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_st
 from fire_uav_msgs.msg import (
     FireEstimate,
     FireEstimateArray,
+    FireFront,
     MissionEvent,
     PayloadRequest,
     PerimeterMap,
@@ -39,6 +40,8 @@ from .agent_config import AgentConfig, config_from_scenario
 from .agent_core import Agent
 from .agent_types import Bundle, PeerPerimeter, StepOutput
 from .estimation import Samples
+from .fire_front import FrontCells
+from .front_consensus import PeerFront
 from .lockstep_wait import PeerWait
 from .peer_link import FireEntry, Outage, PeerFires, PeerState
 from .search_io import attach_search
@@ -104,6 +107,40 @@ def _from_perimeter(out: StepOutput, stamp: TimeMsg, seq: int) -> PerimeterMap |
     m.spread_rate_mps = s["spread_rate_mps"].astype(np.float32).tolist()
     m.importance = s["importance"].astype(np.float32).tolist()
     m.direction, m.direction_changes = int(s["direction"]), int(s["direction_changes"])
+    return m
+
+
+def _to_peer_front(m: FireFront, control_period_s: float) -> PeerFront:
+    """A peer's FireFront; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
+    state = (
+        np.frombuffer(bytes(m.state), dtype=np.uint8)
+        if isinstance(m.state, (bytes, bytearray))
+        else np.asarray(m.state, dtype=np.uint8)
+    )
+    cells = FrontCells(
+        np.asarray(m.x_m, dtype=float),
+        np.asarray(m.y_m, dtype=float),
+        state.astype(np.int64),
+        np.asarray(m.observed_s, dtype=float),
+        np.asarray(m.spread_rate_mps, dtype=float),
+    )  # raises ValueError on unequal lengths: the caller drops the message
+    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
+    return PeerFront(int(m.uav_id), int(m.sequence), step, cells)
+
+
+def _from_front(out: StepOutput, stamp: TimeMsg, seq: int, cell_size_m: float) -> FireFront | None:
+    c = out.front
+    if not isinstance(c, FrontCells):
+        return None
+    m = FireFront()
+    m.header.stamp = stamp
+    m.header.frame_id = "map"
+    m.uav_id, m.sequence, m.cell_size_m = out.state.uav_id, seq, float(cell_size_m)
+    m.x_m = np.asarray(c.x_m, dtype=np.float32).tolist()
+    m.y_m = np.asarray(c.y_m, dtype=np.float32).tolist()
+    m.state = np.asarray(c.state, dtype=np.uint8).tobytes()
+    m.observed_s = np.asarray(c.t_obs_s, dtype=float).tolist()
+    m.spread_rate_mps = np.asarray(c.ros_mps, dtype=np.float32).tolist()
     return m
 
 
@@ -291,6 +328,9 @@ class UavAgentNode(Node):
         self.pub_perimeter = topics.publisher(self, topics.FLEET_PERIMETER_SPEC)
         self._perimeter_seq = 0
         self.sub_perimeter = topics.subscription(self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter)
+        self.pub_front = topics.publisher(self, topics.FLEET_FRONT_SPEC)
+        self._front_seq = 0
+        self.sub_front = topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front)
         self.sub_sensors = topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own)
         self.sub_state = topics.subscription(self, topics.FLEET_STATE_SPEC, self._on_state)
         self.sub_fires = topics.subscription(self, topics.FLEET_FIRES_SPEC, self._on_fires)
@@ -388,6 +428,19 @@ class UavAgentNode(Node):
         pm = _to_peer_perimeter(msg, self.cfg.control_period_s)
         self.wait.on_message(pm.uav_id, pm.step, topics.FLEET_PERIMETER_SPEC.loss_index)
         self._inbox.append(pm)
+        self._maybe_run()
+
+    def _on_front(self, msg: FireFront) -> None:
+        if msg.uav_id == self.cfg.uav_id:
+            return
+        step = stamp_to_step(stamp_to_ns(msg.header.stamp), s_to_ns(self.cfg.control_period_s))
+        self.wait.on_message(int(msg.uav_id), step, topics.FLEET_FRONT_SPEC.loss_index)  # it arrived
+        try:
+            self._inbox.append(_to_peer_front(msg, self.cfg.control_period_s))
+        except ValueError as err:  # malformed: counted as arrived, its content dropped
+            self.get_logger().warning(
+                f"FireFront from uav {msg.uav_id} dropped: {err}", throttle_duration_sec=5.0
+            )
         self._maybe_run()
 
     def _on_fires(self, msg: FireEstimateArray) -> None:
@@ -530,6 +583,11 @@ class UavAgentNode(Node):
         sent[topics.FLEET_STATE_SPEC.loss_index] = 1
         sent[topics.FLEET_FIRES_SPEC.loss_index] = 1
         sent[topics.FLEET_PERIMETER_SPEC.loss_index] = int(pm is not None)
+        fm = None
+        if out.front is not None and self.agent.front is not None:
+            self._front_seq += 1
+            fm = _from_front(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
+        sent[topics.FLEET_FRONT_SPEC.loss_index] = int(fm is not None)
         if self.search_link is not None:
             for index, n in self.search_link.counts(coverage).items():
                 sent[index] = n
@@ -551,6 +609,8 @@ class UavAgentNode(Node):
                 self.get_logger().debug(f"step {out.step}: {what}", throttle_duration_sec=2.0)
         if pm is not None:
             self.pub_perimeter.publish(pm)
+        if fm is not None:
+            self.pub_front.publish(fm)
         if self.search_link is not None:
             self.search_link.publish(coverage)
             plan = self.search_link.plan_marker(stamp)

@@ -108,3 +108,4 @@ class StepOutput:
     markers: MarkersData | None
     direct: bool  # attack run / stalled-refill mode in effect
     perimeter: tuple[int, dict] | None = None  # (fire_id, PerimeterMap fields) to publish this step
+    front: object | None = None  # fire_front.FrontCells to publish on /fleet/front this step

@@ -78,6 +78,7 @@ class MissionView:
     centroid_xy: tuple[float, float] | None
     target_fire_id: int = -1  # the fire dominating this agent's cell (from coverage)
     monitor_fire_id: int = -1  # a MONITOR planner's assignment, -1 for none
+    release: bool | None = None  # raster: the release rule's verdict (tactics); None: the distance rule
 
 
 @dataclass(frozen=True)
@@ -195,7 +196,7 @@ class Mission:
                     direct = True
             if tgt is not None and v.water_kg > 0:
                 d = math.hypot(tgt.x_m - v.pos_xy[0], tgt.y_m - v.pos_xy[1])
-                if d <= self.cfg.min_drop_radius_m:
+                if (d <= self.cfg.min_drop_radius_m) if v.release is None else v.release:
                     request = PayloadAction.DROP
                     self.drops += 1
                     self._set(Objective.REFILL, v.t_s)

@@ -283,6 +283,7 @@ class Mission:
     safety_radius_m: float = 10.0
     monitors_per_fire: int = 0
     search_first: bool = False
+    tactic: str = "head"  # raster suppression: head | flank (TACTICS; fire_uav_agent.tactics)
     prior_fires: str = "unknown"  # known: agents start with noisy estimates of every fire (FF III-C, IV-D c)
     prior_position_sigma_m: float = 10.0  # [m] noise of a known fire's initial centre estimate
     prior_extent_sigma_fraction: float = 0.2  # [-] relative noise of a known fire's initial extent
@@ -740,6 +741,7 @@ def _mission(ctx: _Ctx, raw: Any) -> Mission:
         safety_radius_m=_num(ctx, d, "safety_radius_m", p, m.safety_radius_m, ge=0),
         monitors_per_fire=_int(ctx, d, "monitors_per_fire", p, m.monitors_per_fire, ge=0),
         search_first=_bool(ctx, d, "search_first", p, m.search_first),
+        tactic=_tactic(ctx, d, p, m.tactic),
         prior_fires=_prior_fires(ctx, d, p, m.prior_fires),
         prior_position_sigma_m=_num(ctx, d, "prior_position_sigma_m", p, m.prior_position_sigma_m, ge=0),
         prior_extent_sigma_fraction=_num(
@@ -755,6 +757,17 @@ def _prior_fires(ctx: _Ctx, d: dict, path: str, default: str) -> str:
             _join(path, "prior_fires"), f"must be one of {', '.join(PRIOR_FIRES_MODES)}, got {v!r}"
         )
     return v
+
+
+#: ``mission.tactic`` values: head attack (fastest front first) or flank attack from an anchor
+TACTICS = ("head", "flank")
+
+
+def _tactic(ctx: _Ctx, d: dict, p: str, default: str) -> str:
+    t = _str(ctx, d, "tactic", p, default)
+    if t not in TACTICS:
+        raise ctx.fail(f"{p}.tactic", f"must be one of {list(TACTICS)}, got {t!r}")
+    return t
 
 
 _TOP = {

@@ -160,6 +160,8 @@ COVERAGE_WEIGHTS_SPEC = TopicSpec("/fleet/coverage/weights", "fire_uav_msgs/msg/
 COVERAGE_CANDIDATES_SPEC = TopicSpec("/fleet/coverage/candidates", "fire_uav_msgs/msg/CoverageCandidate",
                                      "fleet", loss_index=4)  # fmt: skip
 COVERAGE_MST_SPEC = TopicSpec("/fleet/coverage/mst", "fire_uav_msgs/msg/MstFragment", "fleet", loss_index=5)
+FLEET_FRONT_SPEC = TopicSpec("/fleet/front", "fire_uav_msgs/msg/FireFront", "fleet", loss_index=6,
+                             doc="raster fire front pictures (issue [suppression])")  # fmt: skip
 # world, absolute (agents never subscribe to these)
 WORLD_TRUTH_SPEC = TopicSpec("/world/truth", "fire_uav_msgs/msg/WorldTruth", "truth", doc="world -> recorder")
 WORLD_EVENTS_SPEC = TopicSpec("/world/events", "fire_uav_msgs/msg/MissionEvent", "events")
@@ -176,6 +178,7 @@ ALL_TOPICS: tuple[TopicSpec, ...] = (
     FLEET_STATE_SPEC, FLEET_FIRES_SPEC, FLEET_PERIMETER_SPEC, FLEET_EVENTS_SPEC,
     COVERAGE_WEIGHTS_SPEC, COVERAGE_CANDIDATES_SPEC, COVERAGE_MST_SPEC,
     WORLD_TRUTH_SPEC, WORLD_EVENTS_SPEC, VIZ_WORLD_SPEC, VIZ_FIRE_GRID_SPEC, VIZ_PERIMETER_SPEC,
+    FLEET_FRONT_SPEC,
     TF_SPEC, TF_STATIC_SPEC,
 )  # fmt: skip
 
@@ -197,6 +200,7 @@ WORLD_EVENTS = WORLD_EVENTS_SPEC.name
 VIZ_WORLD = VIZ_WORLD_SPEC.name
 VIZ_FIRE_GRID = VIZ_FIRE_GRID_SPEC.name
 VIZ_PERIMETER = VIZ_PERIMETER_SPEC.name
+FLEET_FRONT = FLEET_FRONT_SPEC.name
 TF = TF_SPEC.name
 TF_STATIC = TF_STATIC_SPEC.name
 

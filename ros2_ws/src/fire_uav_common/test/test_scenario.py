@@ -254,6 +254,16 @@ def test_dataclasses_are_frozen(tmp_path: Path) -> None:
         s.area.x_min_m = 3  # type: ignore[misc]
 
 
+def test_mission_tactic_head_by_default_flank_on_request_and_a_clear_error(tmp_path: Path) -> None:
+    assert load_scenario(write(tmp_path, MINIMAL)).mission.tactic == "head"
+    s = load_scenario(write(tmp_path, with_(mission={"tactic": "flank"})))
+    assert s.mission.tactic == "flank"
+    with pytest.raises(
+        ScenarioError, match=r"s\.yaml: mission\.tactic: must be one of \['head', 'flank'\], got 'tail'"
+    ):
+        load_scenario(write(tmp_path, with_(mission={"tactic": "tail"})))
+
+
 def test_prior_fires_mode_is_validated_and_defaults_to_unknown():
     from fire_uav_common.scenario import ScenarioError, scenario_from_dict
 

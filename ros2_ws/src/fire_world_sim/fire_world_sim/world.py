@@ -22,6 +22,7 @@ from fire_uav_common.scenario import Scenario
 
 from .errors import ConfigError
 from .fires import FireModel, FireTruthRecord, make_fire_model
+from .measures import SuppressionMeasures
 from .sensors import (
     AltimeterSample,
     CellsSample,
@@ -110,16 +111,26 @@ MISS_EVENT_EVERY = 10  # a COMMAND_MISSED event at the first miss and every N-th
 
 
 class World:
-    """Pure world simulation; ``seed`` seeds every stream, ``uav_count`` 0 = the scenario's."""
+    """Pure world simulation; ``seed`` seeds every stream, ``uav_count`` 0 = the scenario's.
 
-    def __init__(self, scenario: Scenario, seed: int | None = None, uav_count: int = 0) -> None:
+    ``no_fleet=True``: no vehicle at all (``uav_count`` must be 0): the fire burns alone, the
+    baseline that suppression is measured against (``scripts/run_mission SCENARIO --uavs 0``).
+    ``measures`` (:class:`~.measures.SuppressionMeasures`) holds burned area, hit rate, water
+    on burning cells and time to containment, updated every step.
+    """
+
+    def __init__(
+        self, scenario: Scenario, seed: int | None = None, uav_count: int = 0, *, no_fleet: bool = False
+    ) -> None:
         if uav_count < 0 or uav_count > 255:
             raise ConfigError(f"uav_count must be in 0..255, got {uav_count}")
+        if no_fleet and uav_count != 0:
+            raise ConfigError(f"no_fleet needs uav_count 0, got {uav_count}")
         self.scenario = scenario
         self.seed = scenario.seed if seed is None else int(seed)
         if self.seed < 0:
             raise ConfigError(f"seed must be >= 0, got {self.seed}")
-        self.uav_count = uav_count or scenario.uavs.count
+        self.uav_count = 0 if no_fleet else (uav_count or scenario.uavs.count)
         tm = scenario.timing
         self.period_ns = round(tm.control_period_s * 1e9)
         self.substeps = tm.substeps
@@ -148,6 +159,7 @@ class World:
         self.complete_reason = ""
         self.min_separation_m = math.inf  # closest 3-D approach of two airborne vehicles so far [m]
         self.collisions = 0  # colliding pairs so far
+        self.measures = SuppressionMeasures()
 
     # --- queries -----------------------------------------------------------------------------
     @property
@@ -246,6 +258,7 @@ class World:
             b.cells = self.fires.cells_near(v.x_m, v.y_m, spec.range_m, t1_ns)
         self.step_index += 1
         fires = self.fires.truth()
+        self._update_measures(t1_ns * 1e-9, fires)
         vehicles = [self._vehicle_truth(v) for v in self.vehicles]
         if not self.complete:
             down = all(v.status in (Status.LANDED, Status.CRASHED, Status.ON_GROUND) for v in self.vehicles)
@@ -373,6 +386,9 @@ class World:
             if v.status != Status.AIRBORNE:
                 return []
             hit = self.fires.apply_drop(v.x_m, v.y_m, None) if kg > 0 else []
+            cells = getattr(self.fires, "last_drop_cells", None) if kg > 0 else None
+            self.measures.add_drop(kg, *(cells or (0, 0)), hit=bool(hit))
+            cell_text = f", {cells[0]} of {cells[1]} cells burning" if cells is not None else ""
             ev = [
                 Event(
                     EventType.DROP,
@@ -382,7 +398,7 @@ class World:
                     v.x_m,
                     v.y_m,
                     kg,
-                    f"hit fires {hit}" if hit else ("missed" if kg > 0 else "tank empty"),
+                    (f"hit fires {hit}" if hit else ("missed" if kg > 0 else "tank empty")) + cell_text,
                 )
             ]
             truth = self.fires.truth()
@@ -397,6 +413,16 @@ class World:
         if action == Action.REFILL:
             v.request_refill()
         return []
+
+    def _update_measures(self, t_s: float, fires: list) -> None:
+        """Burned area (sum of the fires' areas [m^2]) and containment at ``t_s`` [s].
+
+        Raster: containment from the model's latest cell ignition time; analytic fires do not
+        spread cell by cell, so they count as contained only once all are out.
+        """
+        area = float(sum(f.area_m2 for f in fires if f.started))
+        last = float(getattr(self.fires, "last_ignition_s", math.inf))
+        self.measures.update(t_s, area, last, burning=not self.fires.all_out)
 
     @staticmethod
     def _vehicle_truth(v: VehicleSim) -> VehicleTruthRecord:

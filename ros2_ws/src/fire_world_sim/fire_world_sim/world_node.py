@@ -63,6 +63,7 @@ class WorldNodeConfig:
     max_duration_s: float
     viz_rate_hz: float
     wait_for_subscribers: int
+    no_fleet: bool = False
 
 
 def stamp(ns: int) -> Time:
@@ -81,7 +82,8 @@ class WorldNode(Node):
         )
         scenario = load_scenario(self.cfg.scenario_file, overrides=overrides)
         seed = scenario.seed if self.cfg.seed < 0 else self.cfg.seed
-        self.world = World(scenario, seed, self.cfg.uav_count)
+        n = 0 if self.cfg.no_fleet else self.cfg.uav_count
+        self.world = World(scenario, seed, n, no_fleet=self.cfg.no_fleet)
         self.n = self.world.uav_count
         self.get_logger().info(
             f"scenario {scenario.name!r} ({self.cfg.scenario_file}), seed {seed}, {self.n} UAVs, "
@@ -193,6 +195,11 @@ class WorldNode(Node):
             2.0,
             d("[Hz sim] /viz/* publication rate", floating_point_range=frange(0.01, 100.0)),
         )
+        self.declare_parameter(
+            "no_fleet",
+            False,
+            d("no vehicle at all: the fire burns alone (the suppression baseline, --uavs 0)"),
+        )
         g = self.get_parameter
         cfg = WorldNodeConfig(
             scenario_file=g("scenario_file").value,
@@ -205,6 +212,7 @@ class WorldNode(Node):
             offline_schedule=self._schedule(str(g("offline_schedule").value)),
             max_duration_s=float(g("max_duration_s").value),
             viz_rate_hz=float(g("viz_rate_hz").value),
+            no_fleet=bool(g("no_fleet").value),
             wait_for_subscribers=int(g("wait_for_subscribers").value),
         )
         if any(w.uav_id >= 256 for w in cfg.offline_schedule):

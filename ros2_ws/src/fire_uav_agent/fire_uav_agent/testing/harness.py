@@ -32,11 +32,13 @@ from ..agent_config import config_from_scenario
 from ..agent_core import Agent
 from ..agent_types import Bundle, PeerPerimeter, StepOutput
 from ..estimation import Samples
+from ..fire_front import FrontCells
+from ..front_consensus import PeerFront
 from ..peer_link import FireEntry, PeerFires, PeerState
 
 __all__ = ["Harness", "agent_bundle", "peer_messages", "scenario_path", "world_command"]
 
-PeerMessage = PeerState | PeerFires | PeerPerimeter
+PeerMessage = PeerState | PeerFires | PeerPerimeter | PeerFront
 
 
 def scenario_path(name: str) -> Path:
@@ -126,7 +128,20 @@ def peer_messages(out: StepOutput, perimeter_sequence: int = 0) -> list[PeerMess
         }
         fid = int(fire_id) if fire_id < 2**31 else -1
         msgs.append(PeerPerimeter(out.state.uav_id, perimeter_sequence, out.step, fid, summary))
+    if out.front is not None:
+        msgs.append(PeerFront(out.state.uav_id, out.state.sequence, out.step, front_as_sent(out.front)))
     return msgs
+
+
+def front_as_sent(c: FrontCells) -> FrontCells:
+    """Front cells as ``FireFront`` carries them (float32 centres and rates, float64 times)."""
+    return FrontCells(
+        np.asarray(c.x_m, dtype=np.float32).astype(float),
+        np.asarray(c.y_m, dtype=np.float32).astype(float),
+        np.asarray(c.state, dtype=np.uint8).astype(np.int64),
+        np.asarray(c.t_obs_s, dtype=float),
+        np.asarray(c.ros_mps, dtype=np.float32).astype(float),
+    )
 
 
 # --- the harness --------------------------------------------------------------------------------

@@ -166,6 +166,8 @@ class RasterFireModel:
         self._ignited = [False] * len(spec.ignitions)
         self._truth_cache: list[FireTruthRecord] | None = None
         self._pending_events: list[tuple[int, str]] = []
+        self.last_ignition_s = -math.inf  # [s] latest ignition time of any cell (containment)
+        self.last_drop_cells = (0, 0)  # (burning cells wet, cells in the footprint) of the last drop
         self._set_wind(self.t_start_s)
         if self.t_start_s < 0.0:
             self._preburn()
@@ -230,6 +232,8 @@ class RasterFireModel:
     def _ignite(self, idx: tuple[np.ndarray, np.ndarray], t: np.ndarray, labels: np.ndarray) -> None:
         """Ignite padded cells ``idx`` at times ``t`` with fire ids ``labels``; set their burn-out time."""
         self.t_ign[idx] = t
+        if np.size(t):
+            self.last_ignition_s = max(self.last_ignition_s, float(np.max(t)))
         self.label[idx] = labels
         self._t_seed[idx] = np.inf
         flat = np.ravel_multi_index(idx, self._shape)
@@ -390,10 +394,12 @@ class RasterFireModel:
         r = self.drop_radius_m if radius_m is None else radius_m
         win = self._window(x_m, y_m, r)
         if win is None:
+            self.last_drop_cells = (0, 0)
             return []
         box, xs, ys = win
         inside = (xs - x_m) ** 2 + (ys - y_m) ** 2 <= r * r
         burning = self._burning(self.t_s)[box] & inside
+        self.last_drop_cells = (int(burning.sum()), int(inside.sum()))
         hit = sorted(set(np.unique(self.label[box][burning]).tolist()) - {-1})
         ext = self.extinguished[box]
         ext |= burning

@@ -1,0 +1,70 @@
+"""Consensus over a raster fire's front: what an agent shares on ``/fleet/front`` and how it merges.
+
+Each agent publishes (``FireFront``, every ``front_every_steps``) its current active front --
+own sightings and cells learnt from peers alike, so knowledge travels over several hops -- plus
+*retractions*: cells it published last time that are no longer on its front, with their newer
+state (BURNED after a drop, UNBURNED never) and observation time. A receiver merges every cell
+with :meth:`FrontPicture.merge` (newest observation wins per cell). With a connected fleet and
+no new sightings, every agent's front converges to the same set after as many rounds as the
+graph's diameter: merging is a per-cell maximum over (time, state), which is associative,
+commutative and idempotent (a join), so the order and duplication of messages do not matter.
+Positions [m; map frame], times [s sim].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .fire_front import FrontCells, FrontPicture
+
+__all__ = ["FrontSharing", "PeerFront", "concat"]
+
+
+@dataclass(frozen=True)
+class PeerFront:
+    """A peer's ``FireFront``, ROS-free."""
+
+    uav_id: int
+    sequence: int
+    step: int
+    cells: FrontCells
+
+
+def concat(a: FrontCells, b: FrontCells) -> FrontCells:
+    return FrontCells(
+        np.r_[a.x_m, b.x_m],
+        np.r_[a.y_m, b.y_m],
+        np.r_[a.state, b.state].astype(np.int64),
+        np.r_[a.t_obs_s, b.t_obs_s],
+        np.r_[a.ros_mps, b.ros_mps],
+    )
+
+
+class FrontSharing:
+    """Builds one agent's outgoing front messages (front + retractions)."""
+
+    def __init__(self) -> None:
+        self._sent_x = np.zeros(0)
+        self._sent_y = np.zeros(0)
+
+    def message(self, picture: FrontPicture, t_s: float) -> FrontCells:
+        """Cells to publish at ``t_s`` [s]: the active front and the retractions (module doc)."""
+        front = picture.front(t_s)
+        out = front
+        if self._sent_x.size:
+            old = picture.cells_at(self._sent_x, self._sent_y)
+            fi, fj, _ = picture.index(front.x_m, front.y_m)
+            oi, oj, _ = picture.index(old.x_m, old.y_m)
+            on_front = np.isin(oi * picture.nx + oj, fi * picture.nx + fj)
+            keep = ~on_front & np.isfinite(old.t_obs_s)
+            if keep.any():
+                out = concat(
+                    front,
+                    FrontCells(
+                        old.x_m[keep], old.y_m[keep], old.state[keep], old.t_obs_s[keep], old.ros_mps[keep]
+                    ),
+                )
+        self._sent_x, self._sent_y = front.x_m.copy(), front.y_m.copy()
+        return out

@@ -1,0 +1,193 @@
+"""Targeting a raster fire's front: density (FF Eq. 13 generalised), tactics, the release rule.
+
+**Density.** FF Eq. 13 sums one Gaussian per fire centre. For a raster fire we sum one Gaussian
+per *front cell* c_i (``fire_front``), weighted by the tactic's w_i:
+
+    D(q) = sum_i w_i exp(-|q - c_i|^2 / (2 sigma^2))                                    (13')
+
+evaluated on the coverage grid by splatting the weights into the grid and a Gaussian filter
+(exact up to the grid's discretisation). The Voronoi-Lloyd machinery is FF's unchanged: the
+UAV's own cell (Eqs. 6-7), mass and centroid of D there (Eqs. 8-9). Deviation (the paper aims
+at fire centres, which for a raster fire is burnt-out ground): the aim point is the front cell
+of the own cell nearest that centroid, so a UAV always flies at burning edge cells.
+
+**Tactics** (``mission.tactic``), as fire services use them:
+
+* ``head`` -- head attack, fastest front first: w_i = (R_i / R_max)^p + w_min, with R_i the rate
+  of spread toward cell i (PM Eq. 1 per direction). For uniform fuel, Byram's fireline
+  intensity I = H w R is proportional to R, so this weights by intensity too (the issue's
+  "rate of spread or fireline intensity"); p = 2 concentrates the fleet on the head.
+* ``flank`` -- flank attack from an anchor point: the anchor is the slowest front cell (the
+  heel, where the fire backs into the wind: safe, low intensity) chosen once, and
+  w_i = exp(-(d_i - d_min) / L) + w_min with d_i the distance from the anchor. Cells near the
+  anchor are put out first, so the nearest live front moves up both flanks toward the head,
+  the way crews "anchor and flank".
+
+**Release rule.** A UAV releases only when its own latest FireCells show at least
+``min_burning_cells`` burning cells inside ``release_radius_m`` of its estimated position, and
+no more of them at the position one control step ahead (it releases on the peak of the pass).
+The world applies a drop at the true position at the next control instant, which is the
+estimate's time; ``release_radius_m`` < the footprint leaves a margin for the EKF error.
+Positions [m; map frame].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from fire_uav_common.constants import CellState
+from fire_uav_common.scenario import TACTICS
+from scipy.ndimage import gaussian_filter
+
+from .coverage import Grid
+from .fire_front import FrontCells
+
+__all__ = [
+    "TACTICS",
+    "TacticConfig",
+    "aim_on_front",
+    "burning_within",
+    "choose_anchor",
+    "front_density",
+    "front_weights",
+    "layer_height",
+    "release_now",
+]
+
+
+@dataclass(frozen=True)
+class TacticConfig:
+    tactic: str = "head"  # head | flank
+    sigma_m: float = 10.0  # [m] Eq. 13' kernel width
+    head_power: float = 2.0  # [-] head attack: w = (R / R_max)^p
+    flank_scale_m: float = 60.0  # [m] flank attack: decay length L from the anchor
+    min_weight: float = 0.02  # [-] every front cell keeps this much weight
+    min_burning_cells: int = 3  # [-] release rule
+    release_radius_m: float = 16.0  # [m] release rule (drop footprint minus an EKF margin)
+    layers: int = 6  # [-] altitude layers of the fleet over a raster fire
+    layer_step_m: float = 3.5  # [m] between layers (> the 3 m default collision radius)
+
+    def __post_init__(self) -> None:
+        if self.tactic not in TACTICS:
+            raise ValueError(f"tactic must be one of {list(TACTICS)}, got {self.tactic!r}")
+        if not self.sigma_m > 0:
+            raise ValueError(f"tactic sigma_m must be > 0, got {self.sigma_m}")
+        if not self.flank_scale_m > 0:
+            raise ValueError(f"tactic flank_scale_m must be > 0, got {self.flank_scale_m}")
+        if self.min_burning_cells < 1:
+            raise ValueError(f"tactic min_burning_cells must be >= 1, got {self.min_burning_cells}")
+        if not self.release_radius_m > 0:
+            raise ValueError(f"tactic release_radius_m must be > 0, got {self.release_radius_m}")
+        if self.layers < 1:
+            raise ValueError(f"tactic layers must be >= 1, got {self.layers}")
+
+    def layer_height_m(self, uav_id: int, flight_height_m: float) -> float:
+        return layer_height(uav_id, flight_height_m, self.layers, self.layer_step_m)
+
+
+def layer_height(uav_id: int, flight_height_m: float, layers: int = 6, step_m: float = 3.5) -> float:
+    """Flight height [m above terrain] of ``uav_id`` in suppression: altitude layers centred on the
+    flight height (fire services separate aircraft over a fire by altitude); every objective that
+    flies at the flight height (search, monitor, suppress, refill transit) uses it.
+
+    Our addition, not in FF: the Voronoi cells keep UAVs apart only while each flies inside its
+    own cell, and over a fire they cross cells on drop and refill runs; at one common height two
+    crossing UAVs collide (the world's 3-D collision model). The layers span +-2.5 steps around
+    the flight height (21-39 m for the default 30 m, inside the 40 m altimeter range).
+    """
+    return flight_height_m + step_m * ((uav_id % layers) - (layers - 1) / 2.0)
+
+
+def choose_anchor(front: FrontCells) -> tuple[float, float] | None:
+    """The flank attack's anchor: the slowest front cell (lowest index among ties); None if no front."""
+    if len(front) == 0:
+        return None
+    ros = np.where(np.isfinite(front.ros_mps), front.ros_mps, np.inf)
+    k = int(np.argmin(ros)) if np.isfinite(ros).any() else 0
+    return float(front.x_m[k]), float(front.y_m[k])
+
+
+def front_weights(
+    front: FrontCells, cfg: TacticConfig, anchor_xy: tuple[float, float] | None = None
+) -> np.ndarray:
+    """w_i of Eq. 13' for every front cell (module doc); unknown ROS counts as the mean of the known."""
+    n = len(front)
+    if n == 0:
+        return np.zeros(0)
+    if cfg.tactic == "head":
+        ros = np.asarray(front.ros_mps, dtype=float)
+        ok = np.isfinite(ros)
+        if not ok.any() or not np.nanmax(ros) > 0:
+            return np.ones(n)
+        ros = np.where(ok, ros, np.nanmean(ros))
+        return (np.clip(ros, 0.0, None) / np.nanmax(ros)) ** cfg.head_power + cfg.min_weight
+    if anchor_xy is None:
+        anchor_xy = choose_anchor(front)
+    assert anchor_xy is not None
+    d = np.hypot(front.x_m - anchor_xy[0], front.y_m - anchor_xy[1])
+    return np.exp(-(d - d.min()) / cfg.flank_scale_m) + cfg.min_weight
+
+
+def front_density(grid: Grid, front: FrontCells, weights: np.ndarray, sigma_m: float) -> np.ndarray:
+    """Eq. 13' on ``grid.points`` (flattened like :func:`coverage.gaussian_density`)."""
+    ny, nx = grid.shape
+    res = grid.resolution_m
+    dens = np.zeros((ny, nx))
+    if len(front):
+        j = np.clip(np.floor((front.x_m - grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
+        i = np.clip(np.floor((front.y_m - grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
+        np.add.at(dens, (i, j), weights)
+        # gaussian_filter normalises its kernel: scale back to Eq. 13' (peak 1 per unit weight)
+        s = sigma_m / res
+        dens = gaussian_filter(dens, s, mode="constant", truncate=3.0) * (2.0 * math.pi * s * s)
+    return dens.ravel()
+
+
+def aim_on_front(
+    centroid_xy: tuple[float, float] | None,
+    front: FrontCells,
+    weights: np.ndarray,
+    in_cell: np.ndarray,
+) -> tuple[float, float] | None:
+    """The aim point: the own-cell front cell nearest the Eq. 9 centroid; without one in the cell,
+    the heaviest front cell (ties: nearest the centroid); None without a front."""
+    if len(front) == 0:
+        return None
+    cand = np.flatnonzero(in_cell) if in_cell.any() else np.flatnonzero(weights >= weights.max() * (1 - 1e-9))
+    if centroid_xy is None:
+        k = cand[int(np.argmax(weights[cand]))]
+    else:
+        d = np.hypot(front.x_m[cand] - centroid_xy[0], front.y_m[cand] - centroid_xy[1])
+        k = cand[int(np.argmin(d))]
+    return float(front.x_m[k]), float(front.y_m[k])
+
+
+def burning_within(
+    cells: tuple[np.ndarray, np.ndarray, np.ndarray] | None, xy: tuple[float, float], r_m: float
+) -> int:
+    """Burning cells of a FireCells sample (x_m, y_m, state) with centres within ``r_m`` of ``xy``."""
+    if cells is None or len(cells[0]) == 0:
+        return 0
+    x, y, st = cells
+    near = (x - xy[0]) ** 2 + (y - xy[1]) ** 2 <= r_m * r_m
+    return int(np.count_nonzero(near & (st == CellState.BURNING)))
+
+
+def release_now(
+    cells: tuple[np.ndarray, np.ndarray, np.ndarray] | None,
+    pos_xy: tuple[float, float],
+    yaw_rad: float,
+    step_m: float,
+    cfg: TacticConfig,
+) -> bool:
+    """The release rule (module doc): enough burning cells under the footprint, and at the peak.
+
+    ``step_m`` [m]: distance flown in one control step (speed x period), along ``yaw_rad``.
+    """
+    here = burning_within(cells, pos_xy, cfg.release_radius_m)
+    if here < cfg.min_burning_cells:
+        return False
+    ahead = (pos_xy[0] + step_m * math.cos(yaw_rad), pos_xy[1] + step_m * math.sin(yaw_rad))
+    return here >= burning_within(cells, ahead, cfg.release_radius_m)

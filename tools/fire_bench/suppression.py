@@ -1,0 +1,195 @@
+"""Suppression benchmark (issue [suppression]): burned area against the no-fleet baseline.
+
+usage: python -m fire_bench.suppression [--quick] [--jobs N] [--out DIR]
+       (or scripts/bench --only suppression)
+
+Runs in-process (``fire_uav_agent.testing.harness``: the real World and the real Agents, no
+DDS; deterministic for a scenario and seed), so every figure here comes from the harness, not
+from real processes. Cases:
+
+* tactics: head attack vs flank attack, 6 UAVs, on the pre-burnt raster scenarios
+  ``grass_running`` and ``grass_brush_hill``, seeds 1-3, 900 s;
+* fleet size: 0 (the fire alone: ``World(no_fleet=True)``), 3, 6 and 10 UAVs, head attack,
+  ``grass_running``, seed 1, 900 s.
+
+Measures are the world's own (:class:`fire_world_sim.measures.SuppressionMeasures`): burned
+area [m^2] over time, hit rate, water on burning cells [kg], containment time [s] (no cell
+ignited for 60 s). ``monitors_per_fire`` is set to 0 in these runs (every UAV suppresses;
+the agents' front pictures keep their own PM Eq. 1 maps) -- the scenario's value would make
+two UAVs per fire monitor instead, and costs about 4x the run time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+SCENARIOS = ("grass_running", "grass_brush_hill")
+TACTICS = ("head", "flank")
+
+
+def run_case(scenario: str, uavs: int, seed: int, tactic: str, duration_s: float, monitors: int = 0) -> dict:
+    """One mission in the harness (``uavs`` 0: the fire alone); the world's measures + area history."""
+    from fire_uav_agent.testing.harness import Harness, scenario_path
+    from fire_uav_common.constants import EventType
+    from fire_uav_common.scenario import load_scenario
+    from fire_world_sim.world import World
+
+    sc = load_scenario(scenario_path(scenario))
+    sc = dataclasses.replace(
+        sc,
+        mission=dataclasses.replace(sc.mission, tactic=tactic, monitors_per_fire=monitors),
+        timing=dataclasses.replace(sc.timing, max_duration_s=duration_s),
+    )
+    wall0 = time.monotonic()
+    if uavs == 0:
+        world = World(sc, seed, no_fleet=True)
+        while not world.complete:
+            world.step({})
+        crashes = 0
+    else:
+        h = Harness(sc, seed=seed, uav_count=uavs)
+        h.run()
+        world = h.world
+        crashes = sum(1 for e in h.events if e.type == EventType.CRASH)
+    m = world.measures
+    return {
+        "scenario": scenario,
+        "uavs": uavs,
+        "seed": seed,
+        "tactic": tactic if uavs else "none",
+        "duration_s": duration_s,
+        **m.as_dict(),
+        "crashes": crashes,
+        "area_t_s": m.area_t_s,
+        "area_m2": m.area_m2,
+        "wall_s": round(time.monotonic() - wall0, 1),
+    }
+
+
+def cases(quick: bool) -> list[tuple]:
+    dur = 300.0 if quick else 900.0
+    seeds = [1] if quick else [1, 2, 3]
+    out: list[tuple] = [(sc, 0, 1, "head", dur) for sc in SCENARIOS]  # the fire alone has no randomness
+    for seed in seeds:  # seed by seed, so that a cut-short run still has whole comparisons
+        out += [(sc, 6, seed, t, dur) for sc in SCENARIOS for t in TACTICS]
+        if seed == seeds[0]:
+            out += [("grass_running", n, seed, "head", dur) for n in ([3] if quick else [3, 10])]
+    return out
+
+
+def _star(args: tuple) -> dict:
+    r = run_case(*args)
+    print(
+        f"[suppression] {r['scenario']} uavs={r['uavs']} seed={r['seed']} {r['tactic']}: "
+        f"burned {r['burned_area_m2'] / 1e4:.2f} ha, hit rate {r['hit_rate']}, contained {r['contained_at_s']}, "
+        f"crashes {r['crashes']} ({r['wall_s']} s wall)",
+        file=sys.stderr,
+        flush=True,
+    )
+    return r
+
+
+def summarise(results: list[dict]) -> dict:
+    """Per scenario: baseline, per tactic the seeds' burned area / ratio / hit rate / containment."""
+    out: dict = {"scenarios": {}, "fleet_size": []}
+    for sc in SCENARIOS:
+        base = next((r for r in results if r["scenario"] == sc and r["uavs"] == 0), None)
+        entry: dict = {"baseline_burned_area_m2": base["burned_area_m2"] if base else None, "tactics": {}}
+        for t in TACTICS:
+            rows = [r for r in results if r["scenario"] == sc and r["uavs"] == 6 and r["tactic"] == t]
+            entry["tactics"][t] = [
+                {
+                    "seed": r["seed"],
+                    "burned_area_m2": r["burned_area_m2"],
+                    "ratio_to_baseline": r["burned_area_m2"] / base["burned_area_m2"] if base else None,
+                    "hit_rate": r["hit_rate"],
+                    "drops": r["drops"],
+                    "water_on_burning_kg": r["water_on_burning_kg"],
+                    "contained_at_s": r["contained_at_s"],
+                    "crashes": r["crashes"],
+                }
+                for r in sorted(rows, key=lambda r: r["seed"])
+            ]
+        out["scenarios"][sc] = entry
+    for r in sorted(results, key=lambda r: r["uavs"]):
+        if r["scenario"] == "grass_running" and r["seed"] == 1 and r["tactic"] in ("head", "none"):
+            out["fleet_size"].append({"uavs": r["uavs"], "burned_area_m2": r["burned_area_m2"]})
+    return out
+
+
+def plot(results: list[dict], out: Path) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = []
+    fig, axes = plt.subplots(1, len(SCENARIOS), figsize=(12, 4.2))
+    for ax, sc in zip(axes, SCENARIOS, strict=True):
+        for r in results:
+            if r["scenario"] != sc or r["uavs"] not in (0, 6):
+                continue
+            style = {"none": ("k", "-"), "head": ("tab:red", "--"), "flank": ("tab:blue", ":")}[r["tactic"]]
+            label = "no fleet" if r["uavs"] == 0 else f"{r['tactic']} s{r['seed']}"
+            ax.plot(r["area_t_s"], [a / 1e4 for a in r["area_m2"]], color=style[0], ls=style[1], label=label)
+        ax.set_title(f"{sc}: burned area, 6 UAVs vs no fleet")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("burned area [ha]")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "suppression_area.png", dpi=110)
+    plt.close(fig)
+    names.append("suppression_area.png")
+    fs = sorted(
+        (
+            r
+            for r in results
+            if r["scenario"] == "grass_running" and r["seed"] == 1 and r["tactic"] in ("head", "none")
+        ),
+        key=lambda r: r["uavs"],
+    )
+    if fs:
+        fig, ax = plt.subplots(figsize=(5, 4))
+        ax.plot([r["uavs"] for r in fs], [r["burned_area_m2"] / 1e4 for r in fs], "o-")
+        ax.set_xlabel("UAVs")
+        ax.set_ylabel(f"burned area at {fs[0]['duration_s']:g} s [ha]")
+        ax.set_title("grass_running, head attack, seed 1")
+        fig.tight_layout()
+        fig.savefig(out / "suppression_fleet_size.png", dpi=110)
+        plt.close(fig)
+        names.append("suppression_fleet_size.png")
+    return names
+
+
+def bench_suppression(quick: bool, jobs: int = 2, out: Path | None = None) -> dict:
+    todo = cases(quick)
+    with ProcessPoolExecutor(max_workers=max(1, jobs)) as ex:
+        results = list(ex.map(_star, todo))
+    summary = summarise(results)
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "suppression_runs.json").write_text(json.dumps(results) + "\n")
+        summary["plots"] = plot(results, out)
+    return summary
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m fire_bench.suppression", description=__doc__.split("\n")[0])
+    p.add_argument("--quick", action="store_true", help="300 s, one seed")
+    p.add_argument("--jobs", type=int, default=2, help="parallel missions (default 2)")
+    p.add_argument("--out", type=Path, default=Path("docs/bench"), help="results directory")
+    a = p.parse_args(argv)
+    s = bench_suppression(a.quick, a.jobs, a.out)
+    (a.out / "suppression.json").write_text(json.dumps(s, indent=2) + "\n")
+    print(json.dumps(s, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
