@@ -582,10 +582,10 @@ def run(args: argparse.Namespace) -> int:
                 _wait_for_node(sup.node, "foxglove_bridge", 20.0, procs)
                 print(f"[run_mission] Foxglove: ws://127.0.0.1:{args.foxglove_port}", file=sys.stderr)
             for k in range(uav_count):
-                netns = ["ip", "netns", "exec", args.agent_netns[k % len(args.agent_netns)]]
+                ns = args.agent_netns
                 procs.start(
                     f"agent_{k}",
-                    (netns if args.agent_netns else [])
+                    (["ip", "netns", "exec", ns[k % len(ns)]] if ns else [])
                     + ros_run_argv(
                         "fire_uav_agent",
                         "uav_agent",
