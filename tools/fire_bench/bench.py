@@ -324,10 +324,17 @@ def _skeleton(n: int, steps: int) -> dict:
     return result
 
 
+#: issue [scale] targets (benchmark figures, not tests): fleet/skeleton step-rate ratio, agent RSS, 20-UAV rate
+SCALE_TARGETS = {"ratio_to_skeleton": 0.8, "agent_rss_mb": 100.0, "steps_per_s_at_20": 10.0}
+SCALE_SIZES: list[int] | None = None  # --scale-sizes
+SCALE_DURATION_S: float | None = None  # --scale-duration
+
+
 def bench_scale(quick: bool) -> dict:
-    """Lockstep step rate, CPU and memory per process for N UAVs, against the messaging skeleton."""
-    sizes = [3, 5, 10] if quick else [3, 5, 10, 14, 20, 30]
-    duration = 15.0 if quick else 30.0
+    """Lockstep step rate, CPU and memory per process for N UAVs, against the messaging skeleton
+    (the same sizes in the same run): 3-30 UAVs (full), 3/5/10 (quick) or ``--scale-sizes``."""
+    sizes = SCALE_SIZES or ([3, 5, 10] if quick else [3, 5, 10, 14, 20, 30])
+    duration = SCALE_DURATION_S or (15.0 if quick else 30.0)
     rows = []
     for n in sizes:
         log(f"scale: skeleton with {n} UAVs")
@@ -345,6 +352,7 @@ def bench_scale(quick: bool) -> dict:
                 "slowdown_vs_skeleton": (sk["steps_per_s"] / rate)
                 if rate and sk.get("steps_per_s")
                 else None,
+                "ratio_to_skeleton": (rate / sk["steps_per_s"]) if rate and sk.get("steps_per_s") else None,
                 "agent_cpu_ms_per_step": _mean([a.get("cpu_ms_per_step") for a in agents]),
                 "skeleton_agent_cpu_ms_per_step": sk.get("agent_cpu_ms_per_step"),
                 "world_cpu_ms_per_step": procs.get("world", {}).get("cpu_ms_per_step"),
@@ -354,7 +362,7 @@ def bench_scale(quick: bool) -> dict:
                 "world_rss_mb": procs.get("world", {}).get("rss_mb"),
             }
         )
-    return {"mission_time_s": duration, "rows": rows}
+    return {"mission_time_s": duration, "rows": rows, "targets": SCALE_TARGETS}
 
 
 # per library benchmark: (quick args, full args)
@@ -445,7 +453,23 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--only", nargs="+", choices=list(BENCHES), help="run only these")
     p.add_argument("--out", type=Path, default=ROOT / "docs/bench", help="results directory")
     p.add_argument("--list", action="store_true", help="list the benchmarks and their expected durations")
+    p.add_argument("--scale-sizes", default=None, metavar="N,N,...", help="scale: these fleet sizes")
+    p.add_argument(
+        "--scale-duration", type=float, default=None, metavar="S", help="scale: mission seconds per run"
+    )
     a = p.parse_args(argv)
+    global SCALE_SIZES, SCALE_DURATION_S
+    if a.scale_sizes:
+        try:
+            SCALE_SIZES = [int(x) for x in a.scale_sizes.split(",")]
+        except ValueError:
+            p.error(f"--scale-sizes expects comma-separated whole numbers, got '{a.scale_sizes}'")
+        if any(n < 1 for n in SCALE_SIZES):
+            p.error(f"--scale-sizes must all be >= 1, got '{a.scale_sizes}'")
+    if a.scale_duration is not None:
+        if not a.scale_duration > 0:
+            p.error(f"--scale-duration must be > 0, got {a.scale_duration}")
+        SCALE_DURATION_S = a.scale_duration
     names = a.only or list(BENCHES)
     if a.list:
         for n in BENCHES:
@@ -464,7 +488,12 @@ def main(argv: list[str] | None = None) -> int:
         r = BENCHES[n][0](a.quick)
         r["wall_s"] = round(time.monotonic() - t0, 1)
         r["quick"] = a.quick
-        r["command"] = r.get("command") or f"scripts/bench {'--quick ' if a.quick else ''}--only {n}"
+        extra = ""
+        if n == "scale" and (a.scale_sizes or a.scale_duration):
+            extra = (f" --scale-sizes {a.scale_sizes}" if a.scale_sizes else "") + (
+                f" --scale-duration {a.scale_duration:g}" if a.scale_duration else ""
+            )
+        r["command"] = r.get("command") or f"scripts/bench {'--quick ' if a.quick else ''}--only {n}{extra}"
         results[n] = r
         results_path.write_text(json.dumps(results, indent=2, default=str) + "\n")
         log(f"{n} done in {r['wall_s']:.0f} s")

@@ -193,7 +193,7 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
                     ("uavs", "UAVs"),
                     ("steps_per_s", "steps/s"),
                     ("skeleton_steps_per_s", "skeleton steps/s"),
-                    ("slowdown_vs_skeleton", "slowdown"),
+                    ("ratio_to_skeleton", "ratio"),
                     ("agent_cpu_ms_per_step", "agent CPU ms/step"),
                     ("skeleton_agent_cpu_ms_per_step", "skeleton agent CPU ms/step"),
                     ("agent_rss_mb", "agent RSS MiB"),
@@ -203,6 +203,14 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
                 ],
             ),
         ]
+        t = r.get("targets")
+        if t:
+            lines += [
+                "",
+                f"Targets (issue [scale]): ratio to the skeleton >= {t['ratio_to_skeleton']:g}, agent RSS <= "
+                f"{t['agent_rss_mb']:g} MiB, >= {t['steps_per_s_at_20']:g} steps/s (real time) at 20 UAVs.",
+                "",
+            ]
         if "scale" in plots:
             lines += [f"![scale]({plots['scale']})", ""]
     for name, title in [

@@ -267,8 +267,27 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="NAME:=VALUE",
         help="extra ROS parameter for every agent; repeatable",
     )
+    p.add_argument(
+        "--agent-netns",
+        type=_parse_netns,
+        default=[],
+        metavar="NS[,NS...]",
+        help="start agent K in Linux network namespace NS[K mod len] (`ip netns exec`, root): a fleet "
+        "spread over several hosts; the runner, world and recorder stay in the runner's own namespace "
+        "(docs/deployment.md)",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     return p
+
+
+def _parse_netns(text: str) -> list[str]:
+    names = [n for n in text.split(",") if n]
+    bad = [n for n in names if not re.fullmatch(r"[A-Za-z0-9_.-]{1,64}", n)]
+    if not names or bad:
+        raise argparse.ArgumentTypeError(
+            f"--agent-netns expects comma-separated namespace names ([A-Za-z0-9_.-]), got '{text}'"
+        )
+    return names
 
 
 # --- scenario & parameters ---------------------------------------------------------------
@@ -634,9 +653,11 @@ def run(args: argparse.Namespace) -> int:
                 _wait_for_node(sup.node, "foxglove_bridge", 20.0, procs)
                 print(f"[run_mission] Foxglove: ws://127.0.0.1:{args.foxglove_port}", file=sys.stderr)
             for k in range(uav_count):
+                ns = args.agent_netns
                 procs.start(
                     f"agent_{k}",
-                    ros_run_argv(
+                    (["ip", "netns", "exec", ns[k % len(ns)]] if ns else [])
+                    + ros_run_argv(
                         "fire_uav_agent",
                         "uav_agent",
                         [

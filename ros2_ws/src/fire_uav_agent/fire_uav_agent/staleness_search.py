@@ -36,13 +36,27 @@ class StalenessSearch:
         self.last_seen = np.full(grid.points.shape[0], -horizon_s)
 
     def observe(self, t_s: float, positions_xy: np.ndarray) -> None:
+        """Mark every grid point within the sensor range of a position as seen at ``t_s``.
+
+        Only the block of grid cells around each position's sensor disc is tested (one cell of
+        margin against rounding), not all M points against every position: the same points,
+        at O(n r^2 / h^2) instead of O(M n) per step (docs/profile.md).
+        """
         p = np.asarray(positions_xy, dtype=float).reshape(-1, 2)
         if p.shape[0] == 0:
             return
-        dx = self.grid.points[:, 0:1] - p[None, :, 0]
-        dy = self.grid.points[:, 1:2] - p[None, :, 1]
-        seen = ((dx * dx + dy * dy) <= self.r2).any(axis=1)
-        self.last_seen[seen] = t_s
+        xs, ys, h = self.grid.xs, self.grid.ys, self.grid.resolution_m
+        r = float(np.sqrt(self.r2))
+        seen = self.last_seen.reshape(ys.size, xs.size)  # a view: row-major (y, x) like Grid.points
+        for px, py in p:
+            i0, i1 = np.searchsorted(xs, (px - r - h, px + r + h))
+            j0, j1 = np.searchsorted(ys, (py - r - h, py + r + h))
+            if i0 >= i1 or j0 >= j1:
+                continue
+            dx = xs[i0:i1] - px
+            dy = ys[j0:j1] - py
+            block = seen[j0:j1, i0:i1]
+            block[(dy[:, None] * dy[:, None] + dx[None, :] * dx[None, :]) <= self.r2] = t_s
 
     def staleness(self, t_s: float) -> np.ndarray:
         """Per grid point, in [0, 1]: 1 = not seen for ``horizon_s`` (or never)."""

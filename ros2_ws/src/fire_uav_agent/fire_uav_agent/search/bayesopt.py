@@ -32,16 +32,16 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from fire_uav_common.constants import CandidateKind
-from sklearn.exceptions import ConvergenceWarning
-from sklearn.gaussian_process import GaussianProcessRegressor
-from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
 
 from .errors import OptimizationError, SearchConfigError
 from .evaluate import Candidate, Evaluation, SearchProblem, evaluate_candidate
+
+if TYPE_CHECKING:
+    from sklearn.gaussian_process import GaussianProcessRegressor
 
 
 class CandidateMessage(NamedTuple):
@@ -98,6 +98,11 @@ def make_pool(problem: SearchProblem, size: int, rng: np.random.Generator) -> np
 
 
 def _gp(dim: int, length_scale: float) -> GaussianProcessRegressor:
+    # scikit-learn (about 40 MiB and 1 s) is imported by the first search agent that fits a GP,
+    # not by every agent at start (docs/profile.md)
+    from sklearn.gaussian_process import GaussianProcessRegressor
+    from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
+
     kernel = ConstantKernel(1.0, (1e-2, 1e2)) * Matern(
         length_scale=length_scale, length_scale_bounds=(1e-2, 1e1), nu=2.5
     ) + WhiteKernel(1e-2, (1e-6, 1e0))
@@ -190,6 +195,8 @@ class BoAgent:
         x = np.array([d[0] for d in data])
         y = np.array([d[1] for d in data])
         gp = _gp(self.problem.dim, self.config.length_scale)
+        from sklearn.exceptions import ConvergenceWarning
+
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
             gp.fit(x, y)

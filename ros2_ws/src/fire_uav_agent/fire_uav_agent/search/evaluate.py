@@ -22,7 +22,6 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .energy import EnergyModel
 from .errors import SearchConfigError
@@ -202,6 +201,8 @@ def coverage_test_points(problem: SearchProblem) -> np.ndarray:
 
 def coverage_fraction(problem: SearchProblem, paths: tuple[CoveragePath, ...]) -> float:
     """Fraction of the free area within sensor range of some path sample during one lap."""
+    from scipy.spatial import cKDTree  # imported when a search role needs it (docs/profile.md)
+
     samples = np.concatenate([p.sample(problem.sample_spacing_m).pos_m for p in paths])
     d, _ = cKDTree(samples).query(coverage_test_points(problem))
     return float(np.mean(d <= problem.sensor_range_m))

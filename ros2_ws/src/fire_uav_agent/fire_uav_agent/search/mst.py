@@ -33,7 +33,6 @@ from typing import NamedTuple
 
 import numpy as np
 from fire_uav_common.constants import MstKind
-from scipy.sparse.csgraph import minimum_spanning_tree
 
 from .errors import MstError
 
@@ -241,6 +240,8 @@ def centralised_mst_radius_m(positions_m: np.ndarray) -> float:
     # scipy treats 0 as "no edge": keep coincident agents connected with a tiny positive length
     off = ~np.eye(len(pos), dtype=bool)
     d[off & (d == 0.0)] = 1e-300
+    from scipy.sparse.csgraph import minimum_spanning_tree  # when a search role needs it
+
     tree = minimum_spanning_tree(d)
     return float(tree.data.max()) if tree.nnz else 0.0
 

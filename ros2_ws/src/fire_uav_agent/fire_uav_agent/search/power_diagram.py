@@ -27,7 +27,6 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
-from scipy import ndimage
 
 from .errors import PartitionError, SearchConfigError
 
@@ -57,6 +56,8 @@ class CoverageGrid:
             raise PartitionError(f"free mask must be a non-empty 2-D array, got shape {free.shape}")
         if not free.any():
             raise PartitionError("grid has no free cell")
+        from scipy import ndimage  # imported when a search role needs it (docs/profile.md)
+
         _, n_components = ndimage.label(free, structure=_FOUR_CONNECTED)
         if n_components != 1:
             raise PartitionError(f"free cells must be 4-connected, found {n_components} components")
@@ -434,6 +435,8 @@ def make_regions_connected(labels: np.ndarray) -> np.ndarray:
     holds (each cell keeps exactly one owner). Requires 4-connected free space (see
     :class:`CoverageGrid`).
     """
+    from scipy import ndimage  # imported when a search role needs it (docs/profile.md)
+
     out = np.array(labels, copy=True)
     ny, nx = out.shape
     for _ in range(out.size):

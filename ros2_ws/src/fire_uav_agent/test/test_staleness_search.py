@@ -1,0 +1,47 @@
+"""StalenessSearch.observe marks exactly the grid points within sensor range (property test).
+
+The truth is the definition: a point q is seen at t when ||q - p|| <= r for some position p,
+checked against every grid point for every position, independent of the windowed implementation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from fire_uav_agent.coverage import make_grid
+from fire_uav_agent.staleness_search import StalenessSearch
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+coord = st.floats(min_value=-150.0, max_value=450.0, allow_nan=False)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    positions=st.lists(st.tuples(coord, coord), min_size=0, max_size=6),
+    r=st.floats(min_value=0.5, max_value=120.0),
+    h=st.sampled_from([5.0, 7.5, 10.0]),
+)
+def test_observe_marks_exactly_the_points_in_range(positions, r, h):
+    grid = make_grid(0.0, 300.0, 0.0, 240.0, h)
+    s = StalenessSearch(grid, r, horizon_s=60.0)
+    s.observe(12.5, np.array(positions, dtype=float).reshape(-1, 2))
+    q = grid.points
+    dist = [np.hypot(q[:, 0] - px, q[:, 1] - py) for px, py in positions]  # every point, every position
+    expect = np.zeros(len(q), dtype=bool)
+    near_edge = np.zeros(len(q), dtype=bool)
+    for d in dist:
+        expect |= d <= r
+        near_edge |= np.abs(d - r) < 1e-9  # rounding may go either way exactly on the circle
+    got = s.last_seen == 12.5
+    assert np.array_equal(got[~near_edge], expect[~near_edge])
+    assert np.all(s.last_seen[~got] == -60.0)  # the others keep their earlier time
+
+
+def test_observe_keeps_earlier_sightings_and_updates_only_new_ones():
+    grid = make_grid(0.0, 100.0, 0.0, 100.0, 10.0)
+    s = StalenessSearch(grid, 15.0, horizon_s=60.0)
+    s.observe(1.0, np.array([[5.0, 5.0]]))
+    s.observe(2.0, np.array([[95.0, 95.0]]))
+    assert s.staleness(2.0)[0] == 1.0 / 60.0  # (5, 5) seen at t = 1 s
+    assert s.staleness(2.0)[-1] == 0.0  # (95, 95) seen now
+    assert s.staleness(2.0)[45] == 1.0  # (55, 45) never seen: saturated
