@@ -85,7 +85,7 @@ class Authenticator:
     @staticmethod
     def _payload(msg: Any, serialize: Callable[[Any], bytes]) -> bytes:
         saved = msg.auth
-        msg.auth = _ZERO
+        msg.auth = list(_ZERO)  # a list: rclpy's uint8[32] setter takes a sequence of ints, not bytes
         try:
             return bytes(serialize(msg))
         finally:
@@ -93,12 +93,12 @@ class Authenticator:
 
     def sign(self, msg: Any, topic: str, sender: int, step: int, serialize: Callable[[Any], bytes]) -> None:
         """Set ``msg.auth`` to the tag of ``msg`` (call after every other field is set)."""
-        msg.auth = self.tag(topic, sender, step, self._payload(msg, serialize))
+        msg.auth = list(self.tag(topic, sender, step, self._payload(msg, serialize)))
 
     def check(self, msg: Any, topic: str, sender: int, step: int, serialize: Callable[[Any], bytes]) -> bool:
         """Whether ``msg.auth`` is the tag of ``msg`` for this topic, sender and step."""
         try:
-            tag = _tag_bytes(msg.auth)
+            tag = _tag_bytes(msg.auth)  # read before _payload swaps the field
             return self.verify(topic, sender, step, self._payload(msg, serialize), tag)
         except (TypeError, ValueError, AttributeError, struct.error, OverflowError):
             return False
