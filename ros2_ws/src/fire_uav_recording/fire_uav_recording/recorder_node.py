@@ -188,6 +188,7 @@ class RecorderNode(Node):
                 "flush_period_wall_s",
                 "compress",
                 "stamp_wall_epoch",
+                "max_pending_mib",
             )
         }
         if not p["output"]:
