@@ -67,6 +67,8 @@ def final_weights(data: SectionData) -> dict[int, tuple[np.ndarray, float, float
 
 def _area(mission: Mission) -> tuple[tuple[float, float], tuple[float, float]] | None:
     a = mission.scenario.get("area") if isinstance(mission.scenario, dict) else None
+    if a is None:
+        return None
     try:
         return (float(a["x_min_m"]), float(a["x_max_m"])), (float(a["y_min_m"]), float(a["y_max_m"]))
     except (KeyError, TypeError, ValueError):

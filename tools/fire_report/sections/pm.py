@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -138,6 +139,7 @@ def distance_error_series(
     for key, maps in sorted(by_key.items()):
         t_maps = np.asarray([p.t_s for p in maps])
         rows = []
+        instants: list[tuple[float, Any]]
         if data.grids:
             instants = [(g.t_s, g) for g in data.grids]
         else:

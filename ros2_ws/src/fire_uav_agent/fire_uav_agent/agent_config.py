@@ -152,6 +152,12 @@ def _outage(o: Any) -> Outage:
     return Outage(int(o.from_), int(o.to), float(o.start_s), float(o.end_s))
 
 
+def _pose4(p) -> tuple[float, float, float, float]:
+    """(x_m, y_m, z_m, yaw_rad) as floats."""
+    x, y, z, yaw = (float(v) for v in p)
+    return (x, y, z, yaw)
+
+
 def config_from_scenario(
     scenario: sc.Scenario,
     uav_id: int,
@@ -184,7 +190,7 @@ def config_from_scenario(
         area_m=(float(a.x_min_m), float(a.x_max_m), float(a.y_min_m), float(a.y_max_m)),
         terrain=scenario.terrain,
         lakes=tuple(scenario.lakes),
-        start_pose=tuple(float(v) for v in scenario.uav_start_poses(n)[uav_id]),
+        start_pose=_pose4(scenario.uav_start_poses(n)[uav_id]),
         takeoff_interval_s=float(scenario.uavs.takeoff_interval_s),
         timing=scenario.timing,
         vehicle=scenario.vehicle,

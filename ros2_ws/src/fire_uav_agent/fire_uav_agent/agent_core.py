@@ -258,14 +258,14 @@ class Agent:
             elif isinstance(m, PeerPerimeter):
                 if m.uav_id == cfg.uav_id or not 0 <= m.uav_id < cfg.uav_count:
                     continue
-                if self.link.is_lost(m.uav_id, m.step, FLEET_PERIMETER_SPEC.loss_index):
+                if self.link.is_lost(m.uav_id, m.step, FLEET_PERIMETER_SPEC.draw_index):
                     self.perimeter_lost += 1
                     continue
                 perimeters.append(m)
             elif isinstance(m, PeerFront):
                 if m.uav_id == cfg.uav_id or not 0 <= m.uav_id < cfg.uav_count:
                     continue
-                if not self.link.is_lost(m.uav_id, m.step, FLEET_FRONT_SPEC.loss_index):
+                if not self.link.is_lost(m.uav_id, m.step, FLEET_FRONT_SPEC.draw_index):
                     self._peer_fronts.append(m)
             else:
                 self.link.receive_fires(m)
@@ -546,6 +546,7 @@ class Agent:
             plan = planner.plan(dataclasses.replace(pview, target_fire_id=int(dec.target_fire_id)))
             if plan is None:
                 plan = self.search.plan(pview)
+            assert plan is not None, "the staleness search always returns a target"
             if plan.waypoint_xy is not None:
                 target = (float(plan.waypoint_xy[0]), float(plan.waypoint_xy[1]))
             else:

@@ -64,16 +64,12 @@ class OwnState:
     packets_rejected: int
 
     def as_peer_state(self) -> PeerState:
+        x, y, z, yaw = (float(v) for v in self.s)
+        cx, cy = self.centroid_xy
         return PeerState(
-            self.uav_id,
-            self.sequence,
-            self.step,
-            *(float(v) for v in self.s),
-            self.objective,
-            self.target_fire_id,
-            self.water_kg,
-            *self.centroid_xy,
-        )
+            self.uav_id, self.sequence, self.step, x, y, z, yaw,
+            self.objective, self.target_fire_id, self.water_kg, cx, cy,
+        )  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from fire_uav_common.terrain import Terrain
+from numpy.typing import ArrayLike
 
 from .estimation import wrap_angle
 
@@ -140,7 +141,7 @@ def own_cell(
     return np.all(proj <= b[None, :] + 1e-9, axis=1)
 
 
-def gaussian_density(grid: Grid, centres: np.ndarray, sigmas: np.ndarray) -> np.ndarray:
+def gaussian_density(grid: Grid, centres: ArrayLike, sigmas: ArrayLike) -> np.ndarray:
     """Eqs. 13-15: sum of isotropic Gaussians exp(-|q - c|^2 / (2 sigma^2)) on the grid, (M,)."""
     centres = np.asarray(centres, dtype=float).reshape(-1, 2)
     sigmas = np.broadcast_to(np.asarray(sigmas, dtype=float), (centres.shape[0],))

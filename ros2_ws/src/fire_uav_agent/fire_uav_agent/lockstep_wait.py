@@ -27,7 +27,7 @@ from fire_uav_common.topics import FLEET_STATE_SPEC
 
 __all__ = ["PeerWait"]
 
-STATE_INDEX = FLEET_STATE_SPEC.loss_index
+STATE_INDEX = FLEET_STATE_SPEC.draw_index
 
 
 @dataclass

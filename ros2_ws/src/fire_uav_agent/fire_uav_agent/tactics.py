@@ -39,7 +39,6 @@ from dataclasses import dataclass
 import numpy as np
 from fire_uav_common.constants import CellState
 from fire_uav_common.scenario import TACTICS
-from scipy.ndimage import gaussian_filter
 
 from .coverage import Grid
 from .fire_front import FrontCells
@@ -141,6 +140,8 @@ def front_density(grid: Grid, front: FrontCells, weights: np.ndarray, sigma_m: f
         np.add.at(dens, (i, j), weights)
         # gaussian_filter normalises its kernel: scale back to Eq. 13' (peak 1 per unit weight)
         s = sigma_m / res
+        from scipy.ndimage import gaussian_filter  # only a raster suppressor needs scipy (agent RSS)
+
         dens = gaussian_filter(dens, s, mode="constant", truncate=3.0) * (2.0 * math.pi * s * s)
     return dens.ravel()
 

@@ -6,8 +6,6 @@ scenario seed and the UAV id, so that lockstep runs repeat exactly.
 
 from __future__ import annotations
 
-import hashlib
-import struct
 import zlib
 
 import numpy as np
@@ -36,11 +34,4 @@ def bernoulli(p: float, seed: int, purpose: str, *ids: int) -> bool:
         raise ValueError(f"probability must be in [0, 1], got {p}")
     if p == 0.0:
         return False
-    if seed < 0 or any(i < 0 for i in ids):
-        raise ValueError(f"seed and ids must be >= 0, got seed={seed}, ids={ids}")
-    # a keyed hash of the arguments, not a Generator: one draw per peer message and step made
-    # SeedSequence + PCG64 construction ~45 % of an agent step (docs/profile.md); BLAKE2b's
-    # 64-bit output is uniform, so u in [0, 1) and P(u < p) = p
-    key = struct.pack(f"<{2 + len(ids)}Q", seed, _key(purpose), *ids)
-    u = int.from_bytes(hashlib.blake2b(key, digest_size=8).digest(), "little") / 2.0**64
-    return u < p
+    return bool(stream(seed, purpose, *ids).random() < p)

@@ -599,7 +599,7 @@ def _raster(ctx: _Ctx, raw: Any) -> Raster:
         if not (patch.x_max_m > patch.x_min_m and patch.y_max_m > patch.y_min_m):
             raise ctx.fail(pp, "must have x_max_m > x_min_m and y_max_m > y_min_m")
         patches.append(patch)
-    winds = []
+    winds: list[Wind] = []
     for i, item in enumerate(_list(ctx, d, "wind", p)):
         wp = f"fires.raster.wind[{i}]"
         keys = {"start_s", "speed_mps", "direction_deg"}

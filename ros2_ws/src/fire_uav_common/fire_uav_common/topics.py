@@ -39,13 +39,13 @@ __all__ = [
 
 UAV_NAMESPACE = "uav_{k}"
 
-#: QoS kind -> (reliable, transient_local, depth; 0 = keep all); see :func:`qos`
+#: QoS kind -> (reliable, transient_local, depth); see :func:`qos`
 QOS_KINDS: dict[str, tuple[bool, bool, int]] = {
-    "lockstep": (True, False, 0),
+    "lockstep": (True, False, 100),
     "clock": (True, False, 10),
-    "fleet": (True, False, 0),
+    "fleet": (True, False, 5000),
     "events": (True, True, 1000),
-    "truth": (True, False, 0),
+    "truth": (True, False, 1000),
     "viz": (False, False, 5),
     "latched": (True, True, 1),
     "tf": (True, False, 100),
@@ -55,15 +55,16 @@ QOS_KINDS: dict[str, tuple[bool, bool, int]] = {
 def qos(kind: str) -> QoSProfile:
     """QoS profile for a class of topic.
 
-    - ``"lockstep"``: sensors, commands, payload: reliable, keep all (the world waits for them).
+    - ``"lockstep"``: sensors, commands, payload: reliable, depth 100 (the world waits for them).
     - ``"clock"``: ``/clock``: reliable, depth 10.
-    - ``"fleet"``: peer-to-peer state: reliable, keep all. The injected loss is applied on
+    - ``"fleet"``: peer-to-peer state: reliable, depth 5000. The injected loss is applied on
       receipt (DESIGN "Faults"), and the lockstep wait counts every message a peer announced,
-      so the transport must never drop one: a KEEP_LAST history drops the oldest samples of a
-      burst (the CP MST phase sends ~100 messages in one step), and the fleet would wait for
-      them for ever.
+      so the transport must never drop one: a depth-100 history dropped the oldest samples of
+      a burst (the CP MST phase sends ~100 messages in one step) and the fleet waited for them
+      for ever. KEEP_ALL is no answer either: Fast DDS then blocks and fails ``publish`` once
+      400 samples are unacknowledged. 5000 is far above any step's burst.
     - ``"events"``: reliable + transient local, depth 1000: a late recorder still gets them.
-    - ``"truth"``: reliable, keep all (nothing recorded is lost when the recorder lags).
+    - ``"truth"``: reliable, depth 1000 (nothing recorded is lost when the recorder lags).
     - ``"viz"``: best effort, depth 5.
     - ``"latched"``: reliable + transient local, depth 1 (static data such as ``/tf_static``).
     - ``"tf"``: ``/tf``: reliable, volatile, depth 100 (tf2's broadcaster default).
@@ -74,8 +75,8 @@ def qos(kind: str) -> QoSProfile:
 
     reliable, transient, depth = QOS_KINDS[kind]
     return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST if depth else HistoryPolicy.KEEP_ALL,
-        depth=depth or 1000,
+        history=HistoryPolicy.KEEP_LAST,
+        depth=depth,
         reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
         durability=DurabilityPolicy.TRANSIENT_LOCAL if transient else DurabilityPolicy.VOLATILE,
     )
@@ -114,6 +115,13 @@ class TopicSpec:
             raise ValueError(f"topic {self.name}: unknown QoS kind {self.qos_kind!r}")
         if self.per_uav == self.name.startswith("/"):
             raise ValueError(f"topic {self.name}: per-vehicle names are relative, others absolute")
+
+    @property
+    def draw_index(self) -> int:
+        """The loss index of a peer topic (ValueError for a topic that has none)."""
+        if self.loss_index is None:
+            raise ValueError(f"topic {self.name} is not a peer topic: it has no loss index")
+        return self.loss_index
 
     def qos(self) -> QoSProfile:
         """The topic's rclpy QoS profile."""

@@ -387,7 +387,8 @@ class World:
                 return []
             hit = self.fires.apply_drop(v.x_m, v.y_m, None) if kg > 0 else []
             cells = getattr(self.fires, "last_drop_cells", None) if kg > 0 else None
-            self.measures.add_drop(kg, *(cells or (0, 0)), hit=bool(hit))
+            burning_cells, footprint_cells = cells if cells is not None else (0, 0)
+            self.measures.add_drop(kg, burning_cells, footprint_cells, hit=bool(hit))
             cell_text = f", {cells[0]} of {cells[1]} cells burning" if cells is not None else ""
             ev = [
                 Event(

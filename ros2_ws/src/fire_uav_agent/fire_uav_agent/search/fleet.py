@@ -73,7 +73,7 @@ class FleetSim:
                         continue
                     self.sent += 1
                     if fleet_rng.bernoulli(self.loss_probability, self.seed, "loss", c.uav_id, r, e.step,
-                                           TOPIC_SPECS[e.topic].loss_index):  # fmt: skip
+                                           TOPIC_SPECS[e.topic].draw_index):  # fmt: skip
                         self.lost += 1
                         continue
                     extra = int(self._net.integers(0, self.max_extra_delay_steps + 1))

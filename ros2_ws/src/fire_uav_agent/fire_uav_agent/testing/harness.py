@@ -129,7 +129,7 @@ def peer_messages(out: StepOutput, perimeter_sequence: int = 0) -> list[PeerMess
         fid = int(fire_id) if fire_id < 2**31 else -1
         msgs.append(PeerPerimeter(out.state.uav_id, perimeter_sequence, out.step, fid, summary))
     if out.front is not None:
-        msgs.append(PeerFront(out.state.uav_id, out.state.sequence, out.step, front_as_sent(out.front)))
+        msgs.append(PeerFront(out.state.uav_id, out.state.sequence, out.step, front_as_sent(out.front)))  # type: ignore[arg-type]  # StepOutput.front is typed object (agent_types does not import fire_front)
     return msgs
 
 

@@ -124,8 +124,8 @@ class RasterFireModel:
         inner = (slice(PAD, PAD + self.ny), slice(PAD, PAD + self.nx))
         self._inner = inner
         r0 = np.zeros((self.ny, self.nx))
-        for m, p in self._params.items():
-            r0[fuel == m] = p.r0_mps
+        for m, sp in self._params.items():
+            r0[fuel == m] = sp.r0_mps
         self.burnable[inner] = r0 > 0
         # dynamic state (padded)
         self.t_ign = np.full(shape, np.inf)
@@ -278,8 +278,8 @@ class RasterFireModel:
         k = SEED_RADIUS_CELLS
         i0, i1 = max(cell[0] - k, PAD), min(cell[0] + k + 1, self.ny + PAD)
         j0, j1 = max(cell[1] - k, PAD), min(cell[1] + k + 1, self.nx + PAD)
-        ii, jj = np.meshgrid(np.arange(i0, i1), np.arange(j0, j1), indexing="ij")
-        ii, jj = ii.ravel(), jj.ravel()
+        gi, gj = np.meshgrid(np.arange(i0, i1), np.arange(j0, j1), indexing="ij")
+        ii, jj = gi.ravel(), gj.ravel()
         vx = self.xc[jj - PAD] - ig.x_m
         vy = self.yc[ii - PAD] - ig.y_m
         keep = np.hypot(vx, vy) <= k * self.cs
@@ -376,8 +376,9 @@ class RasterFireModel:
             was_active = self._active_ids(self._t_updated)  # burning at the previous update
             if self._set_wind(t1):
                 # burning cells re-derive their burn-out time under the new wind
-                burning = np.nonzero(self._burning(t1))
-                if burning[0].size:
+                bi, bj = np.nonzero(self._burning(t1))
+                burning = (bi, bj)
+                if bi.size:
                     self._ignite(burning, self.t_ign[burning], self.label[burning])
             self._propagate(self._t_updated, t1)
             self._t_updated = t1
