@@ -130,7 +130,7 @@ def test_from_dict_names_dict() -> None:
         (with_(sensors={"gps": {"p_valid": 1.5}}), r"sensors\.gps\.p_valid: must be <= 1, got 1\.5"),
         (with_(sensors={"gyro": {"rate_hz": 0}}), r"sensors\.gyro\.rate_hz: must be > 0"),
         (with_(sensors={"lidar": {}}), r"sensors\.lidar: unknown field"),
-        (with_(fires={"model": "cellular"}), r"fires\.model: must be 'analytic' or 'raster'"),
+        (with_(fires={"model": "cellular"}), r"fires\.model: must be one of \['analytic', 'raster'\], got 'cellular'"),
         (
             with_(
                 fires={"analytic": [{"x_m": 1, "y_m": 1, "sigma_m": 5}, {"x_m": 1, "y_m": 1, "sigma_m": -3}]}
@@ -271,7 +271,7 @@ def test_prior_fires_mode_is_validated_and_defaults_to_unknown():
     assert scenario_from_dict(base).mission.prior_fires == "unknown"
     assert scenario_from_dict({**base, "mission": {"prior_fires": "known"}}).mission.prior_fires == "known"
     with pytest.raises(
-        ScenarioError, match=r"mission\.prior_fires: must be one of unknown, known, got 'maybe'"
+        ScenarioError, match=r"mission\.prior_fires: must be one of \['unknown', 'known'\], got 'maybe'"
     ):
         scenario_from_dict({**base, "mission": {"prior_fires": "maybe"}})
     with pytest.raises(ScenarioError, match=r"mission\.prior_position_sigma_m: must be >= 0"):
