@@ -555,7 +555,7 @@ class Progress:
 
 
 def run(args: argparse.Namespace) -> int:
-    from fire_uav_common.scenario import ScenarioError, load_scenario
+    from fire_uav_common.scenario import ScenarioError, check_fleet_size, load_scenario
 
     scenario_path = resolve_scenario(args.scenario)
     overrides = parse_sets(args.set)
@@ -568,6 +568,11 @@ def run(args: argparse.Namespace) -> int:
         raise MissionError(
             f"--uavs must be >= 0 (0: the fire alone, the suppression baseline), got {uav_count}"
         )
+    if uav_count > 0:
+        try:
+            check_fleet_size(scenario, uav_count)
+        except ScenarioError as e:
+            raise MissionError(f"{e} (--uavs {uav_count})") from None
     for k in [*(x.uav for x in args.kill), *(x.uav for x in args.freeze), *(x.uav for x in args.stall)]:
         if not 0 <= k < uav_count:
             raise MissionError(f"fault names uav {k}, but the fleet is uavs 0..{uav_count - 1}")

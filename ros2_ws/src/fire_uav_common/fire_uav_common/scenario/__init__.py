@@ -35,7 +35,18 @@ import yaml
 
 from .fields import _Ctx, _int, _mapping, _str
 from .fires import _fires
-from .sections import _area, _comms, _lakes, _mission, _sensors, _terrain, _timing, _uavs, _vehicle
+from .sections import (
+    _area,
+    _check_outage_ids,
+    _comms,
+    _lakes,
+    _mission,
+    _sensors,
+    _terrain,
+    _timing,
+    _uavs,
+    _vehicle,
+)
 from .types import (
     FIRE_MODELS,
     FUEL_MODELS,
@@ -97,6 +108,7 @@ __all__ = [
     "TACTICS",
     "WIND_LIMITS",
     "load_scenario",
+    "check_fleet_size",
     "scenario_from_dict",
 ]
 
@@ -191,3 +203,12 @@ def load_scenario(path: str | os.PathLike, *, overrides: Mapping[str, Any] | Non
     if raw is None:
         raise ctx.fail("", "file is empty")
     return scenario_from_dict(raw, file=file, overrides=overrides)
+
+
+def check_fleet_size(scenario: Scenario, uav_count: int) -> None:
+    """Check the scenario against a fleet of ``uav_count`` UAVs (the runner's ``--uavs`` may differ
+    from ``uavs.count``): every ``comms.outages`` id must be one of them. Raises
+    :class:`ScenarioError` naming the file and the field."""
+    ctx = _Ctx(scenario.path or "<dict>")
+    for i, o in enumerate(scenario.comms.outages):
+        _check_outage_ids(ctx, i, o, uav_count)

@@ -154,15 +154,20 @@ def _comms(ctx: _Ctx, raw: Any, uav_count: int) -> Comms:
             raise ctx.fail(f"{op}.end_s", f"must be > start_s ({o.start_s:g}), got {o.end_s:g}")
         if o.from_ == o.to:
             raise ctx.fail(f"{op}.to", f"must differ from 'from' ({o.from_})")
-        for key, uid in (("from", o.from_), ("to", o.to)):
-            if uid >= uav_count:
-                raise ctx.fail(
-                    f"{op}.{key}", f"UAV {uid} does not exist: the fleet has ids 0..{uav_count - 1}"
-                )
+        _check_outage_ids(ctx, i, o, uav_count)
         outages.append(o)
     return Comms(
         loss_probability=_num(ctx, d, "loss_probability", p, 0.05, ge=0, le=1), outages=tuple(outages)
     )
+
+
+def _check_outage_ids(ctx: _Ctx, i: int, o: Outage, uav_count: int) -> None:
+    """Both ends of outage ``i`` must be UAVs of a fleet of ``uav_count`` (ids 0..uav_count-1)."""
+    for key, uid in (("from", o.from_), ("to", o.to)):
+        if uid >= uav_count:
+            raise ctx.fail(
+                f"comms.outages[{i}].{key}", f"UAV {uid} does not exist: the fleet has ids 0..{uav_count - 1}"
+            )
 
 
 def _mission(ctx: _Ctx, raw: Any) -> Mission:
