@@ -151,7 +151,7 @@ def _record(
     """Read the mapping ``raw`` at ``path`` into the all-numbers dataclass ``cls``.
 
     Keys are ``cls``'s field names; a field's YAML default is ``defaults[name]``, else the
-    dataclass default; a field with neither is required. ``bounds[name]`` are the keyword
+    dataclass default; a field with neither (or a ``None`` default) is required. ``bounds[name]`` are the keyword
     bounds of :func:`_num` (``gt``, ``ge``, ``le``, ``lt``) for that field.
     """
     defaults = defaults or {}
