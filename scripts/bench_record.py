@@ -31,6 +31,7 @@ def publish(uavs: int, seconds: float, rate_hz: float = 10.0) -> int:
     from builtin_interfaces.msg import Time
     from fire_uav_common import topics
     from fire_uav_common.constants import EventType
+    from fire_uav_common.ros_io import spin
     from fire_uav_common.stamps import s_to_ns, to_time_msg
     from fire_uav_msgs.msg import (
         FireEstimate,
@@ -94,13 +95,7 @@ def publish(uavs: int, seconds: float, rate_hz: float = 10.0) -> int:
             raise SystemExit(0)
 
     node.create_timer(1.0 / rate_hz, tick)
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, SystemExit):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin(node)  # until the timer's SystemExit at t_end or Ctrl-C
     return 0
 
 

@@ -76,3 +76,41 @@ def test_old_cmake_is_named(tmp_path):
     r = _run(_fake_path(tmp_path, ["python3", "g++", "c++", "gcc", "cc"], fake))
     assert r.returncode != 0
     assert "cmake 3.16.3 is too old" in r.stderr, r.stderr
+
+
+CONSOLE_SCRIPTS = {  # tools/pyproject.toml [project.scripts]
+    "fire-run-mission": "fire_mission.runner",
+    "fire-report": "fire_report.cli",
+    "fire-bench": "fire_bench.bench",
+}
+
+
+def _venv_env() -> dict[str, str]:
+    """The environment env.sh gives: this checkout's tools first, then the workspace packages."""
+    src = ROOT / "ros2_ws/src"
+    pkgs = [
+        str(src / p) for p in ("fire_uav_common", "fire_world_sim", "fire_uav_recording", "fire_uav_agent")
+    ]
+    path = os.pathsep.join([str(ROOT / "tools"), *pkgs, os.environ.get("PYTHONPATH", "")])
+    return {**os.environ, "PYTHONPATH": path}
+
+
+def test_console_scripts_are_installed_and_run_this_checkouts_tools():
+    venv = ROOT / ".venv"
+    if not (venv / "bin/python").exists():
+        pytest.skip("no .venv: run scripts/bootstrap")
+    for name, module in CONSOLE_SCRIPTS.items():
+        exe = venv / "bin" / name
+        assert exe.is_file() and os.access(exe, os.X_OK), f"{exe} missing: scripts/bootstrap installs it"
+        assert f"from {module} import main" in exe.read_text(), exe.read_text()
+    # the venv may be shared with other checkouts: PYTHONPATH (env.sh) decides whose tools run
+    r = subprocess.run(
+        [str(venv / "bin/python"), "-c", "import fire_mission, fire_report, fire_bench as b; print(b.__file__)"],
+        env=_venv_env(), capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert Path(r.stdout.strip()).resolve().is_relative_to((ROOT / "tools").resolve()), r.stdout
+    r = subprocess.run(
+        [str(venv / "bin/fire-report"), "--help"], env=_venv_env(), capture_output=True, text=True, timeout=60
+    )
+    assert r.returncode == 0 and "usage" in r.stdout.lower(), r.stdout + r.stderr

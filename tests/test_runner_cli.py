@@ -64,3 +64,22 @@ def test_bad_scenario_field_is_named(tmp_path):
     assert r.returncode == 2
     assert "bad.yaml" in r.stderr and "fires.analytic[0].sigma_m" in r.stderr, r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_outage_beyond_the_flown_fleet_is_named(tmp_path):
+    """comms.outages is checked against --uavs, not only against the scenario's uavs.count."""
+    sc = tmp_path / "outage.yaml"
+    text = (ROOT / "ros2_ws/src/fire_world_sim/scenarios/fault_drill.yaml").read_text()
+    sc.write_text(
+        text.replace(
+            "  loss_probability: 0.05",
+            "  loss_probability: 0.05\n  outages: [{from: 0, to: 2, start_s: 1, end_s: 5}]",
+        )
+    )
+    r = _run(str(sc), "--uavs", "2")
+    assert r.returncode == 2, r.stderr
+    assert (
+        "outage.yaml: comms.outages[0].to: UAV 2 does not exist: the fleet has ids 0..1 (--uavs 2)"
+        in r.stderr
+    ), r.stderr
+    assert "Traceback" not in r.stderr

@@ -93,6 +93,7 @@ def to_plain(msg):
 
 def main() -> int:
     import rclpy
+    from fire_uav_common.ros_io import spin
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
     qos = QoSProfile(
@@ -102,42 +103,35 @@ def main() -> int:
     types = message_types()
     rclpy.init()
     node = rclpy.create_node(f"msg_probe_{mode}")
-    try:
-        if mode == "pub":
-            pubs = {t: node.create_publisher(_cls(f"fire_uav_msgs/{t}"), f"/probe/{t}", qos) for t in types}
-            sent: set[str] = set()
+    if mode == "pub":
+        pubs = {t: node.create_publisher(_cls(f"fire_uav_msgs/{t}"), f"/probe/{t}", qos) for t in types}
+        sent: set[str] = set()
 
-            def tick() -> None:
-                for t, p in pubs.items():
-                    if t not in sent and p.get_subscription_count() > 0:
-                        p.publish(sample(_cls(f"fire_uav_msgs/{t}")))
-                        sent.add(t)
+        def tick() -> None:
+            for t, p in pubs.items():
+                if t not in sent and p.get_subscription_count() > 0:
+                    p.publish(sample(_cls(f"fire_uav_msgs/{t}")))
+                    sent.add(t)
 
-            node.create_timer(0.05, tick)
-            rclpy.spin(node)
-        else:
-            out = open(sys.argv[2], "w")  # closed at exit
-            got: set[str] = set()
+        node.create_timer(0.05, tick)
+    else:
+        out = open(sys.argv[2], "w")  # closed at exit
+        got: set[str] = set()
 
-            def make_cb(t: str):
-                def cb(msg) -> None:
-                    if t not in got:
-                        got.add(t)
-                        out.write(json.dumps({"type": t, "msg": to_plain(msg)}) + "\n")
-                        out.flush()
-                        if len(got) == len(types):
-                            raise SystemExit(0)
+        def make_cb(t: str):
+            def cb(msg) -> None:
+                if t not in got:
+                    got.add(t)
+                    out.write(json.dumps({"type": t, "msg": to_plain(msg)}) + "\n")
+                    out.flush()
+                    if len(got) == len(types):
+                        raise SystemExit(0)
 
-                return cb
+            return cb
 
-            for t in types:
-                node.create_subscription(_cls(f"fire_uav_msgs/{t}"), f"/probe/{t}", make_cb(t), qos)
-            rclpy.spin(node)
-    except (KeyboardInterrupt, SystemExit):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+        for t in types:
+            node.create_subscription(_cls(f"fire_uav_msgs/{t}"), f"/probe/{t}", make_cb(t), qos)
+    spin(node)  # until every type arrived (SystemExit from the callback) or Ctrl-C
     return 0
 
 

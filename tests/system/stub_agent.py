@@ -11,9 +11,9 @@ import sys
 import rclpy
 from fire_uav_common import topics
 from fire_uav_common.constants import EventType, PayloadAction
+from fire_uav_common.ros_io import spin
 from fire_uav_msgs.msg import MissionEvent, PayloadRequest, SensorBundle
 from geometry_msgs.msg import TwistStamped
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
 
@@ -55,13 +55,7 @@ class StubAgent(Node):
 def main() -> int:
     rclpy.init()
     node = StubAgent(int(sys.argv[1]))
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin(node)
     return 0
 
 

@@ -21,10 +21,10 @@ import time
 import rclpy
 from builtin_interfaces.msg import Time
 from fire_uav_common import topics
+from fire_uav_common.ros_io import spin
 from fire_uav_common.stamps import s_to_ns, stamp_to_ns, step_to_ns, to_time_msg
 from fire_uav_msgs.msg import FireEstimate, FireEstimateArray, GpsFix, SensorBundle, UavState
 from geometry_msgs.msg import TwistStamped
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, Range
@@ -134,15 +134,7 @@ def main(argv: list[str] | None = None) -> int:
     a = p.parse_args(argv)
     rclpy.init()
     node = SkeletonWorld(a.uavs, a.steps) if a.role == "world" else SkeletonAgent(a.uav_id, a.uavs)
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException, SystemExit):
-        pass
-    finally:
-        if isinstance(node, SkeletonAgent):
-            node.report()
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin(node, node.report if isinstance(node, SkeletonAgent) else None)
     return 0
 
 

@@ -196,44 +196,31 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--loss", type=_probability, default=None, help="packet loss probability per directed link"
     )
-    p.add_argument(
-        "--kill",
-        type=_parse_kill,
-        action="append",
-        default=[],
-        metavar="K@T",
-        help="SIGKILL agent K at mission time T [s]; repeatable",
-    )
-    p.add_argument(
-        "--freeze",
-        type=_parse_freeze,
-        action="append",
-        default=[],
-        metavar="K@T1:T2",
-        help="SIGSTOP agent K at T1 and SIGCONT it at T2 [s]; repeatable",
-    )
-    p.add_argument(
-        "--stall",
-        type=_parse_stall,
-        action="append",
-        default=[],
-        metavar="K@T:MS",
-        help="stop agent K for MS wall milliseconds at mission time T, as a slow machine would "
-        "(lockstep waits for it: nothing but wall time may change); repeatable",
-    )
+    for flag, parse, metavar, text in (  # the scheduled faults: each repeatable
+        ("--kill", _parse_kill, "K@T", "SIGKILL agent K at mission time T [s]"),
+        ("--freeze", _parse_freeze, "K@T1:T2", "SIGSTOP agent K at T1 and SIGCONT it at T2 [s]"),
+        (
+            "--stall",
+            _parse_stall,
+            "K@T:MS",
+            "stop agent K for MS wall milliseconds at mission time T, as a slow machine would "
+            "(lockstep waits for it: nothing but wall time may change)",
+        ),
+        (
+            "--outage",
+            _parse_outage,
+            "A>B@T1:T2",
+            "drop every message on the link A -> B between T1 and T2 [s]",
+        ),
+    ):
+        p.add_argument(
+            flag, type=parse, action="append", default=[], metavar=metavar, help=f"{text}; repeatable"
+        )
     p.add_argument(
         "--check-determinism",
         action="store_true",
         help="run the mission twice (OUT/run1, OUT/run2) and compare the summaries and the "
         "/world/truth messages of the two bags; exit 0 only if they are identical",
-    )
-    p.add_argument(
-        "--outage",
-        type=_parse_outage,
-        action="append",
-        default=[],
-        metavar="A>B@T1:T2",
-        help="drop every message on the link A -> B between T1 and T2 [s]; repeatable",
     )
     p.add_argument(
         "--max-duration", type=float, default=None, help="mission time limit [s] (default: scenario)"
@@ -568,7 +555,7 @@ class Progress:
 
 
 def run(args: argparse.Namespace) -> int:
-    from fire_uav_common.scenario import ScenarioError, load_scenario
+    from fire_uav_common.scenario import ScenarioError, check_fleet_size, load_scenario
 
     scenario_path = resolve_scenario(args.scenario)
     overrides = parse_sets(args.set)
@@ -581,6 +568,11 @@ def run(args: argparse.Namespace) -> int:
         raise MissionError(
             f"--uavs must be >= 0 (0: the fire alone, the suppression baseline), got {uav_count}"
         )
+    if uav_count > 0:
+        try:
+            check_fleet_size(scenario, uav_count)
+        except ScenarioError as e:
+            raise MissionError(f"{e} (--uavs {uav_count})") from None
     for k in [*(x.uav for x in args.kill), *(x.uav for x in args.freeze), *(x.uav for x in args.stall)]:
         if not 0 <= k < uav_count:
             raise MissionError(f"fault names uav {k}, but the fleet is uavs 0..{uav_count - 1}")

@@ -12,9 +12,9 @@ import math
 import rclpy
 from builtin_interfaces.msg import Duration
 from fire_uav_common import topics
+from fire_uav_common.ros_io import spin
 from fire_uav_msgs.msg import PerimeterMap
 from geometry_msgs.msg import Point
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
@@ -45,25 +45,11 @@ class PerimeterViewer(Node):
         pts = perimeter_points(msg)
         if not pts:
             return
-        line = Marker(
-            header=msg.header,
-            ns=f"perimeter_uav_{msg.uav_id}",
-            id=0,
-            type=Marker.LINE_STRIP,
-            action=Marker.ADD,
-            lifetime=Duration(sec=5),
-        )
+        line = _marker(msg, f"perimeter_uav_{msg.uav_id}", 0, Marker.LINE_STRIP)
         line.scale.x = 1.0
         line.color = ColorRGBA(r=1.0, g=0.5, b=0.0, a=1.0)
         line.points = [Point(x=x, y=y, z=1.0) for x, y, _ in pts] + [Point(x=pts[0][0], y=pts[0][1], z=1.0)]
-        dots = Marker(
-            header=msg.header,
-            ns=f"importance_uav_{msg.uav_id}",
-            id=1,
-            type=Marker.SPHERE_LIST,
-            action=Marker.ADD,
-            lifetime=Duration(sec=5),
-        )
+        dots = _marker(msg, f"importance_uav_{msg.uav_id}", 1, Marker.SPHERE_LIST)
         dots.scale.x = dots.scale.y = dots.scale.z = 2.0
         top = max((i for _, _, i in pts), default=0.0) or 1.0
         dots.points = [Point(x=x, y=y, z=1.5) for x, y, _ in pts]
@@ -71,16 +57,17 @@ class PerimeterViewer(Node):
         self.pub.publish(MarkerArray(markers=[line, dots]))
 
 
+def _marker(msg: PerimeterMap, ns: str, marker_id: int, kind: int) -> Marker:
+    """A marker of this map: its header, added, shown for 5 s unless the next map replaces it."""
+    return Marker(
+        header=msg.header, ns=ns, id=marker_id, type=kind, action=Marker.ADD, lifetime=Duration(sec=5)
+    )
+
+
 def main(args: list[str] | None = None) -> None:
     rclpy.init(args=args)
     node = PerimeterViewer()
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin(node)
 
 
 if __name__ == "__main__":

@@ -122,8 +122,7 @@ class AgentConfig:
     @property
     def limits(self) -> VehicleLimits:
         """FF Eq. 5 limits of the scenario's vehicle."""
-        v = self.vehicle
-        return VehicleLimits(v.v_stall_mps, v.v_max_mps, v.vz_max_mps, v.omega_max_radps)
+        return VehicleLimits.of(self.vehicle)
 
     @property
     def fire_range_m(self) -> float:

@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from fire_uav_common.scenario import Vehicle
 from fire_uav_common.terrain import Terrain
 from numpy.typing import ArrayLike
 
@@ -167,14 +168,22 @@ def mass_centroid(
     return m * cell_area_m2, c
 
 
+_VEHICLE = Vehicle()  # the scenario's defaults: one source for them
+
+
 @dataclass(frozen=True)
 class VehicleLimits:
-    """FF II-B, Eq. 5 (scenario ``vehicle:``)."""
+    """FF II-B, Eq. 5: the guidance's subset of the scenario's ``vehicle:`` (its defaults)."""
 
-    v_stall_mps: float = 44.7
-    v_max_mps: float = 100.0
-    vz_max_mps: float = 100.0
-    omega_max_radps: float = 10.0
+    v_stall_mps: float = _VEHICLE.v_stall_mps
+    v_max_mps: float = _VEHICLE.v_max_mps
+    vz_max_mps: float = _VEHICLE.vz_max_mps
+    omega_max_radps: float = _VEHICLE.omega_max_radps
+
+    @classmethod
+    def of(cls, vehicle: Vehicle) -> VehicleLimits:
+        """The limits of a scenario's ``vehicle`` section."""
+        return cls(vehicle.v_stall_mps, vehicle.v_max_mps, vehicle.vz_max_mps, vehicle.omega_max_radps)
 
 
 @dataclass(frozen=True)

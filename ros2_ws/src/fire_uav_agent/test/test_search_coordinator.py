@@ -220,35 +220,23 @@ def test_planner_without_path_returns_none() -> None:
 
 @pytest.mark.slow
 def test_closed_loop_agents_fly_the_plan_and_find_the_fire() -> None:
-    """MiniWorld (in-process FF physics and sensors) + real Agents whose SEARCH planner is the coordinator's."""
-    from fire_uav_agent.agent_core import AgentConfig
-    from fire_uav_agent.minisim import MiniWorld, SimFire
+    """The harness (real World and Agents, scenario search_area) whose agents' SEARCH planner is the coordinator's."""
     from fire_uav_agent.mission import Objective
-    from fire_uav_common.scenario import Mission
-    from fire_uav_common.terrain import Lake
+    from fire_uav_agent.testing.harness import Harness, scenario_path
+    from fire_uav_common.constants import EventType
 
-    cfgs = [
-        AgentConfig(
-            uav_id=i,
-            uav_count=3,
-            area_m=AREA,
-            start_pose=(60.0, 120.0 + 30 * i, 0.0, 0.0),
-            takeoff_interval_s=1.0,
-            lakes=(Lake(150.0, 60.0, 90.0),),
-            mission=Mission(search_first=True),
-        )  # fmt: skip
-        for i in range(3)
-    ]
-    world = MiniWorld(cfgs, [SimFire(760.0, 720.0, 32.0, -0.1, 0.05)])
+    h = Harness.from_file(scenario_path("search_area"))
+    ar = h.scenario.area
+    assert (ar.x_min_m, ar.x_max_m, ar.y_min_m, ar.y_max_m) == AREA and h.scenario.mission.search_first
     fleet = FleetSim(3, AREA, seed=0, loss_probability=0.05)
-    for a, c in zip(world.agents, fleet.coordinators, strict=True):
+    for a, c in zip(h.agents, fleet.coordinators, strict=True):
         a.planners[int(Objective.SEARCH)] = c.planner
     detected = None
     for _ in range(1500):
-        world.step()
+        h.step()
         fleet.step()
-        for o in world.outputs:
-            if o is not None and any(ev.type == 11 for ev in o.events):
+        for o in h.outputs:
+            if o is not None and any(ev.type == EventType.FIRE_DETECTED for ev in o.events):
                 detected = (o.step, o.state.uav_id)
         if detected:
             break

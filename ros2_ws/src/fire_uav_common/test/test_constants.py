@@ -39,6 +39,13 @@ def test_every_msg_constant_has_an_enum() -> None:
             )
 
 
+def _project_sources(root: Path) -> list[Path]:
+    """The project's Python files that must use the enums: packages and scripts, no tests, no build."""
+    paths = list((root / "ros2_ws" / "src").rglob("*.py")) + list((root / "scripts").rglob("*.py"))
+    skip = ("/test/", "/build/", "/install/")
+    return [p for p in paths if p.name != "constants.py" and not any(s in str(p) for s in skip)]
+
+
 def test_no_constant_defined_outside_its_module() -> None:
     """No module of the project assigns a message constant name to a literal (use the enums)."""
     root = Path(__file__).resolve().parents[4]
@@ -47,14 +54,7 @@ def test_no_constant_defined_outside_its_module() -> None:
         r"^\s*([A-Z][A-Z0-9_]*(?:\s*,\s*[A-Z][A-Z0-9_]*)*)\s*=\s*-?\d+(?:\s*,\s*-?\d+)*\s*(#.*)?$"
     )
     offenders = []
-    for path in list((root / "ros2_ws" / "src").rglob("*.py")) + list((root / "scripts").rglob("*.py")):
-        if (
-            "/test/" in str(path)
-            or path.name == "constants.py"
-            or "/build/" in str(path)
-            or "/install/" in str(path)
-        ):
-            continue
+    for path in _project_sources(root):
         for n, line in enumerate(path.read_text().splitlines(), 1):
             m = assign.match(line)
             if m and {x.strip() for x in m.group(1).split(",")} & names:
@@ -69,14 +69,7 @@ def test_no_enum_copies_outside_its_module() -> None:
     root = Path(__file__).resolve().parents[4]
     ours = [{e.name: int(e.value) for e in enum} for enum in MSG_CONSTANTS.values()]
     offenders = []
-    for path in list((root / "ros2_ws" / "src").rglob("*.py")) + list((root / "scripts").rglob("*.py")):
-        if (
-            "/test/" in str(path)
-            or path.name == "constants.py"
-            or "/build/" in str(path)
-            or "/install/" in str(path)
-        ):
-            continue
+    for path in _project_sources(root):
         for node in ast.walk(ast.parse(path.read_text())):
             if not isinstance(node, ast.ClassDef):
                 continue

@@ -130,7 +130,10 @@ def test_from_dict_names_dict() -> None:
         (with_(sensors={"gps": {"p_valid": 1.5}}), r"sensors\.gps\.p_valid: must be <= 1, got 1\.5"),
         (with_(sensors={"gyro": {"rate_hz": 0}}), r"sensors\.gyro\.rate_hz: must be > 0"),
         (with_(sensors={"lidar": {}}), r"sensors\.lidar: unknown field"),
-        (with_(fires={"model": "cellular"}), r"fires\.model: must be 'analytic' or 'raster'"),
+        (
+            with_(fires={"model": "cellular"}),
+            r"fires\.model: must be one of \['analytic', 'raster'\], got 'cellular'",
+        ),
         (
             with_(
                 fires={"analytic": [{"x_m": 1, "y_m": 1, "sigma_m": 5}, {"x_m": 1, "y_m": 1, "sigma_m": -3}]}
@@ -271,8 +274,22 @@ def test_prior_fires_mode_is_validated_and_defaults_to_unknown():
     assert scenario_from_dict(base).mission.prior_fires == "unknown"
     assert scenario_from_dict({**base, "mission": {"prior_fires": "known"}}).mission.prior_fires == "known"
     with pytest.raises(
-        ScenarioError, match=r"mission\.prior_fires: must be one of unknown, known, got 'maybe'"
+        ScenarioError, match=r"mission\.prior_fires: must be one of \['unknown', 'known'\], got 'maybe'"
     ):
         scenario_from_dict({**base, "mission": {"prior_fires": "maybe"}})
     with pytest.raises(ScenarioError, match=r"mission\.prior_position_sigma_m: must be >= 0"):
         scenario_from_dict({**base, "mission": {"prior_position_sigma_m": -1}})
+
+
+def test_outage_ids_are_checked_against_the_fleet_actually_flown(tmp_path: Path) -> None:
+    """A scenario valid for uavs.count 4 names a UAV a 3-UAV fleet (the runner's --uavs 3) lacks."""
+    from fire_uav_common.scenario import check_fleet_size
+
+    outages = [{"from": 0, "to": 1, "start_s": 1, "end_s": 2}, {"from": 2, "to": 3, "start_s": 1, "end_s": 2}]
+    s = load_scenario(write(tmp_path, with_(uavs={"count": 4}, comms={"outages": outages})))
+    check_fleet_size(s, 4)
+    with pytest.raises(
+        ScenarioError,
+        match=r"s\.yaml: comms\.outages\[1\]\.to: UAV 3 does not exist: the fleet has ids 0\.\.2$",
+    ):
+        check_fleet_size(s, 3)

@@ -18,7 +18,7 @@ import numpy as np
 from fire_uav_common.constants import EventType
 from fire_uav_common.constants import PayloadAction as Action
 from fire_uav_common.rng import stream
-from fire_uav_common.scenario import Scenario
+from fire_uav_common.scenario import Scenario, check_fleet_size
 
 from .errors import ConfigError
 from .fires import FireModel, FireTruthRecord, make_fire_model
@@ -131,6 +131,8 @@ class World:
         if self.seed < 0:
             raise ConfigError(f"seed must be >= 0, got {self.seed}")
         self.uav_count = 0 if no_fleet else (uav_count or scenario.uavs.count)
+        if self.uav_count:
+            check_fleet_size(scenario, self.uav_count)  # the scenario's outages name UAVs of this fleet
         tm = scenario.timing
         self.period_ns = round(tm.control_period_s * 1e9)
         self.substeps = tm.substeps

@@ -177,3 +177,15 @@ def test_collision_radius_zero_turns_collisions_off() -> None:
     res = _fly_level(w, 100)
     assert res[-1].collisions == 0 and res[-1].min_separation_m < 1.0
     assert all(v.status == Status.AIRBORNE for v in res[-1].vehicles)
+
+
+def test_outages_must_name_uavs_of_the_fleet_flown() -> None:
+    """uav_count smaller than the scenario's fleet: an outage naming a missing UAV is refused."""
+    from fire_uav_common.scenario import ScenarioError
+
+    s = make_scenario(uavs={"count": 3}, comms={"outages": [{"from": 2, "to": 0, "start_s": 1, "end_s": 2}]})
+    assert World(s, uav_count=3).uav_count == 3
+    with pytest.raises(
+        ScenarioError, match=r"comms\.outages\[0\]\.from: UAV 2 does not exist: the fleet has ids 0\.\.1"
+    ):
+        World(s, uav_count=2)

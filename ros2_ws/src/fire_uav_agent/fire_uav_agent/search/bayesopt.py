@@ -286,6 +286,13 @@ Objective = Callable[
 ]  # returns an Evaluation-like .cost, .energy_j, .radius_m
 
 
+def _pool(
+    problem: SearchProblem, config: BoConfig, rng: np.random.Generator, pool: np.ndarray | None
+) -> np.ndarray:
+    """The candidate pool in unit coordinates: the given one, else ``config.pool_size`` draws from ``rng``."""
+    return make_pool(problem, config.pool_size, rng) if pool is None else np.asarray(pool, dtype=float)
+
+
 def run_async_bo(
     problem: SearchProblem,
     rng: np.random.Generator,
@@ -301,7 +308,7 @@ def run_async_bo(
     """
     config = config or BoConfig()
     n = problem.n_agents
-    pool = make_pool(problem, config.pool_size, rng) if pool is None else np.asarray(pool, dtype=float)
+    pool = _pool(problem, config, rng, pool)
     agent_rngs = rng.spawn(n)
     net_rng = rng.spawn(1)[0]
     agents = [BoAgent(i, problem, pool, agent_rngs[i], config) for i in range(n)]
@@ -369,7 +376,7 @@ def run_random_search(
 ) -> OptimisationTrace:
     """Random-sampling baseline: ``budget`` distinct uniform draws from the same kind of pool."""
     config = config or BoConfig()
-    pool = make_pool(problem, config.pool_size, rng) if pool is None else np.asarray(pool, dtype=float)
+    pool = _pool(problem, config, rng, pool)
     idx = rng.choice(len(pool), size=config.budget, replace=False)
     cands = [problem.candidate_from_unit(pool[k]) for k in idx]
     costs = [float(objective(problem, c).cost) for c in cands]

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from fire_uav_common.scenario import WIND_LIMITS
 
 from .fuel_models import TONS_PER_ACRE_TO_LB_PER_FT2, FuelModel
 
@@ -59,8 +60,6 @@ MPS_TO_FT_PER_MIN = 1.0 / FT_PER_MIN_TO_MPS
 RHO_P = 32.0  # particle density [lb/ft^3]
 S_T = 0.0555  # total mineral content
 S_E = 0.010  # effective mineral content
-#: accepted values of the ``wind_limit`` option (scenario ``fires.raster.wind_limit``)
-WIND_LIMITS = ("behave", "andrews2013", "none")
 DEFAULT_WIND_LIMIT = "behave"
 MAX_LENGTH_TO_WIDTH = 8.0
 

@@ -1,0 +1,214 @@
+"""Scenario files: load, validate and expose them as frozen dataclasses (docs/scenario.md).
+
+``load_scenario(path) -> Scenario``. Attribute names are the YAML keys (``Scenario.area.x_min_m``,
+``Scenario.vehicle.v_stall_mps``...), with two exceptions forced by Python: the outage key
+``from`` is the attribute ``from_`` and ``to`` stays ``to``. Units are in the key names;
+positions are in the ``map`` frame (x east, y north, z up, metres).
+
+The package: ``types`` (the dataclasses), ``fields`` (the one-value readers and their
+path-naming errors), ``sections`` and ``fires`` (one reader per section); this module the entry
+points. Any wrong, missing or unknown field raises :class:`ScenarioError`, whose message names the file
+and the dotted field path, e.g. ``scenarios/x.yaml: fires.analytic[1].sigma_m: must be > 0, got -3``.
+
+Extensions to docs/scenario.md (all optional, defaults keep the documented behaviour):
+
+- ``fires.drop_radius_m``: radius [m] of a drop's footprint; ``null`` (default) means "the
+  fire's sigma" for analytic fires (protocol "Payload") and 20 m for the raster fire.
+- ``fires.raster.wet_duration_s``: a wetted cell cannot ignite for this long (default 600 s).
+- ``fires.raster.spread_factor``: multiplies every rate of spread (default 1.0), to speed up
+  demonstrations without changing the fuel physics.
+- ``fires.raster.wind_limit``: ``behave`` (default: Rothermel's 0.9 I_R limit as Behave applies
+  it), ``andrews2013`` (rate of spread capped at the effective wind speed) or ``none``.
+- ``fires.raster.ignitions[].start_s`` may be negative (a fire already burning when the
+  mission starts); ``fires.raster.wind[0].start_s`` must then be at or before the earliest one.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from .fields import _Ctx, _int, _mapping, _str
+from .fires import _fires
+from .sections import (
+    _area,
+    _check_outage_ids,
+    _comms,
+    _lakes,
+    _mission,
+    _sensors,
+    _terrain,
+    _timing,
+    _uavs,
+    _vehicle,
+)
+from .types import (
+    FIRE_MODELS,
+    FUEL_MODELS,
+    PRIOR_FIRES_MODES,
+    TACTICS,
+    WIND_LIMITS,
+    AltimeterSpec,
+    AnalyticFire,
+    Area,
+    Comms,
+    Fires,
+    FireSensorSpec,
+    FuelPatch,
+    GpsSpec,
+    GyroSpec,
+    Ignition,
+    Mission,
+    Origin,
+    Outage,
+    Pose,
+    Raster,
+    Scenario,
+    ScenarioError,
+    Sensors,
+    Spacing,
+    Timing,
+    Uavs,
+    Vehicle,
+    Wind,
+)
+
+__all__ = [
+    "AltimeterSpec",
+    "AnalyticFire",
+    "Area",
+    "Comms",
+    "FireSensorSpec",
+    "Fires",
+    "FuelPatch",
+    "GpsSpec",
+    "GyroSpec",
+    "Ignition",
+    "Mission",
+    "Origin",
+    "Outage",
+    "Pose",
+    "Raster",
+    "Scenario",
+    "ScenarioError",
+    "Sensors",
+    "Spacing",
+    "Timing",
+    "Uavs",
+    "Vehicle",
+    "Wind",
+    "FIRE_MODELS",
+    "FUEL_MODELS",
+    "PRIOR_FIRES_MODES",
+    "TACTICS",
+    "WIND_LIMITS",
+    "load_scenario",
+    "check_fleet_size",
+    "scenario_from_dict",
+]
+
+
+_TOP = {
+    "name",
+    "description",
+    "seed",
+    "area",
+    "terrain",
+    "lakes",
+    "timing",
+    "vehicle",
+    "uavs",
+    "sensors",
+    "fires",
+    "comms",
+    "mission",
+}
+
+
+def _apply_overrides(ctx: _Ctx, raw: dict, overrides: Mapping[str, Any]) -> dict:
+    """Return a copy of ``raw`` with dotted-path overrides applied (``{"uavs.count": 3, "seed": 7}``)."""
+    out = copy.deepcopy(raw)
+    for dotted, value in overrides.items():
+        parts = str(dotted).split(".")
+        node = out
+        for i, part in enumerate(parts[:-1]):
+            nxt = node.get(part)
+            if nxt is None:
+                nxt = node[part] = {}
+            if not isinstance(nxt, dict):
+                raise ctx.fail(".".join(parts[: i + 1]), f"override {dotted!r}: not a mapping")
+            node = nxt
+        node[parts[-1]] = value
+    return out
+
+
+def scenario_from_dict(
+    raw: Any, *, file: str = "<dict>", overrides: Mapping[str, Any] | None = None
+) -> Scenario:
+    """Validate an already-parsed scenario mapping; ``file`` names it in error messages."""
+    ctx = _Ctx(file)
+    if not isinstance(raw, Mapping):
+        raise ctx.fail("", f"top level must be a mapping, got {type(raw).__name__}")
+    raw = dict(raw)
+    if overrides:
+        raw = _apply_overrides(ctx, raw, overrides)
+    d = _mapping(ctx, raw, "", _TOP, {"name", "area"})
+    seed = _int(ctx, d, "seed", "", 0, ge=0)
+    uavs = _uavs(ctx, d.get("uavs"))
+    return Scenario(
+        name=_str(ctx, d, "name", ""),
+        description=_str(ctx, d, "description", "", "") if d.get("description") is not None else "",
+        seed=seed,
+        area=_area(ctx, d.get("area")),
+        terrain=_terrain(ctx, d.get("terrain")),
+        lakes=_lakes(ctx, d.get("lakes")),
+        timing=_timing(ctx, d.get("timing")),
+        vehicle=_vehicle(ctx, d.get("vehicle")),
+        uavs=uavs,
+        sensors=_sensors(ctx, d.get("sensors")),
+        fires=_fires(ctx, d.get("fires")),
+        comms=_comms(ctx, d.get("comms"), uavs.count),
+        mission=_mission(ctx, d.get("mission")),
+        path="" if file == "<dict>" else file,
+    )
+
+
+def load_scenario(path: str | os.PathLike, *, overrides: Mapping[str, Any] | None = None) -> Scenario:
+    """Read and validate a scenario YAML file.
+
+    ``overrides`` maps dotted field paths to values applied before validation, e.g.
+    ``{"seed": 3, "uavs.count": 2, "comms.loss_probability": 0.0}`` (the runner's flags).
+    Raises :class:`ScenarioError` naming the file and the field on any problem.
+    """
+    file = str(path)
+    p = Path(path)
+    ctx = _Ctx(file)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ctx.fail("", "file not found") from None
+    except IsADirectoryError:
+        raise ctx.fail("", "is a directory, not a scenario file") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise ctx.fail("", f"cannot read: {e}") from None
+    try:
+        raw = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        raise ctx.fail("", f"invalid YAML: {e}") from None
+    if raw is None:
+        raise ctx.fail("", "file is empty")
+    return scenario_from_dict(raw, file=file, overrides=overrides)
+
+
+def check_fleet_size(scenario: Scenario, uav_count: int) -> None:
+    """Check the scenario against a fleet of ``uav_count`` UAVs (the runner's ``--uavs`` may differ
+    from ``uavs.count``): every ``comms.outages`` id must be one of them. Raises
+    :class:`ScenarioError` naming the file and the field."""
+    ctx = _Ctx(scenario.path or "<dict>")
+    for i, o in enumerate(scenario.comms.outages):
+        _check_outage_ids(ctx, i, o, uav_count)

@@ -1,0 +1,121 @@
+"""Reader of the scenario's ``fires`` section: the analytic fires (FF IV-A) and the raster fire."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .fields import _choice, _Ctx, _int, _list, _mapping, _num, _record
+from .types import (
+    FIRE_MODELS,
+    FUEL_MODELS,
+    WIND_LIMITS,
+    AnalyticFire,
+    Fires,
+    FuelPatch,
+    Ignition,
+    Origin,
+    Raster,
+    Wind,
+)
+
+
+def _fuel_patch(ctx: _Ctx, item: Any, pp: str) -> FuelPatch:
+    keys = {"x_min_m", "x_max_m", "y_min_m", "y_max_m", "fuel_model"}
+    pd = _mapping(ctx, item, pp, keys, keys)
+    fm = _choice(ctx, pd, "fuel_model", pp, FUEL_MODELS)
+    x_min, x_max, y_min, y_max = (_num(ctx, pd, k, pp) for k in ("x_min_m", "x_max_m", "y_min_m", "y_max_m"))
+    patch = FuelPatch(x_min_m=x_min, x_max_m=x_max, y_min_m=y_min, y_max_m=y_max, fuel_model=fm)
+    if not (patch.x_max_m > patch.x_min_m and patch.y_max_m > patch.y_min_m):
+        raise ctx.fail(pp, "must have x_max_m > x_min_m and y_max_m > y_min_m")
+    return patch
+
+
+def _winds(ctx: _Ctx, d: dict, p: str) -> list[Wind]:
+    """``fires.raster.wind`` entries, each starting after the previous one."""
+    winds: list[Wind] = []
+    for i, item in enumerate(_list(ctx, d, "wind", p)):
+        wp = f"{p}.wind[{i}]"
+        w = _record(ctx, item, Wind, wp, defaults={"start_s": 0.0}, bounds={"speed_mps": {"ge": 0}})
+        if winds and not w.start_s > winds[-1].start_s:
+            raise ctx.fail(
+                f"{wp}.start_s", f"must be > the previous start_s ({winds[-1].start_s:g}), got {w.start_s:g}"
+            )
+        winds.append(w)
+    return winds
+
+
+def _raster(ctx: _Ctx, raw: Any) -> Raster:
+    p = "fires.raster"
+    d = _mapping(ctx, raw, p, set(Raster.__dataclass_fields__))
+    dflt = Raster()
+    origin = _record(ctx, d.get("origin"), Origin, f"{p}.origin")
+    fuel = _choice(ctx, d, "fuel_model", p, FUEL_MODELS, dflt.fuel_model)
+    patches = tuple(
+        _fuel_patch(ctx, item, f"{p}.fuel_patches[{i}]")
+        for i, item in enumerate(_list(ctx, d, "fuel_patches", p))
+    )
+    winds = _winds(ctx, d, p)
+    ignitions = tuple(
+        _record(ctx, item, Ignition, f"{p}.ignitions[{i}]")
+        for i, item in enumerate(_list(ctx, d, "ignitions", p))
+    )
+    first = min([0.0, *(ig.start_s for ig in ignitions)])  # a fire may already burn at t = 0
+    if not winds:
+        winds = [Wind(first, dflt.wind[0].speed_mps, dflt.wind[0].direction_deg)]
+    elif winds[0].start_s > first:
+        raise ctx.fail(
+            f"{p}.wind[0].start_s",
+            f"must be 0 or earlier: at or before the earliest ignition ({first:g}), got {winds[0].start_s:g}",
+        )
+    r = Raster(
+        cell_size_m=_num(ctx, d, "cell_size_m", p, dflt.cell_size_m, gt=0),
+        nx=_int(ctx, d, "nx", p, dflt.nx, ge=3),
+        ny=_int(ctx, d, "ny", p, dflt.ny, ge=3),
+        origin=origin,
+        fuel_model=fuel,
+        fuel_patches=patches,
+        moisture=_num(ctx, d, "moisture", p, dflt.moisture, ge=0.01, le=0.6),
+        wind=tuple(winds),
+        ignitions=ignitions,
+        wet_duration_s=_num(ctx, d, "wet_duration_s", p, dflt.wet_duration_s, ge=0),
+        spread_factor=_num(ctx, d, "spread_factor", p, dflt.spread_factor, gt=0),
+        wind_limit=_choice(ctx, d, "wind_limit", p, WIND_LIMITS, dflt.wind_limit),
+    )
+    x_max = r.origin.x_m + r.nx * r.cell_size_m
+    y_max = r.origin.y_m + r.ny * r.cell_size_m
+    for i, ig in enumerate(r.ignitions):
+        if not (r.origin.x_m <= ig.x_m < x_max and r.origin.y_m <= ig.y_m < y_max):
+            raise ctx.fail(f"{p}.ignitions[{i}]", f"({ig.x_m:g}, {ig.y_m:g}) is outside the raster grid")
+    return r
+
+
+def _fires(ctx: _Ctx, raw: Any) -> Fires:
+    p = "fires"
+    d = _mapping(ctx, raw, p, {"model", "extinction_sigma_m", "drop_radius_m", "analytic", "raster"})
+    model = _choice(ctx, d, "model", p, FIRE_MODELS, "analytic")
+    drop_radius = None
+    if d.get("drop_radius_m") is not None:
+        drop_radius = _num(ctx, d, "drop_radius_m", p, gt=0)
+    analytic = tuple(
+        _record(
+            ctx,
+            item,
+            AnalyticFire,
+            f"fires.analytic[{i}]",
+            bounds={"sigma_m": {"gt": 0}, "start_s": {"ge": 0}},
+        )
+        for i, item in enumerate(_list(ctx, d, "analytic", p))
+    )
+    if model == "raster" and d.get("raster") is None:
+        raise ctx.fail("fires.raster", "required when fires.model is 'raster'")
+    # validated even when unused (an analytic scenario with a raster section)
+    raster = _raster(ctx, d["raster"]) if d.get("raster") is not None else None
+    if model == "analytic" and len(analytic) > 255:
+        raise ctx.fail("fires.analytic", f"at most 255 fires (uint8 ids), got {len(analytic)}")
+    return Fires(
+        model=model,
+        extinction_sigma_m=_num(ctx, d, "extinction_sigma_m", p, 2.0, gt=0),
+        drop_radius_m=drop_radius,
+        analytic=analytic,
+        raster=raster,
+    )

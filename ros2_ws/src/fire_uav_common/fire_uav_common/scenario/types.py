@@ -1,0 +1,274 @@
+"""The scenario's frozen dataclasses and value sets (docs/scenario.md); built by the readers.
+
+Attribute names are the YAML keys, units in the names; positions in the ``map`` frame (x east,
+y north, z up, metres). The outage key ``from`` is the attribute ``from_``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from fire_uav_common.terrain import Lake, Terrain
+
+#: Anderson (1982) / Albini (1976) standard fuel model numbers the raster fire supports.
+FUEL_MODELS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13)
+#: ``fires.raster.wind_limit`` values (fire_world_sim.fires.rothermel reads them from here)
+WIND_LIMITS = ("behave", "andrews2013", "none")
+#: ``fires.model`` values
+FIRE_MODELS = ("analytic", "raster")
+#: ``mission.tactic`` values: head attack (fastest front first) or flank attack from an anchor
+TACTICS = ("head", "flank")
+#: ``mission.prior_fires`` values
+PRIOR_FIRES_MODES = ("unknown", "known")
+
+
+class ScenarioError(ValueError):
+    """A scenario file is missing, unreadable or invalid; the message names file and field."""
+
+
+@dataclass(frozen=True)
+class Area:
+    """Mission area [m], map frame."""
+
+    x_min_m: float
+    x_max_m: float
+    y_min_m: float
+    y_max_m: float
+
+    @property
+    def width_m(self) -> float:
+        return self.x_max_m - self.x_min_m
+
+    @property
+    def height_m(self) -> float:
+        return self.y_max_m - self.y_min_m
+
+    def contains(self, x_m: float, y_m: float) -> bool:
+        return self.x_min_m <= x_m <= self.x_max_m and self.y_min_m <= y_m <= self.y_max_m
+
+
+@dataclass(frozen=True)
+class Timing:
+    control_period_s: float = 0.1
+    physics_period_s: float = 0.01
+    max_duration_s: float = 900.0
+
+    @property
+    def substeps(self) -> int:
+        """Physics substeps per control step."""
+        return round(self.control_period_s / self.physics_period_s)
+
+
+@dataclass(frozen=True)
+class Vehicle:
+    """Vehicle limits and payload (FF II-B, Eq. 5)."""
+
+    v_stall_mps: float = 44.7
+    v_max_mps: float = 100.0
+    vz_max_mps: float = 100.0
+    omega_max_radps: float = 10.0
+    water_capacity_kg: float = 2000.0
+    flight_height_m: float = 30.0
+    process_noise_sigma: float = 1.0
+    refill_height_m: float = 15.0
+    refill_speed_margin_mps: float = 10.0
+    refill_rate_kgps: float = 400.0
+    landing_height_m: float = 1.0
+    command_timeout_s: float = 3.0
+    collision_radius_m: float = 3.0  # [m] two airborne vehicles closer than this (3-D) both crash; 0 = off
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Start pose: position [m] map frame, yaw [rad] ccw from +x."""
+
+    x_m: float = 50.0
+    y_m: float = 250.0
+    z_m: float = 0.0
+    yaw_rad: float = -math.pi / 2
+
+
+@dataclass(frozen=True)
+class Spacing:
+    dx_m: float = 0.0
+    dy_m: float = 30.0
+
+
+@dataclass(frozen=True)
+class Uavs:
+    count: int = 5
+    first: Pose = field(default_factory=Pose)
+    spacing: Spacing = field(default_factory=Spacing)
+    takeoff_interval_s: float = 2.0
+
+
+@dataclass(frozen=True)
+class GpsSpec:
+    rate_hz: float = 10.0
+    sigma_m: float = 3.0
+    p_valid: float = 0.9
+
+
+@dataclass(frozen=True)
+class AltimeterSpec:
+    rate_hz: float = 25.0
+    sigma_m: float = 1.5
+    p_valid: float = 0.8
+    max_range_m: float = 40.0
+
+
+@dataclass(frozen=True)
+class GyroSpec:
+    rate_hz: float = 100.0
+    sigma_radps: float = 0.3
+    p_valid: float = 0.7
+
+
+@dataclass(frozen=True)
+class FireSensorSpec:
+    rate_hz: float = 10.0
+    range_m: float = 70.0
+    position_sigma_m: float = 2.0
+    extent_sigma_m: float = 1.0
+    p_valid: float = 1.0
+
+
+@dataclass(frozen=True)
+class Sensors:
+    gps: GpsSpec = field(default_factory=GpsSpec)
+    altimeter: AltimeterSpec = field(default_factory=AltimeterSpec)
+    gyro: GyroSpec = field(default_factory=GyroSpec)
+    fire: FireSensorSpec = field(default_factory=FireSensorSpec)
+
+
+@dataclass(frozen=True)
+class AnalyticFire:
+    """FF IV-A Gaussian fire: centre [m] drifting at (vx_mps, vy_mps) from start_s [s]."""
+
+    x_m: float
+    y_m: float
+    sigma_m: float
+    vx_mps: float = 0.0
+    vy_mps: float = 0.0
+    start_s: float = 0.0
+
+
+@dataclass(frozen=True)
+class Origin:
+    x_m: float = 0.0
+    y_m: float = 0.0
+
+
+@dataclass(frozen=True)
+class FuelPatch:
+    x_min_m: float
+    x_max_m: float
+    y_min_m: float
+    y_max_m: float
+    fuel_model: int
+
+
+@dataclass(frozen=True)
+class Wind:
+    """Piecewise-constant wind from start_s [s]: speed [m/s], direction it blows TOWARD [deg ccw from +x]."""
+
+    start_s: float
+    speed_mps: float
+    direction_deg: float
+
+
+@dataclass(frozen=True)
+class Ignition:
+    x_m: float
+    y_m: float
+    start_s: float = 0.0
+
+
+@dataclass(frozen=True)
+class Raster:
+    cell_size_m: float = 5.0
+    nx: int = 200
+    ny: int = 200
+    origin: Origin = field(default_factory=Origin)
+    fuel_model: int = 1
+    fuel_patches: tuple[FuelPatch, ...] = ()
+    moisture: float = 0.06
+    wind: tuple[Wind, ...] = (Wind(0.0, 0.0, 0.0),)
+    ignitions: tuple[Ignition, ...] = ()
+    wet_duration_s: float = 600.0
+    spread_factor: float = 1.0
+    wind_limit: str = "behave"  # behave | andrews2013 | none (fire_world_sim.fires.rothermel)
+
+
+@dataclass(frozen=True)
+class Fires:
+    model: str = "analytic"
+    extinction_sigma_m: float = 2.0
+    drop_radius_m: float | None = None
+    analytic: tuple[AnalyticFire, ...] = ()
+    raster: Raster | None = None
+
+
+@dataclass(frozen=True)
+class Outage:
+    """Directed link outage ``from_ -> to`` between start_s and end_s [s] (YAML key ``from``)."""
+
+    from_: int
+    to: int
+    start_s: float
+    end_s: float
+
+
+@dataclass(frozen=True)
+class Comms:
+    loss_probability: float = 0.05
+    outages: tuple[Outage, ...] = ()
+
+
+@dataclass(frozen=True)
+class Mission:
+    crash_threshold_steps: int = 10
+    grid_resolution_m: float = 5.0
+    sigma_water_m: float = 40.0
+    sigma_landing_m: float = 10.0
+    use_safety_band: bool = True
+    safety_radius_m: float = 10.0
+    monitors_per_fire: int = 0
+    search_first: bool = False
+    tactic: str = "head"  # raster suppression: head | flank (TACTICS; fire_uav_agent.tactics)
+    prior_fires: str = "unknown"  # known: agents start with noisy estimates of every fire (FF III-C, IV-D c)
+    prior_position_sigma_m: float = 10.0  # [m] noise of a known fire's initial centre estimate
+    prior_extent_sigma_fraction: float = 0.2  # [-] relative noise of a known fire's initial extent
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A validated scenario; ``path`` is the file it came from ('' when built from a dict)."""
+
+    name: str
+    area: Area
+    description: str = ""
+    seed: int = 0
+    terrain: Terrain = field(default_factory=Terrain)
+    lakes: tuple[Lake, ...] = ()
+    timing: Timing = field(default_factory=Timing)
+    vehicle: Vehicle = field(default_factory=Vehicle)
+    uavs: Uavs = field(default_factory=Uavs)
+    sensors: Sensors = field(default_factory=Sensors)
+    fires: Fires = field(default_factory=Fires)
+    comms: Comms = field(default_factory=Comms)
+    mission: Mission = field(default_factory=Mission)
+    path: str = ""
+
+    def uav_start_poses(self, count: int | None = None) -> list[tuple[float, float, float, float]]:
+        """Start poses (x_m, y_m, z_m, yaw_rad) of UAVs 0..count-1 (default ``uavs.count``)."""
+        n = self.uavs.count if count is None else count
+        if n < 0:
+            raise ValueError(f"count must be >= 0, got {n}")
+        f, s = self.uavs.first, self.uavs.spacing
+        return [(f.x_m + i * s.dx_m, f.y_m + i * s.dy_m, f.z_m, f.yaw_rad) for i in range(n)]
+
+    def takeoff_time_s(self, uav_id: int) -> float:
+        """Earliest sim time [s] UAV ``uav_id`` may take off (FF IV-D a)."""
+        return uav_id * self.uavs.takeoff_interval_s
