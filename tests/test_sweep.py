@@ -205,3 +205,51 @@ def test_process_missions_on_the_cluster_get_their_own_domains(
     assert all(d in DOMAIN_RANGE for d in domains), domains
     assert [m["seed"] for m in missions] == [1, 2]
     assert all(m["drops_total"] >= 2 and m["fires_active_at_end"] == 0 for m in missions), missions
+
+
+# --- the benchmarks' own sweeps ------------------------------------------------------------------
+#: the sub-benchmarks declared to return a Sweep (annotation ``-> Sweep``)
+SWEEP_BENCHES = [
+    n for n, (fn, *_) in bench.BENCHES.items() if fn.__annotations__.get("return") in ("Sweep", Sweep)
+]
+
+
+@pytest.mark.parametrize("quick", [True, False])
+@pytest.mark.parametrize("name", SWEEP_BENCHES)
+def test_bench_sweeps_are_well_formed(name: str, quick: bool) -> None:
+    """Each sweep's derived scenarios load, it has no mission twice, and its reducer survives
+    missions that all failed (a broken runner must not lose the rest of a 3-hour run)."""
+    import yaml
+    from fire_uav_common.scenario import scenario_from_dict
+
+    sw = bench.BENCHES[name][0](quick)
+    assert isinstance(sw, Sweep)
+    for s in sw.specs:
+        if s.scenario_yaml is not None:
+            sc = scenario_from_dict(yaml.safe_load(s.scenario_yaml), file=s.scenario)
+            assert sc.name == s.scenario
+    failed = Sweep(
+        [
+            MissionSpec(
+                s.bench,
+                s.scenario,
+                s.uavs,
+                s.seed,
+                s.overrides,
+                "call",
+                (),
+                s.label,
+                s.scenario_yaml,
+                "builtins:dict",
+                (("outcome", "runner_failed"),),
+            )
+            for s in sw.specs
+        ],
+        sw.reduce,
+    )
+    out = run_sweep(failed, LocalExecutor(1), progress=None)
+    rows = out.get("rows", [])
+    assert rows, out
+    assert all(
+        r.get("completed") in (0, "0/1", "0/3") or r.get("outcome") == "runner_failed" for r in rows
+    ), rows
