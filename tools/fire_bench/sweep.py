@@ -314,13 +314,21 @@ class DaskExecutor:
                 f"--scheduler {address} needs Dask distributed, which is not installed ({e}); "
                 f"install the pins of requirements/py.txt: pip install {DASK_PINS}"
             ) from None
+        _probe(address, connect_timeout_s)
+        # built in two steps so that a failed connection can be closed here, quietly, instead of
+        # by Client.__del__ at exit (a 10 s wait and a traceback)
+        client = Client.__new__(Client)
         try:
-            self.client = Client(address, timeout=f"{connect_timeout_s}s", set_as_default=False)
-        except (OSError, TimeoutError, ValueError) as e:
-            msg = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+            client.__init__(address, timeout=f"{connect_timeout_s}s", set_as_default=False)  # type: ignore[misc]
+        except Exception as e:  # OSError, TimeoutError, a non-Dask listener's garbage (MemoryError)
+            with contextlib.suppress(Exception):
+                client.close(timeout=1)
+            msg = str(e).strip().splitlines()[0] if str(e).strip() else ""
             raise SweepError(
-                f"cannot reach the Dask scheduler at {address} within {connect_timeout_s:g} s: {msg}"
+                f"cannot reach the Dask scheduler at {address} within {connect_timeout_s:g} s: "
+                f"{type(e).__name__}{': ' + msg if msg else ''} (is a Dask scheduler listening there?)"
             ) from None
+        self.client = client
         self.address = address
         self.name = f"dask {address}"
 
@@ -347,6 +355,23 @@ class DaskExecutor:
 
     def close(self) -> None:
         self.client.close()
+
+
+def _probe(address: str, timeout_s: float) -> None:
+    """Fail fast with one line when ``address`` is not ``tcp://HOST:PORT`` or nothing listens there
+    (a refused or unresolvable address fails at once, a silent one after ``timeout_s``)."""
+    scheme, sep, rest = address.partition("://")
+    host, colon, port = rest.rpartition(":")
+    if not sep or scheme not in ("tcp", "tls") or not colon or not host or not port.isdigit():
+        raise SweepError(f"--scheduler expects tcp://HOST:PORT, got '{address}'")
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=timeout_s):
+            pass
+    except OSError as e:
+        why = "timed out" if isinstance(e, TimeoutError) else (e.strerror or str(e))
+        raise SweepError(
+            f"cannot reach the Dask scheduler at {address} within {timeout_s:g} s: {why}"
+        ) from None
 
 
 def make_executor(scheduler: str | None, jobs: int = 1) -> Executor:
