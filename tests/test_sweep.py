@@ -106,6 +106,12 @@ def test_unreachable_scheduler_is_one_line_naming_it(capsys: pytest.CaptureFixtu
     assert err[-1].startswith(f"bench: error: cannot reach the Dask scheduler at {addr}"), err
 
 
+@pytest.mark.parametrize("addr", ["nonsense", "127.0.0.1:8786", "tcp://127.0.0.1", "udp://127.0.0.1:8786"])
+def test_scheduler_address_must_be_tcp_host_port(addr: str) -> None:
+    with pytest.raises(SweepError, match=f"--scheduler expects tcp://HOST:PORT, got '{addr}'"):
+        DaskExecutor(addr)
+
+
 def test_missing_dask_is_named(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed -> ImportError
     with pytest.raises(
