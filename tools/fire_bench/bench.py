@@ -6,6 +6,11 @@ Each sub-benchmark prints its figures and returns a JSON-able dict; everything l
 ``<out>/results.json`` (default ``docs/bench/``), plots beside it, and ``docs/benchmarks.md``
 is regenerated from the results with the command and the machine they came from. Figures are
 measured, never asserted: machines are shared and noisy.
+
+The sweep-shaped sub-benchmarks (independent missions + a reducer, :class:`fire_bench.sweep.Sweep`)
+run their missions on the executor of the command line: here one after the other (default),
+``--jobs N`` at a time here, or on the workers of a Dask scheduler (``--scheduler
+tcp://HOST:PORT``; docs/deployment.md). The results are the same whichever ran them.
 """
 
 from __future__ import annotations
@@ -24,6 +29,7 @@ from pathlib import Path
 import yaml
 
 from fire_bench.sweep import (
+    DaskExecutor,
     Executor,
     Grid,
     MissionSpec,
@@ -525,8 +531,12 @@ def main(argv: list[str] | None = None) -> int:
     except SweepError as e:
         print(f"bench: error: {e}", file=sys.stderr)
         return 2
-    if a.scheduler:
-        log(f"sweep missions go to {a.scheduler}")
+    if isinstance(executor, DaskExecutor):
+        n_workers = len(executor.workers())
+        log(
+            f"sweep missions go to {a.scheduler}: {n_workers} workers"
+            + ("" if n_workers else " now; missions wait until one joins")
+        )
     try:
         return _run(a, names, executor)
     finally:

@@ -333,6 +333,7 @@ class DaskExecutor:
         self.name = f"dask {address}"
 
     def workers(self) -> list[str]:
+        """The addresses of the workers connected now."""
         return sorted(self.client.scheduler_info().get("workers", {}))
 
     def run(self, specs: Sequence[MissionSpec], progress: Progress | None = None) -> list[Finished]:
@@ -362,7 +363,7 @@ def _probe(address: str, timeout_s: float) -> None:
     (a refused or unresolvable address fails at once, a silent one after ``timeout_s``)."""
     scheme, sep, rest = address.partition("://")
     host, colon, port = rest.rpartition(":")
-    if not sep or scheme not in ("tcp", "tls") or not colon or not host or not port.isdigit():
+    if not sep or scheme != "tcp" or not colon or not host or not port.isdigit():
         raise SweepError(f"--scheduler expects tcp://HOST:PORT, got '{address}'")
     try:
         with socket.create_connection((host.strip("[]"), int(port)), timeout=timeout_s):
