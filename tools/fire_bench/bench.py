@@ -1,11 +1,16 @@
 """scripts/bench: benchmarks that reproduce the papers' results and measure scale.
 
-usage: scripts/bench [--quick] [--only NAME ...] [--out DIR] [--list]
+usage: scripts/bench [--quick] [--only NAME ...] [--out DIR] [--list] [--scheduler tcp://HOST:PORT | --jobs N]
 
 Each sub-benchmark prints its figures and returns a JSON-able dict; everything lands in
 ``<out>/results.json`` (default ``docs/bench/``), plots beside it, and ``docs/benchmarks.md``
 is regenerated from the results with the command and the machine they came from. Figures are
 measured, never asserted: machines are shared and noisy.
+
+The sweep-shaped sub-benchmarks (independent missions + a reducer, :class:`fire_bench.sweep.Sweep`)
+run their missions on the executor of the command line: here one after the other (default),
+``--jobs N`` at a time here, or on the workers of a Dask scheduler (``--scheduler
+tcp://HOST:PORT``; docs/deployment.md). The results are the same whichever ran them.
 """
 
 from __future__ import annotations
@@ -22,6 +27,18 @@ from collections.abc import Callable
 from pathlib import Path
 
 import yaml
+
+from fire_bench.sweep import (
+    DaskExecutor,
+    Executor,
+    Grid,
+    MissionSpec,
+    Sweep,
+    SweepError,
+    make_executor,
+    run_spec,
+    run_sweep,
+)
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout: tools/<package>/<module>.py
 SCEN_DIR = ROOT / "ros2_ws/src/fire_world_sim/scenarios"
@@ -73,42 +90,17 @@ def machine() -> dict:
 
 # --- running missions -----------------------------------------------------------------------
 def mission(scenario: str | Path, *args: str, timeout_s: float = 1800) -> dict:
-    """One run_mission (no recording, no report); returns its summary.json."""
-    with tempfile.TemporaryDirectory(prefix="bench-") as d:
-        env = dict(os.environ)
-        env.pop("ROS_DOMAIN_ID", None)
-        subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "fire_mission.runner",
-                str(scenario),
-                *args,
-                "--out",
-                f"{d}/run",
-                "--quiet",
-                "--no-record",
-                "--no-report",
-            ],
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=timeout_s,
-            check=False,
-        )
-        p = Path(d) / "run/summary.json"
-        if not p.is_file():
-            return {"outcome": "runner_failed"}
-        return json.loads(p.read_text())
+    """One run_mission here (no recording, no report, a private ROS domain); its summary.json."""
+    spec = MissionSpec("local", str(scenario), mode="processes", args=tuple(args), timeout_s=timeout_s)
+    return run_spec(spec)[0]
 
 
-def derived_scenario(base: str, edit: Callable[[dict], None], tmp: Path, name: str) -> Path:
+def derived_scenario(base: str, edit: Callable[[dict], None], name: str) -> str:
+    """The YAML text of ``base`` edited by ``edit`` and renamed ``name`` (it travels in a spec)."""
     data = yaml.safe_load((SCEN_DIR / f"{base}.yaml").read_text())
     edit(data)
     data["name"] = name
-    path = tmp / f"{name}.yaml"
-    path.write_text(yaml.safe_dump(data, sort_keys=False))
-    return path
+    return yaml.safe_dump(data, sort_keys=False)
 
 
 def _mean(xs: list[float]) -> float | None:
@@ -117,53 +109,81 @@ def _mean(xs: list[float]) -> float | None:
 
 
 # --- sub-benchmarks ---------------------------------------------------------------------------
-def bench_table1(quick: bool) -> dict:
+# A sweep-shaped sub-benchmark returns fire_bench.sweep.Sweep(specs, reduce): independent
+# missions, run by the executor chosen on the command line (local, or --scheduler: Dask), and a
+# reducer that gets [(spec, result)] in sorted-spec order. Other sub-benchmarks return their
+# figures directly and always run here (they measure this machine).
+def bench_table1(quick: bool) -> Sweep:
     """FF Table I: mean interval between consecutive drops and number of drops vs fleet size."""
     sizes = [3, 5, 8] if quick else list(range(3, 15))
     seeds = [1] if quick else [1, 2, 3]
-    rows = []
-    for n in sizes:
-        runs = []
-        for s in seeds:
-            log(f"table1: {n} UAVs, seed {s}")
-            runs.append(mission("ff_two_fires", "--uavs", str(n), "--seed", str(s)))
-        intervals = [r.get("mean_inter_drop_interval_s") for r in runs]
-        rows.append(
-            {
-                "uavs": n,
-                "seeds": seeds,
-                "mean_interval_s": _mean(intervals),
-                "drops": _mean([r.get("drops_total") for r in runs]),
-                "mission_time_s": _mean([r.get("mission_time_s") for r in runs]),
-                "completed": sum(r.get("outcome") == "complete" for r in runs),
-                "paper_interval": FF_TABLE_I.get(n, (None, None))[0],
-                "paper_drops": FF_TABLE_I.get(n, (None,) * 2)[1],
-            }
-        )
-    base = next((r for r in rows if r["mean_interval_s"]), None)
-    for r in rows:
-        if base and r["mean_interval_s"]:
-            r["scaling_efficiency"] = (
-                base["mean_interval_s"] * base["uavs"] / (r["mean_interval_s"] * r["uavs"])
+    specs = [
+        MissionSpec("table1", "ff_two_fires", uavs=n, seed=s, mode="processes") for n in sizes for s in seeds
+    ]
+
+    def reduce(pairs: list[tuple[MissionSpec, dict]]) -> dict:
+        g = Grid(pairs)
+        rows = []
+        for n in sizes:
+            runs = g.where(uavs=n)
+            intervals = [r.get("mean_inter_drop_interval_s") for r in runs]
+            rows.append(
+                {
+                    "uavs": n,
+                    "seeds": seeds,
+                    "mean_interval_s": _mean(intervals),
+                    "drops": _mean([r.get("drops_total") for r in runs]),
+                    "mission_time_s": _mean([r.get("mission_time_s") for r in runs]),
+                    "completed": sum(r.get("outcome") == "complete" for r in runs),
+                    "paper_interval": FF_TABLE_I.get(n, (None, None))[0],
+                    "paper_drops": FF_TABLE_I.get(n, (None,) * 2)[1],
+                }
             )
-    return {"rows": rows}
+        base = next((r for r in rows if r["mean_interval_s"]), None)
+        for r in rows:
+            if base and r["mean_interval_s"]:
+                r["scaling_efficiency"] = (
+                    base["mean_interval_s"] * base["uavs"] / (r["mean_interval_s"] * r["uavs"])
+                )
+        return {"rows": rows}
+
+    return Sweep(specs, reduce)
 
 
-def bench_fire_share(quick: bool) -> dict:
+def _fig15_scenario(sigma: float, known: bool) -> str:
+    """ff_two_fires with fire 1 at sigma 50 m and fire 2 at ``sigma`` m (FF Fig. 15)."""
+
+    def edit(data: dict) -> None:
+        data["fires"]["analytic"][0]["sigma_m"] = 50.0
+        data["fires"]["analytic"][1]["sigma_m"] = float(sigma)
+        if known:
+            data.setdefault("mission", {})["prior_fires"] = "known"
+
+    return derived_scenario("ff_two_fires", edit, f"ff_{'k' if known else 'f2'}_{sigma}")
+
+
+def bench_fire_share(quick: bool) -> Sweep:
     """FF Figs. 14-15: share of drops per fire vs its share of area; drops vs second fire size."""
-    out: dict = {}
-    with tempfile.TemporaryDirectory() as d:
-        sizes = [25, 50] if quick else [15, 20, 25, 30, 40, 50]
+    sizes = [25, 50] if quick else [15, 20, 25, 30, 40, 50]
+    specs = [
+        MissionSpec(
+            "fire_share",
+            f"ff_f2_{sigma}",
+            uavs=5,
+            seed=1,
+            mode="processes",
+            label=f"sigma2={sigma}",
+            scenario_yaml=_fig15_scenario(sigma, known=False),
+        )
+        for sigma in sizes
+    ]
+
+    def reduce(pairs: list[tuple[MissionSpec, dict]]) -> dict:
+        g = Grid(pairs)
+        out: dict = {}
         rows = []
         for sigma in sizes:
-
-            def edit(data: dict, sigma: float = sigma) -> None:
-                data["fires"]["analytic"][0]["sigma_m"] = 50.0
-                data["fires"]["analytic"][1]["sigma_m"] = float(sigma)
-
-            path = derived_scenario("ff_two_fires", edit, Path(d), f"ff_f2_{sigma}")
-            log(f"fire_share: second fire sigma {sigma} m")
-            r = mission(path, "--uavs", "5", "--seed", "1")
+            r = g.where(label=f"sigma2={sigma}")[0]
             per = r.get("drops_per_fire", {})
             rows.append(
                 {
@@ -180,10 +200,12 @@ def bench_fire_share(quick: bool) -> dict:
             tot = r25["drops_fire0"] + r25["drops_fire1"]
             out["share_fire0_at_25m"] = r25["drops_fire0"] / tot
             out["paper_share_fire0"] = 0.726
-    return out
+        return out
+
+    return Sweep(specs, reduce)
 
 
-def bench_ff_known(quick: bool) -> dict:
+def bench_ff_known(quick: bool) -> Sweep:
     """FF Table I, Fig. 14 and Fig. 15 in the known-fires mode (mission.prior_fires: known), in process.
 
     The real World and Agents on the lockstep harness (``fire_mission.inprocess``; the process
@@ -191,58 +213,60 @@ def bench_ff_known(quick: bool) -> dict:
     seed (quick); Fig. 15 with 5 UAVs, fire 1 sigma 50 m, fire 2 sigma 15-50 m. Also the safety
     figures of every run: collisions, closest approach, landing error, hit rate.
     """
-    from fire_mission.inprocess import run_inprocess
-
-    known = {"mission.prior_fires": "known"}
+    known = (("mission.prior_fires", "known"),)
     sizes = [3, 5, 8] if quick else list(range(3, 15))
     seeds = [1] if quick else [1, 2, 3]
-    rows = []
-    for n in sizes:
-        runs = []
-        for s in seeds:
-            log(f"ff_known: {n} UAVs, seed {s}")
-            runs.append(run_inprocess("ff_two_fires", uavs=n, seed=s, overrides=known))
-        per = [r.get("drops_per_fire", {}) for r in runs]
-        land = [max(r["landing_error_m"].values()) for r in runs if r.get("landing_error_m")]
-        rows.append(
-            {
-                "uavs": n,
-                "seeds": seeds,
-                "mean_interval_s": _mean([r.get("mean_inter_drop_interval_s") for r in runs]),
-                "drops": _mean([r.get("drops_total") for r in runs]),
-                "drops_fire0": _mean([p.get("0", 0) for p in per]),
-                "drops_fire1": _mean([p.get("1", 0) for p in per]),
-                "mission_time_s": _mean([r.get("mission_time_s") for r in runs]),
-                "completed": sum(r.get("outcome") == "complete" for r in runs),
-                "collisions": sum(r.get("collisions", 0) for r in runs),
-                "min_separation_m": min(
-                    (r["min_separation_m"] for r in runs if r.get("min_separation_m")), default=None
-                ),
-                "max_landing_error_m": max(land) if land else None,
-                "min_hit_rate": min(
-                    (r["hit_rate"] for r in runs if r.get("hit_rate") is not None), default=None
-                ),
-                "paper_interval": FF_TABLE_I.get(n, (None, None))[0],
-                "paper_drops": FF_TABLE_I.get(n, (None,) * 2)[1],
-            }
+    sigmas = [25, 50] if quick else [15, 20, 25, 30, 40, 50]
+    specs = [
+        MissionSpec("ff_known", "ff_two_fires", uavs=n, seed=s, overrides=known, label="table1")
+        for n in sizes
+        for s in seeds
+    ]
+    specs += [
+        MissionSpec(
+            "ff_known",
+            f"ff_k_{sigma}",
+            uavs=5,
+            seed=s,
+            label=f"fig15 sigma2={sigma}",
+            scenario_yaml=_fig15_scenario(sigma, known=True),
         )
-    fig15 = []
-    with tempfile.TemporaryDirectory() as d:
-        for sigma in [25, 50] if quick else [15, 20, 25, 30, 40, 50]:
-            runs = []
-            for s in seeds:
+        for sigma in sigmas
+        for s in seeds
+    ]
 
-                def edit(data: dict, sigma: float = sigma) -> None:
-                    data["fires"]["analytic"][0]["sigma_m"] = 50.0
-                    data["fires"]["analytic"][1]["sigma_m"] = float(sigma)
-                    data.setdefault("mission", {})["prior_fires"] = "known"
-
-                log(f"ff_known: fig 15, fire 2 sigma {sigma} m, seed {s}")
-                runs.append(
-                    run_inprocess(
-                        derived_scenario("ff_two_fires", edit, Path(d), f"ff_k_{sigma}"), uavs=5, seed=s
-                    )
-                )
+    def reduce(pairs: list[tuple[MissionSpec, dict]]) -> dict:
+        g = Grid(pairs)
+        rows = []
+        for n in sizes:
+            runs = g.where(label="table1", uavs=n)
+            per = [r.get("drops_per_fire", {}) for r in runs]
+            land = [max(r["landing_error_m"].values()) for r in runs if r.get("landing_error_m")]
+            rows.append(
+                {
+                    "uavs": n,
+                    "seeds": seeds,
+                    "mean_interval_s": _mean([r.get("mean_inter_drop_interval_s") for r in runs]),
+                    "drops": _mean([r.get("drops_total") for r in runs]),
+                    "drops_fire0": _mean([p.get("0", 0) for p in per]),
+                    "drops_fire1": _mean([p.get("1", 0) for p in per]),
+                    "mission_time_s": _mean([r.get("mission_time_s") for r in runs]),
+                    "completed": sum(r.get("outcome") == "complete" for r in runs),
+                    "collisions": sum(r.get("collisions", 0) for r in runs),
+                    "min_separation_m": min(
+                        (r["min_separation_m"] for r in runs if r.get("min_separation_m")), default=None
+                    ),
+                    "max_landing_error_m": max(land) if land else None,
+                    "min_hit_rate": min(
+                        (r["hit_rate"] for r in runs if r.get("hit_rate") is not None), default=None
+                    ),
+                    "paper_interval": FF_TABLE_I.get(n, (None, None))[0],
+                    "paper_drops": FF_TABLE_I.get(n, (None,) * 2)[1],
+                }
+            )
+        fig15 = []
+        for sigma in sigmas:
+            runs = g.where(label=f"fig15 sigma2={sigma}")
             per = [r.get("drops_per_fire", {}) for r in runs]
             fig15.append(
                 {
@@ -253,36 +277,45 @@ def bench_ff_known(quick: bool) -> dict:
                     "completed": sum(r.get("outcome") == "complete" for r in runs),
                 }
             )
-    tot0 = sum(r["drops_fire0"] for r in rows)
-    tot1 = sum(r["drops_fire1"] for r in rows)
-    return {
-        "rows": rows,
-        "fig15": fig15,
-        "share_fire0": tot0 / (tot0 + tot1) if tot0 + tot1 else None,
-        "paper_share_fire0": 0.726,
-    }
+        tot0 = sum(r["drops_fire0"] for r in rows)
+        tot1 = sum(r["drops_fire1"] for r in rows)
+        return {
+            "rows": rows,
+            "fig15": fig15,
+            "share_fire0": tot0 / (tot0 + tot1) if tot0 + tot1 else None,
+            "paper_share_fire0": 0.726,
+        }
+
+    return Sweep(specs, reduce)
 
 
-def bench_faults(quick: bool) -> dict:
+def bench_faults(quick: bool) -> Sweep:
     """Mission time and drops with 0, 1, 2 agents killed, and with 0%, 5%, 20%, 50% loss."""
     seeds = [1] if quick else [1, 2, 3]
-    rows = []
     cases = [("none", []), ("kill 1", ["--kill", "1@30"]), ("kill 2", ["--kill", "1@30", "--kill", "3@30"])]
     cases += [(f"loss {p:.0%}", ["--loss", str(p)]) for p in ([0.2, 0.5] if quick else [0.0, 0.05, 0.2, 0.5])]
-    for name, extra in cases:
-        runs = []
-        for s in seeds:
-            log(f"faults: {name}, seed {s}")
-            runs.append(mission("ff_two_fires", "--uavs", "5", "--seed", str(s), *extra))
-        rows.append(
-            {
-                "case": name,
-                "mission_time_s": _mean([r.get("mission_time_s") for r in runs]),
-                "drops": _mean([r.get("drops_total") for r in runs]),
-                "completed": f"{sum(r.get('outcome') == 'complete' for r in runs)}/{len(runs)}",
-            }
-        )
-    return {"rows": rows}
+    specs = [
+        MissionSpec("faults", "ff_two_fires", uavs=5, seed=s, mode="processes", args=tuple(extra), label=name)
+        for name, extra in cases
+        for s in seeds
+    ]
+
+    def reduce(pairs: list[tuple[MissionSpec, dict]]) -> dict:
+        g = Grid(pairs)
+        rows = []
+        for name, _ in cases:
+            runs = g.where(label=name)
+            rows.append(
+                {
+                    "case": name,
+                    "mission_time_s": _mean([r.get("mission_time_s") for r in runs]),
+                    "drops": _mean([r.get("drops_total") for r in runs]),
+                    "completed": f"{sum(r.get('outcome') == 'complete' for r in runs)}/{len(runs)}",
+                }
+            )
+        return {"rows": rows}
+
+    return Sweep(specs, reduce)
 
 
 def _skeleton(n: int, steps: int) -> dict:
@@ -405,8 +438,9 @@ def _script(name: str, quick: bool) -> dict:
     return out
 
 
-BENCHES: dict[str, tuple[Callable[[bool], dict], float, float, str]] = {
-    # name: (function, quick minutes, full minutes, what)
+BENCHES: dict[str, tuple[Callable[[bool], dict | Sweep], float, float, str]] = {
+    # name: (function, quick minutes, full minutes, what); the function returns its figures
+    # (runs here) or a Sweep of missions (runs on the executor: local, or --scheduler)
     "ekf": (lambda q: _script("agent", q), 0.5, 2, "FF Fig. 4: EKF error bounds; agent CPU per step"),
     "world": (
         lambda q: _script("world", q),
@@ -457,7 +491,21 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument(
         "--scale-duration", type=float, default=None, metavar="S", help="scale: mission seconds per run"
     )
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="tcp://HOST:PORT",
+        help="run the missions of sweep benchmarks on this Dask distributed scheduler's workers",
+    )
+    p.add_argument(
+        "--jobs", type=int, default=1, metavar="N", help="without --scheduler: N missions at a time here"
+    )
+    p.add_argument("--no-page", action="store_true", help="do not regenerate docs/benchmarks.md")
     a = p.parse_args(argv)
+    if a.jobs < 1:
+        p.error(f"--jobs must be >= 1, got {a.jobs}")
+    if a.scheduler and a.jobs != 1:
+        p.error("--jobs applies to local runs only; the cluster's workers set the parallelism")
     global SCALE_SIZES, SCALE_DURATION_S
     if a.scale_sizes:
         try:
@@ -478,6 +526,24 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     est = sum(BENCHES[n][1 if a.quick else 2] for n in names)
     log(f"running {', '.join(names)} ({'quick' if a.quick else 'full'}): expect about {est:.0f} minutes")
+    try:
+        executor = make_executor(a.scheduler, a.jobs)
+    except SweepError as e:
+        print(f"bench: error: {e}", file=sys.stderr)
+        return 2
+    if isinstance(executor, DaskExecutor):
+        n_workers = len(executor.workers())
+        log(
+            f"sweep missions go to {a.scheduler}: {n_workers} workers"
+            + ("" if n_workers else " now; missions wait until one joins")
+        )
+    try:
+        return _run(a, names, executor)
+    finally:
+        executor.close()
+
+
+def _run(a: argparse.Namespace, names: list[str], executor: Executor) -> int:
     a.out.mkdir(parents=True, exist_ok=True)
     results_path = a.out / "results.json"
     results = json.loads(results_path.read_text()) if results_path.is_file() else {}
@@ -485,7 +551,13 @@ def main(argv: list[str] | None = None) -> int:
     for i, n in enumerate(names, 1):
         log(f"({i}/{len(names)}) {n}: {BENCHES[n][3]}")
         t0 = time.monotonic()
-        r = BENCHES[n][0](a.quick)
+        made = BENCHES[n][0](a.quick)
+        if isinstance(made, Sweep):
+            log(f"{n}: {len(made.specs)} missions on {executor.name}")
+            r = run_sweep(made, executor)
+            r["executor"] = executor.name
+        else:
+            r = made
         r["wall_s"] = round(time.monotonic() - t0, 1)
         r["quick"] = a.quick
         extra = ""
@@ -497,6 +569,9 @@ def main(argv: list[str] | None = None) -> int:
         results[n] = r
         results_path.write_text(json.dumps(results, indent=2, default=str) + "\n")
         log(f"{n} done in {r['wall_s']:.0f} s")
+    if a.no_page:
+        log(f"results: {results_path}")
+        return 0
     from fire_bench.markdown import write_markdown
 
     write_markdown(results, a.out, ROOT / "docs/benchmarks.md")
