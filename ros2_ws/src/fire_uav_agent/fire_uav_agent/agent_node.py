@@ -15,6 +15,7 @@ import numpy as np
 import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
+from fire_uav_common.auth import Authenticator, parse_key
 from fire_uav_common.constants import EventType, FireStatus, PayloadAction, VehicleStatus
 from fire_uav_common.lockstep import OfflineWindow, parse_schedule
 from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
@@ -34,6 +35,7 @@ from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.serialization import serialize_message
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .agent_config import AgentConfig, config_from_scenario
@@ -236,6 +238,23 @@ def _markers(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:
     return arr
 
 
+def _step_verdict(step: int, last_step: int, lockstep: bool, slack_steps: int) -> str | None:
+    """Whether a peer message of ``step`` can be genuine when this agent last ran ``last_step``.
+
+    In lockstep a peer's message is of the step this agent last ran or the next one: a peer runs
+    step s only after the world's bundle s, which needs this agent's command of s - 1; messages of
+    older steps are never waited for again. ``slack_steps``: steps this agent itself is offline
+    in the fault schedule (it falls behind by that many). Returns the rejection kind, or None.
+    """
+    if step < 0:
+        return "negative step"
+    if lockstep and step < last_step:
+        return "stale step"
+    if step > last_step + 1 + slack_steps:
+        return "implausible step"
+    return None
+
+
 def _inbox_order(m: PeerState | PeerFires | PeerPerimeter) -> tuple[int, int, int, int]:
     """(step, kind, sender, sequence): the order peer messages are handed to the agent."""
     kind = 0 if isinstance(m, PeerState) else 1 if isinstance(m, PeerFires) else 2
@@ -309,6 +328,12 @@ class UavAgentNode(Node):
                   floating_point_range=[FloatingPointRange(from_value=0.0, to_value=100.0)], **ro),
         )  # fmt: skip
         self.cfg, self.mode, self.liveness_s, self.marker_every, schedule = self._read_config()
+        self.auth = self._read_auth()
+        self._step_slack = sum(
+            w.steps(self.cfg.control_period_s)[1] - w.steps(self.cfg.control_period_s)[0] + 1
+            for w in schedule
+            if w.uav_id == self.cfg.uav_id and math.isfinite(w.end_s)
+        )
         self.agent = Agent(self.cfg)
         # CP coverage search over /fleet/coverage/* (None when search_mode resolves to off)
         self.search_link = attach_search(self, self.agent)
@@ -414,11 +439,68 @@ class UavAgentNode(Node):
             schedule,
         )
 
+    def _read_auth(self) -> Authenticator | None:
+        """Parameters ``auth`` / ``fleet_key`` (docs/security.md). The key is read, then undeclared,
+        so the node's parameter services do not hand it to other participants; it is never logged."""
+        self.declare_parameter(
+            "auth", True,
+            _desc("HMAC-SHA256 authentication of fleet and command topics with fleet_key (docs/security.md)",
+                  read_only=True),
+        )  # fmt: skip
+        self.declare_parameter(
+            "fleet_key", "", _desc("per-mission key, 64 hex digits (undeclared once read)")
+        )
+        key = str(self.get_parameter("fleet_key").value)
+        self.undeclare_parameter("fleet_key")
+        if not bool(self.get_parameter("auth").value):
+            self.get_logger().warning(
+                "authentication off: any participant on the domain can speak for the fleet"
+            )
+            return None
+        if not key:
+            raise ValueError(
+                "parameter fleet_key is required when auth is true (the runner writes one per mission)"
+            )
+        try:
+            return Authenticator(parse_key(key))
+        except ValueError as e:
+            raise ValueError(f"parameter fleet_key: {e}") from None
+
+    def _admit(self, msg, spec: topics.TopicSpec, sender: int, step: int, auth_step: int) -> bool:
+        """Checks before a peer message is counted by the lockstep wait: id, step, HMAC.
+
+        A rejected message is counted in the peer link's ``reject_reasons`` (so in
+        ``UavState.packets_rejected``) and never reaches :class:`PeerWait`: a forged state cannot
+        make this agent wait for messages its claimed sender did not send.
+        """
+        reason = None
+        if not 0 <= sender < self.cfg.uav_count:
+            reason = "unknown id"
+        else:
+            lockstep = self.mode == "lockstep"
+            slack = self._step_slack + (0 if lockstep else self.cfg.crash_threshold_steps)
+            reason = _step_verdict(step, self.agent.last_step, lockstep, slack)
+        if reason is None and self.auth is not None:
+            if not self.auth.check(msg, spec.name, sender, auth_step, serialize_message):
+                reason = "bad auth"
+        if reason is None:
+            return True
+        self.agent.link.count_rejection(reason)
+        self.get_logger().warning(
+            f"rejected a message on {spec.name} claiming uav {sender} step {step}: {reason} "
+            f"(rejections so far: {self.agent.link.reject_reasons})",
+            throttle_duration_sec=2.0,
+        )
+        return False
+
     # --- peer traffic ---------------------------------------------------------------------------------
     def _on_state(self, msg: UavState) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return  # our own broadcast
-        self.wait.on_state(int(msg.uav_id), int(msg.step), tuple(msg.sent_per_topic), bool(msg.final))
+        sender, step = int(msg.uav_id), int(msg.step)
+        if not self._admit(msg, topics.FLEET_STATE_SPEC, sender, step, step):
+            return
+        self.wait.on_state(sender, step, tuple(msg.sent_per_topic), bool(msg.final))
         self._inbox.append(_to_peer_state(msg))
         self._maybe_run()
 
@@ -426,6 +508,8 @@ class UavAgentNode(Node):
         if msg.uav_id == self.cfg.uav_id:
             return
         pm = _to_peer_perimeter(msg, self.cfg.control_period_s)
+        if not self._admit(msg, topics.FLEET_PERIMETER_SPEC, pm.uav_id, pm.step, pm.step):
+            return
         self.wait.on_message(pm.uav_id, pm.step, topics.FLEET_PERIMETER_SPEC.loss_index)
         self._inbox.append(pm)
         self._maybe_run()
@@ -446,7 +530,10 @@ class UavAgentNode(Node):
     def _on_fires(self, msg: FireEstimateArray) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return
-        self.wait.on_message(int(msg.uav_id), int(msg.step), topics.FLEET_FIRES_SPEC.loss_index)
+        sender, step = int(msg.uav_id), int(msg.step)
+        if not self._admit(msg, topics.FLEET_FIRES_SPEC, sender, step, step):
+            return
+        self.wait.on_message(sender, step, topics.FLEET_FIRES_SPEC.loss_index)
         self._inbox.append(_to_peer_fires(msg))
         self._maybe_run()
 
@@ -594,13 +681,26 @@ class UavAgentNode(Node):
         state = _from_state(out, stamp)
         state.sent_per_topic = sent
         state.final = final
+        fires = _from_fires(out, stamp)
+        stamp_ns = stamp_to_ns(stamp)
+        if self.auth is not None:
+            self.auth.sign(state, topics.FLEET_STATE_SPEC.name, uid, out.step, serialize_message)
+            self.auth.sign(fires, topics.FLEET_FIRES_SPEC.name, uid, out.step, serialize_message)
+            if pm is not None:
+                pm_step = stamp_to_step(stamp_ns, s_to_ns(self.cfg.control_period_s))
+                self.auth.sign(pm, topics.FLEET_PERIMETER_SPEC.name, uid, pm_step, serialize_message)
         self.pub_state.publish(state)
-        self.pub_fires.publish(_from_fires(out, stamp))
+        self.pub_fires.publish(fires)
+        v_lin, v_z, omega_z = (float(v) for v in out.command)
         # exactly one request per step (ACTION_NONE if nothing): the lockstep world waits for it
         for action, fire_id in out.payload_requests or [(PayloadAction.NONE, -1)]:
             req = PayloadRequest(uav_id=uid, action=int(action), target_fire_id=int(fire_id))
             req.header.stamp = stamp
             req.header.frame_id = "map"
+            # the command rides along: TwistStamped has no room for a tag (docs/security.md)
+            req.cmd_linear_x_mps, req.cmd_linear_z_mps, req.cmd_angular_z_radps = v_lin, v_z, omega_z
+            if self.auth is not None:
+                self.auth.sign(req, topics.PAYLOAD_SPEC.for_uav(uid), uid, stamp_ns, serialize_message)
             self.pub_payload.publish(req)
             what = PayloadAction(action).name
             if action == PayloadAction.DROP:
@@ -619,7 +719,7 @@ class UavAgentNode(Node):
         cmd = TwistStamped()
         cmd.header.stamp = stamp
         cmd.header.frame_id = f"uav_{uid}"
-        cmd.twist.linear.x, cmd.twist.linear.z, cmd.twist.angular.z = (float(v) for v in out.command)
+        cmd.twist.linear.x, cmd.twist.linear.z, cmd.twist.angular.z = v_lin, v_z, omega_z
         self.pub_cmd.publish(cmd)
         if out.markers is not None:
             self.pub_viz.publish(_markers(out, stamp, f"uav_{uid}"))
