@@ -47,11 +47,6 @@ def _world_log(tmp_path: Path) -> str:
     return "\n".join(p.read_text(errors="replace") for p in logs)
 
 
-@pytest.mark.xfail(
-    reason="open: in its first run the fleet stalled at about step 3 while the rogue was publishing "
-    "(forgeries were rejected, no traceback); cause not found yet",
-    strict=False,
-)
 def test_spoofed_sequence_and_forgeries_are_rejected_and_the_victim_flies_on(ros_env, tmp_path):
     summary, err, sent = _with_rogue(tmp_path, ros_env, "spoof", 8.0, 20.0)
     assert sent["state seq 2**32-1 for uav 1"] == 1 and sent["forged state"] > 50, sent
@@ -65,4 +60,51 @@ def test_spoofed_sequence_and_forgeries_are_rejected_and_the_victim_flies_on(ros
     assert summary["packets_rejected"] <= 2 * forged  # each agent sees each forgery at most once
     log = _world_log(tmp_path)
     assert "bad auth" in log, log[-3000:]  # the forged drop requests
+    assert_no_survivors(summary)
+
+
+def _bag_topics(run: Path) -> dict[str, int]:
+    from fire_uav_recording.reader import open_bag
+
+    counts: dict[str, int] = {}
+    with open_bag(run / "bag", salvage=False) as bag:
+        for topic, _t, _msg in bag.messages(["/world/truth", "/fleet/state", "/fleet/events"]):
+            counts[topic] = counts.get(topic, 0) + 1
+    return counts
+
+
+def test_fuzzed_messages_on_every_subscribed_topic_crash_and_hang_nothing(ros_env, tmp_path):
+    """Random fields (NaN, inf, huge arrays, wrong ids, out-of-range enums) on the fleet, payload
+    and command topics while a mission runs: it completes, every UAV lands, rejections are counted."""
+    summary, err, sent = _with_rogue(tmp_path, ros_env, "fuzz", 8.0, 100.0)
+    assert sum(sent.values()) > 300, sent
+    assert summary["outcome"] == "complete", f"{summary}\n{err[-3000:]}"
+    assert summary["declared_crashed"] == {} and summary["crashes"] == []
+    assert sorted(summary["landed"]) == [0, 1, 2]
+    assert summary["packets_rejected"] > 0
+    assert "Traceback" not in err
+    for log in (tmp_path / "run").rglob("*.log"):
+        assert "Traceback" not in log.read_text(errors="replace"), log.name
+    assert _bag_topics(tmp_path / "run")["/world/truth"] > 100
+    assert_no_survivors(summary)
+
+
+def test_a_flood_on_fleet_state_neither_stops_the_fleet_nor_loses_the_bag(ros_env, tmp_path):
+    """A peer publishing as fast as it can (aimed at 5,000 messages/s) on /fleet/state for 10 s.
+
+    The fleet completes and lands; the recorder stays readable (it drops over its memory budget
+    with a counted warning, or keeps up). The step rate under the flood is printed, not asserted
+    (machines are shared): docs/security.md has the measured figure.
+    """
+    summary, err, sent = _with_rogue(tmp_path, ros_env, "flood", 10.0, 5000.0)
+    assert sent.get("flood state", 0) > 5000, sent
+    assert summary["outcome"] == "complete", f"{summary}\n{err[-3000:]}"
+    assert summary["declared_crashed"] == {} and summary["crashes"] == []
+    assert sorted(summary["landed"]) == [0, 1, 2]
+    counts = _bag_topics(tmp_path / "run")
+    assert counts["/world/truth"] > 100 and counts["/fleet/state"] > 0, counts
+    print(
+        f"flood: {sent['flood state'] / 10.0:.0f} msg/s for 10 s; fleet {summary.get('steps_per_wall_s')} "
+        f"steps/s over the mission; bag {counts}"
+    )
     assert_no_survivors(summary)

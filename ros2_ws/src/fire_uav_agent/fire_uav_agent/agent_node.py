@@ -35,7 +35,6 @@ from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.serialization import serialize_message
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .agent_config import AgentConfig, config_from_scenario
@@ -369,6 +368,13 @@ class UavAgentNode(Node):
         self._liveness_timer = self.create_timer(self.liveness_s, self._check_liveness, clock=self._steady)
         self._liveness_timer.cancel()
         self._wait_since_ns = 0
+        # recovery from a lost message (a reader's history overrun by a flood): docs/protocol.md "Resend"
+        self._sent_log: dict[int, list] = {}  # step -> [(publisher, message)] of single-message topics
+        self._seen: set[tuple[int, int, int]] = set()  # (sender, loss index, step) taken already
+        self._resend_asked_ns: dict[tuple[int, int], int] = {}  # (peer, step) -> when asked
+        self._resent_ns: dict[int, int] = {}  # step -> when this agent last resent it
+        self.resends_sent = self.resends_received = 0
+        topics.subscription(self, topics.FLEET_EVENTS_SPEC, self._on_fleet_event)
         # the start-up handshake: AGENT_READY once every fleet topic is matched with every peer
         self._ready_timer = self.create_timer(0.05, self._check_ready, clock=self._steady)
 
@@ -481,7 +487,7 @@ class UavAgentNode(Node):
             slack = self._step_slack + (0 if lockstep else self.cfg.crash_threshold_steps)
             reason = _step_verdict(step, self.agent.last_step, lockstep, slack)
         if reason is None and self.auth is not None:
-            if not self.auth.check(msg, spec.name, sender, auth_step, serialize_message):
+            if not self.auth.check(msg, spec.name, sender, auth_step):
                 reason = "bad auth"
         if reason is None:
             return True
@@ -500,6 +506,8 @@ class UavAgentNode(Node):
         sender, step = int(msg.uav_id), int(msg.step)
         if not self._admit(msg, topics.FLEET_STATE_SPEC, sender, step, step):
             return
+        if self._duplicate(sender, topics.FLEET_STATE_SPEC, step):
+            return
         self.wait.on_state(sender, step, tuple(msg.sent_per_topic), bool(msg.final))
         self._inbox.append(_to_peer_state(msg))
         self._maybe_run()
@@ -510,6 +518,8 @@ class UavAgentNode(Node):
         pm = _to_peer_perimeter(msg, self.cfg.control_period_s)
         if not self._admit(msg, topics.FLEET_PERIMETER_SPEC, pm.uav_id, pm.step, pm.step):
             return
+        if self._duplicate(pm.uav_id, topics.FLEET_PERIMETER_SPEC, pm.step):
+            return
         self.wait.on_message(pm.uav_id, pm.step, topics.FLEET_PERIMETER_SPEC.loss_index)
         self._inbox.append(pm)
         self._maybe_run()
@@ -518,6 +528,8 @@ class UavAgentNode(Node):
         if msg.uav_id == self.cfg.uav_id:
             return
         step = stamp_to_step(stamp_to_ns(msg.header.stamp), s_to_ns(self.cfg.control_period_s))
+        if self._duplicate(int(msg.uav_id), topics.FLEET_FRONT_SPEC, step):
+            return
         self.wait.on_message(int(msg.uav_id), step, topics.FLEET_FRONT_SPEC.loss_index)  # it arrived
         try:
             self._inbox.append(_to_peer_front(msg, self.cfg.control_period_s))
@@ -533,9 +545,65 @@ class UavAgentNode(Node):
         sender, step = int(msg.uav_id), int(msg.step)
         if not self._admit(msg, topics.FLEET_FIRES_SPEC, sender, step, step):
             return
+        if self._duplicate(sender, topics.FLEET_FIRES_SPEC, step):
+            return
         self.wait.on_message(sender, step, topics.FLEET_FIRES_SPEC.loss_index)
         self._inbox.append(_to_peer_fires(msg))
         self._maybe_run()
+
+    # --- resend: recovery from a message the transport lost (docs/protocol.md "Resend") ----------
+    def _duplicate(self, sender: int, spec: topics.TopicSpec, step: int) -> bool:
+        """Whether this (sender, topic, step) was taken already: a resent copy, dropped silently.
+
+        Only for the topics that carry at most one message per sender and step (state, fires,
+        perimeter, front): a resent copy is byte-identical to the first, so taking the first one
+        that arrives changes nothing the agent decides.
+        """
+        key = (int(sender), int(spec.loss_index), int(step))
+        if key in self._seen:
+            self.resends_received += 1
+            return True
+        self._seen.add(key)
+        return False
+
+    def _ask_resend(self, k: int, waited_s: float) -> None:
+        """Ask each peer still missing for step ``k - 1`` to send its messages again (every 5 s).
+
+        The lockstep wait has no timeout (determinism), so a message the transport lost (a reader
+        history overrun by a flood on the topic) would block the fleet for good. Wall time decides
+        only *when* a copy is asked for, never *what* the agent then decides.
+        """
+        now = self._steady.now().nanoseconds
+        for j in self.wait.missing(k):
+            last = self._resend_asked_ns.get((j, k - 1))
+            if last is not None and now - last < 5 * 10**9:
+                continue
+            self._resend_asked_ns[(j, k - 1)] = now
+            ev = MissionEvent(type=int(EventType.RESEND_REQUEST), uav_id=self.cfg.uav_id, peer_id=j, fire_id=-1)
+            ev.x_m = ev.y_m = math.nan
+            ev.value = float(k - 1)
+            ev.detail = f"waited {waited_s:.0f} s for uav {j}'s step-{k - 1} messages"
+            ev.header.frame_id = "map"
+            self.pub_events.publish(ev)
+            self.get_logger().warning(f"step {k}: asked uav {j} to resend its step-{k - 1} messages")
+
+    def _on_fleet_event(self, msg: MissionEvent) -> None:
+        if msg.type != EventType.RESEND_REQUEST or msg.peer_id != self.cfg.uav_id:
+            return
+        if not math.isfinite(msg.value):
+            return
+        step = int(msg.value)
+        sent = self._sent_log.get(step)
+        now = self._steady.now().nanoseconds
+        if sent is None or now - self._resent_ns.get(step, -(10**18)) < 2 * 10**9:
+            return  # not kept (too old or never sent), or resent just now (one copy per 2 s)
+        self._resent_ns[step] = now
+        for pub, m in sent:
+            pub.publish(m)
+        self.resends_sent += 1
+        self.get_logger().warning(
+            f"resent step {step}'s {len(sent)} messages at uav {msg.uav_id}'s request ({self.resends_sent} so far)"
+        )
 
     def _on_coverage_arrival(self, sender: int, step: int, loss_index: int) -> None:
         self.wait.on_message(sender, step, loss_index)
@@ -613,6 +681,7 @@ class UavAgentNode(Node):
                 f"step {k}: waiting {waited_s:.0f} s for peers' step-{k - 1} messages: {self.wait.describe(k)}",
                 throttle_duration_sec=10.0,
             )
+            self._ask_resend(k, waited_s)
         alive = {i.node_namespace for i in self.get_publishers_info_by_topic(topics.FLEET_STATE_SPEC.name)}
         for j in self.wait.missing(k):
             if topics.uav_namespace(j) not in alive:
@@ -642,6 +711,8 @@ class UavAgentNode(Node):
         final = int(msg.vehicle_status) == VehicleStatus.CRASHED
         self._publish(out, msg.header.stamp, coverage, final)
         self.wait.prune(k)
+        self._seen = {key for key in self._seen if key[2] >= k - 1}
+        self._resend_asked_ns = {key: t for key, t in self._resend_asked_ns.items() if key[1] >= k - 1}
 
     # --- output ---------------------------------------------------------------------------------------
     def _publish_tf_estimate(self, out: StepOutput, stamp: TimeMsg) -> None:
@@ -684,13 +755,14 @@ class UavAgentNode(Node):
         fires = _from_fires(out, stamp)
         stamp_ns = stamp_to_ns(stamp)
         if self.auth is not None:
-            self.auth.sign(state, topics.FLEET_STATE_SPEC.name, uid, out.step, serialize_message)
-            self.auth.sign(fires, topics.FLEET_FIRES_SPEC.name, uid, out.step, serialize_message)
+            self.auth.sign(state, topics.FLEET_STATE_SPEC.name, uid, out.step)
+            self.auth.sign(fires, topics.FLEET_FIRES_SPEC.name, uid, out.step)
             if pm is not None:
                 pm_step = stamp_to_step(stamp_ns, s_to_ns(self.cfg.control_period_s))
-                self.auth.sign(pm, topics.FLEET_PERIMETER_SPEC.name, uid, pm_step, serialize_message)
+                self.auth.sign(pm, topics.FLEET_PERIMETER_SPEC.name, uid, pm_step)
         self.pub_state.publish(state)
         self.pub_fires.publish(fires)
+        log = [(self.pub_state, state), (self.pub_fires, fires)]
         v_lin, v_z, omega_z = (float(v) for v in out.command)
         # exactly one request per step (ACTION_NONE if nothing): the lockstep world waits for it
         for action, fire_id in out.payload_requests or [(PayloadAction.NONE, -1)]:
@@ -700,7 +772,7 @@ class UavAgentNode(Node):
             # the command rides along: TwistStamped has no room for a tag (docs/security.md)
             req.cmd_linear_x_mps, req.cmd_linear_z_mps, req.cmd_angular_z_radps = v_lin, v_z, omega_z
             if self.auth is not None:
-                self.auth.sign(req, topics.PAYLOAD_SPEC.for_uav(uid), uid, stamp_ns, serialize_message)
+                self.auth.sign(req, topics.PAYLOAD_SPEC.for_uav(uid), uid, stamp_ns)
             self.pub_payload.publish(req)
             what = PayloadAction(action).name
             if action == PayloadAction.DROP:
@@ -709,8 +781,13 @@ class UavAgentNode(Node):
                 self.get_logger().debug(f"step {out.step}: {what}", throttle_duration_sec=2.0)
         if pm is not None:
             self.pub_perimeter.publish(pm)
+            log.append((self.pub_perimeter, pm))
         if fm is not None:
             self.pub_front.publish(fm)
+            log.append((self.pub_front, fm))
+        self._sent_log[out.step] = log
+        for old in [s for s in self._sent_log if s < out.step - 3]:  # keep the last 4 steps
+            del self._sent_log[old]
         if self.search_link is not None:
             self.search_link.publish(coverage)
             plan = self.search_link.plan_marker(stamp)

@@ -3,9 +3,10 @@
 import hashlib
 import hmac
 import secrets
+import struct
 
 import pytest
-from fire_uav_common.auth import TAG_BYTES, Authenticator, new_key_hex, parse_key
+from fire_uav_common.auth import TAG_BYTES, Authenticator, canonical_bytes, new_key_hex, parse_key
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -31,15 +32,33 @@ def test_key_parsing_errors_do_not_echo_the_key():
 
 
 class Msg:
-    """Stand-in for a ROS message with an ``auth`` field; serialised as its fields' bytes."""
+    """Stand-in for a generated ROS message: a field table, a byte body and an ``auth`` field."""
+
+    _FIELDS = {"body": "sequence<uint8>", "auth": "uint8[32]"}
 
     def __init__(self, body: bytes) -> None:
         self.body = body
         self.auth = bytes(TAG_BYTES)
 
+    @classmethod
+    def get_fields_and_field_types(cls) -> dict:
+        return dict(cls._FIELDS)
 
-def ser(m: Msg) -> bytes:
-    return bytes(m.auth) + m.body
+
+class Typed:
+    """A stand-in with one field of every shape the encoder handles (nested, strings, arrays)."""
+
+    def __init__(self, **values) -> None:
+        self.__dict__.update(values)
+
+    def get_fields_and_field_types(self) -> dict:
+        return self._types
+
+
+def typed(types: dict, **values) -> Typed:
+    t = Typed(**values)
+    t._types = types
+    return t
 
 
 @settings(max_examples=100, deadline=None)
@@ -53,18 +72,18 @@ def ser(m: Msg) -> bytes:
 def test_any_change_to_payload_sender_step_or_topic_fails(body, sender, step, pos, bit):
     a = Authenticator(secrets.token_bytes(32))
     m = Msg(body)
-    a.sign(m, "/fleet/state", sender, step, ser)
+    a.sign(m, "/fleet/state", sender, step)
     assert len(m.auth) == TAG_BYTES and m.auth != bytes(TAG_BYTES)
-    assert a.check(m, "/fleet/state", sender, step, ser)
-    assert not a.check(m, "/fleet/fires", sender, step, ser)
-    assert not a.check(m, "/fleet/state", sender + 1, step, ser)
-    assert not a.check(m, "/fleet/state", sender, step + 1, ser)
-    assert not Authenticator(secrets.token_bytes(32)).check(m, "/fleet/state", sender, step, ser)
+    assert a.check(m, "/fleet/state", sender, step)
+    assert not a.check(m, "/fleet/fires", sender, step)
+    assert not a.check(m, "/fleet/state", sender + 1, step)
+    assert not a.check(m, "/fleet/state", sender, step + 1)
+    assert not Authenticator(secrets.token_bytes(32)).check(m, "/fleet/state", sender, step)
     if body:
         i = pos % len(body)
         flipped = Msg(body[:i] + bytes([body[i] ^ (1 << bit)]) + body[i + 1 :])
         flipped.auth = m.auth
-        assert not a.check(flipped, "/fleet/state", sender, step, ser)
+        assert not a.check(flipped, "/fleet/state", sender, step)
 
 
 @settings(max_examples=100, deadline=None)
@@ -73,4 +92,32 @@ def test_garbage_tags_are_rejected_not_raised(tag):
     a = Authenticator(bytes(range(32)))
     m = Msg(b"x")
     m.auth = tag
-    assert a.check(m, "/t", 0, 0, ser) is False
+    assert a.check(m, "/t", 0, 0) is False
+
+
+def test_canonical_bytes_are_field_widths_big_endian_without_padding():
+    # an independent hand encoding: u8 7 | f32 0.1 | i32 -2 | seq<u16> [1, 2] | string "ab" | nested
+    inner = typed({"b": "boolean"}, b=True)
+    m = typed(
+        {"a": "uint8", "x": "float", "i": "int32", "s": "sequence<uint16>", "t": "string",
+         "n": "std_msgs/Header", "auth": "uint8[32]"},
+        a=7, x=0.1, i=-2, s=[1, 2], t="ab", n=inner, auth=bytes(32),
+    )  # fmt: skip
+    want = (
+        b"\x07" + struct.pack(">f", 0.1) + struct.pack(">i", -2)
+        + struct.pack(">Q", 2) + b"\x00\x01\x00\x02"
+        + struct.pack(">Q", 2) + b"ab" + b"\x01"
+    )  # fmt: skip
+    assert canonical_bytes(m) == want
+
+
+def test_a_float32_field_checks_after_the_wire_rounded_it():
+    # the sender may hold a double in a float32 field; the receiver only sees it rounded
+    a = Authenticator(bytes(range(32)))
+    sent = typed({"w": "float", "auth": "uint8[32]"}, w=0.1, auth=bytes(32))
+    a.sign(sent, "/fleet/state", 1, 3)
+    received = typed({"w": "float", "auth": "uint8[32]"}, w=struct.unpack(">f", struct.pack(">f", 0.1))[0])
+    received.auth = sent.auth
+    assert received.w != sent.w and a.check(received, "/fleet/state", 1, 3)
+    received.w = 0.2
+    assert not a.check(received, "/fleet/state", 1, 3)

@@ -37,7 +37,6 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
-from rclpy.serialization import serialize_message
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
 from sensor_msgs.msg import Imu, Range
@@ -414,7 +413,7 @@ class WorldNode(Node):
         ns = stamp_to_ns(msg.header.stamp)
         if msg.uav_id != uid:
             return self._reject(uid, topic, "wrong id")
-        if self.auth is not None and not self.auth.check(msg, topic, uid, ns, serialize_message):
+        if self.auth is not None and not self.auth.check(msg, topic, uid, ns):
             return self._reject(uid, topic, "bad auth")
         if msg.action not in tuple(PayloadAction):
             return self._reject(uid, topic, "unknown action")
