@@ -83,3 +83,37 @@ def test_outage_beyond_the_flown_fleet_is_named(tmp_path):
         in r.stderr
     ), r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_fleet_key_per_mission_private_and_only_where_needed(tmp_path):
+    """A fresh key per mission, in the world's and agents' params files only, mode 0600."""
+    import stat
+    import sys as _sys
+
+    _sys.path[:0] = [str(ROOT / "tools"), str(ROOT / "ros2_ws/src/fire_uav_common")]
+    import yaml
+    from fire_mission.runner import build_parser, write_params
+
+    scen = ROOT / "ros2_ws/src/fire_world_sim/scenarios/fault_drill.yaml"
+    keys = []
+    for run in ("a", "b"):
+        args = build_parser().parse_args(["fault_drill"])
+        files = write_params(tmp_path / run, args, scen, 3, 1, None)
+        got = set()
+        for name, path in files.items():
+            text = path.read_text()
+            p = yaml.safe_load(text)["/**"]["ros__parameters"]
+            if name == "recorder":
+                assert "fleet_key" not in p
+                continue
+            assert stat.S_IMODE(path.stat().st_mode) == 0o600, name
+            assert p["auth"] is True and len(p["fleet_key"]) == 64
+            got.add(p["fleet_key"])
+        assert len(got) == 1  # one fleet key for the world and every agent
+        keys += got
+    assert keys[0] != keys[1]
+    off = write_params(
+        tmp_path / "off", build_parser().parse_args(["fault_drill", "--no-auth"]), scen, 3, 1, None
+    )
+    p = yaml.safe_load(off["agent_0"].read_text())["/**"]["ros__parameters"]
+    assert p["auth"] is False and "fleet_key" not in p

@@ -45,6 +45,8 @@ def _record_truth(procs, tmp_path: Path, tag: str, seed: int) -> list[bytes]:
                 "max_duration_s:=8.0",
                 "-p",
                 "wait_for_subscribers:=1",
+                "-p",
+                "auth:=false",  # the stub agents do not sign
             ],
         ),
     )

@@ -232,6 +232,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--out", type=Path, default=None, help="output directory (default: runs/<scenario>-<time>)"
     )
     p.add_argument("--no-record", action="store_true", help="do not start the recorder")
+    p.add_argument(
+        "--no-auth",
+        action="store_true",
+        help="turn off HMAC authentication of fleet and command topics (on by default; docs/security.md)",
+    )
     p.add_argument("--no-report", action="store_true", help="do not write the report after the run")
     p.add_argument(
         "--wall-epoch",
@@ -338,6 +343,14 @@ def _yaml_params(node: str, params: dict) -> str:
     return yaml.safe_dump({node: {"ros__parameters": clean}}, sort_keys=True)
 
 
+def _write_private(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` readable by this user only (mode 0600, also when it existed)."""
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    os.fchmod(fd, 0o600)
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+
+
 def write_params(
     out: Path,
     args: argparse.Namespace,
@@ -349,6 +362,13 @@ def write_params(
     pdir = out / "params"
     pdir.mkdir(parents=True, exist_ok=True)
     files = {}
+    from fire_uav_common.auth import new_key_hex
+
+    # one fresh key per mission, only in the world's and agents' params files (0600): never in a
+    # log, the bag, the summary or a command line (docs/security.md)
+    auth = {"auth": not getattr(args, "no_auth", False)}
+    if auth["auth"]:
+        auth["fleet_key"] = new_key_hex()
     world = {
         "scenario_file": str(scenario_path),
         "seed": seed,
@@ -371,7 +391,7 @@ def write_params(
     briefing = prior_fire_estimates(load_scenario(scenario_path), seed)
     world["offline_schedule"] = schedule
     files["world"] = pdir / "world.yaml"
-    files["world"].write_text(_yaml_params("/**", world))
+    _write_private(files["world"], _yaml_params("/**", {**world, **auth}))
     files["recorder"] = pdir / "recorder.yaml"
     files["recorder"].write_text(
         _yaml_params(
@@ -403,7 +423,7 @@ def write_params(
         if args.loss is not None:
             agent["loss_probability"] = float(args.loss)
         files[f"agent_{k}"] = pdir / f"agent_{k}.yaml"
-        files[f"agent_{k}"].write_text(_yaml_params("/**", agent))
+        _write_private(files[f"agent_{k}"], _yaml_params("/**", {**agent, **auth}))
     return files
 
 

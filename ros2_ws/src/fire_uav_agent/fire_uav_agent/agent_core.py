@@ -254,7 +254,7 @@ class Agent:
         perimeters: list[PeerPerimeter] = []
         for m in msgs:
             if isinstance(m, PeerState):
-                self.link.receive_state(m)
+                self.link.receive_state(m, now_step=step)
             elif isinstance(m, PeerPerimeter):
                 if m.uav_id == cfg.uav_id or not 0 <= m.uav_id < cfg.uav_count:
                     continue
@@ -268,7 +268,7 @@ class Agent:
                 if not self.link.is_lost(m.uav_id, m.step, FLEET_FRONT_SPEC.draw_index):
                     self._peer_fronts.append(m)
             else:
-                self.link.receive_fires(m)
+                self.link.receive_fires(m, now_step=step)
         if step >= 1:
             for ev in self.link.end_step(step):
                 typ = EventType.PEER_CRASHED if ev.kind == "crashed" else EventType.PEER_REJOINED

@@ -15,6 +15,7 @@ import numpy as np
 import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
+from fire_uav_common.auth import Authenticator, parse_key
 from fire_uav_common.constants import EventType, FireStatus, PayloadAction, VehicleStatus
 from fire_uav_common.lockstep import OfflineWindow, parse_schedule
 from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
@@ -236,6 +237,23 @@ def _markers(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:
     return arr
 
 
+def _step_verdict(step: int, last_step: int, lockstep: bool, slack_steps: int) -> str | None:
+    """Whether a peer message of ``step`` can be genuine when this agent last ran ``last_step``.
+
+    In lockstep a peer's message is of the step this agent last ran or the next one: a peer runs
+    step s only after the world's bundle s, which needs this agent's command of s - 1; messages of
+    older steps are never waited for again. ``slack_steps``: steps this agent itself is offline
+    in the fault schedule (it falls behind by that many). Returns the rejection kind, or None.
+    """
+    if step < 0:
+        return "negative step"
+    if lockstep and step < last_step:
+        return "stale step"
+    if step > last_step + 1 + slack_steps:
+        return "implausible step"
+    return None
+
+
 def _inbox_order(m: PeerState | PeerFires | PeerPerimeter) -> tuple[int, int, int, int]:
     """(step, kind, sender, sequence): the order peer messages are handed to the agent."""
     kind = 0 if isinstance(m, PeerState) else 1 if isinstance(m, PeerFires) else 2
@@ -309,6 +327,12 @@ class UavAgentNode(Node):
                   floating_point_range=[FloatingPointRange(from_value=0.0, to_value=100.0)], **ro),
         )  # fmt: skip
         self.cfg, self.mode, self.liveness_s, self.marker_every, schedule = self._read_config()
+        self.auth = self._read_auth()
+        self._step_slack = sum(
+            w.steps(self.cfg.control_period_s)[1] - w.steps(self.cfg.control_period_s)[0] + 1
+            for w in schedule
+            if w.uav_id == self.cfg.uav_id and math.isfinite(w.end_s)
+        )
         self.agent = Agent(self.cfg)
         # CP coverage search over /fleet/coverage/* (None when search_mode resolves to off)
         self.search_link = attach_search(self, self.agent)
@@ -344,6 +368,13 @@ class UavAgentNode(Node):
         self._liveness_timer = self.create_timer(self.liveness_s, self._check_liveness, clock=self._steady)
         self._liveness_timer.cancel()
         self._wait_since_ns = 0
+        # recovery from a lost message (a reader's history overrun by a flood): docs/protocol.md "Resend"
+        self._sent_log: dict[int, list] = {}  # step -> [(publisher, message)] of single-message topics
+        self._seen: set[tuple[int, int, int]] = set()  # (sender, loss index, step) taken already
+        self._resend_asked_ns: dict[tuple[int, int], int] = {}  # (peer, step) -> when asked
+        self._resent_ns: dict[int, int] = {}  # step -> when this agent last resent it
+        self.resends_sent = self.resends_received = 0
+        topics.subscription(self, topics.FLEET_EVENTS_SPEC, self._on_fleet_event)
         # the start-up handshake: AGENT_READY once every fleet topic is matched with every peer
         self._ready_timer = self.create_timer(0.05, self._check_ready, clock=self._steady)
 
@@ -414,11 +445,70 @@ class UavAgentNode(Node):
             schedule,
         )
 
+    def _read_auth(self) -> Authenticator | None:
+        """Parameters ``auth`` / ``fleet_key`` (docs/security.md). The key is read, then undeclared,
+        so the node's parameter services do not hand it to other participants; it is never logged."""
+        self.declare_parameter(
+            "auth", True,
+            _desc("HMAC-SHA256 authentication of fleet and command topics with fleet_key (docs/security.md)",
+                  read_only=True),
+        )  # fmt: skip
+        self.declare_parameter(
+            "fleet_key", "", _desc("per-mission key, 64 hex digits (undeclared once read)")
+        )
+        key = str(self.get_parameter("fleet_key").value)
+        self.undeclare_parameter("fleet_key")
+        if not bool(self.get_parameter("auth").value):
+            self.get_logger().warning(
+                "authentication off: any participant on the domain can speak for the fleet"
+            )
+            return None
+        if not key:
+            raise ValueError(
+                "parameter fleet_key is required when auth is true (the runner writes one per mission)"
+            )
+        try:
+            return Authenticator(parse_key(key))
+        except ValueError as e:
+            raise ValueError(f"parameter fleet_key: {e}") from None
+
+    def _admit(self, msg, spec: topics.TopicSpec, sender: int, step: int, auth_step: int) -> bool:
+        """Checks before a peer message is counted by the lockstep wait: id, step, HMAC.
+
+        A rejected message is counted in the peer link's ``reject_reasons`` (so in
+        ``UavState.packets_rejected``) and never reaches :class:`PeerWait`: a forged state cannot
+        make this agent wait for messages its claimed sender did not send.
+        """
+        reason = None
+        if not 0 <= sender < self.cfg.uav_count:
+            reason = "unknown id"
+        else:
+            lockstep = self.mode == "lockstep"
+            slack = self._step_slack + (0 if lockstep else self.cfg.crash_threshold_steps)
+            reason = _step_verdict(step, self.agent.last_step, lockstep, slack)
+        if reason is None and self.auth is not None:
+            if not self.auth.check(msg, spec.name, sender, auth_step):
+                reason = "bad auth"
+        if reason is None:
+            return True
+        self.agent.link.count_rejection(reason)
+        self.get_logger().warning(
+            f"rejected a message on {spec.name} claiming uav {sender} step {step}: {reason} "
+            f"(rejections so far: {self.agent.link.reject_reasons})",
+            throttle_duration_sec=2.0,
+        )
+        return False
+
     # --- peer traffic ---------------------------------------------------------------------------------
     def _on_state(self, msg: UavState) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return  # our own broadcast
-        self.wait.on_state(int(msg.uav_id), int(msg.step), tuple(msg.sent_per_topic), bool(msg.final))
+        sender, step = int(msg.uav_id), int(msg.step)
+        if not self._admit(msg, topics.FLEET_STATE_SPEC, sender, step, step):
+            return
+        if self._duplicate(sender, topics.FLEET_STATE_SPEC, step):
+            return
+        self.wait.on_state(sender, step, tuple(msg.sent_per_topic), bool(msg.final))
         self._inbox.append(_to_peer_state(msg))
         self._maybe_run()
 
@@ -426,6 +516,10 @@ class UavAgentNode(Node):
         if msg.uav_id == self.cfg.uav_id:
             return
         pm = _to_peer_perimeter(msg, self.cfg.control_period_s)
+        if not self._admit(msg, topics.FLEET_PERIMETER_SPEC, pm.uav_id, pm.step, pm.step):
+            return
+        if self._duplicate(pm.uav_id, topics.FLEET_PERIMETER_SPEC, pm.step):
+            return
         self.wait.on_message(pm.uav_id, pm.step, topics.FLEET_PERIMETER_SPEC.loss_index)
         self._inbox.append(pm)
         self._maybe_run()
@@ -434,6 +528,8 @@ class UavAgentNode(Node):
         if msg.uav_id == self.cfg.uav_id:
             return
         step = stamp_to_step(stamp_to_ns(msg.header.stamp), s_to_ns(self.cfg.control_period_s))
+        if self._duplicate(int(msg.uav_id), topics.FLEET_FRONT_SPEC, step):
+            return
         self.wait.on_message(int(msg.uav_id), step, topics.FLEET_FRONT_SPEC.loss_index)  # it arrived
         try:
             self._inbox.append(_to_peer_front(msg, self.cfg.control_period_s))
@@ -446,9 +542,68 @@ class UavAgentNode(Node):
     def _on_fires(self, msg: FireEstimateArray) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return
-        self.wait.on_message(int(msg.uav_id), int(msg.step), topics.FLEET_FIRES_SPEC.loss_index)
+        sender, step = int(msg.uav_id), int(msg.step)
+        if not self._admit(msg, topics.FLEET_FIRES_SPEC, sender, step, step):
+            return
+        if self._duplicate(sender, topics.FLEET_FIRES_SPEC, step):
+            return
+        self.wait.on_message(sender, step, topics.FLEET_FIRES_SPEC.loss_index)
         self._inbox.append(_to_peer_fires(msg))
         self._maybe_run()
+
+    # --- resend: recovery from a message the transport lost (docs/protocol.md "Resend") ----------
+    def _duplicate(self, sender: int, spec: topics.TopicSpec, step: int) -> bool:
+        """Whether this (sender, topic, step) was taken already: a resent copy, dropped silently.
+
+        Only for the topics that carry at most one message per sender and step (state, fires,
+        perimeter, front): a resent copy is byte-identical to the first, so taking the first one
+        that arrives changes nothing the agent decides.
+        """
+        key = (int(sender), int(spec.loss_index), int(step))
+        if key in self._seen:
+            self.resends_received += 1
+            return True
+        self._seen.add(key)
+        return False
+
+    def _ask_resend(self, k: int, waited_s: float) -> None:
+        """Ask each peer still missing for step ``k - 1`` to send its messages again (every 5 s).
+
+        The lockstep wait has no timeout (determinism), so a message the transport lost (a reader
+        history overrun by a flood on the topic) would block the fleet for good. Wall time decides
+        only *when* a copy is asked for, never *what* the agent then decides.
+        """
+        now = self._steady.now().nanoseconds
+        for j in self.wait.missing(k):
+            last = self._resend_asked_ns.get((j, k - 1))
+            if last is not None and now - last < 5 * 10**9:
+                continue
+            self._resend_asked_ns[(j, k - 1)] = now
+            ev = MissionEvent(type=int(EventType.RESEND_REQUEST), uav_id=self.cfg.uav_id, peer_id=j, fire_id=-1)
+            ev.x_m = ev.y_m = math.nan
+            ev.value = float(k - 1)
+            ev.detail = f"waited {waited_s:.0f} s for uav {j}'s step-{k - 1} messages"
+            ev.header.frame_id = "map"
+            self.pub_events.publish(ev)
+            self.get_logger().warning(f"step {k}: asked uav {j} to resend its step-{k - 1} messages")
+
+    def _on_fleet_event(self, msg: MissionEvent) -> None:
+        if msg.type != EventType.RESEND_REQUEST or msg.peer_id != self.cfg.uav_id:
+            return
+        if not math.isfinite(msg.value):
+            return
+        step = int(msg.value)
+        sent = self._sent_log.get(step)
+        now = self._steady.now().nanoseconds
+        if sent is None or now - self._resent_ns.get(step, -(10**18)) < 2 * 10**9:
+            return  # not kept (too old or never sent), or resent just now (one copy per 2 s)
+        self._resent_ns[step] = now
+        for pub, m in sent:
+            pub.publish(m)
+        self.resends_sent += 1
+        self.get_logger().warning(
+            f"resent step {step}'s {len(sent)} messages at uav {msg.uav_id}'s request ({self.resends_sent} so far)"
+        )
 
     def _on_coverage_arrival(self, sender: int, step: int, loss_index: int) -> None:
         self.wait.on_message(sender, step, loss_index)
@@ -526,6 +681,7 @@ class UavAgentNode(Node):
                 f"step {k}: waiting {waited_s:.0f} s for peers' step-{k - 1} messages: {self.wait.describe(k)}",
                 throttle_duration_sec=10.0,
             )
+            self._ask_resend(k, waited_s)
         alive = {i.node_namespace for i in self.get_publishers_info_by_topic(topics.FLEET_STATE_SPEC.name)}
         for j in self.wait.missing(k):
             if topics.uav_namespace(j) not in alive:
@@ -555,6 +711,8 @@ class UavAgentNode(Node):
         final = int(msg.vehicle_status) == VehicleStatus.CRASHED
         self._publish(out, msg.header.stamp, coverage, final)
         self.wait.prune(k)
+        self._seen = {key for key in self._seen if key[2] >= k - 1}
+        self._resend_asked_ns = {key: t for key, t in self._resend_asked_ns.items() if key[1] >= k - 1}
 
     # --- output ---------------------------------------------------------------------------------------
     def _publish_tf_estimate(self, out: StepOutput, stamp: TimeMsg) -> None:
@@ -594,13 +752,27 @@ class UavAgentNode(Node):
         state = _from_state(out, stamp)
         state.sent_per_topic = sent
         state.final = final
+        fires = _from_fires(out, stamp)
+        stamp_ns = stamp_to_ns(stamp)
+        if self.auth is not None:
+            self.auth.sign(state, topics.FLEET_STATE_SPEC.name, uid, out.step)
+            self.auth.sign(fires, topics.FLEET_FIRES_SPEC.name, uid, out.step)
+            if pm is not None:
+                pm_step = stamp_to_step(stamp_ns, s_to_ns(self.cfg.control_period_s))
+                self.auth.sign(pm, topics.FLEET_PERIMETER_SPEC.name, uid, pm_step)
         self.pub_state.publish(state)
-        self.pub_fires.publish(_from_fires(out, stamp))
+        self.pub_fires.publish(fires)
+        log = [(self.pub_state, state), (self.pub_fires, fires)]
+        v_lin, v_z, omega_z = (float(v) for v in out.command)
         # exactly one request per step (ACTION_NONE if nothing): the lockstep world waits for it
         for action, fire_id in out.payload_requests or [(PayloadAction.NONE, -1)]:
             req = PayloadRequest(uav_id=uid, action=int(action), target_fire_id=int(fire_id))
             req.header.stamp = stamp
             req.header.frame_id = "map"
+            # the command rides along: TwistStamped has no room for a tag (docs/security.md)
+            req.cmd_linear_x_mps, req.cmd_linear_z_mps, req.cmd_angular_z_radps = v_lin, v_z, omega_z
+            if self.auth is not None:
+                self.auth.sign(req, topics.PAYLOAD_SPEC.for_uav(uid), uid, stamp_ns)
             self.pub_payload.publish(req)
             what = PayloadAction(action).name
             if action == PayloadAction.DROP:
@@ -609,8 +781,13 @@ class UavAgentNode(Node):
                 self.get_logger().debug(f"step {out.step}: {what}", throttle_duration_sec=2.0)
         if pm is not None:
             self.pub_perimeter.publish(pm)
+            log.append((self.pub_perimeter, pm))
         if fm is not None:
             self.pub_front.publish(fm)
+            log.append((self.pub_front, fm))
+        self._sent_log[out.step] = log
+        for old in [s for s in self._sent_log if s < out.step - 3]:  # keep the last 4 steps
+            del self._sent_log[old]
         if self.search_link is not None:
             self.search_link.publish(coverage)
             plan = self.search_link.plan_marker(stamp)
@@ -619,7 +796,7 @@ class UavAgentNode(Node):
         cmd = TwistStamped()
         cmd.header.stamp = stamp
         cmd.header.frame_id = f"uav_{uid}"
-        cmd.twist.linear.x, cmd.twist.linear.z, cmd.twist.angular.z = (float(v) for v in out.command)
+        cmd.twist.linear.x, cmd.twist.linear.z, cmd.twist.angular.z = v_lin, v_z, omega_z
         self.pub_cmd.publish(cmd)
         if out.markers is not None:
             self.pub_viz.publish(_markers(out, stamp, f"uav_{uid}"))

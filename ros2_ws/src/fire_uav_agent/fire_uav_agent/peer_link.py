@@ -2,8 +2,11 @@
 
 On receipt, a message from peer j to this agent i for step s is
 
-* *rejected* (counted) if its sender id is outside 0..N-1 or is i's own id, if it holds a
-  NaN/inf, or if its sequence is not greater than the last accepted one from j on that topic;
+* *rejected* (counted per kind in ``reject_reasons``) if its sender id is outside 0..N-1 or is
+  i's own id, if its step is implausible (negative, or outside the window
+  ``[k - max_step_lag, k - 1]`` of the step k being run, when k is given), if its sequence is
+  implausible (0, or more than ``step + 1``: one state per step from step 0 on), if it holds a
+  NaN/inf, or if it is not newer than the last accepted one from j on that topic;
 * *lost* (counted) if ``rng.bernoulli(loss_probability, seed, "loss", j, i, s, topic_index)`` (``topic_index``: the
   topic's ``fire_uav_common.topics.TopicSpec.loss_index``)
   (deterministic whatever the arrival order) or if link (j, i) is in a scheduled outage at the
@@ -17,6 +20,14 @@ At exactly ``crash_threshold_steps`` missed steps the peer is declared crashed (
 crashed peer that is heard again rejoins. Id validity is checked before the loss draw (the
 draw needs a valid sender id); the other checks come after it, so a lost message is never
 also counted as rejected.
+
+No single message can poison the bookkeeping (issue "hardening"): messages are ordered by
+``(step, sequence)`` with the step first, and the step must lie in a window around the step being
+run, so a forged ``sequence = 2**32 - 1`` is rejected as implausible instead of becoming the bar
+every later genuine message fails. A message of a newer step whose sequence went *down* is a
+restarted peer (its sequence starts again at 1): accepted and counted in ``restarts``. At most one
+state per (peer, step) is accepted; a second one of the same step is a "duplicate". The paper says
+nothing about message validation; these rules are our choice (docs/security.md).
 """
 
 from __future__ import annotations
@@ -26,6 +37,7 @@ from dataclasses import dataclass, field
 from enum import IntEnum
 
 from fire_uav_common import rng
+from fire_uav_common.constants import Objective
 from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
 __all__ = [
@@ -39,6 +51,7 @@ __all__ = [
 # loss-draw indices (``TopicSpec.loss_index``) of the two topics the lockstep wait holds out for
 _STATE = int(FLEET_STATE_SPEC.loss_index)  # type: ignore[arg-type]
 _FIRES = int(FLEET_FIRES_SPEC.loss_index)  # type: ignore[arg-type]
+_OBJECTIVES = frozenset(int(o) for o in Objective)
 
 
 class Verdict(IntEnum):
@@ -123,7 +136,8 @@ class _Peer:
     missed: int = 0
     crashed: bool = False
     heard_since_bookkeeping: bool = False
-    last_seq: dict[int, int] = field(default_factory=lambda: {_STATE: 0, _FIRES: 0})
+    # (step, sequence) of the last accepted message per topic; (-1, 0): none yet
+    last_seq: dict[int, tuple[int, int]] = field(default_factory=lambda: {_STATE: (-1, 0), _FIRES: (-1, 0)})
     state: PeerState | None = None
     fires: PeerFires | None = None
 
@@ -149,6 +163,7 @@ class PeerLink:
         control_period_s: float,
         crash_threshold_steps: int = 10,
         outages: tuple[Outage, ...] = (),
+        max_step_lag: int | None = None,
     ) -> None:
         if not 0 <= uav_id < uav_count:
             raise ValueError(f"uav_id {uav_id} outside 0..{uav_count - 1}")
@@ -170,6 +185,11 @@ class PeerLink:
         self.lost = 0
         self.rejected = 0
         self.reject_reasons: dict[str, int] = {}
+        self.restarts = 0  # accepted messages whose sequence went down at a newer step
+        # oldest plausible step is k - max_step_lag (k: the step being run); older news is a missed step anyway
+        self.max_step_lag = crash_threshold_steps if max_step_lag is None else int(max_step_lag)
+        if self.max_step_lag < 1:
+            raise ValueError(f"max_step_lag must be >= 1, got {self.max_step_lag}")
 
     # --- loss model ----------------------------------------------------------------------
     def in_outage(self, sender: int, step: int) -> bool:
@@ -196,42 +216,57 @@ class PeerLink:
         return out
 
     # --- receipt ---------------------------------------------------------------------------
-    def _reject(self, reason: str) -> Verdict:
+    def count_rejection(self, reason: str) -> Verdict:
+        """Count one rejected peer message of kind ``reason`` (also used by the node's checks)."""
         self.rejected += 1
         self.reject_reasons[reason] = self.reject_reasons.get(reason, 0) + 1
         return Verdict.REJECTED
 
-    def _check(self, sender: int, step: int, seq: int, finite: bool, ti: int) -> Verdict:
+    def _check(
+        self, sender: int, step: int, seq: int, finite: bool, ti: int, now_step: int | None
+    ) -> Verdict:
         if not isinstance(sender, int) or not 0 <= sender < self.uav_count:
-            return self._reject("unknown id")
+            return self.count_rejection("unknown id")
         if sender == self.uav_id:
-            return self._reject("own id")
-        if step < 0:
-            return self._reject("negative step")
+            return self.count_rejection("own id")
+        if not isinstance(step, int) or step < 0:
+            return self.count_rejection("negative step")
+        if now_step is not None and not now_step - self.max_step_lag <= step <= now_step - 1:
+            return self.count_rejection("implausible step")
+        if not isinstance(seq, int) or not 1 <= seq <= step + 1:
+            return self.count_rejection("implausible sequence")
         if self.is_lost(sender, step, ti):
             self.lost += 1
             return Verdict.LOST
         if not finite:
-            return self._reject("nan/inf")
-        if seq <= self.peers[sender].last_seq[ti]:
-            return self._reject("old sequence")
+            return self.count_rejection("nan/inf")
+        last_step, last_seq = self.peers[sender].last_seq[ti]
+        if step < last_step:
+            return self.count_rejection("old step")
+        if step == last_step:
+            return self.count_rejection("duplicate")
+        if seq <= last_seq:
+            self.restarts += 1  # a newer step with a lower sequence: the peer restarted
         return Verdict.ACCEPTED
 
-    def receive_state(self, msg: PeerState) -> Verdict:
-        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), _STATE)
+    def receive_state(self, msg: PeerState, now_step: int | None = None) -> Verdict:
+        """Bookkeeping of a peer's state; ``now_step``: the step being run (enables the step window)."""
+        if msg.objective not in _OBJECTIVES:
+            return self.count_rejection("unknown objective")
+        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), _STATE, now_step)
         if v == Verdict.ACCEPTED:
             p = self.peers[msg.uav_id]
-            p.last_seq[_STATE] = msg.sequence
+            p.last_seq[_STATE] = (msg.step, msg.sequence)
             p.state = msg
             p.heard_since_bookkeeping = True
             self.received += 1
         return v
 
-    def receive_fires(self, msg: PeerFires) -> Verdict:
-        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), _FIRES)
+    def receive_fires(self, msg: PeerFires, now_step: int | None = None) -> Verdict:
+        v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), _FIRES, now_step)
         if v == Verdict.ACCEPTED:
             p = self.peers[msg.uav_id]
-            p.last_seq[_FIRES] = msg.sequence
+            p.last_seq[_FIRES] = (msg.step, msg.sequence)
             p.fires = msg
             self.received += 1
         return v

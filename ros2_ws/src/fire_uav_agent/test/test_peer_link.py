@@ -34,14 +34,14 @@ def test_loss_rate_matches_probability_and_is_order_independent():
 def test_bad_messages_rejected_and_counted():
     link = PeerLink(1, 3, seed=0, loss_probability=0.0, control_period_s=0.1)
     assert link.receive_state(state(0, 1, 0)) == Verdict.ACCEPTED
-    assert link.receive_state(state(0, 1, 1)) == Verdict.REJECTED  # sequence not increasing
+    assert link.receive_state(state(0, 1, 0)) == Verdict.REJECTED  # a second state of step 0
     assert link.receive_state(state(7, 1, 1)) == Verdict.REJECTED  # unknown id
     assert link.receive_state(state(1, 1, 1)) == Verdict.REJECTED  # own id
     assert link.receive_state(state(2, 1, 1, x=math.nan)) == Verdict.REJECTED
     bad_fire = FireEntry(5, True, 1.0, math.inf, 3.0)
     assert link.receive_fires(PeerFires(2, 1, 1, (bad_fire,))) == Verdict.REJECTED
     assert link.rejected == 5 and link.received == 1
-    assert link.reject_reasons == {"old sequence": 1, "unknown id": 1, "own id": 1, "nan/inf": 2}
+    assert link.reject_reasons == {"duplicate": 1, "unknown id": 1, "own id": 1, "nan/inf": 2}
 
 
 def test_crash_declared_at_exactly_threshold_and_rejoin():
@@ -64,7 +64,7 @@ def test_crash_declared_at_exactly_threshold_and_rejoin():
             assert [(e.kind, e.peer_id, e.step) for e in ev] == [("crashed", 2, 15)]
     assert len(events) == 1 and link.alive_ids() == [0, 1] and link.crashed_ids() == [2]
     assert 2 not in link.alive_states() and 2 not in {j for j, _ in link.expected(30)}
-    link.receive_state(state(2, 99, 30))
+    link.receive_state(state(2, 31, 30))
     ev = link.end_step(31)
     assert [(e.kind, e.peer_id) for e in ev] == [("rejoined", 2)]
     assert link.alive_ids() == [0, 1, 2] and link.missed(2) == 0

@@ -64,6 +64,7 @@ class EventType(IntEnum):
     IGNITION = 14
     AGENT_READY = 15
     AGENT_LOST = 16
+    RESEND_REQUEST = 17
 
 
 class FireStatus(IntEnum):

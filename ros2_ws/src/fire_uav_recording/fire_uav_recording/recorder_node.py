@@ -77,6 +77,7 @@ class RecorderConfig:
     flush_period_wall_s: float
     compress: bool
     stamp_wall_epoch: bool
+    max_pending_bytes: int = 64 * 2**20  # [B] written since the last flush before messages are dropped
 
     def wants(self, topic: str) -> bool:
         """Whether ``topic`` is recorded (full-match an include pattern and no exclude pattern)."""
@@ -147,6 +148,8 @@ class RecorderNode(Node):
         self._writer.open()
         self._closed = False
         self.messages_written = 0
+        self.messages_dropped: dict[str, int] = {}  # per topic, over the memory budget (a flood)
+        self._pending_bytes = 0  # [B] written since the last flush
         wall = Clock(clock_type=ClockType.STEADY_TIME)
         self._discovery_timer = self.create_timer(
             self.config.discovery_period_wall_s, self._discover, clock=wall
@@ -171,6 +174,7 @@ class RecorderNode(Node):
         self.declare_parameter("flush_period_wall_s", 1.0, ro)
         self.declare_parameter("compress", True, ro)
         self.declare_parameter("stamp_wall_epoch", False, ro)
+        self.declare_parameter("max_pending_mib", 64, nonneg)
         p = {
             name: self.get_parameter(name).value
             for name in (
@@ -184,6 +188,7 @@ class RecorderNode(Node):
                 "flush_period_wall_s",
                 "compress",
                 "stamp_wall_epoch",
+                "max_pending_mib",
             )
         }
         if not p["output"]:
@@ -212,6 +217,7 @@ class RecorderNode(Node):
             flush_period_wall_s=float(p["flush_period_wall_s"]),
             compress=bool(p["compress"]),
             stamp_wall_epoch=bool(p["stamp_wall_epoch"]),
+            max_pending_bytes=int(p["max_pending_mib"]) * 2**20,
         )
 
     def _custom_data(self) -> dict[str, str]:
@@ -244,12 +250,24 @@ class RecorderNode(Node):
     def _on_message(self, conn: object, data: bytes) -> None:
         if self._closed:
             return
+        if self._pending_bytes + len(data) > self.config.max_pending_bytes:
+            # a flood: drop with a counted warning rather than let the chunk buffer grow
+            topic = getattr(conn, "topic", "?")
+            self.messages_dropped[topic] = self.messages_dropped.get(topic, 0) + 1
+            self.get_logger().warning(
+                f"over the memory budget ({self.config.max_pending_bytes} B since the last flush): "
+                f"dropped so far {self.messages_dropped}",
+                throttle_duration_sec=2.0,
+            )
+            return
         self._writer.write(conn, self.get_clock().now().nanoseconds + self._offset_ns, data)  # type: ignore[arg-type]
+        self._pending_bytes += len(data)
         self.messages_written += 1
 
     def _flush(self) -> None:
         if not self._closed:
             self._writer.flush()
+            self._pending_bytes = 0
 
     def close_bag(self) -> None:
         """Write the MCAP summary/footer and the final metadata.yaml. Idempotent."""
@@ -260,6 +278,7 @@ class RecorderNode(Node):
         # not the node's logger: after a signal the context is gone and rosout would complain
         rclpy.logging.get_logger("recorder.bag").info(
             f"closed {self.config.output}: {self.messages_written} messages on {len(self._follower.subscriptions)} topics"
+            f"; dropped over the memory budget: {self.messages_dropped or 'none'}"
         )
 
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import rclpy
 from builtin_interfaces.msg import Time
 from fire_uav_common import topics
+from fire_uav_common.auth import Authenticator, parse_key
 from fire_uav_common.constants import CellState, EventType, PayloadAction, VehicleStatus
 from fire_uav_common.lockstep import OfflineWindow, offline_uavs, parse_schedule
 from fire_uav_common.scenario import ScenarioError, load_scenario
@@ -77,6 +78,9 @@ class WorldNode(Node):
     def __init__(self) -> None:
         super().__init__("world")
         self.cfg = self._read_parameters()
+        self.auth = self._read_auth()
+        self.rejected: dict[str, int] = {}  # commands / payload requests rejected, per kind
+        self._seen_tags: set[bytes] = set()  # tags taken this step: a replayed request is a duplicate
         overrides = (
             {"timing.max_duration_s": self.cfg.max_duration_s} if self.cfg.max_duration_s > 0 else None
         )
@@ -227,6 +231,49 @@ class WorldNode(Node):
             raise ConfigError(f"parameter max_duration_s must be >= 0, got {cfg.max_duration_s}")
         return cfg
 
+    def _read_auth(self) -> Authenticator | None:
+        """``auth`` / ``fleet_key`` (docs/security.md); the key is undeclared once read, never logged."""
+        self.declare_parameter(
+            "auth",
+            True,
+            ParameterDescriptor(read_only=True, description="verify HMAC-SHA256 tags (docs/security.md)"),
+        )
+        self.declare_parameter(
+            "fleet_key", "", ParameterDescriptor(description="per-mission key, 64 hex digits")
+        )
+        key = str(self.get_parameter("fleet_key").value)
+        self.undeclare_parameter("fleet_key")
+        if not bool(self.get_parameter("auth").value):
+            self.get_logger().warning("authentication off: commands are taken from /uav_<k>/cmd unverified")
+            return None
+        if not key:
+            raise ConfigError(
+                "parameter fleet_key is required when auth is true (the runner writes one per mission)"
+            )
+        try:
+            return Authenticator(parse_key(key))
+        except ValueError as e:
+            raise ConfigError(f"parameter fleet_key: {e}") from None
+
+    def _reject(self, uid: int, topic: str, reason: str) -> None:
+        """Count a rejected command / payload request of kind ``reason`` (throttled warning)."""
+        self.rejected[reason] = self.rejected.get(reason, 0) + 1
+        self.get_logger().warning(
+            f"rejected a message on {topic} for uav {uid}: {reason} (rejections so far: {self.rejected})",
+            throttle_duration_sec=2.0,
+        )
+
+    def _stamp_problem(self, uid: int, ns: int) -> str | None:
+        """Why a command / request for vehicle ``uid`` stamped ``ns`` cannot be taken now, or None."""
+        if self.world.vehicles[uid].status == VehicleStatus.CRASHED:
+            return "crashed vehicle"
+        if self.cfg.mode == "lockstep":
+            if not self._started or ns != self._awaited_ns:
+                return "stamp out of range"
+        elif not 0 <= ns <= self.world.t_ns:
+            return "stamp out of range"
+        return None
+
     @staticmethod
     def _schedule(text: str) -> tuple[OfflineWindow, ...]:
         try:
@@ -277,6 +324,7 @@ class WorldNode(Node):
             return
         result = self.world.step(self._commands, self._payload)
         self._commands, self._payload = {}, {}
+        self._seen_tags.clear()
         self._publish(result)
         if result.complete:
             self._finish(result)
@@ -341,26 +389,52 @@ class WorldNode(Node):
             self._advance()
 
     def _on_cmd(self, uid: int, msg: TwistStamped) -> None:
+        if self.auth is not None:
+            return  # TwistStamped has no tag: the command comes from the signed PayloadRequest
+        topic = topics.CMD_SPEC.for_uav(uid)
+        problem = self._stamp_problem(uid, stamp_to_ns(msg.header.stamp))
+        if problem is not None:
+            if self._started:  # before step 0 nothing is awaited yet
+                self._reject(uid, topic, problem)
+            return
         t = msg.twist
         cmd = Command(float(t.linear.x), float(t.linear.z), float(t.angular.z))
+        if not cmd.is_finite():
+            self._reject(uid, topic, "nan/inf")
         if self.cfg.mode == "realtime":
-            self._commands[uid] = cmd
+            self._commands[uid] = cmd if cmd.is_finite() else None
             return
-        if not self._started or stamp_to_ns(msg.header.stamp) != self._awaited_ns:
-            return  # an old (or early) stamp is ignored
         self._commands[uid] = cmd if cmd.is_finite() else None
         self._waiting.discard(uid)
         self._maybe_advance()
 
     def _on_payload(self, uid: int, msg: PayloadRequest) -> None:
+        topic = topics.PAYLOAD_SPEC.for_uav(uid)
+        ns = stamp_to_ns(msg.header.stamp)
+        if msg.uav_id != uid:
+            return self._reject(uid, topic, "wrong id")
+        if self.auth is not None and not self.auth.check(msg, topic, uid, ns):
+            return self._reject(uid, topic, "bad auth")
         if msg.action not in tuple(PayloadAction):
-            self.get_logger().warn(
-                f"uav {uid}: unknown payload action {msg.action}", throttle_duration_sec=5.0
-            )
+            return self._reject(uid, topic, "unknown action")
+        problem = self._stamp_problem(uid, ns)
+        if problem is not None:
+            if self._started:
+                self._reject(uid, topic, problem)
             return
-        if self.cfg.mode == "lockstep":
-            if not self._started or stamp_to_ns(msg.header.stamp) != self._awaited_ns:
-                return
+        if self.auth is not None:
+            tag = bytes(bytearray(msg.auth))
+            if tag in self._seen_tags:
+                return self._reject(uid, topic, "duplicate")
+            self._seen_tags.add(tag)
+        if self.auth is not None and uid not in self._commands:  # the signed command (docs/security.md)
+            cmd = Command(
+                float(msg.cmd_linear_x_mps), float(msg.cmd_linear_z_mps), float(msg.cmd_angular_z_radps)
+            )
+            if not cmd.is_finite():
+                self._reject(uid, topic, "nan/inf")
+            self._commands[uid] = cmd if cmd.is_finite() else None
+            self._waiting.discard(uid)
         if msg.action != PayloadAction.NONE:
             self._payload.setdefault(uid, []).append(int(msg.action))
         if self.cfg.mode == "lockstep":
@@ -375,7 +449,8 @@ class WorldNode(Node):
     # --- finishing ---------------------------------------------------------------------------
     def _finish(self, result: StepResult) -> None:
         self.get_logger().info(
-            f"mission complete at t = {result.stamp_ns / NS_PER_S:.1f} s: {result.complete_reason}"
+            f"mission complete at t = {result.stamp_ns / NS_PER_S:.1f} s: {result.complete_reason}; "
+            f"rejected commands / payload requests: {self.rejected or 'none'}"
         )
         for timer in (getattr(self, "_liveness_timer", None), getattr(self, "_rt_timer", None)):
             if timer is not None:

@@ -1,0 +1,167 @@
+"""Message authentication for fleet and command topics: HMAC-SHA256 with a per-mission key.
+
+docs/security.md. The Fast DDS build in the PyPI wheels has no DDS Security plugins, so SROS2 is
+not available; this module is the stand-in. It is ROS-free: it reads a message through the
+field table every generated ROS 2 Python message has (``get_fields_and_field_types()``).
+
+The tag of a message is ``HMAC-SHA256(key, DOMAIN || topic || sender || step || payload)``
+(RFC 2104 with SHA-256, FIPS 180-4), where ``payload`` is :func:`canonical_bytes` of the message
+(every field but ``auth``, in declaration order, at its declared width, big-endian), ``sender``
+(int32) and ``step`` (int64) are big-endian, and so a tag is bound to one topic, one sender and one
+step (for a PayloadRequest, the stamp in nanoseconds). What it does not give: confidentiality,
+protection against a replay of an authentic message (the receivers' step plausibility and
+duplicate checks handle that), or protection once the key leaks (anyone holding it is the fleet).
+
+Why not the CDR bytes: CDR aligns fields, and the serialiser in the wheels leaves the alignment
+padding uninitialised. A sender's padding held heap garbage where the receiver's re-serialisation
+had zeros, so every UavState failed its check and the fleet stalled at step 1. The canonical
+encoding has no padding, and it rounds a float32 field as the wire does (a sender may hold a
+double there that the receiver only ever sees rounded).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
+import secrets
+import struct
+from typing import Any
+
+import numpy as np
+
+__all__ = ["KEY_BYTES", "TAG_BYTES", "Authenticator", "canonical_bytes", "new_key_hex", "parse_key"]
+
+KEY_BYTES = 32  # [B] key length: the SHA-256 block is 64 B; 32 B of entropy is the usual choice
+TAG_BYTES = 32  # [B] a full SHA-256 tag (no truncation)
+_DOMAIN = b"fire-uav-auth-v1\x00"
+
+
+def new_key_hex() -> str:
+    """A fresh random key (``secrets``, the OS CSPRNG) as 64 hex digits; one per mission."""
+    return secrets.token_hex(KEY_BYTES)
+
+
+def parse_key(text: str) -> bytes:
+    """64 hex digits -> the 32-byte key; a one-line ValueError (never echoing the key) if not."""
+    t = text.strip()
+    if len(t) != 2 * KEY_BYTES:
+        raise ValueError(f"fleet key must be {2 * KEY_BYTES} hex digits, got {len(t)} characters")
+    try:
+        return bytes.fromhex(t)
+    except ValueError:
+        raise ValueError("fleet key must be hex digits only (0-9, a-f)") from None
+
+
+# IDL primitive -> numpy dtype at its wire width (big-endian); rosidl's names
+_PRIMITIVE = {
+    "boolean": ">u1", "octet": ">u1", "byte": ">u1", "char": ">u1", "uint8": ">u1", "int8": ">i1",
+    "uint16": ">u2", "int16": ">i2", "uint32": ">u4", "int32": ">i4", "uint64": ">u8", "int64": ">i8",
+    "float": ">f4", "double": ">f8",
+}  # fmt: skip
+_AUTH_FIELD = "auth"
+
+
+def _element_type(ftype: str) -> tuple[str, bool]:
+    """``'sequence<float, 5>'`` / ``'float[16]'`` / ``'float'`` -> (``'float'``, is_array)."""
+    if ftype.startswith("sequence<") and ftype.endswith(">"):
+        return ftype[len("sequence<") : -1].split(",")[0].strip(), True
+    if ftype.endswith("]") and "[" in ftype:
+        return ftype[: ftype.index("[")], True
+    return ftype, False
+
+
+def _encode(value: Any, ftype: str, out: list[bytes]) -> None:
+    base, is_array = _element_type(ftype)
+    if base.startswith(("string", "wstring")):
+        items = list(value) if is_array else [value]
+        if is_array:
+            out.append(struct.pack(">Q", len(items)))
+        for text in items:
+            raw = str(text).encode("utf-8")
+            out.append(struct.pack(">Q", len(raw)) + raw)
+        return
+    dtype = _PRIMITIVE.get(base)
+    if dtype is None:  # a nested message type, e.g. 'std_msgs/Header' or 'sequence<fire_uav_msgs/FireCell>'
+        items = list(value) if is_array else [value]
+        if is_array:
+            out.append(struct.pack(">Q", len(items)))
+        for item in items:
+            out.append(canonical_bytes(item))
+        return
+    if isinstance(value, (bytes, bytearray)):  # octet/byte fields and uint8[] may arrive as bytes
+        arr = np.frombuffer(bytes(value), dtype=np.uint8)
+    elif is_array:
+        arr = np.asarray(list(value) if not hasattr(value, "dtype") else value)
+    else:
+        arr = np.asarray([value])
+    if arr.dtype == object or arr.dtype.kind in "SU":  # elements given as 1-byte bytes objects
+        arr = np.array([v[0] if isinstance(v, (bytes, bytearray)) else v for v in arr.ravel()])
+    packed = arr.astype(dtype, casting="unsafe").tobytes()
+    out.append((struct.pack(">Q", arr.size) if is_array else b"") + packed)
+
+
+def canonical_bytes(msg: Any) -> bytes:
+    """The bytes a tag covers: every field of ``msg`` except ``auth``, in declaration order.
+
+    Each field at its declared wire width, big-endian, with no alignment padding: a float32 field
+    as float32 (rounded as the wire rounds it), integers at their width, booleans as one byte,
+    strings and every array or sequence with an 8-byte length first, nested messages recursively.
+    Equal messages give equal bytes on every host, whatever memory the serialiser reused.
+    """
+    fields = msg.get_fields_and_field_types()
+    out: list[bytes] = []
+    for name, ftype in fields.items():
+        if name == _AUTH_FIELD:
+            continue
+        _encode(getattr(msg, name), ftype, out)
+    return b"".join(out)
+
+
+def _tag_bytes(value: Any) -> bytes:
+    """A message's ``auth`` field (bytes, a list or a numpy uint8 array) as bytes; b"" if it is none."""
+    if isinstance(value, (bytes, bytearray)):
+        return bytes(value)
+    if isinstance(value, (int, str)) or not hasattr(value, "__len__") or len(value) != TAG_BYTES:
+        return b""  # bytearray(int) would allocate that many bytes
+    try:
+        return bytes(bytearray(value))
+    except (TypeError, ValueError):
+        return b""
+
+
+class Authenticator:
+    """Signs and verifies messages that have a ``uint8[32] auth`` field."""
+
+    def __init__(self, key: bytes) -> None:
+        if len(key) != KEY_BYTES:
+            raise ValueError(f"fleet key must be {KEY_BYTES} bytes, got {len(key)}")
+        self._key = key
+
+    def __repr__(self) -> str:  # never show the key
+        return "Authenticator(<key>)"
+
+    def tag(self, topic: str, sender: int, step: int, payload: bytes) -> bytes:
+        """The 32-byte HMAC-SHA256 tag of ``payload`` bound to ``topic``, ``sender`` and ``step``."""
+        t = topic.encode("utf-8")
+        head = _DOMAIN + struct.pack(">I", len(t)) + t + struct.pack(">iq", int(sender), int(step))
+        return hmac.new(self._key, head + payload, hashlib.sha256).digest()
+
+    def verify(self, topic: str, sender: int, step: int, payload: bytes, tag: bytes) -> bool:
+        """Constant-time comparison of ``tag`` with the expected one."""
+        if len(tag) != TAG_BYTES:
+            return False
+        return hmac.compare_digest(self.tag(topic, sender, step, payload), tag)
+
+    # --- on messages ---------------------------------------------------------------------------
+    def sign(self, msg: Any, topic: str, sender: int, step: int) -> None:
+        """Set ``msg.auth`` to the tag of ``msg`` (call after every other field is set)."""
+        # a list: rclpy's uint8[32] setter takes a sequence of ints, not bytes
+        msg.auth = list(self.tag(topic, sender, step, canonical_bytes(msg)))
+
+    def check(self, msg: Any, topic: str, sender: int, step: int) -> bool:
+        """Whether ``msg.auth`` is the tag of ``msg`` for this topic, sender and step."""
+        try:
+            tag = _tag_bytes(msg.auth)
+            return self.verify(topic, sender, step, canonical_bytes(msg), tag)
+        except (TypeError, ValueError, AttributeError, KeyError, IndexError, struct.error, OverflowError):
+            return False
