@@ -66,7 +66,7 @@ def _write(path, *, pm: bool, cp: bool) -> None:
                                  outer_visit_time_s=np.full(BINS, t, dtype=np.float32),
                                  spread_rate_mps=np.zeros(BINS, dtype=np.float32),
                                  importance=np.ones(BINS, dtype=np.float32), direction=int(dirs[k]),
-                                 direction_changes=changes[k]))  # fmt: skip
+                                 direction_changes=changes[k], auth=np.zeros(32, dtype=np.uint8)))  # fmt: skip
                 info = Info(map_load_time=to_time_msg(s_to_ns(t), Time), resolution=CELL_M, width=n, height=n,
                             origin=Pose(position=Point(x=0.0, y=0.0, z=0.0),
                                         orientation=Quat(x=0.0, y=0.0, z=0.0, w=1.0)))  # fmt: skip

@@ -74,6 +74,8 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
     MissionEvent, PerimeterMap = T["fire_uav_msgs/msg/MissionEvent"], T["fire_uav_msgs/msg/PerimeterMap"]
     import numpy as np
 
+    no_tag = np.zeros(32, dtype=np.uint8)  # uint8[32] auth: an unsigned message (docs/security.md)
+
     def header(sec: float) -> Any:
         return Header(stamp=to_time_msg(s_to_ns(sec), Time), frame_id="map")
 
@@ -200,6 +202,7 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                         packets_rejected=0,
                         sent_per_topic=np.array([1, 1, 0, 0, 0, 0], dtype=np.uint16),
                         final=False,
+                        auth=no_tag,
                     ),
                 )
             for fid, (fx, fy, sig) in fires0.items():
@@ -248,7 +251,9 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                 put(
                     c_fires,
                     t,
-                    FireEstimateArray(header=header(t), uav_id=u, sequence=k + 1, step=k, fires=ests),
+                    FireEstimateArray(
+                        header=header(t), uav_id=u, sequence=k + 1, step=k, fires=ests, auth=no_tag
+                    ),
                 )
             if spec.monitor and t < ext_t.get(spec.monitor[1], math.inf):
                 u, fid = spec.monitor
@@ -270,6 +275,7 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                         importance=np.ones(nb, dtype=np.float32),
                         direction=0,
                         direction_changes=0,
+                        auth=no_tag,
                     ),
                 )
             while pending_w and pending_w[0][0] <= t + 1e-9:

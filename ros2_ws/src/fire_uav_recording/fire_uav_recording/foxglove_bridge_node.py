@@ -33,7 +33,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 import fire_uav_recording as rec
-from fire_uav_recording.ros_io import RawTopic, RawTopicFollower, schema_text
+from fire_uav_recording.ros_io import RawTopic, RawTopicFollower, compile_patterns, schema_text, topic_wanted
 
 DEFAULT_TOPICS = topics.recorded_patterns()  # what the recorder records, /tf and /tf_static included
 
@@ -52,19 +52,7 @@ class BridgeConfig:
 
     def wants(self, topic: str) -> bool:
         """Whether ``topic`` is served (full-match an include pattern and no exclude pattern)."""
-        return any(p.fullmatch(topic) for p in self.include) and not any(
-            p.fullmatch(topic) for p in self.exclude
-        )
-
-
-def _compile(name: str, patterns: list[str]) -> tuple[re.Pattern[str], ...]:
-    out = []
-    for p in patterns:
-        try:
-            out.append(re.compile(p))
-        except re.error as err:
-            raise BridgeConfigError(f"parameter {name}: bad regular expression {p!r}: {err}") from None
-    return tuple(out)
+        return topic_wanted(topic, self.include, self.exclude)
 
 
 class FoxgloveBridgeNode(Node):
@@ -125,8 +113,8 @@ class FoxgloveBridgeNode(Node):
         return BridgeConfig(
             host=host,
             port=int(g("port").value),
-            include=_compile("topics", include),
-            exclude=_compile("exclude", [t for t in g("exclude").value if t]),
+            include=compile_patterns("topics", include, BridgeConfigError),
+            exclude=compile_patterns("exclude", [t for t in g("exclude").value if t], BridgeConfigError),
             discovery_period_wall_s=period,
         )
 

@@ -52,9 +52,11 @@ from fire_uav_recording.ros_io import (  # noqa: F401  (re-exported: the recorde
     MIN_DEPTH,
     RawTopic,
     RawTopicFollower,
+    compile_patterns,
     message_class,
     spec_of,
     subscription_qos,
+    topic_wanted,
 )
 
 DEFAULT_TOPICS = topics.recorded_patterns()
@@ -81,19 +83,7 @@ class RecorderConfig:
 
     def wants(self, topic: str) -> bool:
         """Whether ``topic`` is recorded (full-match an include pattern and no exclude pattern)."""
-        return any(p.fullmatch(topic) for p in self.include) and not any(
-            p.fullmatch(topic) for p in self.exclude
-        )
-
-
-def _compile(name: str, patterns: list[str]) -> tuple[re.Pattern[str], ...]:
-    out = []
-    for p in patterns:
-        try:
-            out.append(re.compile(p))
-        except re.error as err:
-            raise RecorderConfigError(f"parameter {name}: bad regular expression {p!r}: {err}") from None
-    return tuple(out)
+        return topic_wanted(topic, self.include, self.exclude)
 
 
 def software_version() -> str:
@@ -211,8 +201,8 @@ class RecorderNode(Node):
             scenario_file=str(p["scenario_file"]),
             seed=int(p["seed"]),
             uav_count=int(p["uav_count"]),
-            include=_compile("topics", include),
-            exclude=_compile("exclude", [t for t in p["exclude"] if t]),
+            include=compile_patterns("topics", include, RecorderConfigError),
+            exclude=compile_patterns("exclude", [t for t in p["exclude"] if t], RecorderConfigError),
             discovery_period_wall_s=float(p["discovery_period_wall_s"]),
             flush_period_wall_s=float(p["flush_period_wall_s"]),
             compress=bool(p["compress"]),

@@ -16,7 +16,8 @@ and the same ``ros2msg`` schema text, so they live here once.
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable
+import re
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from fire_uav_common import topics
@@ -37,6 +38,24 @@ __all__ = [
 ]
 
 MIN_DEPTH = 100  # queue depth floor per topic [messages]
+
+
+def compile_patterns(
+    name: str, patterns: Sequence[str], error: type[ValueError]
+) -> tuple[re.Pattern[str], ...]:
+    """Topic regular expressions of parameter ``name``; ``error`` (naming it) on a bad one."""
+    out = []
+    for p in patterns:
+        try:
+            out.append(re.compile(p))
+        except re.error as err:
+            raise error(f"parameter {name}: bad regular expression {p!r}: {err}") from None
+    return tuple(out)
+
+
+def topic_wanted(topic: str, include: Sequence[re.Pattern[str]], exclude: Sequence[re.Pattern[str]]) -> bool:
+    """Whether ``topic`` full-matches an include pattern and no exclude pattern (recorder, bridge)."""
+    return any(p.fullmatch(topic) for p in include) and not any(p.fullmatch(topic) for p in exclude)
 
 
 def spec_of(topic: str) -> topics.TopicSpec | None:
