@@ -51,7 +51,7 @@ from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
 from .separation import Avoider
 from .staleness_search import StalenessSearch
-from .tactics import TacticConfig, aim_on_front, front_density, front_weights, release_now
+from .tactics import TacticConfig, aim_on_front, front_density, front_weights, layer_height, release_now
 
 __all__ = [
     "Agent",
@@ -124,9 +124,10 @@ class Agent:
                 negative_range_m=min(
                     gd.consensus_negative_range_max_m, gd.consensus_negative_range_fraction * cfg.fire_range_m
                 ),
+                position_sigma_m=sens.fire.position_sigma_m,
             ),
         )
-        self.fires.brief(cfg.prior_fires)
+        self.fires.brief(cfg.prior_fires, position_sigma_m=cfg.mission.prior_position_sigma_m)
         self.mission = Mission(
             MissionConfig(
                 takeoff_time_s=cfg.uav_id * cfg.takeoff_interval_s,
@@ -482,7 +483,10 @@ class Agent:
             return (0.0, 0.0, 0.0)
         if vehicle == VehicleStatus.ON_GROUND:  # takeoff slot reached: v >= v_stall and v_z > 0
             return (lim.v_stall_mps, min(lim.vz_max_mps, cfg.gains.vz_cmd_max_mps), 0.0)
-        height = veh.flight_height_m
+        cruise = veh.flight_height_m
+        if self.front is None:  # FF mode: altitude layers (GuidanceConfig.ff_layers)
+            cruise = layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m)
+        height = cruise
         v_cap = None
         pos = (float(s[0]), float(s[1]))
         target: tuple[float, float]
@@ -527,7 +531,7 @@ class Agent:
                 v_cap = lim.v_stall_mps
                 low = gd.land_height_fraction * veh.landing_height_m
                 flat = gd.land_flat_fraction
-                height = low + (veh.flight_height_m - low) * max(0.0, (d - flat * r) / ((1.0 - flat) * r))
+                height = low + (cruise - low) * max(0.0, (d - flat * r) / ((1.0 - flat) * r))
                 agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
                 if agl < gd.touchdown_agl_fraction * veh.landing_height_m and d <= gd.touchdown_radius_m:
                     return (0.0, -gd.touchdown_sink_mps, 0.0)  # below stall speed near the ground: it lands

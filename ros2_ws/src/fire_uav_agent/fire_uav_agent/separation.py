@@ -32,7 +32,9 @@ __all__ = ["Avoider", "SeparationConfig", "avoid_heading", "closest_approach_m"]
 @dataclass(frozen=True)
 class SeparationConfig:
     radius_m: float = 20.0  # [m] keep every predicted horizontal approach above this (FF Delta_ij = 2 x 10 m)
-    vertical_m: float = 8.0  # [m] peers further apart than this in height are no conflict
+    vertical_m: float = (
+        10.0  # [m] peers further apart than this in height are no conflict (the 10 m band in 3-D)
+    )
     horizon_s: float = 2.0  # [s] look-ahead of the straight-line prediction
     detect_m: float = 150.0  # [m] peers further than this are ignored
     headings: int = 72  # candidate headings, evenly spaced
