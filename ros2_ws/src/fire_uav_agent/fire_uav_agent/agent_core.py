@@ -581,6 +581,7 @@ class Agent:
         cfg, lim = self.cfg, self.cfg.limits
         T = cfg.control_period_s
         rows = []
+        right_of_way = []  # lower ids have the right of way (separation module doc)
         for j, p in sorted(self.link.alive_states().items()):
             if p.objective in (Objective.GROUNDED, Objective.LANDED):
                 continue
@@ -597,12 +598,17 @@ class Agent:
                 self._peer_motion[j] = (p.step, p.x_m, p.y_m, vx, vy)
             lead = (self.last_step + 1 - p.step) * T  # from the peer's t to our t_{k+1}
             rows.append((p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy))
+            right_of_way.append(j < cfg.uav_id)
         if not rows:
             return cmd
         v, vz, om = cmd
         want = float(s[3]) if straight else math.atan2(target[1] - s[1], target[0] - s[0])
         head, changed, clear = self.avoider.step(
-            (float(s[0]), float(s[1]), float(s[2])), max(v, lim.v_stall_mps), want, np.array(rows)
+            (float(s[0]), float(s[1]), float(s[2])),
+            max(v, lim.v_stall_mps),
+            want,
+            np.array(rows),
+            np.array(right_of_way, bool),
         )
         if not changed:
             return cmd
