@@ -114,8 +114,11 @@ class ConsensusConfig:
     position_sigma_m: float = 2.0  # [m] fire sensor's centre noise (scenario sensors.fire)
     position_margin_m: float = 10.0  # [m] a measured centre's uncertainty (noise + filter lag)
     drift_unknown_mps: float = 1.0  # [m/s] drift uncertainty without an own fit (fires in FF < 1 m/s)
+    negative_range_min_m: float = 15.0  # [m] negative evidence range of the stalest estimate
     drop_confirm_s: float = 1.0  # [s] an own drop counts as a hit only on a fire seen this recently
-    extinction_extent_m: float = 2.0  # FF III-C step 4; informational: the extent never ends a fire (module doc)
+    extinction_extent_m: float = (
+        2.0  # FF III-C step 4; informational: the extent never ends a fire (module doc)
+    )
     negative_range_m: float = 50.0  # must fly this close to the centre to see "no fire"
     negative_steps: int = 5
 
@@ -175,12 +178,18 @@ class FireConsensus:
 
         The fire, if it burns, is within ``position_unc + drift_unc * age`` of the estimate
         (age since the newest measurement; drift uncertainty 3 sigma_v of the own fit, else
-        ``drift_unknown_mps``), so a UAV within ``sensor_range - that`` of the estimate must see it.
+        ``drift_unknown_mps``), so a UAV within ``sensor_range - that`` of the estimate must see it;
+        never less than ``negative_range_min_m`` (the very stale estimate: see the code).
         """
         dv = 3.0 * tr.drift_sigma_mps if math.isfinite(tr.drift_sigma_mps) else self.cfg.drift_unknown_mps
         dv = min(dv, self.cfg.drift_unknown_mps)
         age = max(0.0, t_s - tr.lm_s) if math.isfinite(tr.lm_s) else math.inf
-        return min(self.cfg.negative_range_m, self.cfg.sensor_range_m - tr.position_unc_m - dv * age)
+        unc = tr.position_unc_m + dv * age
+        # capped: a UAV over the very centre of a stale estimate may still end it (ghost and
+        # duplicate tracks must end, or the fleet circles them for ever); the fire is then more
+        # than sensor_range - negative_range_min_m from its estimate
+        unc = min(unc, self.cfg.sensor_range_m - self.cfg.negative_range_min_m)
+        return min(self.cfg.negative_range_m, self.cfg.sensor_range_m - unc)
 
     def _fit_drift(self, tr: _Track) -> None:
         """Least-squares drift of the own detections in the window (module doc, "Drift")."""

@@ -127,11 +127,12 @@ def test_predict_moves_active_fires_by_their_drift_and_leaves_extinguished_ones(
 def test_flying_over_a_stale_estimate_without_seeing_the_fire_does_not_put_it_out():
     """Briefed at (300, 400) at t = 0; the fire drifts at 1 m/s and the briefing was 15 m off, so at
     t = 60 s it burns 75 m from the estimate, beyond the 70 m sensor range. A UAV that circles the
-    estimate for 2 s and sees nothing has no evidence that the fire is out."""
+    estimate 25 m out for 2 s and sees nothing has no evidence that the fire is out. (Over the
+    very centre, within ``negative_range_min_m`` = 15 m, it may end it: ghost tracks must end.)"""
     fc = FireConsensus(0)
     [fid] = fc.brief(((300.0, 400.0, 20.0),), t_s=0.0, position_sigma_m=10.0)
     for k in range(20):
-        fc.observe(np.zeros((0, 4)), (300.0 + 5.0 * math.cos(k), 400.0 + 5.0 * math.sin(k)), 60.0 + 0.1 * k)
+        fc.observe(np.zeros((0, 4)), (300.0 + 25.0 * math.cos(k), 400.0 + 25.0 * math.sin(k)), 60.0 + 0.1 * k)
     assert [e.fire_id for e in fc.active()] == [fid] and not fc.all_out()
 
 
