@@ -18,6 +18,7 @@ from matplotlib.colors import ListedColormap
 from fire_report.data import (
     Mission,
 )
+from fire_report.matching import match_tracks_to_fires
 from fire_report.metrics import (
     baseline_area,
     burned_area_series,
@@ -223,18 +224,31 @@ def fig_tracks(mission: Mission, out: Path) -> list[Figure]:
 
 
 def fig_fire_estimates(mission: Mission, out: Path) -> list[Figure]:
+    """Per true fire: every agent's estimate of each track matched to it by position
+    (:mod:`fire_report.matching`), truth dashed; unmatched tracks get a figure of their own."""
     res: list[Figure] = []
     uavs = sorted({u for u, _ in mission.fire_estimates})
     colors = dict(zip(uavs, _colors(len(uavs)), strict=False))
-    for fid in sorted({f for _, f in mission.fire_estimates}):
+    match = match_tracks_to_fires(mission.fire_estimates, mission.truth_fires)
+    tracks = sorted({f for _, f in mission.fire_estimates})
+    groups: list[tuple[int | None, list[int]]] = [
+        (fid, [t for t in tracks if match.get(t) == fid]) for fid in sorted(set(match.values()))
+    ]
+    groups += [(None, [t]) for t in tracks if t not in match]
+    for fid, tids in groups:
         fig, axes = plt.subplots(3, 1, figsize=(9, 7.5), sharex=True)
-        for u in uavs:
-            e = mission.fire_estimates.get((u, fid))
-            if not e:
-                continue
-            for ax, key in zip(axes, ("x", "y", "extent"), strict=False):
-                ax.plot(e["t"], e[key], lw=0.8, color=colors[u], label=f"UAV {u}")
-        tru = mission.truth_fires.get(fid)
+        labelled: set[int] = set()
+        for tid in tids:
+            for u in uavs:
+                e = mission.fire_estimates.get((u, tid))
+                if not e:
+                    continue
+                for ax, key in zip(axes, ("x", "y", "extent"), strict=False):
+                    ax.plot(
+                        e["t"], e[key], lw=0.8, color=colors[u], label=None if u in labelled else f"UAV {u}"
+                    )
+                labelled.add(u)
+        tru = mission.truth_fires.get(fid) if fid is not None else None
         if tru:
             for ax, key in zip(axes, ("x", "y", "extent"), strict=False):
                 ax.plot(tru["t"], tru[key], "k--", lw=1.2, label="truth")
@@ -242,14 +256,15 @@ def fig_fire_estimates(mission: Mission, out: Path) -> list[Figure]:
             ax.set_ylabel(lab)
             ax.grid(alpha=0.3)
         axes[0].legend(fontsize=7, ncol=4)
-        axes[0].set_title(f"Fire {fid}: each agent's estimate (consensus, /fleet/fires)")
+        ids = ", ".join(str(t) for t in tids)
+        if fid is not None:
+            axes[0].set_title(f"Fire {fid}: each agent's estimate (tracks {ids}, matched by position)")
+            name, cap = f"fire_{fid}_estimates.png", f"Fire {fid}: estimated position and size per agent"
+        else:
+            axes[0].set_title(f"Track {ids}: no true fire within the matching gate")
+            name, cap = f"track_{tids[0]}_estimates.png", f"Track {ids} (unmatched): estimate per agent"
         axes[-1].set_xlabel("sim time [s]")
-        res += _save(
-            fig,
-            out,
-            f"fire_{fid}_estimates.png",
-            f"Fire {fid}: estimated position and size per agent over time, truth dashed (FF Figs. 8-10).",
-        )
+        res += _save(fig, out, name, cap + " over time, truth dashed (FF Figs. 8-10).")
     return res
 
 

@@ -51,7 +51,7 @@ from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
 from .separation import Avoider
 from .staleness_search import StalenessSearch
-from .tactics import TacticConfig, aim_on_front, front_density, front_weights, release_now
+from .tactics import TacticConfig, aim_on_front, front_density, front_weights, layer_height, release_now
 
 __all__ = [
     "Agent",
@@ -124,9 +124,10 @@ class Agent:
                 negative_range_m=min(
                     gd.consensus_negative_range_max_m, gd.consensus_negative_range_fraction * cfg.fire_range_m
                 ),
+                position_sigma_m=sens.fire.position_sigma_m,
             ),
         )
-        self.fires.brief(cfg.prior_fires)
+        self.fires.brief(cfg.prior_fires, position_sigma_m=cfg.mission.prior_position_sigma_m)
         self.mission = Mission(
             MissionConfig(
                 takeoff_time_s=cfg.uav_id * cfg.takeoff_interval_s,
@@ -482,7 +483,10 @@ class Agent:
             return (0.0, 0.0, 0.0)
         if vehicle == VehicleStatus.ON_GROUND:  # takeoff slot reached: v >= v_stall and v_z > 0
             return (lim.v_stall_mps, min(lim.vz_max_mps, cfg.gains.vz_cmd_max_mps), 0.0)
-        height = veh.flight_height_m
+        cruise = veh.flight_height_m
+        if self.front is None:  # FF mode: altitude layers (GuidanceConfig.ff_layers)
+            cruise = layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m)
+        height = cruise
         v_cap = None
         pos = (float(s[0]), float(s[1]))
         target: tuple[float, float]
@@ -527,7 +531,7 @@ class Agent:
                 v_cap = lim.v_stall_mps
                 low = gd.land_height_fraction * veh.landing_height_m
                 flat = gd.land_flat_fraction
-                height = low + (veh.flight_height_m - low) * max(0.0, (d - flat * r) / ((1.0 - flat) * r))
+                height = low + (cruise - low) * max(0.0, (d - flat * r) / ((1.0 - flat) * r))
                 agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
                 if agl < gd.touchdown_agl_fraction * veh.landing_height_m and d <= gd.touchdown_radius_m:
                     return (0.0, -gd.touchdown_sink_mps, 0.0)  # below stall speed near the ground: it lands
@@ -577,6 +581,7 @@ class Agent:
         cfg, lim = self.cfg, self.cfg.limits
         T = cfg.control_period_s
         rows = []
+        right_of_way = []  # lower ids have the right of way (separation module doc)
         for j, p in sorted(self.link.alive_states().items()):
             if p.objective in (Objective.GROUNDED, Objective.LANDED):
                 continue
@@ -593,12 +598,17 @@ class Agent:
                 self._peer_motion[j] = (p.step, p.x_m, p.y_m, vx, vy)
             lead = (self.last_step + 1 - p.step) * T  # from the peer's t to our t_{k+1}
             rows.append((p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy))
+            right_of_way.append(j < cfg.uav_id)
         if not rows:
             return cmd
         v, vz, om = cmd
         want = float(s[3]) if straight else math.atan2(target[1] - s[1], target[0] - s[0])
         head, changed, clear = self.avoider.step(
-            (float(s[0]), float(s[1]), float(s[2])), max(v, lim.v_stall_mps), want, np.array(rows)
+            (float(s[0]), float(s[1]), float(s[2])),
+            max(v, lim.v_stall_mps),
+            want,
+            np.array(rows),
+            np.array(right_of_way, bool),
         )
         if not changed:
             return cmd

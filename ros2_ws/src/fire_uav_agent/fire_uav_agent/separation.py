@@ -15,6 +15,14 @@ Choice where FF is silent: the unicycle of Eq. 4 turns at up to 10 rad/s (FF II-
 heading change of up to 1 rad per 0.1 s control step is available and the filter acts only on
 the heading (speed kept at the law's value, lowered to stall speed when no heading is clear).
 Positions [m; map frame], velocities [m/s], headings [rad] ccw from +x.
+
+Right of way (our addition, issue 16). At 100 m/s two UAVs close 20 m per 0.1 s step and turn at
+up to 10 rad/s, so a peer's straight-line prediction from its last two states is wrong exactly
+when it matters (after a drop a UAV reverses towards the lake; measured: 3.0-3.6 m passes, 8
+UAVs). So within ``yield_m`` of a peer with the right of way (the lower uav id) a UAV only flies
+headings that do not close on that peer's position (``cos(heading, bearing from peer) >= 0``), at
+full speed; the peer keeps its course. The lowest id of a cluster always proceeds (no deadlock:
+a symmetric "both turn away" rule kept two UAVs on opposite sides of a fire from ever reaching it).
 """
 
 from __future__ import annotations
@@ -32,11 +40,14 @@ __all__ = ["Avoider", "SeparationConfig", "avoid_heading", "closest_approach_m"]
 @dataclass(frozen=True)
 class SeparationConfig:
     radius_m: float = 20.0  # [m] keep every predicted horizontal approach above this (FF Delta_ij = 2 x 10 m)
-    vertical_m: float = 8.0  # [m] peers further apart than this in height are no conflict
+    vertical_m: float = (
+        10.0  # [m] peers further apart than this in height are no conflict (the 10 m band in 3-D)
+    )
     horizon_s: float = 2.0  # [s] look-ahead of the straight-line prediction
     detect_m: float = 150.0  # [m] peers further than this are ignored
     headings: int = 72  # candidate headings, evenly spaced
     release_margin_m: float = 10.0  # [m] once avoiding, the desired heading must clear radius + this
+    yield_m: float = 60.0  # [m] within this of a peer with the right of way, do not close on it
 
     def __post_init__(self) -> None:
         for name in ("radius_m", "vertical_m", "horizon_s", "detect_m"):
@@ -65,6 +76,7 @@ def avoid_heading(
     cfg: SeparationConfig,
     margin_m: float = 0.0,
     prefer_heading_rad: float | None = None,
+    yield_to: np.ndarray | None = None,
 ) -> tuple[float, bool, bool]:
     """Heading [rad] to fly, whether it differs from the desired one, and whether it is clear.
 
@@ -73,16 +85,28 @@ def avoid_heading(
 
     ``peers`` rows are (x_m, y_m, z_m, vx_mps, vy_mps) predicted to the same instant as
     ``own_xyz_m``. Returns ``(desired_heading_rad, False, True)`` when the desired heading keeps
-    every relevant peer beyond ``radius_m`` over the horizon.
+    every relevant peer beyond ``radius_m`` over the horizon. ``yield_to`` (bool per peer row):
+    peers with the right of way (module doc).
     """
     p = np.asarray(peers, dtype=float).reshape(-1, 5)
     x, y, z = own_xyz_m
+    yt = np.zeros(p.shape[0], bool) if yield_to is None else np.asarray(yield_to, bool).reshape(-1)
+    if yt.shape[0] != p.shape[0]:
+        raise ValueError(f"yield_to must have one entry per peer row ({p.shape[0]}), got {yt.shape[0]}")
     if p.shape[0]:
         rel = p[:, :2] - np.array([x, y])
         near = (np.hypot(rel[:, 0], rel[:, 1]) <= cfg.detect_m) & (np.abs(p[:, 2] - z) <= cfg.vertical_m)
-        p, rel = p[near], rel[near]
+        p, rel, yt = p[near], rel[near], yt[near]
     if p.shape[0] == 0:
         return desired_heading_rad, False, True
+    away = -rel[yt & (np.hypot(rel[:, 0], rel[:, 1]) <= cfg.yield_m)]  # from right-of-way peers to us
+
+    def opening(heading: np.ndarray) -> np.ndarray:
+        """Per candidate heading: closes on no right-of-way peer within yield_m, (h,)."""
+        if away.shape[0] == 0:
+            return np.ones(heading.shape[0], bool)
+        u = np.column_stack([np.cos(heading), np.sin(heading)])
+        return np.all(u @ away.T >= 0.0, axis=1)
 
     def worst(heading: np.ndarray) -> np.ndarray:
         """Closest approach to any peer [m] per candidate heading, (h,)."""
@@ -91,16 +115,20 @@ def avoid_heading(
         r = np.broadcast_to(rel[None], (heading.shape[0], *rel.shape)).reshape(-1, 2)
         return closest_approach_m(r, w, cfg.horizon_s).reshape(heading.shape[0], -1).min(axis=1)
 
-    if worst(np.array([desired_heading_rad]))[0] >= cfg.radius_m + margin_m:
+    des = np.array([desired_heading_rad])
+    if worst(des)[0] >= cfg.radius_m + margin_m and opening(des)[0]:
         return desired_heading_rad, False, True
     ref = desired_heading_rad if prefer_heading_rad is None else prefer_heading_rad
     cand = ref + np.linspace(-math.pi, math.pi, cfg.headings, endpoint=False)
     d = worst(cand)
     dev = np.abs([wrap_angle(float(c - ref)) for c in cand])
-    ok = d >= cfg.radius_m + margin_m
+    ok = (d >= cfg.radius_m + margin_m) & opening(cand)
     if ok.any():
         k = int(np.argmin(np.where(ok, dev, np.inf)))
         return float(wrap_angle(float(cand[k]))), True, True
+    if away.shape[0]:  # nothing clear: straight away from the nearest right-of-way peer
+        a = away[int(np.argmin(np.hypot(away[:, 0], away[:, 1])))]
+        return float(math.atan2(a[1], a[0])), True, True  # at full speed: gain distance fast
     k = int(np.lexsort((dev, -d))[0])  # largest closest approach, then nearest the desired heading
     return float(wrap_angle(float(cand[k]))), True, False
 
@@ -125,10 +153,11 @@ class Avoider:
         speed_mps: float,
         desired_heading_rad: float,
         peers: np.ndarray,
+        yield_to: np.ndarray | None = None,
     ) -> tuple[float, bool, bool]:
         margin = 0.0 if self.heading_rad is None else self.cfg.release_margin_m
         head, changed, clear = avoid_heading(
-            own_xyz_m, speed_mps, desired_heading_rad, peers, self.cfg, margin, self.heading_rad
+            own_xyz_m, speed_mps, desired_heading_rad, peers, self.cfg, margin, self.heading_rad, yield_to
         )
         self.heading_rad = head if changed else None
         return head, changed, clear

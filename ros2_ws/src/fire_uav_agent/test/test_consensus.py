@@ -1,5 +1,7 @@
 """Fire consensus (FF III-C, Eqs. 26-29)."""
 
+import math
+
 import numpy as np
 import pytest
 from fire_uav_agent.consensus import FireConsensus, consensus_matrix
@@ -119,3 +121,58 @@ def test_predict_moves_active_fires_by_their_drift_and_leaves_extinguished_ones(
     after = {e.fire_id: (e.x_m, e.y_m) for e in c.entries()}
     assert after[7] == pytest.approx((before[7][0] + 2.0, before[7][1] - 1.0))
     assert after[9] == before[9]
+
+
+# --- no extinction from stale estimates or an own drop alone (issue 16, item 4) -------------------
+def test_flying_over_a_stale_estimate_without_seeing_the_fire_does_not_put_it_out():
+    """Briefed at (300, 400) at t = 0; the fire drifts at 1 m/s and the briefing was 15 m off, so at
+    t = 60 s it burns 75 m from the estimate, beyond the 70 m sensor range. A UAV that circles the
+    estimate 25 m out for 2 s and sees nothing has no evidence that the fire is out. (Over the
+    very centre, within ``negative_range_min_m`` = 15 m, it may end it: ghost tracks must end.)"""
+    fc = FireConsensus(0)
+    [fid] = fc.brief(((300.0, 400.0, 20.0),), t_s=0.0, position_sigma_m=10.0)
+    for k in range(20):
+        fc.observe(np.zeros((0, 4)), (300.0 + 25.0 * math.cos(k), 400.0 + 25.0 * math.sin(k)), 60.0 + 0.1 * k)
+    assert [e.fire_id for e in fc.active()] == [fid] and not fc.all_out()
+
+
+def test_flying_over_a_fresh_estimate_without_seeing_the_fire_puts_it_out():
+    """The counterpart: seen at t = 10 s; at t = 11 s the UAV is over the centre and sees nothing."""
+    fc = FireConsensus(0)
+    [fid] = fc.observe(np.array([[10.0, 300.0, 400.0, 1.5]]), (300.0, 380.0), 10.0)
+    for k in range(5):
+        fc.observe(np.zeros((0, 4)), (300.0, 395.0), 11.0 + 0.1 * k)
+    assert fc.all_out()
+
+
+def test_an_own_drop_never_ends_a_fire_and_on_a_stale_estimate_changes_nothing():
+    fc = FireConsensus(0)
+    [fid] = fc.observe(np.array([[1.0, 100.0, 100.0, 3.0]]), (100.0, 60.0), 1.0)
+    # 30 s later, without a look since: the centre may be anywhere; the drop tells nothing
+    assert not fc.note_drop(fid, (100.0, 100.0), 31.0, footprint_m=20.0)
+    assert fc.active()[0].extent_m == pytest.approx(3.0)
+    # seen just now: the hit model halves it (3 -> 1.5 m, below the 2 m threshold) but it stays
+    # active until a look confirms it is gone
+    fc.observe(np.array([[31.5, 100.0, 100.0, 3.0]]), (100.0, 60.0), 31.5)
+    assert fc.note_drop(fid, (100.0, 100.0), 31.6, footprint_m=20.0)
+    assert fc.active() and fc.active()[0].extent_m < 2.0
+
+
+# --- drift: least-squares fit of the own detections -----------------------------------------------
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_drift_fit_recovers_a_known_drift_from_noisy_detections(seed):
+    """A fire drifting at (-0.5, -0.2) m/s (FF Fig. 3, fire 1), centre noise sigma 2 m (FF II-C
+    camera), 10 Hz for 10 s: the standard error of a least-squares slope is
+    2 / sqrt(N var(t)) = 0.07 m/s; the estimate must be within 0.25 m/s (3.5 sigma) of the truth."""
+    rng = np.random.default_rng(seed)
+    fc = FireConsensus(0)
+    v = np.array([-0.5, -0.2])
+    fid = None
+    for k in range(100):
+        t = 0.1 * (k + 1)
+        c = np.array([300.0, 400.0]) + v * t + rng.normal(0.0, 2.0, 2)
+        fc.predict(0.1)
+        ids = fc.observe(np.array([[t, c[0], c[1], 50.0]]), (300.0, 350.0), t)
+        fid = fid or ids[0]
+    (e,) = fc.active()
+    assert math.hypot(e.vx_mps - v[0], e.vy_mps - v[1]) < 0.25, (e.vx_mps, e.vy_mps)
