@@ -54,15 +54,27 @@ def test_two_fires_are_shared_out_and_both_put_out(two_fires):
     assert two_fires["fires_active_at_end"] == 0
 
 
-def test_two_fires_get_drops_from_different_uavs(two_fires):
-    """Allocation: with two fires and three UAVs, the fires are not all worked by the same UAVs."""
-    by_fire: dict[int, set[int]] = {}
-    for e in two_fires["events"]:
-        if e["type"] == EventType.DROP and e["value"] > 0 and e["fire_id"] >= 0:
-            by_fire.setdefault(e["fire_id"], set()).add(e["uav_id"])
-    assert len(by_fire) == 2, by_fire
-    a, b = by_fire.values()
-    assert a != b, by_fire  # some UAV works only one of the fires
+def test_two_fires_are_worked_at_the_same_time(two_fires):
+    """Allocation (FF IV-D, V-E): the Voronoi partition splits the fleet over both fires. In every
+    round of drops (the fleet's passes, drops within 5 s of each other) while both fires burn,
+    both get water; a fleet that took the fires one after the other would fail it."""
+    world = [e for e in two_fires["events"] if e["type"] == EventType.EXTINGUISHED]
+    out_at = {e["fire_id"]: e["t_s"] for e in world}
+    drops = sorted(
+        (e["t_s"], e["fire_id"])
+        for e in two_fires["events"]
+        if e["type"] == EventType.DROP and e["value"] > 0 and e["fire_id"] >= 0
+    )
+    rounds: list[list[tuple[float, int]]] = []
+    for d in drops:
+        if rounds and d[0] - rounds[-1][-1][0] <= 5.0:
+            rounds[-1].append(d)
+        else:
+            rounds.append([d])
+    both = [r for r in rounds if all(out_at.get(f, math.inf) > r[0][0] for f in (0, 1))]
+    assert len(both) >= 2, rounds
+    for r in both:
+        assert {f for _, f in r} == {0, 1}, f"a round of drops while both fires burned hit one fire only: {r}"
 
 
 # --- consensus that needs freshness weighting ----------------------------------------------------
