@@ -75,15 +75,20 @@ def _bag_topics(run: Path) -> dict[str, int]:
 
 def test_fuzzed_messages_on_every_subscribed_topic_crash_and_hang_nothing(ros_env, tmp_path):
     """Random fields (NaN, inf, huge arrays, wrong ids, out-of-range enums) on the fleet, payload
-    and command topics while a mission runs: it completes, every UAV lands, rejections are counted."""
-    summary, err, sent = _with_rogue(tmp_path, ros_env, "fuzz", 8.0, 100.0)
+    and command topics while a mission runs with the recorder and the Foxglove bridge: it
+    completes, every UAV lands, rejections are counted, no process logs a traceback."""
+    summary, err, sent = _with_rogue(
+        tmp_path, ros_env, "fuzz", 8.0, 100.0, "--foxglove", "--foxglove-port", "0"
+    )
     assert sum(sent.values()) > 300, sent
     assert summary["outcome"] == "complete", f"{summary}\n{err[-3000:]}"
     assert summary["declared_crashed"] == {} and summary["crashes"] == []
     assert sorted(summary["landed"]) == [0, 1, 2]
     assert summary["packets_rejected"] > 0
     assert "Traceback" not in err
-    for log in (tmp_path / "run").rglob("*.log"):
+    logs = list((tmp_path / "run").rglob("*.log"))
+    assert any("foxglove" in p.name for p in logs), [p.name for p in logs]
+    for log in logs:
         assert "Traceback" not in log.read_text(errors="replace"), log.name
     assert _bag_topics(tmp_path / "run")["/world/truth"] > 100
     assert_no_survivors(summary)
