@@ -56,6 +56,9 @@ __all__ = [
 ]
 
 
+_TRUNCATE = 3.0  # [sigma] Eq. 13' kernel cut-off
+
+
 @dataclass(frozen=True)
 class TacticConfig:
     tactic: str = "head"  # head | flank
@@ -137,12 +140,21 @@ def front_density(grid: Grid, front: FrontCells, weights: np.ndarray, sigma_m: f
     if len(front):
         j = np.clip(np.floor((front.x_m - grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
         i = np.clip(np.floor((front.y_m - grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
-        np.add.at(dens, (i, j), weights)
-        # gaussian_filter normalises its kernel: scale back to Eq. 13' (peak 1 per unit weight)
         s = sigma_m / res
+        # the filter only on the window the kernel can reach (support: the splatted cells plus the
+        # kernel radius int(truncate * s + 0.5)); outside it the filtered field is exactly zero, and
+        # inside it every output sums the same taps in the same order as over the whole grid
+        r = int(_TRUNCATE * s + 0.5) + 1
+        i0, i1 = max(int(i.min()) - r, 0), min(int(i.max()) + r + 1, ny)
+        j0, j1 = max(int(j.min()) - r, 0), min(int(j.max()) + r + 1, nx)
+        win = np.zeros((i1 - i0, j1 - j0))
+        np.add.at(win, (i - i0, j - j0), weights)
         from scipy.ndimage import gaussian_filter  # only a raster suppressor needs scipy (agent RSS)
 
-        dens = gaussian_filter(dens, s, mode="constant", truncate=3.0) * (2.0 * math.pi * s * s)
+        # gaussian_filter normalises its kernel: scale back to Eq. 13' (peak 1 per unit weight)
+        dens[i0:i1, j0:j1] = gaussian_filter(win, s, mode="constant", truncate=_TRUNCATE) * (
+            2.0 * math.pi * s * s
+        )
     return dens.ravel()
 
 
