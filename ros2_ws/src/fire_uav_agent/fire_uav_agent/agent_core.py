@@ -490,7 +490,9 @@ class Agent:
             tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
             if self._front_aim is not None:  # raster: the aim point on the front (tactics)
                 target = self._front_aim
-            elif dec.direct:
+            elif dec.direct and self.front is None:  # analytic fires only: over a raster fire
+                # with no front left (contained), a direct run sends every stalled UAV to the one
+                # track centre (two collided there); the Lloyd centroid keeps each in its own cell
                 target = (tgt.x_m, tgt.y_m)
             else:
                 dens = gaussian_density(
