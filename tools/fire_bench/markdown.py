@@ -282,8 +282,9 @@ def _suppression_section(r: dict) -> list[str]:
         ),
     ]
     if fleet:
+        done = "" if len(fleet) >= 4 else "; only these fleet sizes finished"
         out += [
-            "Burned area at 900 s vs fleet size (grass_running, head, seed 1):",
+            f"Burned area at 900 s vs fleet size (grass_running, head, seed 1{done}):",
             "",
             _table(fleet, [("uavs", "UAVs"), ("burned_ha", "burned [ha]")]),
         ]
