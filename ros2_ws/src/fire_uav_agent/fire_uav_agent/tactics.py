@@ -49,6 +49,7 @@ __all__ = [
     "aim_on_front",
     "burning_within",
     "choose_anchor",
+    "direct_run_point",
     "front_density",
     "front_weights",
     "layer_height",
@@ -68,6 +69,7 @@ class TacticConfig:
     min_weight: float = 0.02  # [-] every front cell keeps this much weight
     min_burning_cells: int = 3  # [-] release rule
     release_radius_m: float = 16.0  # [m] release rule (drop footprint minus an EKF margin)
+    direct_spread_m: float = 25.0  # [m] radius of the direct-run points around a track centre
     layers: int = 6  # [-] altitude layers of the fleet over a raster fire
     layer_step_m: float = 3.5  # [m] between layers (> the 3 m default collision radius)
 
@@ -100,6 +102,15 @@ def layer_height(uav_id: int, flight_height_m: float, layers: int = 6, step_m: f
     the flight height (21-39 m for the default 30 m, inside the 40 m altimeter range).
     """
     return flight_height_m + step_m * ((uav_id % layers) - (layers - 1) / 2.0)
+
+
+def direct_run_point(centre_xy: tuple[float, float], uav_id: int, cfg: TacticConfig) -> tuple[float, float]:
+    """Where a stalled UAV's direct run goes over a raster fire with no front: its own point on a
+    circle of ``direct_spread_m`` around the track centre, ``layers`` points evenly spaced (25 m
+    radius: neighbours 25 m apart), so that the fleet's runs do not converge on one point. Our
+    choice; FF's direct run aims at the centre itself."""
+    a = 2.0 * math.pi * (uav_id % cfg.layers) / cfg.layers
+    return centre_xy[0] + cfg.direct_spread_m * math.cos(a), centre_xy[1] + cfg.direct_spread_m * math.sin(a)
 
 
 def choose_anchor(front: FrontCells) -> tuple[float, float] | None:

@@ -239,3 +239,15 @@ def test_front_follows_every_new_observation_and_merge() -> None:
     peer = FrontCells(np.array([12.5]), np.array([7.5]), np.array([N]), np.array([3.0]), np.array([np.nan]))
     p.merge(peer)
     assert len(p.front()) == 0
+
+
+def test_direct_run_points_of_a_fleet_are_apart_around_the_track_centre() -> None:
+    """Stalled UAVs over a contained raster fire fly at distinct points, not at one centre:
+    six points on a 25 m circle are a regular hexagon, neighbours one radius (25 m) apart."""
+    from fire_uav_agent.tactics import direct_run_point
+
+    cfg = TacticConfig()
+    pts = np.array([direct_run_point((300.0, 400.0), k, cfg) for k in range(6)])
+    assert np.allclose(np.hypot(pts[:, 0] - 300.0, pts[:, 1] - 400.0), 25.0)
+    d = np.hypot(pts[:, None, 0] - pts[None, :, 0], pts[:, None, 1] - pts[None, :, 1])
+    assert d[~np.eye(6, dtype=bool)].min() == pytest.approx(25.0)
