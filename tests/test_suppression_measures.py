@@ -71,3 +71,18 @@ def test_hit_rate_and_water_on_burning_cells_from_drop_events() -> None:
     s.add_truth(0.0, [(10.0, True)])
     out = s.as_dict(outcome="time_limit", wall_s=1.0, steps=10)
     assert out["hit_rate"] == 0.5 and out["burned_area_m2"] == 10.0 and out["contained_at_s"] is None
+
+
+def test_inprocess_summary_reports_the_burned_area_the_world_has() -> None:
+    """``python -m fire_mission.inprocess`` fills burned_area_m2 from the world's truth (it was
+    null: the in-process runner never fed the truth to the summary)."""
+    from fire_mission.inprocess import run_inprocess
+
+    steps = 1  # one world step: the agents' first payload requests act at the next one
+    d = run_inprocess(scenario_from_dict(PLOT), uavs=1, seed=1, max_steps=steps)
+    assert d["drops_total"] == 0
+    w = World(scenario_from_dict(PLOT), no_fleet=True)
+    for _ in range(steps):
+        r = w.step({})
+    assert d["burned_area_m2"] == pytest.approx(sum(f.area_m2 for f in r.fires))
+    assert d["burned_area_m2"] > 0

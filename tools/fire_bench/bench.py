@@ -476,7 +476,19 @@ BENCHES: dict[str, tuple[Callable[[bool], dict | Sweep], float, float, str]] = {
         "FF Table I, Figs. 14-15 with known fires (in process); collisions, separation, landing, hit rate",
     ),
     "faults": (bench_faults, 3, 40, "crash and loss: mission time and drops"),
+    "suppression": (
+        lambda q: _suppression(q),
+        8,
+        60,
+        "raster suppression: burned area vs no fleet, head vs flank, fleet of 0/3/6/10 (in process)",
+    ),
 }
+
+
+def _suppression(quick: bool) -> dict:
+    from fire_bench.suppression import bench_suppression
+
+    return bench_suppression(quick, jobs=2, out=ROOT / "docs/bench")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -179,6 +179,8 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
                 ],
             ),
         ]
+    if "suppression" in results:
+        lines += _suppression_section(results["suppression"])
     if "scale" in results:
         r = results["scale"]
         lines += [
@@ -233,3 +235,58 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
                 "",
             ]
     md_path.write_text("\n".join(lines) + "\n")
+
+
+def _suppression_section(r: dict) -> list[str]:
+    """Raster suppression (``fire_bench.suppression``): head vs flank per seed, fleet size."""
+    rows = []
+    for sc, entry in r.get("scenarios", {}).items():
+        base = entry.get("baseline_burned_area_m2")
+        for tactic, runs in entry.get("tactics", {}).items():
+            for x in runs:
+                rows.append(
+                    {
+                        "scenario": sc,
+                        "tactic": tactic,
+                        "seed": x["seed"],
+                        "base_ha": None if base is None else round(base / 1e4, 2),
+                        "burned_ha": round(x["burned_area_m2"] / 1e4, 2),
+                        "ratio": None if x["ratio_to_baseline"] is None else round(x["ratio_to_baseline"], 3),
+                        "hit_rate": x["hit_rate"],
+                        "contained_at_s": x["contained_at_s"],
+                        "crashes": x["crashes"],
+                    }
+                )
+    fleet = [
+        {"uavs": x["uavs"], "burned_ha": round(x["burned_area_m2"] / 1e4, 2)} for x in r.get("fleet_size", [])
+    ]
+    out = [
+        "## Raster suppression: burned area, head vs flank, fleet size",
+        "",
+        f"Command: `{r.get('command')}` ({r.get('wall_s')} s); in process, 6 UAVs unless stated; see",
+        "docs/suppression.md for the targets and the reading.",
+        "",
+        _table(
+            rows,
+            [
+                ("scenario", "scenario"),
+                ("tactic", "tactic"),
+                ("seed", "seed"),
+                ("base_ha", "no fleet [ha]"),
+                ("burned_ha", "burned [ha]"),
+                ("ratio", "ratio"),
+                ("hit_rate", "hit rate"),
+                ("contained_at_s", "contained at [s]"),
+                ("crashes", "crashed UAVs"),
+            ],
+        ),
+    ]
+    if fleet:
+        done = "" if len(fleet) >= 4 else "; only these fleet sizes finished"
+        out += [
+            f"Burned area at 900 s vs fleet size (grass_running, head, seed 1{done}):",
+            "",
+            _table(fleet, [("uavs", "UAVs"), ("burned_ha", "burned [ha]")]),
+        ]
+    out += [f"![{p}](bench/{p})" for p in r.get("plots", [])] + [""]
+    return out

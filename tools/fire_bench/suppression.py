@@ -10,7 +10,13 @@ from real processes. Cases:
 * tactics: head attack vs flank attack, 6 UAVs, on the pre-burnt raster scenarios
   ``grass_running`` and ``grass_brush_hill``, seeds 1-3, 900 s;
 * fleet size: 0 (the fire alone: ``World(no_fleet=True)``), 3, 6 and 10 UAVs, head attack,
-  ``grass_running``, seed 1, 900 s.
+  ``grass_running``, seed 1, 900 s;
+* ``--quick``: ``grass_brush_hill``, seed 1, 300 s: no fleet, head and flank with 6 UAVs.
+
+A mission ends before 900 s only when every fire is out and every UAV has landed, so its final
+burned area is also its burned area at 900 s. Each finished case is appended at once to
+``suppression_runs.jsonl`` in the output directory (a cut-short benchmark keeps what it has),
+with every CRASH's context (all UAVs' objectives, positions and aim points at that step).
 
 Measures are the world's own (:class:`fire_world_sim.measures.SuppressionMeasures`): burned
 area [m^2] over time, hit rate, water on burning cells [kg], containment time [s] (no cell
@@ -30,6 +36,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 SCENARIOS = ("grass_running", "grass_brush_hill")
+_LOG: Path | None = None  # suppression_runs.jsonl of the current benchmark
 TACTICS = ("head", "flank")
 
 
@@ -47,6 +54,7 @@ def run_case(scenario: str, uavs: int, seed: int, tactic: str, duration_s: float
         timing=dataclasses.replace(sc.timing, max_duration_s=duration_s),
     )
     wall0 = time.monotonic()
+    crash_log: list[dict] = []
     if uavs == 0:
         world = World(sc, seed, no_fleet=True)
         while not world.complete:
@@ -54,7 +62,15 @@ def run_case(scenario: str, uavs: int, seed: int, tactic: str, duration_s: float
         crashes = 0
     else:
         h = Harness(sc, seed=seed, uav_count=uavs)
-        h.run()
+        seen = 0
+        while not h.world.complete:
+            h.step()
+            for e in h.events[seen:]:
+                if (
+                    e.type == EventType.CRASH
+                ):  # the phase it happened in (issue: collisions over a raster fire)
+                    crash_log.append(_crash_context(h, e))
+            seen = len(h.events)
         world = h.world
         crashes = sum(1 for e in h.events if e.type == EventType.CRASH)
     m = world.measures
@@ -66,25 +82,58 @@ def run_case(scenario: str, uavs: int, seed: int, tactic: str, duration_s: float
         "duration_s": duration_s,
         **m.as_dict(),
         "crashes": crashes,
+        "crash_log": crash_log,
+        "mission_time_s": round(world.step_index * sc.timing.control_period_s, 1),
+        "complete_reason": world.complete_reason,
         "area_t_s": m.area_t_s,
         "area_m2": m.area_m2,
         "wall_s": round(time.monotonic() - wall0, 1),
     }
 
 
+def _crash_context(h, e) -> dict:
+    """A CRASH event with every UAV's objective, true position and height [m] at that step."""
+    from fire_uav_common.constants import Objective
+
+    return {
+        "t_s": round(e.stamp_ns * 1e-9, 1),
+        "uav": e.uav_id,
+        "detail": e.detail,
+        "fleet": [
+            {
+                "uav": v.uav_id,
+                "objective": Objective(int(h.agents[v.uav_id].mission.objective)).name,
+                "xyz_m": [round(v.x_m, 1), round(v.y_m, 1), round(v.z_m, 1)],
+                "aim_m": None
+                if h.agents[v.uav_id]._front_aim is None
+                else [round(c, 1) for c in h.agents[v.uav_id]._front_aim],
+            }
+            for v in h.world.vehicles
+        ],
+    }
+
+
 def cases(quick: bool) -> list[tuple]:
-    dur = 300.0 if quick else 900.0
-    seeds = [1] if quick else [1, 2, 3]
-    out: list[tuple] = [(sc, 0, 1, "head", dur) for sc in SCENARIOS]  # the fire alone has no randomness
+    """Full: the module doc's cases. Quick: grass_brush_hill, seed 1, 300 s: no fleet, head, flank."""
+    if quick:
+        sc = "grass_brush_hill"
+        return [(sc, 6, 1, "head", 300.0), (sc, 6, 1, "flank", 300.0), (sc, 0, 1, "head", 300.0)]
+    dur = 900.0
+    seeds = [1, 2, 3]
+    out: list[tuple] = []
     for seed in seeds:  # seed by seed, so that a cut-short run still has whole comparisons
-        out += [(sc, 6, seed, t, dur) for sc in SCENARIOS for t in TACTICS]
+        out += [(sc, 6, seed, t, dur) for sc in reversed(SCENARIOS) for t in TACTICS]  # the quicker first
         if seed == seeds[0]:
-            out += [("grass_running", n, seed, "head", dur) for n in ([3] if quick else [3, 10])]
-    return out
+            out += [(sc, 0, 1, "head", dur) for sc in SCENARIOS]  # the fire alone has no randomness
+            out += [("grass_running", 3, seed, "head", dur)]
+    return out + [("grass_running", 10, seeds[0], "head", dur)]
 
 
 def _star(args: tuple) -> dict:
     r = run_case(*args)
+    if _LOG is not None:  # every finished case at once: a cut-short benchmark keeps what it has
+        with _LOG.open("a") as f:
+            f.write(json.dumps(r) + "\n")
     print(
         f"[suppression] {r['scenario']} uavs={r['uavs']} seed={r['seed']} {r['tactic']}: "
         f"burned {r['burned_area_m2'] / 1e4:.2f} ha, hit rate {r['hit_rate']}, contained {r['contained_at_s']}, "
@@ -167,9 +216,19 @@ def plot(results: list[dict], out: Path) -> list[str]:
     return names
 
 
+def _init_log(path: Path | None) -> None:
+    global _LOG
+    _LOG = path
+
+
 def bench_suppression(quick: bool, jobs: int = 2, out: Path | None = None) -> dict:
     todo = cases(quick)
-    with ProcessPoolExecutor(max_workers=max(1, jobs)) as ex:
+    log = None
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+        log = out / "suppression_runs.jsonl"
+        log.write_text("")
+    with ProcessPoolExecutor(max_workers=max(1, jobs), initializer=_init_log, initargs=(log,)) as ex:
         results = list(ex.map(_star, todo))
     summary = summarise(results)
     if out is not None:
@@ -181,7 +240,7 @@ def bench_suppression(quick: bool, jobs: int = 2, out: Path | None = None) -> di
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m fire_bench.suppression", description=__doc__.split("\n")[0])
-    p.add_argument("--quick", action="store_true", help="300 s, one seed")
+    p.add_argument("--quick", action="store_true", help="grass_brush_hill, seed 1, 300 s (3 missions)")
     p.add_argument("--jobs", type=int, default=2, help="parallel missions (default 2)")
     p.add_argument("--out", type=Path, default=Path("docs/bench"), help="results directory")
     a = p.parse_args(argv)

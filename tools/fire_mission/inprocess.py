@@ -54,7 +54,7 @@ def run_inprocess(
     wall0 = time.monotonic()
     h = Harness(sc, seed, uavs)
     n = h.world.uav_count
-    summary = LiveSummary(uav_count=n)
+    summary = LiveSummary(uav_count=n, raster=sc.fires.model == "raster")
     summary.home_xy = {i: (p[0], p[1]) for i, p in enumerate(sc.uav_start_poses(n))}
     steps = 0
     seen = 0
@@ -74,6 +74,9 @@ def run_inprocess(
         summary.fires_active = sum(1 for f in r.fires if f.status == FireStatus.ACTIVE)
         summary.vehicles_alive = sum(1 for v in r.vehicles if v.status != VehicleStatus.CRASHED)
         summary.vehicles_landed = sum(1 for v in r.vehicles if v.status == VehicleStatus.LANDED)
+        summary.add_truth(  # as the runner does from every /world/truth (burned area, containment)
+            summary.mission_time_s, [(float(f.area_m2), f.status == FireStatus.ACTIVE) for f in r.fires]
+        )
     for uid, out in enumerate(h.outputs):
         if out is not None:
             st = out.state

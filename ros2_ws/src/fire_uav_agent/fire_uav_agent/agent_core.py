@@ -51,7 +51,15 @@ from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
 from .separation import Avoider
 from .staleness_search import StalenessSearch
-from .tactics import TacticConfig, aim_on_front, front_density, front_weights, layer_height, release_now
+from .tactics import (
+    TacticConfig,
+    aim_on_front,
+    direct_run_point,
+    front_density,
+    front_weights,
+    layer_height,
+    release_now,
+)
 
 __all__ = [
     "Agent",
@@ -496,6 +504,11 @@ class Agent:
                 target = self._front_aim
             elif dec.direct:
                 target = (tgt.x_m, tgt.y_m)
+                if self.front is not None:
+                    # raster with no front left (contained): a direct run sent every stalled UAV
+                    # to the one track centre (two collided there); each flies at its own point
+                    # of a circle around it instead (tactics.direct_run_point)
+                    target = direct_run_point(target, cfg.uav_id, self.tactic)
             else:
                 dens = gaussian_density(
                     self.grid, [(f.x_m, f.y_m) for f in active], [f.extent_m for f in active]

@@ -102,6 +102,8 @@ class FrontPicture:
         self.fire_map: FireMap | None = None
         self._t_s = -math.inf
         self._t_recorded = -math.inf
+        self._version = 0  # bumped by every observe/merge (the front cache's key)
+        self._front_cache: tuple[tuple[int, float], FrontCells] | None = None
 
     # --- geometry ------------------------------------------------------------------------
     def index(self, x_m: np.ndarray, y_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -126,6 +128,7 @@ class FrontPicture:
         i, j, st = i[ok], j[ok], st[ok]
         self.state[i, j] = st
         self.t_obs[i, j] = t_s
+        self._version += 1
         self._t_s = max(self._t_s, t_s)
         if self.fire_map is None:
             self._maybe_centre()
@@ -157,6 +160,7 @@ class FrontPicture:
         order = np.argsort(t, kind="stable")
         self.state[i[order], j[order]] = st[order]
         self.t_obs[i[order], j[order]] = t[order]
+        self._version += 1
         if self.fire_map is None:
             self._maybe_centre()
         if self.fire_map is not None:
@@ -181,25 +185,46 @@ class FrontPicture:
         )
 
     # --- outputs -------------------------------------------------------------------------
-    def _front_mask(self, t_s: float) -> np.ndarray:
-        burning = self.state == CellState.BURNING
-        open_ = (self.state == CellState.UNBURNED) | (self.state == UNKNOWN)
-        p = np.pad(open_, 1, constant_values=False)
-        nb = np.zeros_like(burning)
+    def _front_ij(self, t_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """(row, col) of the active front cells at ``t_s`` [s], row-major order.
+
+        Tested only at the burning cells (a few hundred of the grid's cells): a cell outside the
+        grid counts as not open, as the zero padding of a whole-grid neighbour test would.
+        """
+        i, j = np.nonzero(self.state == CellState.BURNING)
+        with np.errstate(invalid="ignore"):
+            fresh = t_s - self.t_obs[i, j] <= self.cfg.max_age_s
+        i, j = i[fresh], j[fresh]
+        if i.size == 0:
+            return i, j
+        st = np.pad(self.state, 1, constant_values=CellState.BURNED)
+        nb = np.zeros(i.size, dtype=bool)
         for di in (-1, 0, 1):
             for dj in (-1, 0, 1):
                 if di or dj:
-                    nb |= p[1 + di : 1 + di + self.ny, 1 + dj : 1 + dj + self.nx]
-        with np.errstate(invalid="ignore"):
-            fresh = t_s - self.t_obs <= self.cfg.max_age_s
-        return burning & nb & fresh
+                    s = st[i + 1 + di, j + 1 + dj]
+                    nb |= (s == CellState.UNBURNED) | (s == UNKNOWN)
+        return i[nb], j[nb]
+
+    def _front_mask(self, t_s: float) -> np.ndarray:
+        mask = np.zeros((self.ny, self.nx), dtype=bool)
+        mask[self._front_ij(t_s)] = True
+        return mask
 
     def front(self, t_s: float | None = None) -> FrontCells:
-        """The active front at ``t_s`` [s] (default: the latest observation), with ROS [m/s] per cell."""
+        """The active front at ``t_s`` [s] (default: the latest observation), with ROS [m/s] per cell.
+
+        Cached until the next ``observe``/``merge`` (an agent asks for it several times a step).
+        """
         t = self._t_s if t_s is None else t_s
-        i, j = np.nonzero(self._front_mask(t))
+        key = (self._version, t)
+        if self._front_cache is not None and self._front_cache[0] == key:
+            return self._front_cache[1]
+        i, j = self._front_ij(t)
         x, y = self.centre_xy(i, j)
-        return FrontCells(x, y, self.state[i, j].astype(np.int64), self.t_obs[i, j], self.ros_at(x, y))
+        out = FrontCells(x, y, self.state[i, j].astype(np.int64), self.t_obs[i, j], self.ros_at(x, y))
+        self._front_cache = (key, out)
+        return out
 
     def ros_at(self, x_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
         """Rate of spread [m/s] toward the cells' directions from the centre (module doc), NaN if no map."""

@@ -49,11 +49,15 @@ __all__ = [
     "aim_on_front",
     "burning_within",
     "choose_anchor",
+    "direct_run_point",
     "front_density",
     "front_weights",
     "layer_height",
     "release_now",
 ]
+
+
+_TRUNCATE = 3.0  # [sigma] Eq. 13' kernel cut-off
 
 
 @dataclass(frozen=True)
@@ -65,6 +69,7 @@ class TacticConfig:
     min_weight: float = 0.02  # [-] every front cell keeps this much weight
     min_burning_cells: int = 3  # [-] release rule
     release_radius_m: float = 16.0  # [m] release rule (drop footprint minus an EKF margin)
+    direct_spread_m: float = 25.0  # [m] radius of the direct-run points around a track centre
     layers: int = 6  # [-] altitude layers of the fleet over a raster fire
     layer_step_m: float = 3.5  # [m] between layers (> the 3 m default collision radius)
 
@@ -97,6 +102,15 @@ def layer_height(uav_id: int, flight_height_m: float, layers: int = 6, step_m: f
     the flight height (21-39 m for the default 30 m, inside the 40 m altimeter range).
     """
     return flight_height_m + step_m * ((uav_id % layers) - (layers - 1) / 2.0)
+
+
+def direct_run_point(centre_xy: tuple[float, float], uav_id: int, cfg: TacticConfig) -> tuple[float, float]:
+    """Where a stalled UAV's direct run goes over a raster fire with no front: its own point on a
+    circle of ``direct_spread_m`` around the track centre, ``layers`` points evenly spaced (25 m
+    radius: neighbours 25 m apart), so that the fleet's runs do not converge on one point. Our
+    choice; FF's direct run aims at the centre itself."""
+    a = 2.0 * math.pi * (uav_id % cfg.layers) / cfg.layers
+    return centre_xy[0] + cfg.direct_spread_m * math.cos(a), centre_xy[1] + cfg.direct_spread_m * math.sin(a)
 
 
 def choose_anchor(front: FrontCells) -> tuple[float, float] | None:
@@ -137,12 +151,21 @@ def front_density(grid: Grid, front: FrontCells, weights: np.ndarray, sigma_m: f
     if len(front):
         j = np.clip(np.floor((front.x_m - grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
         i = np.clip(np.floor((front.y_m - grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
-        np.add.at(dens, (i, j), weights)
-        # gaussian_filter normalises its kernel: scale back to Eq. 13' (peak 1 per unit weight)
         s = sigma_m / res
+        # the filter only on the window the kernel can reach (support: the splatted cells plus the
+        # kernel radius int(truncate * s + 0.5)); outside it the filtered field is exactly zero, and
+        # inside it every output sums the same taps in the same order as over the whole grid
+        r = int(_TRUNCATE * s + 0.5) + 1
+        i0, i1 = max(int(i.min()) - r, 0), min(int(i.max()) + r + 1, ny)
+        j0, j1 = max(int(j.min()) - r, 0), min(int(j.max()) + r + 1, nx)
+        win = np.zeros((i1 - i0, j1 - j0))
+        np.add.at(win, (i - i0, j - j0), weights)
         from scipy.ndimage import gaussian_filter  # only a raster suppressor needs scipy (agent RSS)
 
-        dens = gaussian_filter(dens, s, mode="constant", truncate=3.0) * (2.0 * math.pi * s * s)
+        # gaussian_filter normalises its kernel: scale back to Eq. 13' (peak 1 per unit weight)
+        dens[i0:i1, j0:j1] = gaussian_filter(win, s, mode="constant", truncate=_TRUNCATE) * (
+            2.0 * math.pi * s * s
+        )
     return dens.ravel()
 
 

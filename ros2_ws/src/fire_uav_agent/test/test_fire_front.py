@@ -204,3 +204,50 @@ def test_release_only_over_burning_cells_at_the_peak_of_the_pass() -> None:
     assert not release_now(cells, (8.0, 7.5), 0.0, 4.5, cfg)  # burning ahead: more to come
     assert release_now(cells, (17.5, 7.5), 0.0, 4.5, cfg)  # over the middle
     assert not release_now(None, (17.5, 7.5), 0.0, 4.5, cfg)
+
+
+def test_density_of_many_scattered_cells_is_the_exact_sum_of_gaussians_everywhere() -> None:
+    """Eq. 13' evaluated directly on every grid point, for cells spread over the grid and at its
+    edges (the density is computed on a window around the cells: nothing may be lost outside it)."""
+    g = make_grid(0.0, 400.0, 0.0, 300.0, 5.0)
+    rng = np.random.default_rng(3)
+    n = 40
+    # cell centres on the 5 m lattice (the splat is exact there), a few on the grid's border
+    x = (rng.integers(0, 80, n) + 0.5) * 5.0
+    y = (rng.integers(0, 60, n) + 0.5) * 5.0
+    x[:3], y[:3] = 2.5, 297.5
+    w = rng.uniform(0.1, 1.0, n)
+    f = FrontCells(x, y, np.full(n, B), np.zeros(n), np.zeros(n))
+    sigma = 10.0
+    d = front_density(g, f, w, sigma)
+    q = g.points
+    exact = (w[None, :] * np.exp(-((q[:, :1] - x) ** 2 + (q[:, 1:] - y) ** 2) / (2 * sigma**2))).sum(axis=1)
+    # gaussian_filter's sampled, truncated (3 sigma), renormalised kernel: a few % of the peak
+    assert np.max(np.abs(d - exact)) <= 0.03 * exact.max()
+    # beyond the 3 sigma kernel (separable: a square support) it is zero
+    far = np.min(np.maximum(np.abs(q[:, :1] - x), np.abs(q[:, 1:] - y)), axis=1) > 3.5 * sigma
+    assert far.any() and np.all(d[far] == 0.0)
+
+
+def test_front_follows_every_new_observation_and_merge() -> None:
+    """front() is cached per step: a later sighting or a peer's cells must show in it at once."""
+    p = picture()
+    p.observe(*layout(["....", ".**.", "...."]), 1.0)
+    assert cell_set(p.front()) == {(1, 1), (2, 1)}
+    p.observe(np.array([7.5]), np.array([7.5]), np.array([N]), 2.0)  # (1, 1) seen burnt out
+    assert cell_set(p.front()) == {(2, 1)}
+    peer = FrontCells(np.array([12.5]), np.array([7.5]), np.array([N]), np.array([3.0]), np.array([np.nan]))
+    p.merge(peer)
+    assert len(p.front()) == 0
+
+
+def test_direct_run_points_of_a_fleet_are_apart_around_the_track_centre() -> None:
+    """Stalled UAVs over a contained raster fire fly at distinct points, not at one centre:
+    six points on a 25 m circle are a regular hexagon, neighbours one radius (25 m) apart."""
+    from fire_uav_agent.tactics import direct_run_point
+
+    cfg = TacticConfig()
+    pts = np.array([direct_run_point((300.0, 400.0), k, cfg) for k in range(6)])
+    assert np.allclose(np.hypot(pts[:, 0] - 300.0, pts[:, 1] - 400.0), 25.0)
+    d = np.hypot(pts[:, None, 0] - pts[None, :, 0], pts[:, None, 1] - pts[None, :, 1])
+    assert d[~np.eye(6, dtype=bool)].min() == pytest.approx(25.0)

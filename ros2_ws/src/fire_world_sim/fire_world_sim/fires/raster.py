@@ -102,6 +102,9 @@ class RasterFireModel:
         self.xc = spec.origin.x_m + (np.arange(self.nx) + 0.5) * self.cs  # [m] cell centres east
         self.yc = spec.origin.y_m + (np.arange(self.ny) + 0.5) * self.cs  # [m] cell centres north
         xx, yy = np.meshgrid(self.xc, self.yc)
+        self._xx, self._yy = xx, yy  # [m] cell centres (ny, nx), read-only
+        xx.flags.writeable = False
+        yy.flags.writeable = False
         # fuel per cell
         fuel = np.full((self.ny, self.nx), spec.fuel_model, dtype=np.int16)
         for p in spec.fuel_patches:
@@ -226,8 +229,11 @@ class RasterFireModel:
         return a * np.hypot(vx, vy) - self._Cx.ravel()[idx] * vx - self._Cy.ravel()[idx] * vy
 
     # --- state -------------------------------------------------------------------------------
-    def _burning(self, t_s: float) -> np.ndarray:
-        return (self.t_ign <= t_s) & (t_s < self.t_out) & ~self.extinguished
+    def _burning(self, t_s: float, box: tuple[slice, slice] | None = None) -> np.ndarray:
+        """Burning cells at ``t_s`` [s], over the padded grid or only its window ``box``."""
+        if box is None:
+            return (self.t_ign <= t_s) & (t_s < self.t_out) & ~self.extinguished
+        return (self.t_ign[box] <= t_s) & (t_s < self.t_out[box]) & ~self.extinguished[box]
 
     def _ignite(self, idx: tuple[np.ndarray, np.ndarray], t: np.ndarray, labels: np.ndarray) -> None:
         """Ignite padded cells ``idx`` at times ``t`` with fire ids ``labels``; set their burn-out time."""
@@ -399,7 +405,7 @@ class RasterFireModel:
             return []
         box, xs, ys = win
         inside = (xs - x_m) ** 2 + (ys - y_m) ** 2 <= r * r
-        burning = self._burning(self.t_s)[box] & inside
+        burning = self._burning(self.t_s, box) & inside
         self.last_drop_cells = (int(burning.sum()), int(inside.sum()))
         hit = sorted(set(np.unique(self.label[box][burning]).tolist()) - {-1})
         ext = self.extinguished[box]
@@ -422,8 +428,7 @@ class RasterFireModel:
         if j0 >= j1 or i0 >= i1:
             return None
         box = (slice(i0 + PAD, i1 + PAD), slice(j0 + PAD, j1 + PAD))
-        xs, ys = np.meshgrid(self.xc[j0:j1], self.yc[i0:i1])
-        return box, xs, ys
+        return box, self._xx[i0:i1, j0:j1], self._yy[i0:i1, j0:j1]
 
     def state_grid(self) -> np.ndarray:
         """(ny, nx) uint8 of CELL_*; row 0 is the southern row."""
@@ -447,7 +452,7 @@ class RasterFireModel:
         inner = self._inner
         lab = self.label[inner]
         ign = (self.t_ign[inner] <= self.t_s) & (lab >= 0)
-        xs, ys = np.meshgrid(self.xc, self.yc)
+        xs, ys = self._xx, self._yy
         cnt = np.bincount(lab[ign], minlength=n).astype(float)
         sx = np.bincount(lab[ign], weights=xs[ign], minlength=n)
         sy = np.bincount(lab[ign], weights=ys[ign], minlength=n)
@@ -481,7 +486,7 @@ class RasterFireModel:
         if win is None:
             return []
         box, xs, ys = win
-        seen = self._burning(self.t_s)[box] & ((xs - x_m) ** 2 + (ys - y_m) ** 2 <= range_m**2)
+        seen = self._burning(self.t_s, box) & ((xs - x_m) ** 2 + (ys - y_m) ** 2 <= range_m**2)
         ids = sorted(set(np.unique(self.label[box][seen]).tolist()) - {-1})
         truth = self.truth()
         return [(i, truth[i].x_m, truth[i].y_m, truth[i].extent_m) for i in ids]
@@ -495,7 +500,7 @@ class RasterFireModel:
         t = self.t_s
         state = np.full(xs.shape, CellState.UNBURNED, dtype=np.uint8)
         state[self.t_ign[box] <= t] = CellState.BURNED
-        state[self._burning(t)[box]] = CellState.BURNING
+        state[self._burning(t, box)] = CellState.BURNING
         return CellsSample(
             stamp_ns,
             self.cs,
