@@ -81,6 +81,18 @@ class Child:
         return self.popen.poll() is None
 
 
+def _end_with_parent() -> None:
+    """In the child, before exec: SIGTERM when the runner dies, even by SIGKILL (Linux
+    ``PR_SET_PDEATHSIG``), so a killed runner or a timed-out test leaves no fleet behind. SIGTERM,
+    not SIGKILL: the recorder still closes its bag. Elsewhere a no-op."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM, 0, 0, 0)  # 1 = PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
 class ProcessGroup:
     """Children in one new process group, logs in ``log_dir``; a context manager that always
     ends every child it started (SIGINT, then SIGKILL after ``grace_s``)."""
@@ -118,6 +130,7 @@ class ProcessGroup:
                 stdin=subprocess.DEVNULL,
                 env=full_env,
                 process_group=pgid,
+                preexec_fn=_end_with_parent,
             )
 
         try:

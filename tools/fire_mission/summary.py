@@ -317,7 +317,6 @@ def table(summary: dict) -> str:
             "packets received / lost / rejected",
             f"{summary['packets_received']} / {summary['packets_lost']} / {summary['packets_rejected']}",
         ),
-        ("hit rate", summary.get("hit_rate")),
         ("burned area [m^2]", summary.get("burned_area_m2")),
         ("contained at [s]", summary.get("contained_at_s")),
         ("faults injected", summary["faults_injected"]),
