@@ -34,8 +34,8 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-async def _collect(port: int, want: set[str], per_topic: int, deadline: float) -> tuple[dict, dict]:
-    """(advertised channels by topic, decoded messages by topic) once each topic has per_topic."""
+async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[dict, dict]:
+    """(advertised channels by topic, decoded messages by topic) once each topic has its count."""
     while True:
         try:
             ws = await websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"])
@@ -51,7 +51,7 @@ async def _collect(port: int, want: set[str], per_topic: int, deadline: float) -
     times: dict[str, list[int]] = {t: [] for t in want}
     async with ws:
         assert ws.subprotocol == "foxglove.sdk.v1"
-        while time.monotonic() < deadline and any(len(v) < per_topic for v in got.values()):
+        while time.monotonic() < deadline and any(len(v) < want[t] for t, v in got.items()):
             try:
                 frame = await asyncio.wait_for(ws.recv(), timeout=1.0)
             except asyncio.TimeoutError:
@@ -76,7 +76,7 @@ async def _collect(port: int, want: set[str], per_topic: int, deadline: float) -
                 continue
             sid, log_time = struct.unpack_from("<IQ", frame, 1)
             topic = subs.get(sid)
-            if topic is not None and len(got[topic]) < per_topic:
+            if topic is not None and len(got[topic]) < want[topic]:
                 got[topic].append(decoders[topic](frame[13:]))
                 times[topic].append(log_time)
     return channels, {"messages": got, "log_times": times}
@@ -92,7 +92,9 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
            "--quiet", "--no-report"]  # fmt: skip
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
-        channels, got = asyncio.run(_collect(port, {"/viz/world", "/tf"}, 3, time.monotonic() + 120))
+        # /tf: the world (truth frames) and every agent (estimate frames) publish it, in any order
+        want = {"/viz/world": 3, "/tf": 30}
+        channels, got = asyncio.run(_collect(port, want, time.monotonic() + 120))
     finally:
         proc.send_signal(signal.SIGINT)
         try:
@@ -101,7 +103,9 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
             proc.kill()
             out, _ = proc.communicate()
     msgs = got["messages"]
-    assert all(len(v) == 3 for v in msgs.values()), f"{ {k: len(v) for k, v in msgs.items()} }\n{out[-3000:]}"
+    assert all(len(v) == want[k] for k, v in msgs.items()), (
+        f"{ {k: len(v) for k, v in msgs.items()} }\n{out[-3000:]}"
+    )
     for topic, ros_type in (
         ("/viz/world", "visualization_msgs/msg/MarkerArray"),
         ("/tf", "tf2_msgs/msg/TFMessage"),
@@ -115,6 +119,7 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
     assert {("uav", 0), ("uav", 1)} <= keys and all(m.header.frame_id == "map" for m in arr.markers)
     frames = {t.child_frame_id for m in msgs["/tf"] for t in m.transforms}
     assert {"uav_0", "uav_1"} <= frames  # the world's truth frames
+    assert {"uav_0/estimate", "uav_1/estimate"} <= frames  # the agents' own estimates
     # log time is sim time (a mission starts at 0; wall-clock epoch would be > 1e18 ns)
     t = got["log_times"]["/viz/world"]
     assert all(0 <= x < 120 * 10**9 for x in t) and t == sorted(t)

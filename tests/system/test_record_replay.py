@@ -32,9 +32,10 @@ SUBSCRIBER = textwrap.dedent(
     got = {"state": 0, "events": 0}
     n.create_subscription(UavState, topics.FLEET_STATE, lambda m: got.__setitem__("state", got["state"] + 1), topics.qos("fleet"))
     n.create_subscription(MissionEvent, topics.WORLD_EVENTS, lambda m: got.__setitem__("events", got["events"] + 1), topics.qos("events"))
+    from rclpy.executors import ExternalShutdownException
     try:
         rclpy.spin(n)
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, ExternalShutdownException):  # SIGINT: either, depending on timing
         pass
     sys.stdout.write(f"{got['state']} {got['events']}\\n")
     """
