@@ -579,7 +579,9 @@ class UavAgentNode(Node):
             if last is not None and now - last < 5 * 10**9:
                 continue
             self._resend_asked_ns[(j, k - 1)] = now
-            ev = MissionEvent(type=int(EventType.RESEND_REQUEST), uav_id=self.cfg.uav_id, peer_id=j, fire_id=-1)
+            ev = MissionEvent(
+                type=int(EventType.RESEND_REQUEST), uav_id=self.cfg.uav_id, peer_id=j, fire_id=-1
+            )
             ev.x_m = ev.y_m = math.nan
             ev.value = float(k - 1)
             ev.detail = f"waited {waited_s:.0f} s for uav {j}'s step-{k - 1} messages"
@@ -844,6 +846,27 @@ def _profiled(fn, path: str) -> None:
         prof.dump_stats(path)
 
 
+def _spin_through_bad_messages(executor, node: UavAgentNode) -> None:
+    """``executor.spin()``, except that a message rclpy cannot convert to Python is dropped.
+
+    A fuzzed peer message (issue "hardening") can fail inside rclpy's ``take_message``, before any
+    callback of ours runs; ``spin()`` would then end the agent. The message is counted as a
+    rejection ("undecodable") and the agent spins on; any other error still ends it.
+    """
+    while rclpy.ok():
+        try:
+            executor.spin_once()
+        except RuntimeError as err:
+            if "Unable to convert" not in str(err):
+                raise
+            node.agent.link.count_rejection("undecodable")
+            node.get_logger().warning(
+                f"dropped a message rclpy could not decode: {err} "
+                f"(rejections so far: {node.agent.link.reject_reasons})",
+                throttle_duration_sec=5.0,
+            )
+
+
 def main(args: list[str] | None = None) -> None:
     import os
 
@@ -858,7 +881,7 @@ def main(args: list[str] | None = None) -> None:
         if prof_dir:  # profile the whole spin: executor + callbacks (docs/profile.md)
             _profiled(executor.spin, os.path.join(prof_dir, f"agent_{node.cfg.uav_id}.prof"))
         else:
-            executor.spin()
+            _spin_through_bad_messages(executor, node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
