@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from fire_mission.procs import ProcessGroup, private_domain_id
+from fire_mission.procs import ProcessGroup, claim_domain
 
 
 def _need_ros_env() -> None:
@@ -26,15 +26,18 @@ def _need_ros_env() -> None:
 
 
 @pytest.fixture
-def ros_env(tmp_path: Path) -> dict[str, str]:
-    """Environment for child ROS processes: private domain, logs under tmp_path."""
+def ros_env(tmp_path: Path):
+    """Environment for child ROS processes: a ROS domain claimed for this test alone on the host
+    (``FIRE_UAV_DOMAIN_ID`` tells a runner started with it that the claim is held), logs under
+    tmp_path."""
     _need_ros_env()
-    env = dict(os.environ)
-    env["ROS_DOMAIN_ID"] = str(private_domain_id())
-    env["ROS_LOG_DIR"] = str(tmp_path / "ros_log")
-    env["PYTHONUNBUFFERED"] = "1"
-    env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    return env
+    with claim_domain() as domain:
+        env = dict(os.environ)
+        env["ROS_DOMAIN_ID"] = env["FIRE_UAV_DOMAIN_ID"] = str(domain)
+        env["ROS_LOG_DIR"] = str(tmp_path / "ros_log")
+        env["PYTHONUNBUFFERED"] = "1"
+        env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        yield env
 
 
 @pytest.fixture

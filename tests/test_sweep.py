@@ -12,7 +12,6 @@ its own claimed ROS domain.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import socket
 import sys
@@ -21,16 +20,15 @@ from pathlib import Path
 import pytest
 from fire_bench import bench
 from fire_bench.sweep import (
-    DOMAIN_RANGE,
     DaskExecutor,
     LocalExecutor,
     MissionSpec,
     Sweep,
     SweepError,
-    claim_domain,
     run_sweep,
 )
 from fire_mission.determinism import VOLATILE_KEYS
+from fire_mission.procs import DOMAIN_RANGE
 
 #: fields of results.json that describe the run, not the missions
 RUN_FIELDS = ("wall_s", "executor")
@@ -52,16 +50,6 @@ def test_spec_rejects_bad_fields() -> None:
         MissionSpec("b", "tiny_test", args=("--kill", "1@30"))
     with pytest.raises(SweepError, match="uavs must be >= 0, got -1"):
         MissionSpec("b", "tiny_test", uavs=-1)
-
-
-def test_domain_claims_are_exclusive_and_run_out(tmp_path: Path) -> None:
-    with contextlib.ExitStack() as stack:
-        held = [stack.enter_context(claim_domain(7, tmp_path)) for _ in DOMAIN_RANGE]
-        assert sorted(held) == list(DOMAIN_RANGE)  # every id once, none twice
-        with pytest.raises(SweepError, match="no free ROS domain id in 100..199"), claim_domain(0, tmp_path):
-            pass
-    with claim_domain(7, tmp_path) as d:  # released again
-        assert d == DOMAIN_RANGE[7]
 
 
 def _echo_sweep(seeds: list[int]) -> Sweep:

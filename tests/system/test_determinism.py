@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 from fire_mission.determinism import compare_runs
-from fire_mission.procs import private_domain_id
+from fire_mission.procs import claim_domain
 from mission_util import assert_no_survivors, run_mission
 
 pytestmark = [pytest.mark.system, pytest.mark.slow]
@@ -43,9 +43,10 @@ def ff5_first(tmp_path_factory) -> Path:
     if "fire_uav_msgs" not in os.environ.get("AMENT_PREFIX_PATH", ""):
         pytest.fail("system test needs the ROS environment: run scripts/test", pytrace=False)
     tmp = tmp_path_factory.mktemp("det5")
-    env = dict(os.environ, ROS_DOMAIN_ID=str(private_domain_id()), ROS_LOG_DIR=str(tmp / "ros_log"))
-    env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    return _run(tmp, "first", env, *FF, "--uavs", "5")
+    with claim_domain() as domain:
+        env = dict(os.environ, ROS_DOMAIN_ID=str(domain), FIRE_UAV_DOMAIN_ID=str(domain), ROS_LOG_DIR=str(tmp / "ros_log"))
+        env.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+        return _run(tmp, "first", env, *FF, "--uavs", "5")
 
 
 def test_five_uavs_twice_identical(ff5_first, ros_env, tmp_path):

@@ -14,7 +14,6 @@ import sys
 from pathlib import Path
 
 import pytest
-from fire_mission.procs import private_domain_id
 from mission_util import assert_no_survivors, run_mission
 
 HERE = Path(__file__).resolve().parent
@@ -22,8 +21,7 @@ pytestmark = [pytest.mark.system, pytest.mark.slow]
 
 
 def _with_rogue(tmp_path: Path, ros_env: dict, mode: str, seconds: float, rate_hz: float, *args: str):
-    domain = str(private_domain_id())
-    env = dict(ros_env, FIRE_UAV_DOMAIN_ID=domain, ROS_DOMAIN_ID=domain)
+    env = ros_env  # the rogue joins the mission's own claimed domain
     report = tmp_path / f"rogue_{mode}.json"
     rogue = subprocess.Popen(
         [sys.executable, str(HERE / "rogue_peer.py"), mode, str(report), str(seconds), str(rate_hz)],

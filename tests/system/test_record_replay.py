@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
+from fire_mission.procs import claim_domain
 
 ROOT = Path(__file__).resolve().parents[2]
 LIB = ROOT / "ros2_ws/install/fire_uav_recording/lib/fire_uav_recording"
@@ -44,10 +45,11 @@ SUBSCRIBER = textwrap.dedent(
 
 @pytest.fixture
 def env():
-    e = dict(os.environ)
-    e["ROS_DOMAIN_ID"] = str(45 + (os.getpid() % 50))  # private; distinct from parallel runs
-    e["PYTHONPATH"] = f"{ROOT / 'tools'}:{e.get('PYTHONPATH', '')}"
-    return e
+    with claim_domain() as domain:  # this test's alone on the host
+        e = dict(os.environ)
+        e["ROS_DOMAIN_ID"] = str(domain)
+        e["PYTHONPATH"] = f"{ROOT / 'tools'}:{e.get('PYTHONPATH', '')}"
+        yield e
 
 
 def stop(proc: subprocess.Popen | None, sig: int = signal.SIGINT, timeout: float = 15.0) -> int | None:

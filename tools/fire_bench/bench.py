@@ -319,11 +319,12 @@ def bench_faults(quick: bool) -> Sweep:
 
 
 def _skeleton(n: int, steps: int) -> dict:
-    from fire_mission.procs import ProcessGroup, private_domain_id
+    from fire_mission.procs import ProcessGroup, claim_domain
     from fire_mission.procstat import sample
 
-    env = dict(os.environ, ROS_DOMAIN_ID=str(private_domain_id()))
-    with tempfile.TemporaryDirectory() as d, ProcessGroup(Path(d), env) as g:
+    with claim_domain() as domain, tempfile.TemporaryDirectory() as d, ProcessGroup(
+        Path(d), dict(os.environ, ROS_DOMAIN_ID=str(domain))
+    ) as g:
         for k in range(n):
             g.start(
                 f"agent_{k}",
@@ -410,7 +411,7 @@ SCRIPT_ARGS = {
 
 def _script(name: str, quick: bool) -> dict:
     """Run a library benchmark script (scripts/bench_<name>.py); keep its printed figures."""
-    from fire_mission.procs import private_domain_id
+    from fire_mission.procs import claim_domain
 
     path = ROOT / "scripts" / f"bench_{name}.py"
     if not path.is_file():
@@ -418,15 +419,15 @@ def _script(name: str, quick: bool) -> dict:
     extra = SCRIPT_ARGS.get(name, ([], []))[0 if quick else 1]
     t0 = time.monotonic()
     # the packages come from the sourced workspace (scripts/env.sh), the tools from their install
-    env = dict(os.environ, ROS_DOMAIN_ID=str(private_domain_id()))
-    p = subprocess.run(
-        [sys.executable, str(path), *extra],
-        capture_output=True,
-        text=True,
-        check=False,
-        timeout=3600,
-        env=env,
-    )
+    with claim_domain() as domain:
+        p = subprocess.run(
+            [sys.executable, str(path), *extra],
+            capture_output=True,
+            text=True,
+            check=False,
+            timeout=3600,
+            env=dict(os.environ, ROS_DOMAIN_ID=str(domain)),
+        )
     out = {
         "command": " ".join(["scripts/" + path.name, *extra]),
         "exit_code": p.returncode,

@@ -14,7 +14,7 @@ Modes:
 * ``harness``: :func:`fire_mission.inprocess.run_inprocess` (the real World and Agents, no
   DDS) -- needs no ROS domain;
 * ``processes``: ``python -m fire_mission.runner`` (the real process fleet, no recording) on a
-  ROS domain claimed for this mission alone on its host (:func:`claim_domain`: an exclusive
+  ROS domain claimed for this mission alone on its host (``fire_mission.procs.claim_domain``: an exclusive
   lock file per domain id, so two missions on one worker, or on two workers of one host, never
   share a domain);
 * ``call``: any importable ``module:function(**kwargs)`` returning a JSON-able dict (for
@@ -28,7 +28,6 @@ scheduler is given.
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import importlib
 import json
 import os
@@ -37,7 +36,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -50,7 +49,6 @@ __all__ = [
     "MissionSpec",
     "Sweep",
     "SweepError",
-    "claim_domain",
     "make_executor",
     "run_spec",
     "run_sweep",
@@ -59,10 +57,6 @@ __all__ = [
 MODES = ("harness", "processes", "call")
 #: the Dask pins of requirements/py.txt (named in the "not installed" error)
 DASK_PINS = "dask==2026.8.0 distributed==2026.8.0"
-#: ROS domain ids a process mission may claim (procs.private_domain_id's range)
-DOMAIN_RANGE = range(100, 200)
-
-
 class SweepError(RuntimeError):
     """A sweep cannot run (bad spec, no scheduler, no dask); the message is one line."""
 
@@ -146,42 +140,6 @@ class Finished:
 
 
 # --- on the worker ----------------------------------------------------------------------------
-def _lock_dir() -> Path:
-    d = Path(tempfile.gettempdir()) / "fire_uav_domains"
-    d.mkdir(exist_ok=True)
-    return d
-
-
-@contextlib.contextmanager
-def claim_domain(hint: int = 0, lock_dir: Path | None = None) -> Iterator[int]:
-    """Hold a ROS domain id no other mission on this host holds, for the ``with`` body.
-
-    Tries the ids of :data:`DOMAIN_RANGE` starting at ``hint`` (mod the range) and keeps an
-    exclusive ``flock`` on ``<tmp>/fire_uav_domains/<id>.lock`` -- released by the kernel even
-    if the worker dies. Raises :class:`SweepError` when all 100 are taken. Runs that pick a
-    random id without the lock (``fire_mission.procs.private_domain_id``) are not seen.
-    """
-    d = lock_dir or _lock_dir()
-    n = len(DOMAIN_RANGE)
-    for k in range(n):
-        dom = DOMAIN_RANGE[(hint + k) % n]
-        f = open(d / f"{dom}.lock", "a+")  # held open for the lock's lifetime
-        try:
-            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            f.close()
-            continue
-        try:
-            yield dom
-        finally:
-            fcntl.flock(f, fcntl.LOCK_UN)
-            f.close()
-        return
-    raise SweepError(
-        f"no free ROS domain id in {DOMAIN_RANGE.start}..{DOMAIN_RANGE.stop - 1} on {socket.gethostname()}"
-    )
-
-
 def _scenario_arg(spec: MissionSpec, tmp: Path) -> str:
     if spec.scenario_yaml is None:
         return spec.scenario
@@ -193,7 +151,7 @@ def _scenario_arg(spec: MissionSpec, tmp: Path) -> str:
 def _run_processes(spec: MissionSpec, scenario: str, tmp: Path) -> dict:
     import zlib
 
-    from fire_mission.procs import MissionError
+    from fire_mission.procs import MissionError, claim_domain
 
     hint = zlib.crc32(spec.sort_key().encode())
     with claim_domain(hint) as domain:

@@ -1,8 +1,15 @@
 """Mission orchestration without ROS launch: process groups, executables, the mission runner.
 
-Public API: :class:`ProcessGroup`, :func:`executable`, :func:`private_domain_id`.
+Public API: :class:`ProcessGroup`, :func:`executable`, :func:`claim_domain`.
 """
 
-from fire_mission.procs import MissionError, ProcessGroup, executable, private_domain_id, ros_run_argv
+from fire_mission.procs import (
+    DOMAIN_RANGE,
+    MissionError,
+    ProcessGroup,
+    claim_domain,
+    executable,
+    ros_run_argv,
+)
 
-__all__ = ["MissionError", "ProcessGroup", "executable", "private_domain_id", "ros_run_argv"]
+__all__ = ["DOMAIN_RANGE", "MissionError", "ProcessGroup", "claim_domain", "executable", "ros_run_argv"]

@@ -8,16 +8,21 @@ sends SIGINT, waits, then SIGKILLs what is left. Nothing is ever killed by name.
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import os
 import random
 import shutil
 import signal
+import socket
 import subprocess
+import tempfile
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["MissionError", "ProcessGroup", "executable", "private_domain_id", "ros_run_argv"]
+__all__ = ["DOMAIN_RANGE", "MissionError", "ProcessGroup", "claim_domain", "executable", "ros_run_argv"]
 
 
 class MissionError(RuntimeError):
@@ -55,14 +60,51 @@ def ros_run_argv(package: str, exe: str, ros_args: list[str] | None = None) -> l
     return [str(executable(package, exe)), *tail]
 
 
-def private_domain_id(seed: int | None = None) -> int:
-    """A ROS_DOMAIN_ID in 100..199 for one run/test (keeps parallel runs apart).
+#: ROS domain ids a run or test may claim. Ids above 101 with many participants can collide
+#: with ephemeral ports on some systems; with LOCALHOST discovery and < 120 participants per
+#: domain, 100..199 is safe.
+DOMAIN_RANGE = range(100, 200)
 
-    Domain ids above 101 with many participants can collide with ephemeral ports on some
-    systems; with LOCALHOST discovery and < 120 participants per domain 100..199 is safe.
+
+def _lock_dir() -> Path:
+    d = Path(tempfile.gettempdir()) / "fire_uav_domains"
+    d.mkdir(exist_ok=True)
+    return d
+
+
+@contextlib.contextmanager
+def claim_domain(hint: int | None = None, lock_dir: Path | None = None) -> Iterator[int]:
+    """Hold a ROS_DOMAIN_ID that no other run, test or sweep mission on this host holds.
+
+    Every fleet on one host (``scripts/run_mission``, system tests, benchmark sweeps, on any
+    number of workers) claims its domain here, so two fleets never share a domain and never
+    hear each other's lockstep messages. Tries the ids of :data:`DOMAIN_RANGE` from ``hint``
+    (mod the range; None: a start drawn from the pid and the clock) and keeps an exclusive
+    ``flock`` on ``<tmp>/fire_uav_domains/<id>.lock`` for the ``with`` body -- released by the
+    kernel even if the holder is killed. Raises :class:`MissionError` when all 100 are held.
     """
-    rng = random.Random(seed if seed is not None else (os.getpid() * 7919 + time.monotonic_ns()))
-    return rng.randint(100, 199)
+    d = lock_dir or _lock_dir()
+    n = len(DOMAIN_RANGE)
+    if hint is None:
+        hint = random.Random(os.getpid() * 7919 + time.monotonic_ns()).randrange(n)
+    for k in range(n):
+        dom = DOMAIN_RANGE[(hint + k) % n]
+        f = open(d / f"{dom}.lock", "a+")  # held open for the lock's lifetime
+        try:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            f.close()
+            continue
+        try:
+            yield dom
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
+            f.close()
+        return
+    raise MissionError(
+        f"no free ROS domain id in {DOMAIN_RANGE.start}..{DOMAIN_RANGE.stop - 1} on {socket.gethostname()} "
+        f"(locks in {d})"
+    )
 
 
 @dataclass

@@ -12,6 +12,7 @@ summary table and writes ``summary.json`` beside the bag and the report.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -26,11 +27,12 @@ from pathlib import Path
 from fire_uav_common.constants import EventType, FireStatus, VehicleStatus
 from fire_uav_common.stamps import stamp_to_s
 
-from fire_mission.procs import MissionError, ProcessGroup, private_domain_id, ros_run_argv
+from fire_mission.procs import MissionError, ProcessGroup, claim_domain, ros_run_argv
 from fire_mission.procstat import sample as proc_sample
 from fire_mission.summary import Event, LiveSummary, table
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout: tools/<package>/<module>.py
+_HELD_DOMAINS = contextlib.ExitStack()  # the ROS domains this runner claimed (released at exit)
 
 
 # --- fault specifications ----------------------------------------------------------------
@@ -618,7 +620,10 @@ def run(args: argparse.Namespace) -> int:
         scenario_path = write_scenario(scenario_path, overrides, out / "scenario.yaml")
     params = write_params(out, args, scenario_path, uav_count, seed, args.max_duration)
 
-    domain = int(os.environ.get("FIRE_UAV_DOMAIN_ID", private_domain_id()))
+    if "FIRE_UAV_DOMAIN_ID" in os.environ:  # claimed by the caller (a sweep, a test)
+        domain = int(os.environ["FIRE_UAV_DOMAIN_ID"])
+    else:  # held until this process ends: no other fleet on the host gets it meanwhile
+        domain = _HELD_DOMAINS.enter_context(claim_domain())
     os.environ["ROS_DOMAIN_ID"] = str(domain)
     # PYTHONHASHSEED: no set or dict of strings may change its order between two runs
     env = dict(os.environ, PYTHONUNBUFFERED="1", PYTHONHASHSEED="0", ROS_LOG_DIR=str(out / "ros_log"))
