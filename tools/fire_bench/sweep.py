@@ -36,7 +36,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -57,6 +57,8 @@ __all__ = [
 MODES = ("harness", "processes", "call")
 #: the Dask pins of requirements/py.txt (named in the "not installed" error)
 DASK_PINS = "dask==2026.8.0 distributed==2026.8.0"
+
+
 class SweepError(RuntimeError):
     """A sweep cannot run (bad spec, no scheduler, no dask); the message is one line."""
 
@@ -212,6 +214,21 @@ def _worker_name() -> str:
 Progress = Callable[[int, int, MissionSpec, Finished], None]
 
 
+def _collect(
+    specs: Sequence[MissionSpec],
+    completed: Iterable[tuple[int, tuple[dict, float, str]]],
+    progress: Progress | None,
+) -> list[Finished]:
+    """The missions in the specs' order, from ``(spec index, run_spec's result)`` pairs in the
+    order they finish (reporting each to ``progress`` as it comes)."""
+    out: list[Finished | None] = [None] * len(specs)
+    for done, (i, raw) in enumerate(completed, 1):
+        out[i] = f = Finished(*raw)
+        if progress:
+            progress(done, len(specs), specs[i], f)
+    return [f for f in out if f is not None]
+
+
 class Executor(Protocol):
     """Runs mission specs; ``run`` returns one :class:`Finished` per spec, in the specs' order."""
 
@@ -232,24 +249,11 @@ class LocalExecutor:
         self.name = "local" if jobs == 1 else f"local x{jobs}"
 
     def run(self, specs: Sequence[MissionSpec], progress: Progress | None = None) -> list[Finished]:
-        out: list[Finished | None] = [None] * len(specs)
-        done = 0
         if self.jobs == 1:
-            for i, s in enumerate(specs):
-                out[i] = Finished(*run_spec(s))
-                done += 1
-                if progress:
-                    progress(done, len(specs), s, out[i])  # type: ignore[arg-type]
-        else:
-            with ProcessPoolExecutor(max_workers=self.jobs) as ex:
-                futs = {ex.submit(run_spec, s): i for i, s in enumerate(specs)}
-                for f in as_completed(futs):
-                    i = futs[f]
-                    out[i] = Finished(*f.result())
-                    done += 1
-                    if progress:
-                        progress(done, len(specs), specs[i], out[i])  # type: ignore[arg-type]
-        return [f for f in out if f is not None]
+            return _collect(specs, ((i, run_spec(s)) for i, s in enumerate(specs)), progress)
+        with ProcessPoolExecutor(max_workers=self.jobs) as ex:
+            futs = {ex.submit(run_spec, s): i for i, s in enumerate(specs)}
+            return _collect(specs, ((futs[f], f.result()) for f in as_completed(futs)), progress)
 
     def close(self) -> None:
         pass
@@ -302,15 +306,8 @@ class DaskExecutor:
             for i, s in enumerate(specs)
         ]
         index = {f.key: i for i, f in enumerate(futs)}
-        out: list[Finished | None] = [None] * len(specs)
-        done = 0
-        for f in dask_completed(futs, loop=self.client.loop):
-            i = index[f.key]
-            out[i] = Finished(*f.result())
-            done += 1
-            if progress:
-                progress(done, len(specs), specs[i], out[i])  # type: ignore[arg-type]
-        return [f for f in out if f is not None]
+        completed = ((index[f.key], f.result()) for f in dask_completed(futs, loop=self.client.loop))
+        return _collect(specs, completed, progress)
 
     def close(self) -> None:
         self.client.close()
