@@ -45,6 +45,7 @@ from .fire_front import FrontCells
 from .front_consensus import PeerFront
 from .lockstep_wait import PeerWait
 from .peer_link import FireEntry, Outage, PeerFires, PeerState
+from .resend import ResendBook
 from .search_io import attach_search
 
 
@@ -369,11 +370,7 @@ class UavAgentNode(Node):
         self._liveness_timer.cancel()
         self._wait_since_ns = 0
         # recovery from a lost message (a reader's history overrun by a flood): docs/protocol.md "Resend"
-        self._sent_log: dict[int, list] = {}  # step -> [(publisher, message)] of single-message topics
-        self._seen: set[tuple[int, int, int]] = set()  # (sender, loss index, step) taken already
-        self._resend_asked_ns: dict[tuple[int, int], int] = {}  # (peer, step) -> when asked
-        self._resent_ns: dict[int, int] = {}  # step -> when this agent last resent it
-        self.resends_sent = self.resends_received = 0
+        self.resend: ResendBook[tuple] = ResendBook()  # kept (publisher, message) pairs per step
         topics.subscription(self, topics.FLEET_EVENTS_SPEC, self._on_fleet_event)
         # the start-up handshake: AGENT_READY once every fleet topic is matched with every peer
         self._ready_timer = self.create_timer(0.05, self._check_ready, clock=self._steady)
@@ -553,18 +550,9 @@ class UavAgentNode(Node):
 
     # --- resend: recovery from a message the transport lost (docs/protocol.md "Resend") ----------
     def _duplicate(self, sender: int, spec: topics.TopicSpec, step: int) -> bool:
-        """Whether this (sender, topic, step) was taken already: a resent copy, dropped silently.
-
-        Only for the topics that carry at most one message per sender and step (state, fires,
-        perimeter, front): a resent copy is byte-identical to the first, so taking the first one
-        that arrives changes nothing the agent decides.
-        """
-        key = (int(sender), int(spec.loss_index), int(step))
-        if key in self._seen:
-            self.resends_received += 1
-            return True
-        self._seen.add(key)
-        return False
+        """A resent copy of a (sender, topic, step) already taken: dropped (state, fires,
+        perimeter and front carry one message per sender and step)."""
+        return self.resend.duplicate(sender, spec.loss_index, step)
 
     def _ask_resend(self, k: int, waited_s: float) -> None:
         """Ask each peer still missing for step ``k - 1`` to send its messages again (every 5 s).
@@ -573,12 +561,7 @@ class UavAgentNode(Node):
         history overrun by a flood on the topic) would block the fleet for good. Wall time decides
         only *when* a copy is asked for, never *what* the agent then decides.
         """
-        now = self._steady.now().nanoseconds
-        for j in self.wait.missing(k):
-            last = self._resend_asked_ns.get((j, k - 1))
-            if last is not None and now - last < 5 * 10**9:
-                continue
-            self._resend_asked_ns[(j, k - 1)] = now
+        for j in self.resend.peers_to_ask(self.wait.missing(k), k, self._steady.now().nanoseconds):
             ev = MissionEvent(
                 type=int(EventType.RESEND_REQUEST), uav_id=self.cfg.uav_id, peer_id=j, fire_id=-1
             )
@@ -595,16 +578,14 @@ class UavAgentNode(Node):
         if not math.isfinite(msg.value):
             return
         step = int(msg.value)
-        sent = self._sent_log.get(step)
-        now = self._steady.now().nanoseconds
-        if sent is None or now - self._resent_ns.get(step, -(10**18)) < 2 * 10**9:
-            return  # not kept (too old or never sent), or resent just now (one copy per 2 s)
-        self._resent_ns[step] = now
+        sent = self.resend.to_resend(step, self._steady.now().nanoseconds)
+        if sent is None:
+            return  # not kept (too old or never sent), or resent just now
         for pub, m in sent:
             pub.publish(m)
-        self.resends_sent += 1
         self.get_logger().warning(
-            f"resent step {step}'s {len(sent)} messages at uav {msg.uav_id}'s request ({self.resends_sent} so far)"
+            f"resent step {step}'s {len(sent)} messages at uav {msg.uav_id}'s request "
+            f"({self.resend.resends_served} so far)"
         )
 
     def _on_coverage_arrival(self, sender: int, step: int, loss_index: int) -> None:
@@ -713,8 +694,7 @@ class UavAgentNode(Node):
         final = int(msg.vehicle_status) == VehicleStatus.CRASHED
         self._publish(out, msg.header.stamp, coverage, final)
         self.wait.prune(k)
-        self._seen = {key for key in self._seen if key[2] >= k - 1}
-        self._resend_asked_ns = {key: t for key, t in self._resend_asked_ns.items() if key[1] >= k - 1}
+        self.resend.ran(k)
 
     # --- output ---------------------------------------------------------------------------------------
     def _publish_tf_estimate(self, out: StepOutput, stamp: TimeMsg) -> None:
@@ -787,9 +767,7 @@ class UavAgentNode(Node):
         if fm is not None:
             self.pub_front.publish(fm)
             log.append((self.pub_front, fm))
-        self._sent_log[out.step] = log
-        for old in [s for s in self._sent_log if s < out.step - 3]:  # keep the last 4 steps
-            del self._sent_log[old]
+        self.resend.keep(out.step, log)
         if self.search_link is not None:
             self.search_link.publish(coverage)
             plan = self.search_link.plan_marker(stamp)
