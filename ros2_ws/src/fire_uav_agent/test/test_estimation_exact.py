@@ -204,3 +204,28 @@ def test_bad_configuration_and_start_state_are_errors():
         StateEkf(EkfConfig(), np.zeros(3))
     with pytest.raises(ValueError, match="s0 must be 4 finite numbers"):
         StateEkf(EkfConfig(), np.array([0.0, math.inf, 0.0, 0.0]))
+
+
+def test_the_default_filter_is_the_papers_sensor_model():
+    """EkfConfig() is FF II-C / III-B: GPS sigma 3 m, ultrasonic altimeter sigma 1.5 m over
+    0..40 m, gyro sigma 0.3 rad/s, input noise sigma 1 (all three), 0.01 s physics substeps; and
+    the start pose is as uncertain as one GPS fix / one altimeter sample. Consequences: the first
+    GPS fix and the first altimeter sample each halve their variance; a 40 m height is fused, a
+    40.5 m one is not; a gyro sample moves the rate 1/1.09 of the way; a 0.1 s step is 10
+    substeps of 0.01 s."""
+    f = StateEkf(EkfConfig(), np.array([0.0, 0.0, 30.0, 0.0]))
+    f.update_gps(1.0, 1.0)
+    assert math.isclose(f.P[0, 0], 4.5) and math.isclose(f.P[1, 1], 4.5)
+    f.update_altimeter(30.0)
+    assert math.isclose(f.P[2, 2], 2.25 / 2)
+    g = StateEkf(EkfConfig(), np.array([0.0, 0.0, 30.0, 0.0]))
+    g.process(Samples(alt=np.array([[0.05, 40.0], [0.06, 40.5]])), np.zeros(3), 0.0, 0.1, moving=False)
+    assert g.updates["alt"] == 1
+    h = StateEkf(EkfConfig(), np.array([0.0, 0.0, 30.0, 0.0]))
+    p33 = h.P[3, 3]
+    h.predict(np.zeros(3), 0.01, gyro_radps=1.09)
+    assert math.isclose(h.s[3], 0.01 * 1.0) and math.isclose(h.P[3, 3] - p33, 1e-4 * 0.09 / 1.09)
+    k = StateEkf(EkfConfig(), np.array([0.0, 0.0, 30.0, 0.0]))
+    p0 = k.P.copy()
+    k.process(Samples(), np.array([0.0, 0.0, 1.0]), 0.0, 0.1)
+    assert math.isclose(k.s[3], 0.1) and math.isclose(k.P[3, 3] - p0[3, 3], 10 * 1e-4)
