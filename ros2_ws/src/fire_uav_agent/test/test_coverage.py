@@ -110,7 +110,7 @@ def test_virtual_position_in_closed_form():
     assert np.allclose(virtual_positions(p_i, others[:1], 4.0, 16.0)[0], [20.0, 0.0])
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(
     st.floats(100.0, 500.0),
     st.floats(100.0, 500.0),
