@@ -65,3 +65,178 @@ def test_control_law_points_toward_centroid_and_respects_limits():
         np.array([0, 0, 30.0, 0]), np.array([100.0, 0]), 30.0, Terrain(slope_x=0.1), lim, g
     )
     assert vz > 5.0
+
+
+# --- analytic cells, Lloyd, grid, density, guidance (mutation testing, issue 17) -------------
+import pytest  # noqa: E402
+from fire_uav_agent.coverage import virtual_positions  # noqa: E402
+from fire_uav_common.scenario import Vehicle  # noqa: E402
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+def _x_of(mask: np.ndarray) -> np.ndarray:
+    return np.unique(GRID.points[mask, 0])
+
+
+def test_band_cell_boundary_is_the_shifted_bisector_in_closed_form():
+    """Eq. 7, two agents on a horizontal line, delta = 10 m each (Delta = 20 m): the plain cell
+    of p_i = (285, 300) ends at the bisector x = 300 (d = 30 m); with the band the virtual p~_j
+    sits 2 (Delta - d/2) = 10 m closer, so the bisector moves to d - Delta = 10 m from p_i:
+    x = 295. Agents 10 m apart (d < Delta): the boundary passes Delta - d = 10 m *behind* p_i."""
+    p_i, p_j = np.array([285.0, 300.0]), np.array([315.0, 300.0])
+    assert _x_of(own_cell(GRID.points, p_i, p_j[None])).max() == 297.5  # cells x <= 300
+    band = own_cell(GRID.points, p_i, p_j[None], 10.0)
+    assert _x_of(band).max() == 292.5 and _x_of(band).min() == 2.5  # x <= 295, full height
+    assert np.all(band == (GRID.points[:, 0] <= 295.0))
+    close = own_cell(GRID.points, np.array([295.0, 300.0]), np.array([[305.0, 300.0]]), 10.0)
+    assert np.all(close == (GRID.points[:, 0] <= 285.0))
+    # far apart (d/2 >= Delta) the band changes nothing
+    far = own_cell(GRID.points, np.array([200.0, 300.0]), np.array([[300.0, 300.0]]), 10.0)
+    assert np.all(far == (GRID.points[:, 0] <= 250.0))
+    # a band of 0 is no band
+    assert np.array_equal(own_cell(GRID.points, p_i, p_j[None], 0.0), own_cell(GRID.points, p_i, p_j[None]))
+
+
+def test_virtual_position_in_closed_form():
+    """Eq. 7: p~_j = p_j + 2 (Delta_ij - d/2) (p_i - p_j)/d if Delta_ij > d/2, else p_j."""
+    p_i = np.array([0.0, 0.0])
+    others = np.array([[30.0, 0.0], [0.0, -100.0], [0.0, 0.0]])
+    v = virtual_positions(p_i, others, 10.0, np.array([10.0, 10.0, 10.0]))
+    assert np.allclose(v[0], [20.0, 0.0])  # 30 - 2 (20 - 15)
+    assert np.allclose(v[1], [0.0, -100.0])  # Delta 20 < d/2 = 50: unchanged
+    assert np.allclose(v[2], [2 * 20.0, 0.0])  # coincident: moved 2 Delta along the fixed +x
+    # per-agent radii add: Delta = 4 + 16
+    assert np.allclose(virtual_positions(p_i, others[:1], 4.0, 16.0)[0], [20.0, 0.0])
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.floats(100.0, 500.0),
+    st.floats(100.0, 500.0),
+    st.floats(0.0, 2 * math.pi),
+    st.floats(20.0, 39.0),
+)
+def test_band_cell_equals_the_voronoi_cell_against_the_virtual_position(x, y, angle, d):
+    """Where Eq. 7 is sensible (Delta <= d < 2 Delta, Delta = 20 m), own_cell's half-plane form
+    must be exactly the plain Voronoi cell of p_i against the printed virtual position p~_j."""
+    p_i = np.array([x, y])
+    p_j = p_i + d * np.array([math.cos(angle), math.sin(angle)])
+    pv = virtual_positions(p_i, p_j[None], 10.0, np.array([10.0]))
+    lab = voronoi_labels(GRID.points, np.vstack([p_i, pv]))
+    band = own_cell(GRID.points, p_i, p_j[None], 10.0)
+    dist_i = np.hypot(*(GRID.points - p_i).T)
+    dist_v = np.hypot(*(GRID.points - pv[0]).T)
+    clear = np.abs(dist_i - dist_v) > 1e-6  # points on the bisector: ties, either side is right
+    assert np.array_equal(band[clear], lab[clear] == 0)
+
+
+def test_voronoi_ties_go_to_the_lowest_index_and_no_positions_is_an_error():
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    assert list(voronoi_labels(pts, np.array([[1.0, 1.0], [1.0, -1.0]]))) == [0, 0, 0]
+    assert list(voronoi_labels(pts, np.array([[-1.0, 0.0], [3.0, 0.0]]))) == [0, 0, 1]
+    with pytest.raises(ValueError, match="need at least one position"):
+        voronoi_labels(pts, np.zeros((0, 2)))
+    assert np.all(own_cell(pts, np.zeros(2), np.zeros((0, 2))))  # alone: the whole area
+    # Eq. 6's "<=": a point on the bisector belongs to both cells (each agent's own view)
+    p_i, p_j = np.array([0.0, 0.0]), np.array([2.0, 0.0])
+    assert list(own_cell(pts, p_i, p_j[None])) == [True, True, False]
+    assert list(own_cell(pts, p_j, p_i[None])) == [False, True, True]
+
+
+def test_lloyd_iteration_converges_to_the_centroidal_voronoi_configuration():
+    """Lloyd on a uniform density over a 1200 m x 300 m strip with two agents: the centroidal
+    Voronoi tessellation is the two halves, generators at their centres (300, 150), (900, 150)."""
+    grid = make_grid(0, 1200, 0, 300, 10.0)
+    dens = np.ones(len(grid.points))
+    pos = np.array([[100.0, 40.0], [200.0, 260.0]])
+    for _ in range(60):
+        new = []
+        for i in range(2):
+            mask = own_cell(grid.points, pos[i], np.delete(pos, i, axis=0))
+            m, c = mass_centroid(grid.points, dens, mask, grid.cell_area_m2)
+            assert c is not None and m > 0
+            new.append(c)
+        pos = np.array(new)
+    pos = pos[np.argsort(pos[:, 0])]
+    assert np.allclose(pos, [[300.0, 150.0], [900.0, 150.0]], atol=1.0)
+
+
+def test_centroid_of_a_known_density_in_a_half_plane_cell():
+    """Uniform density on the cell x <= 300 of the 600 m square: centroid (150, 300), mass the
+    area 300 m x 600 m; a linear density rho = x on the whole square: centroid x = 2/3 * 600."""
+    mask = GRID.points[:, 0] <= 300.0
+    m, c = mass_centroid(GRID.points, np.ones(len(mask)), mask, GRID.cell_area_m2)
+    assert np.allclose(c, [150.0, 300.0]) and math.isclose(m, 300.0 * 600.0)
+    m, c = mass_centroid(GRID.points, GRID.points[:, 0].copy(), np.ones(len(mask), bool), 25.0)
+    assert math.isclose(c[0], 400.0, rel_tol=1e-3) and math.isclose(c[1], 300.0)
+    assert mass_centroid(GRID.points, np.zeros(len(mask)), mask, 25.0) == (0.0, None)  # no mass
+
+
+def test_grid_cells_tile_the_area_and_bad_areas_are_errors():
+    g = make_grid(-100.0, 50.0, 10.0, 40.0, 10.0)
+    assert g.shape == (3, 15) and g.points.shape == (45, 2) and g.cell_area_m2 == 100.0
+    assert g.xs[0] == -95.0 and g.xs[-1] == 45.0 and g.ys[0] == 15.0 and g.ys[-1] == 35.0
+    assert np.array_equal(g.points[1], [-85.0, 15.0])  # row-major (y, x): x runs fastest
+    assert make_grid(0.0, 25.0, 0.0, 10.0, 10.0).shape == (1, 3)  # a partial cell still counts
+    assert make_grid(0.0, 1.0, 0.0, 1.0, 10.0).shape == (1, 1)
+    with pytest.raises(ValueError, match="grid resolution must be > 0"):
+        make_grid(0, 10, 0, 10, 0.0)
+    with pytest.raises(ValueError, match="empty area"):
+        make_grid(0, 10, 5, 5, 1.0)
+    with pytest.raises(ValueError, match="empty area"):
+        make_grid(10, 0, 0, 5, 1.0)
+
+
+def test_gaussian_density_is_the_sum_of_unit_peak_gaussians():
+    """Eqs. 13-15: peak 1 at each centre, exp(-1/2) at one sigma along x or y, exp(-1) at
+    sqrt(2) sigma on the diagonal; masses 2 pi sigma^2 add; a sigma <= 0 contributes nothing."""
+    g = make_grid(0, 1000, 0, 1000, 10.0)
+    d = gaussian_density(g, [(205.0, 305.0), (705.0, 605.0)], [40.0, 20.0]).reshape(g.shape)
+    at = lambda x, y: d[np.searchsorted(g.ys, y), np.searchsorted(g.xs, x)]  # noqa: E731
+    assert math.isclose(at(205.0, 305.0), 1.0, rel_tol=1e-9)
+    assert math.isclose(at(245.0, 305.0), math.exp(-0.5), rel_tol=1e-9)
+    assert math.isclose(at(205.0, 265.0), math.exp(-0.5), rel_tol=1e-9)
+    assert math.isclose(at(725.0, 625.0), math.exp(-1.0), rel_tol=1e-9)
+    assert math.isclose(d.sum() * 100.0, 2 * math.pi * (40.0**2 + 20.0**2), rel_tol=1e-3)
+    d0 = gaussian_density(g, [(205.0, 305.0), (705.0, 605.0)], [40.0, 0.0])
+    assert math.isclose(d0.sum() * 100.0, 2 * math.pi * 40.0**2, rel_tol=1e-3)
+
+
+def test_vehicle_limits_of_a_scenario_vehicle():
+    lim = VehicleLimits.of(Vehicle(v_stall_mps=30.0, v_max_mps=80.0, vz_max_mps=7.0, omega_max_radps=0.5))
+    assert lim == VehicleLimits(30.0, 80.0, 7.0, 0.5)
+
+
+def test_speed_cap_and_terrain_following_rate():
+    """A far target: v = min(cap, v_max) but never below stall. At the commanded height over a
+    plane of slope 0.1 the climb command is the terrain's own rate dE/dt = v grad E . heading
+    (up, across, down the slope), so the height does not lag."""
+    lim, g = VehicleLimits(), ControlGains()
+    s = np.array([0.0, 0.0, 30.0, 0.0])
+    far = np.array([1000.0, 0.0])
+    assert control_law(s, far, 30.0, Terrain(), lim, g, v_cap_mps=60.0)[0] == 60.0
+    assert control_law(s, far, 30.0, Terrain(), lim, g, v_cap_mps=10.0)[0] == lim.v_stall_mps
+    assert control_law(s, far, 30.0, Terrain(), lim, g, v_cap_mps=500.0)[0] == lim.v_max_mps
+    slope = Terrain(slope_x=0.1)
+    for th, rate in ((0.0, 0.1), (math.pi / 2, 0.0), (math.pi, -0.1)):
+        tgt = 1000.0 * np.array([math.cos(th), math.sin(th)])
+        v, vz, om = control_law(np.array([0.0, 0.0, 30.0, th]), tgt, 30.0, slope, lim, g, v_cap_mps=60.0)
+        assert v == 60.0 and math.isclose(vz, 60.0 * rate, abs_tol=1e-9) and abs(om) < 1e-9
+    # 2 m below the commanded height: the gains' docstring chooses "half dead-beat" at the 0.1 s
+    # control period, so one step's climb (v_z T) closes half the error: v_z = 10 m/s
+    _, vz, _ = control_law(np.array([0.0, 0.0, 28.0, 0.0]), far, 30.0, Terrain(), lim, g)
+    assert math.isclose(vz * 0.1, 1.0)
+    _, vz, _ = control_law(np.array([0.0, 0.0, 90.0, 0.0]), far, 30.0, Terrain(), lim, g)
+    assert vz == -20.0  # the documented 20 m/s cap on the commanded climb / sink rate
+    # FF Eq. 10's K_p = 50 1/s: 1 m from the centroid the speed is 50 m/s (between stall and max)
+    assert control_law(s, np.array([0.0, 1.0]), 30.0, Terrain(), lim, g)[0] == pytest.approx(50.0)
+    low = VehicleLimits(vz_max_mps=3.0)
+    _, vz, _ = control_law(np.array([0.0, 0.0, 0.0, 0.0]), far, 30.0, Terrain(), low, g)
+    assert vz == 3.0
+    # on the target itself: no turn
+    assert control_law(s, np.array([0.0, 0.0]), 30.0, Terrain(), lim, g)[2] == 0.0
+    # heading -3.0 rad, target at bearing pi - 0.01: 8.7 deg to the right across the +-pi cut;
+    # wrapped (Eq. 11) that is a gentle right turn K_a * -0.15, not a 351 deg left turn
+    _, _, om = control_law(np.array([0, 0, 30.0, -3.0]), np.array([-100.0, 1.0]), 30.0, Terrain(), lim, g)
+    assert -1.0 < om < -0.5

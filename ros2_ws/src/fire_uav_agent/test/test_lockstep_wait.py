@@ -98,3 +98,19 @@ def test_invalid_inputs() -> None:
     w.on_state(7, 1, sent(), False)  # unknown sender: ignored, not a crash
     w.on_state(0, 1, sent(), False)  # itself: ignored
     assert w.missing(2) == [1]
+
+
+def test_describe_names_each_missing_peer_and_what_it_still_owes() -> None:
+    w = PeerWait(0, 4, 0.1)
+    assert w.describe(5) == "uav 1: state of step 4; uav 2: state of step 4; uav 3: state of step 4"
+    w.on_state(1, 4, sent(perimeter=2, mst=1), False)
+    w.on_message(1, 4, PERIM)  # 1/2 perimeter maps, no MST message, fires not in yet
+    deliver(w, 3, 4)
+    assert w.describe(5) == (
+        f"uav 1: 0/1 on topic {FIRES}, 1/2 on topic {PERIM}, 0/1 on topic {MST}; uav 2: state of step 4"
+    )
+    w.on_message(1, 4, FIRES)
+    w.on_message(1, 4, PERIM)
+    w.on_message(1, 4, MST)
+    deliver(w, 2, 4)
+    assert w.describe(5) == "" and w.ready(5)

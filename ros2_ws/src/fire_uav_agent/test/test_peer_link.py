@@ -11,7 +11,7 @@ from fire_uav_agent.peer_link import (
     PeerState,
     Verdict,
 )
-from fire_uav_common.topics import FLEET_STATE_SPEC
+from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
 
 def state(j: int, seq: int, step: int, x: float = 1.0) -> PeerState:
@@ -20,9 +20,9 @@ def state(j: int, seq: int, step: int, x: float = 1.0) -> PeerState:
 
 def test_loss_rate_matches_probability_and_is_order_independent():
     link = PeerLink(0, 2, seed=3, loss_probability=0.05, control_period_s=0.1)
-    n = 20000
+    n = 4000
     lost = sum(link.receive_state(state(1, k + 1, k)) == Verdict.LOST for k in range(n))
-    # binomial(20000, 0.05): sd = 30.8; 5 sd bounds
+    # binomial(4000, 0.05): sd = 13.8; 5 sd bounds (0.05 +- 0.017: p = 0.03 or 0.07 is outside)
     assert abs(lost - 0.05 * n) < 5 * math.sqrt(n * 0.05 * 0.95)
     assert link.lost == lost and link.received == n - lost and link.rejected == 0
     other = PeerLink(0, 2, seed=3, loss_probability=0.05, control_period_s=0.1)
@@ -94,3 +94,108 @@ def test_invalid_configuration():
         PeerLink(3, 3, 0, 0.0, 0.1)
     with pytest.raises(ValueError, match="loss_probability"):
         PeerLink(0, 3, 0, 1.5, 0.1)
+
+
+# --- boundaries of each rule (docs/protocol.md "Peer link"; mutation testing, issue 17) ------
+def fires(j: int, seq: int, step: int, *entries: FireEntry) -> PeerFires:
+    return PeerFires(j, seq, step, tuple(entries))
+
+
+def test_step_window_and_sequence_bounds_are_inclusive():
+    """Run step k accepts steps in [k - max_step_lag, k - 1] and sequences in [1, step + 1]."""
+    link = PeerLink(0, 2, seed=0, loss_probability=0.0, control_period_s=0.1, max_step_lag=3)
+    assert link.receive_state(state(1, 1, 6), now_step=10) == Verdict.REJECTED  # 10 - 3 = 7 is the oldest
+    assert link.receive_state(state(1, 8, 7), now_step=10) == Verdict.ACCEPTED
+    assert link.receive_state(state(1, 10, 9), now_step=10) == Verdict.ACCEPTED  # seq = step + 1
+    assert link.receive_state(state(1, 12, 10), now_step=11) == Verdict.REJECTED  # seq = step + 2
+    assert link.receive_state(state(1, 1, 10), now_step=11) == Verdict.ACCEPTED  # seq 1: a restart
+    assert link.reject_reasons == {"implausible step": 1, "implausible sequence": 1} and link.restarts == 1
+    # the default window is the crash threshold: a message 10 steps old is still news
+    default = PeerLink(0, 2, seed=0, loss_probability=0.0, control_period_s=0.1, crash_threshold_steps=10)
+    assert default.receive_state(state(1, 1, 0), now_step=10) == Verdict.ACCEPTED
+    assert default.receive_state(state(1, 2, 1), now_step=12) == Verdict.REJECTED
+    # without now_step there is no window, only the other checks
+    assert default.receive_state(state(1, 3, 500)) == Verdict.ACCEPTED
+
+
+def test_every_field_is_checked_for_nan_and_inf():
+    link = PeerLink(0, 2, seed=0, loss_probability=0.0, control_period_s=0.1)
+    base = dict(
+        uav_id=1, sequence=1, step=0, x_m=1.0, y_m=2.0, z_m=3.0, yaw_rad=0.1, objective=1, water_kg=5.0
+    )
+    for k, name in enumerate(("x_m", "y_m", "z_m", "yaw_rad", "water_kg")):
+        bad = PeerState(**{**base, "step": k, "sequence": k + 1, name: math.inf})
+        assert link.receive_state(bad) == Verdict.REJECTED, name
+    good = FireEntry(1, True, 1.0, 2.0, 3.0, 0.1, 0.2, 0.3)
+    fields = ("x_m", "y_m", "extent_m", "vx_mps", "vy_mps", "last_measurement_s")
+    for k, name in enumerate(fields):
+        bad = FireEntry(**{**good.__dict__, name: math.nan})
+        assert link.receive_fires(fires(1, k + 1, k, good, bad)) == Verdict.REJECTED, name
+    assert link.reject_reasons == {"nan/inf": 5 + len(fields)} and link.received == 0
+    assert link.receive_fires(fires(1, 1, 0, good)) == Verdict.ACCEPTED  # NaN front: not exchanged
+    assert link.alive_fires()[1].fires == (good,)
+
+
+def test_a_lost_message_is_never_also_rejected_but_a_bad_id_is_rejected_before_the_draw():
+    link = PeerLink(0, 3, seed=0, loss_probability=1.0, control_period_s=0.1)
+    assert link.receive_state(state(1, 1, 0, x=math.nan)) == Verdict.LOST
+    assert link.receive_fires(fires(2, 1, 0)) == Verdict.LOST
+    assert link.receive_state(state(5, 1, 0)) == Verdict.REJECTED
+    assert (link.lost, link.rejected, link.received) == (2, 1, 0)
+    assert link.expected(3) == set()
+    clear = PeerLink(0, 3, seed=0, loss_probability=0.0, control_period_s=0.1)
+    st_i, fi_i = FLEET_STATE_SPEC.loss_index, FLEET_FIRES_SPEC.loss_index
+    assert clear.expected(3) == {(1, st_i), (1, fi_i), (2, st_i), (2, fi_i)}
+
+
+def test_loss_draws_differ_per_topic_and_per_receiver():
+    """Independent draws per (sender, receiver, step, topic): at p = 0.5 the state and fires
+    messages of a step, or the same message at two receivers, agree about half the time."""
+    a = PeerLink(0, 3, seed=5, loss_probability=0.5, control_period_s=0.1)
+    b = PeerLink(1, 3, seed=5, loss_probability=0.5, control_period_s=0.1)
+    st_i, fi_i = FLEET_STATE_SPEC.loss_index, FLEET_FIRES_SPEC.loss_index
+    n = 400  # binomial(400, 0.5): sd 10; 5 sd
+    same_topic = sum(a.is_lost(2, k, st_i) == a.is_lost(2, k, fi_i) for k in range(n))
+    same_rx = sum(a.is_lost(2, k, st_i) == b.is_lost(2, k, st_i) for k in range(n))
+    seed = sum(a.is_lost(2, k, st_i) == PeerLink(0, 3, 6, 0.5, 0.1).is_lost(2, k, st_i) for k in range(n))
+    assert all(abs(c - n / 2) < 50 for c in (same_topic, same_rx, seed)), (same_topic, same_rx, seed)
+
+
+def test_state_and_fires_are_ordered_per_topic():
+    link = PeerLink(0, 2, seed=0, loss_probability=0.0, control_period_s=0.1)
+    assert link.receive_state(state(1, 5, 4)) == Verdict.ACCEPTED
+    assert link.receive_fires(fires(1, 5, 4)) == Verdict.ACCEPTED  # same step, other topic
+    assert link.receive_fires(fires(1, 5, 4)) == Verdict.REJECTED
+    assert link.receive_fires(fires(1, 4, 3)) == Verdict.REJECTED
+    assert link.reject_reasons == {"duplicate": 1, "old step": 1}
+    assert link.received == 2 and link.alive_fires()[1].step == 4 and link.alive_states()[1].step == 4
+
+
+def test_only_states_keep_a_peer_alive_and_a_threshold_of_one_crashes_at_once():
+    link = PeerLink(0, 3, seed=0, loss_probability=0.0, control_period_s=0.1, crash_threshold_steps=1)
+    link.receive_state(state(1, 1, 0))
+    link.receive_fires(fires(2, 1, 0))  # fires alone do not count as heard
+    ev = link.end_step(1)
+    assert [(e.kind, e.peer_id, e.step) for e in ev] == [("crashed", 2, 1)]
+    assert link.crashed_ids() == [2] and link.alive_fires() == {} and link.missed(2) == 1
+    assert link.end_step(2)[0].peer_id == 1  # 1 silent now
+    assert link.end_step(3) == [] and link.missed(1) == 2  # crashed once, not again
+
+
+def test_invalid_link_configuration_names_the_field():
+    with pytest.raises(ValueError, match="uav_id -1 outside 0..2"):
+        PeerLink(-1, 3, 0, 0.0, 0.1)
+    with pytest.raises(ValueError, match="loss_probability must be in"):
+        PeerLink(0, 3, 0, -0.1, 0.1)
+    PeerLink(0, 3, 0, 1.0, 0.1)  # both ends of [0, 1] are fine
+    with pytest.raises(ValueError, match="crash_threshold_steps must be >= 1"):
+        PeerLink(0, 3, 0, 0.0, 0.1, crash_threshold_steps=0)
+    with pytest.raises(ValueError, match="seed must be >= 0"):
+        PeerLink(0, 3, -1, 0.0, 0.1)
+    with pytest.raises(ValueError, match="outage ids must be >= 0"):
+        Outage(-1, 0, 0.0, 1.0)
+    with pytest.raises(ValueError, match="outage ids must be >= 0"):
+        Outage(0, -1, 0.0, 1.0)
+    with pytest.raises(ValueError, match="outage end_s 1.0 before start_s 2.0"):
+        Outage(0, 1, 2.0, 1.0)
+    assert Outage(0, 1, 1.0, 1.0).end_s == 1.0  # an empty window is allowed
