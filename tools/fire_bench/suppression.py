@@ -238,14 +238,73 @@ def bench_suppression(quick: bool, jobs: int = 2, out: Path | None = None) -> di
     return summary
 
 
+SECTION = "## Raster suppression"
+
+
+def read_runs(path: Path) -> list[dict]:
+    """The cases of a ``suppression_runs.jsonl`` (one JSON object a line), in the order finished."""
+    runs = []
+    for n, line in enumerate(path.read_text().splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
+            runs.append(json.loads(line))
+        except json.JSONDecodeError as e:
+            raise SystemExit(f"{path}:{n}: not a JSON object: {e}") from None
+    return runs
+
+
+def write_section(md: Path, summary: dict) -> None:
+    """Replace only the ``## Raster suppression`` section of ``md`` (up to the next ``## ``
+    heading) with :func:`fire_bench.markdown._suppression_section`; the rest of the page is left
+    byte for byte (other sections are edited by hand or other benchmarks at the same time)."""
+    from fire_bench.markdown import _suppression_section
+
+    lines = md.read_text().split("\n")
+    start = next((i for i, x in enumerate(lines) if x.startswith(SECTION)), None)
+    if start is None:
+        raise SystemExit(f"{md}: no line starting with {SECTION!r} to replace")
+    end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("## ")), len(lines))
+    md.write_text("\n".join(lines[:start] + _suppression_section(summary) + lines[end:]))
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m fire_bench.suppression", description=__doc__.split("\n")[0])
     p.add_argument("--quick", action="store_true", help="grass_brush_hill, seed 1, 300 s (3 missions)")
     p.add_argument("--jobs", type=int, default=2, help="parallel missions (default 2)")
     p.add_argument("--out", type=Path, default=Path("docs/bench"), help="results directory")
+    p.add_argument(
+        "--from-runs",
+        type=Path,
+        default=None,
+        metavar="JSONL",
+        help="run nothing: summarise and plot the finished cases of a suppression_runs.jsonl into --out",
+    )
+    p.add_argument(
+        "--write-section",
+        type=Path,
+        default=None,
+        metavar="MD",
+        help="also replace the Raster suppression section of this page (e.g. docs/benchmarks.md), only it",
+    )
     a = p.parse_args(argv)
-    s = bench_suppression(a.quick, a.jobs, a.out)
+    if a.from_runs is not None:
+        if not a.from_runs.is_file():
+            raise SystemExit(f"--from-runs: no file {a.from_runs}")
+        results = read_runs(a.from_runs)
+        a.out.mkdir(parents=True, exist_ok=True)
+        (a.out / "suppression_runs.json").write_text(json.dumps(results) + "\n")
+        s = summarise(results)
+        s["plots"] = plot(results, a.out)
+        s["command"] = (
+            "python -m fire_bench.suppression --jobs 2 --out DIR (= scripts/bench --only suppression)"
+        )
+        s["wall_s"] = round(sum(r["wall_s"] for r in results), 1)
+    else:
+        s = bench_suppression(a.quick, a.jobs, a.out)
     (a.out / "suppression.json").write_text(json.dumps(s, indent=2) + "\n")
+    if a.write_section is not None:
+        write_section(a.write_section, s)
     print(json.dumps(s, indent=2))
     return 0
 
