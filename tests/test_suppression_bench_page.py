@@ -3,7 +3,7 @@
 import json
 
 import pytest
-from fire_bench.suppression import main, read_runs, write_section
+from fire_bench.suppression import main, parse_case, read_runs, write_section
 
 PAGE = """# Benchmarks
 
@@ -77,3 +77,16 @@ def test_a_broken_runs_file_names_the_line(tmp_path):
 def test_from_runs_needs_the_file(tmp_path):
     with pytest.raises(SystemExit, match="--from-runs: no file"):
         main(["--from-runs", str(tmp_path / "missing.jsonl"), "--out", str(tmp_path)])
+
+
+def test_case_spec():
+    assert parse_case("grass_running:10:1:head") == ("grass_running", 10, 1, "head", 900.0)
+    for bad, why in [
+        ("grass_running:6:1", "expected SCENARIO:UAVS:SEED:TACTIC"),
+        ("ff_two_fires:6:1:head", "scenario must be one of"),
+        ("grass_running:6:1:frontal", "tactic must be one of"),
+        ("grass_running:six:1:head", "UAVS and SEED must be integers"),
+        ("grass_running:-1:1:head", "UAVS must be >= 0"),
+    ]:
+        with pytest.raises(SystemExit, match=why):
+            parse_case(bad)

@@ -1,6 +1,7 @@
 """Suppression benchmark (issue [suppression]): burned area against the no-fleet baseline.
 
-usage: python -m fire_bench.suppression [--quick] [--jobs N] [--out DIR]
+usage: python -m fire_bench.suppression [--quick] [--jobs N] [--out DIR] [--case SC:UAVS:SEED:TACTIC ...]
+       python -m fire_bench.suppression --from-runs JSONL [--from-runs JSONL ...] --out DIR [--write-section MD]
        (or scripts/bench --only suppression)
 
 Runs in-process (``fire_uav_agent.testing.harness``: the real World and the real Agents, no
@@ -221,8 +222,29 @@ def _init_log(path: Path | None) -> None:
     _LOG = path
 
 
-def bench_suppression(quick: bool, jobs: int = 2, out: Path | None = None) -> dict:
-    todo = cases(quick)
+def parse_case(text: str, duration_s: float = 900.0) -> tuple:
+    """``SCENARIO:UAVS:SEED:TACTIC`` (``--case``) -> a case of :func:`cases`."""
+    parts = text.split(":")
+    if len(parts) != 4:
+        raise SystemExit(f"--case {text!r}: expected SCENARIO:UAVS:SEED:TACTIC, e.g. grass_running:6:1:head")
+    sc, uavs, seed, tactic = parts
+    if sc not in SCENARIOS:
+        raise SystemExit(f"--case {text!r}: scenario must be one of {list(SCENARIOS)}")
+    if tactic not in TACTICS:
+        raise SystemExit(f"--case {text!r}: tactic must be one of {list(TACTICS)}")
+    try:
+        n, k = int(uavs), int(seed)
+    except ValueError:
+        raise SystemExit(f"--case {text!r}: UAVS and SEED must be integers") from None
+    if n < 0:
+        raise SystemExit(f"--case {text!r}: UAVS must be >= 0")
+    return (sc, n, k, tactic, duration_s)
+
+
+def bench_suppression(
+    quick: bool, jobs: int = 2, out: Path | None = None, todo: list[tuple] | None = None
+) -> dict:
+    todo = cases(quick) if todo is None else todo
     log = None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
@@ -278,7 +300,9 @@ def main(argv: list[str] | None = None) -> int:
         type=Path,
         default=None,
         metavar="JSONL",
-        help="run nothing: summarise and plot the finished cases of a suppression_runs.jsonl into --out",
+        action="append",
+        help="run nothing: summarise and plot the finished cases of these suppression_runs.jsonl "
+        "(repeatable: a benchmark run in parts) into --out",
     )
     p.add_argument(
         "--write-section",
@@ -287,11 +311,21 @@ def main(argv: list[str] | None = None) -> int:
         metavar="MD",
         help="also replace the Raster suppression section of this page (e.g. docs/benchmarks.md), only it",
     )
+    p.add_argument(
+        "--case",
+        action="append",
+        default=[],
+        metavar="SCENARIO:UAVS:SEED:TACTIC",
+        help="run only these cases, in this order (repeatable; 900 s each), e.g. grass_running:6:1:head",
+    )
     a = p.parse_args(argv)
+    todo = [parse_case(c) for c in a.case] or None
     if a.from_runs is not None:
-        if not a.from_runs.is_file():
-            raise SystemExit(f"--from-runs: no file {a.from_runs}")
-        results = read_runs(a.from_runs)
+        results = []
+        for path in a.from_runs:
+            if not path.is_file():
+                raise SystemExit(f"--from-runs: no file {path}")
+            results += read_runs(path)
         a.out.mkdir(parents=True, exist_ok=True)
         (a.out / "suppression_runs.json").write_text(json.dumps(results) + "\n")
         s = summarise(results)
@@ -301,7 +335,7 @@ def main(argv: list[str] | None = None) -> int:
         )
         s["wall_s"] = round(sum(r["wall_s"] for r in results), 1)
     else:
-        s = bench_suppression(a.quick, a.jobs, a.out)
+        s = bench_suppression(a.quick, a.jobs, a.out, todo)
     (a.out / "suppression.json").write_text(json.dumps(s, indent=2) + "\n")
     if a.write_section is not None:
         write_section(a.write_section, s)
