@@ -1,6 +1,7 @@
 """Suppression benchmark (issue [suppression]): burned area against the no-fleet baseline.
 
-usage: python -m fire_bench.suppression [--quick] [--jobs N] [--out DIR]
+usage: python -m fire_bench.suppression [--quick] [--jobs N] [--out DIR] [--case SC:UAVS:SEED:TACTIC ...]
+       python -m fire_bench.suppression --from-runs JSONL [--from-runs JSONL ...] --out DIR [--write-section MD]
        (or scripts/bench --only suppression)
 
 Runs in-process (``fire_uav_agent.testing.harness``: the real World and the real Agents, no
@@ -221,8 +222,29 @@ def _init_log(path: Path | None) -> None:
     _LOG = path
 
 
-def bench_suppression(quick: bool, jobs: int = 2, out: Path | None = None) -> dict:
-    todo = cases(quick)
+def parse_case(text: str, duration_s: float = 900.0) -> tuple:
+    """``SCENARIO:UAVS:SEED:TACTIC`` (``--case``) -> a case of :func:`cases`."""
+    parts = text.split(":")
+    if len(parts) != 4:
+        raise SystemExit(f"--case {text!r}: expected SCENARIO:UAVS:SEED:TACTIC, e.g. grass_running:6:1:head")
+    sc, uavs, seed, tactic = parts
+    if sc not in SCENARIOS:
+        raise SystemExit(f"--case {text!r}: scenario must be one of {list(SCENARIOS)}")
+    if tactic not in TACTICS:
+        raise SystemExit(f"--case {text!r}: tactic must be one of {list(TACTICS)}")
+    try:
+        n, k = int(uavs), int(seed)
+    except ValueError:
+        raise SystemExit(f"--case {text!r}: UAVS and SEED must be integers") from None
+    if n < 0:
+        raise SystemExit(f"--case {text!r}: UAVS must be >= 0")
+    return (sc, n, k, tactic, duration_s)
+
+
+def bench_suppression(
+    quick: bool, jobs: int = 2, out: Path | None = None, todo: list[tuple] | None = None
+) -> dict:
+    todo = cases(quick) if todo is None else todo
     log = None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
@@ -238,14 +260,85 @@ def bench_suppression(quick: bool, jobs: int = 2, out: Path | None = None) -> di
     return summary
 
 
+SECTION = "## Raster suppression"
+
+
+def read_runs(path: Path) -> list[dict]:
+    """The cases of a ``suppression_runs.jsonl`` (one JSON object a line), in the order finished."""
+    runs = []
+    for n, line in enumerate(path.read_text().splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
+            runs.append(json.loads(line))
+        except json.JSONDecodeError as e:
+            raise SystemExit(f"{path}:{n}: not a JSON object: {e}") from None
+    return runs
+
+
+def write_section(md: Path, summary: dict) -> None:
+    """Replace only the ``## Raster suppression`` section of ``md`` (up to the next ``## ``
+    heading) with :func:`fire_bench.markdown._suppression_section`; the rest of the page is left
+    byte for byte (other sections are edited by hand or other benchmarks at the same time)."""
+    from fire_bench.markdown import _suppression_section
+
+    lines = md.read_text().split("\n")
+    start = next((i for i, x in enumerate(lines) if x.startswith(SECTION)), None)
+    if start is None:
+        raise SystemExit(f"{md}: no line starting with {SECTION!r} to replace")
+    end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("## ")), len(lines))
+    md.write_text("\n".join(lines[:start] + _suppression_section(summary) + lines[end:]))
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m fire_bench.suppression", description=__doc__.split("\n")[0])
     p.add_argument("--quick", action="store_true", help="grass_brush_hill, seed 1, 300 s (3 missions)")
     p.add_argument("--jobs", type=int, default=2, help="parallel missions (default 2)")
     p.add_argument("--out", type=Path, default=Path("docs/bench"), help="results directory")
+    p.add_argument(
+        "--from-runs",
+        type=Path,
+        default=None,
+        metavar="JSONL",
+        action="append",
+        help="run nothing: summarise and plot the finished cases of these suppression_runs.jsonl "
+        "(repeatable: a benchmark run in parts) into --out",
+    )
+    p.add_argument(
+        "--write-section",
+        type=Path,
+        default=None,
+        metavar="MD",
+        help="also replace the Raster suppression section of this page (e.g. docs/benchmarks.md), only it",
+    )
+    p.add_argument(
+        "--case",
+        action="append",
+        default=[],
+        metavar="SCENARIO:UAVS:SEED:TACTIC",
+        help="run only these cases, in this order (repeatable; 900 s each), e.g. grass_running:6:1:head",
+    )
     a = p.parse_args(argv)
-    s = bench_suppression(a.quick, a.jobs, a.out)
+    todo = [parse_case(c) for c in a.case] or None
+    if a.from_runs is not None:
+        results = []
+        for path in a.from_runs:
+            if not path.is_file():
+                raise SystemExit(f"--from-runs: no file {path}")
+            results += read_runs(path)
+        a.out.mkdir(parents=True, exist_ok=True)
+        (a.out / "suppression_runs.json").write_text(json.dumps(results) + "\n")
+        s = summarise(results)
+        s["plots"] = plot(results, a.out)
+        s["command"] = (
+            "python -m fire_bench.suppression --jobs 2 --out DIR (= scripts/bench --only suppression)"
+        )
+        s["wall_s"] = round(sum(r["wall_s"] for r in results), 1)
+    else:
+        s = bench_suppression(a.quick, a.jobs, a.out, todo)
     (a.out / "suppression.json").write_text(json.dumps(s, indent=2) + "\n")
+    if a.write_section is not None:
+        write_section(a.write_section, s)
     print(json.dumps(s, indent=2))
     return 0
 

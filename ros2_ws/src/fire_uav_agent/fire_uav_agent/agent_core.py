@@ -58,6 +58,7 @@ from .tactics import (
     front_density,
     front_weights,
     layer_height,
+    raster_layers,
     release_now,
 )
 
@@ -179,7 +180,18 @@ class Agent:
         # raster suppression (issue [suppression]): front picture, sharing, tactic
         self.front: FrontPicture | None = None  # made at the first FireCells with a cell size
         self.front_sharing = FrontSharing()
-        self.tactic = TacticConfig(tactic=cfg.mission.tactic, release_radius_m=0.8 * cfg.drop_radius_m)
+        layers, step, top = raster_layers(  # the altitude stack over a raster fire
+            cfg.vehicle.collision_radius_m,
+            cfg.sensors.altimeter.max_range_m,
+            cfg.guidance.refill_height_fraction * cfg.vehicle.refill_height_m,
+        )
+        self.tactic = TacticConfig(
+            tactic=cfg.mission.tactic,
+            release_radius_m=0.8 * cfg.drop_radius_m,
+            layers=layers,
+            layer_step_m=step,
+            layer_top_m=top,
+        )
         self._peer_fronts: list[PeerFront] = []
         self._front_aim: tuple[float, float] | None = None
         self._anchor: tuple[float, float] | None = None

@@ -198,6 +198,8 @@ class ControlGains:
     ka: float = 5.0  # [1/s]
     kz: float = 5.0  # [1/s]
     vz_cmd_max_mps: float = 20.0
+    climb_fraction: float = 0.8  # [-] share of the climb-rate cap terrain following may use
+    terrain_lookahead_s: float = 1.0  # [s] the slope is also read this far ahead along the heading
 
 
 def control_law(
@@ -217,6 +219,18 @@ def control_law(
     steer with ``omega = K_a * wrap(theta_error)`` (Eq. 11, wrapped to (-pi, pi]). Eq. 12 holds
     ``height_m`` above the terrain E(x, y), plus a feed-forward of the terrain slope along the
     heading (v_lin * grad E . heading) so hills do not make the height lag.
+
+    Climb-limited speed (our addition; FF's terrain is flat enough never to need it): the terrain
+    under a UAV at speed v on a grade G = |grad E| rises or falls at up to v G, and the commanded
+    climb rate is capped at vz_cap = min(vz_max, ``vz_cmd_max_mps``). Where v G > vz_cap the
+    height error grows without bound -- at 100 m/s on a 29 % slope the ground rises 29 m/s
+    against a 20 m/s climb, and the UAV flew into the hill (grass_brush_hill, the collisions of
+    issue [suppression] happened at ~0 m above ground, where the layers no longer separate).
+    So v_lin is also capped at ``climb_fraction`` x vz_cap / G, with G the larger grade of here
+    and ``terrain_lookahead_s`` ahead along the heading (any heading: the UAV may turn), never
+    below v_stall. Above a grade of climb_fraction x vz_cap / v_stall (0.36 for the defaults) the
+    margin shrinks, above vz_cap / v_stall (0.45) the cap cannot help: a fixed-wing at v_stall
+    cannot follow such terrain (grass_brush_hill's steepest grade is 0.40).
     """
     x, y, z, th = (float(v) for v in s)
     dx, dy = float(target_xy[0]) - x, float(target_xy[1]) - y
@@ -225,11 +239,18 @@ def control_law(
         limits.v_max_mps if v_cap_mps is None else max(limits.v_stall_mps, min(v_cap_mps, limits.v_max_mps))
     )
     v_lin = min(max(gains.kp * dist, limits.v_stall_mps), v_hi)
+    vz_cap = min(limits.vz_max_mps, gains.vz_cmd_max_mps)
+    look = v_hi * gains.terrain_lookahead_s
+    grade = max(
+        math.hypot(*terrain.gradient(x, y)),
+        math.hypot(*terrain.gradient(x + look * math.cos(th), y + look * math.sin(th))),
+    )
+    if grade > 0.0:  # climb-limited speed (docstring)
+        v_lin = max(limits.v_stall_mps, min(v_lin, gains.climb_fraction * vz_cap / grade))
     err = wrap_angle(math.atan2(dy, dx) - th) if dist > 1e-9 else 0.0  # Eq. 11
     omega = max(-limits.omega_max_radps, min(limits.omega_max_radps, gains.ka * err))
     e = float(terrain.elevation(x, y))
     gx, gy = terrain.gradient(x, y)
     ff = v_lin * (gx * math.cos(th) + gy * math.sin(th))
-    vz_cap = min(limits.vz_max_mps, gains.vz_cmd_max_mps)
     v_z = max(-vz_cap, min(vz_cap, gains.kz * (e - z + height_m) + ff))  # Eq. 12
     return v_lin, v_z, omega

@@ -53,6 +53,7 @@ __all__ = [
     "front_density",
     "front_weights",
     "layer_height",
+    "raster_layers",
     "release_now",
 ]
 
@@ -70,8 +71,10 @@ class TacticConfig:
     min_burning_cells: int = 3  # [-] release rule
     release_radius_m: float = 16.0  # [m] release rule (drop footprint minus an EKF margin)
     direct_spread_m: float = 25.0  # [m] radius of the direct-run points around a track centre
-    layers: int = 6  # [-] altitude layers of the fleet over a raster fire
-    layer_step_m: float = 3.5  # [m] between layers (> the 3 m default collision radius)
+    direct_points: int = 6  # [-] points of the direct-run circle (one per UAV id modulo this)
+    layers: int = 4  # [-] altitude layers of the fleet over a raster fire (raster_layers)
+    layer_step_m: float = 8.0  # [m] between layers (raster_layers: 2 x 3 m radius + 2 m)
+    layer_top_m: float = 36.0  # [m above terrain] the highest layer (raster_layers)
 
     def __post_init__(self) -> None:
         if self.tactic not in TACTICS:
@@ -84,32 +87,82 @@ class TacticConfig:
             raise ValueError(f"tactic min_burning_cells must be >= 1, got {self.min_burning_cells}")
         if not self.release_radius_m > 0:
             raise ValueError(f"tactic release_radius_m must be > 0, got {self.release_radius_m}")
+        if self.direct_points < 1:
+            raise ValueError(f"tactic direct_points must be >= 1, got {self.direct_points}")
         if self.layers < 1:
             raise ValueError(f"tactic layers must be >= 1, got {self.layers}")
+        if not self.layer_step_m >= 0:
+            raise ValueError(f"tactic layer_step_m must be >= 0, got {self.layer_step_m}")
+        bottom = self.layer_top_m - (self.layers - 1) * self.layer_step_m
+        if not bottom > 0:
+            raise ValueError(
+                f"tactic layers do not fit above the ground: {self.layers} layers {self.layer_step_m} m apart "
+                f"below {self.layer_top_m} m put the lowest at {bottom:g} m"
+            )
 
-    def layer_height_m(self, uav_id: int, flight_height_m: float) -> float:
-        return layer_height(uav_id, flight_height_m, self.layers, self.layer_step_m)
+    def layer_height_m(self, uav_id: int, flight_height_m: float = 0.0) -> float:
+        """Height [m above terrain] of ``uav_id``'s raster layer: ``layer_top_m`` down in steps of
+        ``layer_step_m``, UAV id modulo ``layers`` (``flight_height_m`` is not used: the stack is
+        bounded by the altimeter's range, see :func:`raster_layers`)."""
+        return self.layer_top_m - self.layer_step_m * (self.layers - 1 - uav_id % self.layers)
+
+
+# [m] |true height above terrain - command| in level flight inside the altimeter's range:
+# p99 1.7 m, measured over grass_brush_hill (docs/suppression.md "Collisions")
+TRACKING_ERROR_M = 2.0
+MAX_LAYERS = 6
+
+
+def raster_layers(
+    collision_radius_m: float,
+    altimeter_range_m: float,
+    floor_m: float,
+    tracking_error_m: float = TRACKING_ERROR_M,
+) -> tuple[int, float, float]:
+    """(layers, step [m], top [m above terrain]) of the raster altitude stack (our choice, not in FF).
+
+    Two UAVs each on its own layer must not come within the collision radius R whatever their
+    horizontal tracks: step = 2 R + e, with e the measured height tracking error (the world's
+    collision is 3-D, R between centres, so R + 2 e would do; 2 R + e covers it while e <= R).
+    The top layer is 2 e below the altimeter's range, so that a UAV there stays inside it with
+    margin (above it the EKF's height runs on dead reckoning and the error grows: the > 2 m
+    errors measured were all from the old 38.75 m layer, just under the 40 m range), the bottom
+    one no lower than ``floor_m`` (the refill height, the lowest the fleet flies anyway). As many
+    layers as fit, at most MAX_LAYERS: for the defaults (R 3 m, e 2 m, range 40 m, floor 7.5 m)
+    4 layers 8 m apart at 12-36 m, so a fleet of more than 4 shares layers (UAV id modulo 4) and
+    two UAVs of one layer are kept apart by the avoider (separation) alone.
+    """
+    step = 2.0 * collision_radius_m + tracking_error_m
+    top = altimeter_range_m - 2.0 * tracking_error_m
+    if not top > floor_m:
+        raise ValueError(
+            f"raster layers: the altimeter range minus twice the tracking error ({top:g} m) is not above "
+            f"the floor ({floor_m:g} m)"
+        )
+    n = MAX_LAYERS if step <= 0 else min(MAX_LAYERS, 1 + int((top - floor_m) // step))
+    return n, step, top
 
 
 def layer_height(uav_id: int, flight_height_m: float, layers: int = 6, step_m: float = 3.5) -> float:
-    """Flight height [m above terrain] of ``uav_id`` in suppression: altitude layers centred on the
-    flight height (fire services separate aircraft over a fire by altitude); every objective that
-    flies at the flight height (search, monitor, suppress, refill transit) uses it.
+    """Flight height [m above terrain] of ``uav_id``: ``layers`` altitude layers ``step_m`` apart
+    centred on the flight height (fire services separate aircraft over a fire by altitude); every
+    objective that flies at the flight height (search, monitor, suppress, refill transit) uses it.
+    Used by the FF mode (``GuidanceConfig.ff_layers``); a raster fire uses
+    :meth:`TacticConfig.layer_height_m` (a stack top-down from below the altimeter's range).
 
     Our addition, not in FF: the Voronoi cells keep UAVs apart only while each flies inside its
     own cell, and over a fire they cross cells on drop and refill runs; at one common height two
-    crossing UAVs collide (the world's 3-D collision model). The layers span +-2.5 steps around
-    the flight height (21-39 m for the default 30 m, inside the 40 m altimeter range).
+    crossing UAVs collide (the world's 3-D collision model).
     """
     return flight_height_m + step_m * ((uav_id % layers) - (layers - 1) / 2.0)
 
 
 def direct_run_point(centre_xy: tuple[float, float], uav_id: int, cfg: TacticConfig) -> tuple[float, float]:
     """Where a stalled UAV's direct run goes over a raster fire with no front: its own point on a
-    circle of ``direct_spread_m`` around the track centre, ``layers`` points evenly spaced (25 m
+    circle of ``direct_spread_m`` around the track centre, ``direct_points`` points evenly spaced (25 m
     radius: neighbours 25 m apart), so that the fleet's runs do not converge on one point. Our
     choice; FF's direct run aims at the centre itself."""
-    a = 2.0 * math.pi * (uav_id % cfg.layers) / cfg.layers
+    a = 2.0 * math.pi * (uav_id % cfg.direct_points) / cfg.direct_points
     return centre_xy[0] + cfg.direct_spread_m * math.cos(a), centre_xy[1] + cfg.direct_spread_m * math.sin(a)
 
 

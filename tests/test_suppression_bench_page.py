@@ -1,0 +1,92 @@
+"""fire_bench.suppression --from-runs / --write-section: only the raster section of the page changes."""
+
+import json
+
+import pytest
+from fire_bench.suppression import main, parse_case, read_runs, write_section
+
+PAGE = """# Benchmarks
+
+## FF Table I: drop interval vs fleet size
+
+FF engineer's text, edited by hand.
+
+## Raster suppression: burned area, head vs flank, fleet size
+
+old table
+
+## Scale: lockstep step rate, CPU and memory
+
+other text
+"""
+
+
+def _run(sc: str, uavs: int, seed: int, tactic: str, burned: float) -> dict:
+    return {
+        "scenario": sc,
+        "uavs": uavs,
+        "seed": seed,
+        "tactic": tactic,
+        "duration_s": 900.0,
+        "burned_area_m2": burned,
+        "hit_rate": None if uavs == 0 else 1.0,
+        "drops": 0 if uavs == 0 else 30,
+        "water_on_burning_kg": 0.0,
+        "contained_at_s": None if uavs == 0 else 170.0,
+        "crashes": 0,
+        "area_t_s": [0.0, 900.0],
+        "area_m2": [burned / 2, burned],
+        "wall_s": 10.0,
+    }
+
+
+def test_write_section_replaces_only_the_raster_section(tmp_path):
+    md = tmp_path / "benchmarks.md"
+    md.write_text(PAGE)
+    runs = tmp_path / "suppression_runs.jsonl"
+    rows = [
+        _run("grass_brush_hill", 0, 1, "none", 235600.0),
+        _run("grass_brush_hill", 6, 1, "head", 27400.0),
+        _run("grass_running", 0, 1, "none", 531600.0),
+    ]
+    runs.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    assert main(["--from-runs", str(runs), "--out", str(tmp_path / "bench"), "--write-section", str(md)]) == 0
+    text = md.read_text()
+    before, after = PAGE.split("## Raster suppression")[0], PAGE.split("## Scale")[1]
+    assert text.startswith(before) and text.endswith("## Scale" + after)  # the rest byte for byte
+    assert "old table" not in text
+    assert "| grass_brush_hill | head | 1 | 23.56 | 2.74 | 0.12 |" in text  # 27400 / 235600 = 0.116
+    assert "| 0 | 53.16 |" in text  # the fleet-size table (grass_running, no fleet)
+    assert (tmp_path / "bench" / "suppression_area.png").is_file()
+
+
+def test_a_page_without_the_section_is_refused(tmp_path):
+    md = tmp_path / "benchmarks.md"
+    md.write_text("# Benchmarks\n\n## Scale\n")
+    with pytest.raises(SystemExit, match="no line starting with '## Raster suppression'"):
+        write_section(md, {"scenarios": {}, "fleet_size": []})
+
+
+def test_a_broken_runs_file_names_the_line(tmp_path):
+    p = tmp_path / "suppression_runs.jsonl"
+    p.write_text('{"scenario": "x"}\n{not json\n')
+    with pytest.raises(SystemExit, match=r"suppression_runs.jsonl:2: not a JSON object"):
+        read_runs(p)
+
+
+def test_from_runs_needs_the_file(tmp_path):
+    with pytest.raises(SystemExit, match="--from-runs: no file"):
+        main(["--from-runs", str(tmp_path / "missing.jsonl"), "--out", str(tmp_path)])
+
+
+def test_case_spec():
+    assert parse_case("grass_running:10:1:head") == ("grass_running", 10, 1, "head", 900.0)
+    for bad, why in [
+        ("grass_running:6:1", "expected SCENARIO:UAVS:SEED:TACTIC"),
+        ("ff_two_fires:6:1:head", "scenario must be one of"),
+        ("grass_running:6:1:frontal", "tactic must be one of"),
+        ("grass_running:six:1:head", "UAVS and SEED must be integers"),
+        ("grass_running:-1:1:head", "UAVS must be >= 0"),
+    ]:
+        with pytest.raises(SystemExit, match=why):
+            parse_case(bad)
