@@ -49,7 +49,7 @@ from .mission import Decision, Mission, MissionConfig, MissionView
 from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
 from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
-from .separation import Avoider
+from .separation import Avoider, peer_rows
 from .staleness_search import StalenessSearch
 from .tactics import (
     TacticConfig,
@@ -610,8 +610,16 @@ class Agent:
             if old is None or p.step != old[0]:
                 self._peer_motion[j] = (p.step, p.x_m, p.y_m, vx, vy)
             lead = (self.last_step + 1 - p.step) * T  # from the peer's t to our t_{k+1}
-            rows.append((p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy))
-            right_of_way.append(j < cfg.uav_id)
+            for row in peer_rows(
+                (p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy),
+                (p.centroid_x_m, p.centroid_y_m),
+                lim.v_stall_mps,
+                cfg.separation,
+                (float(s[0]), float(s[1])),
+                j < cfg.uav_id,
+            ):
+                rows.append(row)
+                right_of_way.append(j < cfg.uav_id)
         if not rows:
             return cmd
         v, vz, om = cmd
