@@ -59,9 +59,9 @@ def test_known_fires_fleet_keeps_apart_lands_at_home_and_hits(uavs, seed):
         pytest.param(
             14, 1,
             marks=pytest.mark.xfail(
-                reason="open (issue ff-fidelity): two UAVs of one layer fly side by side 5.8 m apart "
-                "on the attack of fire 2 (t = 63 s); 2 of 11 drops miss; one UAV lands 5.26 m from "
-                "home (its EKF position is 3-4 m off at touchdown, the touchdown radius is 2.5 m)",
+                reason="open (issue ff-fidelity): two searching UAVs of one layer close to 6.1 m at "
+                "t = 63 s (their search waypoints jump 50-70 m a step); 2 of 11 drops miss; one UAV "
+                "lands 5.26 m from home (EKF position error at touchdown, touchdown radius 2.5 m)",
                 strict=False,
             ),
         ),
