@@ -45,7 +45,7 @@ import numpy as np
 
 from .estimation import wrap_angle
 
-__all__ = ["Avoider", "SeparationConfig", "avoid_heading", "closest_approach_m", "peer_rows"]
+__all__ = ["Avoider", "SeparationConfig", "avoid_heading", "closest_approach_m", "hold_layer", "peer_rows"]
 
 
 @dataclass(frozen=True)
@@ -79,6 +79,23 @@ def closest_approach_m(rel_pos_m: np.ndarray, rel_vel_mps: np.ndarray, horizon_s
     t = np.clip(t, 0.0, horizon_s)
     c = r + w * t[:, None]
     return np.hypot(c[:, 0], c[:, 1])
+
+
+def hold_layer(
+    own_xyz_m: tuple[float, float, float],
+    right_of_way_xyz_m: list[tuple[float, float, float]],
+    cfg: SeparationConfig,
+) -> bool:
+    """Whether a landing UAV keeps its layer height instead of descending (FF IV-D d; our addition).
+
+    FF's landing (IV-D d) descends "within a certain distance" of the start point and says
+    nothing of peers. Our start points are 30 m apart, so two neighbours land side by side, and
+    the altitude layers that kept them apart (14 m) close in the descent (measured: 9.3 m, known
+    fires, 14 UAVs, seed 2). A UAV holds its layer while any peer with the right of way (rows of
+    ``right_of_way_xyz_m``, positions [m; map]) is below it within ``cfg.radius_m`` horizontally.
+    """
+    x, y, z = own_xyz_m
+    return any(math.hypot(px - x, py - y) < cfg.radius_m and pz < z for px, py, pz in right_of_way_xyz_m)
 
 
 def peer_rows(

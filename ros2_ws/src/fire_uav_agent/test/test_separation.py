@@ -4,7 +4,14 @@ import math
 
 import numpy as np
 import pytest
-from fire_uav_agent.separation import Avoider, SeparationConfig, avoid_heading, closest_approach_m, peer_rows
+from fire_uav_agent.separation import (
+    Avoider,
+    SeparationConfig,
+    avoid_heading,
+    closest_approach_m,
+    hold_layer,
+    peer_rows,
+)
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -131,6 +138,15 @@ def test_a_uav_avoids_where_a_reversing_peer_will_fly_not_only_its_straight_line
     assert changed and clear
     u = 100.0 * np.array([math.cos(head), math.sin(head)]) - turned[3:5]
     assert closest_approach_m(np.array(me[:2]) - turned[:2], u, cfg.horizon_s)[0] >= cfg.radius_m
+
+
+def test_a_landing_uav_holds_its_layer_only_over_a_right_of_way_peer_near_and_below():
+    cfg = SeparationConfig()
+    me = (100.0, 240.0, 37.0)  # known fires, 14 UAVs, seed 2 at t = 26 s: UAV 1 over UAV 0
+    assert hold_layer(me, [(107.0, 236.0, 23.0)], cfg)  # 8 m off, 14 m below: descending meets it
+    assert not hold_layer(me, [(107.0, 236.0, 40.0)], cfg)  # above us: our descent opens the gap
+    assert not hold_layer(me, [(130.0, 240.0, 23.0)], cfg)  # 30 m off (the start-point spacing)
+    assert not hold_layer(me, [], cfg)
 
 
 def test_bad_config_is_refused_with_the_field_named():
