@@ -49,7 +49,7 @@ from .mission import Decision, Mission, MissionConfig, MissionView
 from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
 from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
-from .separation import Avoider
+from .separation import Avoider, hold_layer, peer_rows
 from .staleness_search import StalenessSearch
 from .tactics import (
     TacticConfig,
@@ -557,6 +557,13 @@ class Agent:
                 low = gd.land_height_fraction * veh.landing_height_m
                 flat = gd.land_flat_fraction
                 height = low + (cruise - low) * max(0.0, (d - flat * r) / ((1.0 - flat) * r))
+                below = [
+                    (p.x_m, p.y_m, p.z_m)
+                    for j, p in self.link.alive_states().items()
+                    if j < cfg.uav_id and p.objective not in (Objective.GROUNDED, Objective.LANDED)
+                ]
+                if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
+                    height = max(height, cruise)  # keep the layer over a landing right-of-way peer
                 agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
                 if agl < gd.touchdown_agl_fraction * veh.landing_height_m and d <= gd.touchdown_radius_m:
                     return (0.0, -gd.touchdown_sink_mps, 0.0)  # below stall speed near the ground: it lands
@@ -622,8 +629,16 @@ class Agent:
             if old is None or p.step != old[0]:
                 self._peer_motion[j] = (p.step, p.x_m, p.y_m, vx, vy)
             lead = (self.last_step + 1 - p.step) * T  # from the peer's t to our t_{k+1}
-            rows.append((p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy))
-            right_of_way.append(j < cfg.uav_id)
+            for row in peer_rows(
+                (p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy),
+                (p.centroid_x_m, p.centroid_y_m),
+                lim.v_stall_mps,
+                cfg.separation,
+                (float(s[0]), float(s[1])),
+                j < cfg.uav_id,
+            ):
+                rows.append(row)
+                right_of_way.append(j < cfg.uav_id)
         if not rows:
             return cmd
         v, vz, om = cmd

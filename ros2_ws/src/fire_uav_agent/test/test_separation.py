@@ -4,7 +4,14 @@ import math
 
 import numpy as np
 import pytest
-from fire_uav_agent.separation import Avoider, SeparationConfig, avoid_heading, closest_approach_m
+from fire_uav_agent.separation import (
+    Avoider,
+    SeparationConfig,
+    avoid_heading,
+    closest_approach_m,
+    hold_layer,
+    peer_rows,
+)
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -96,6 +103,50 @@ def test_crossing_flights_through_one_point_keep_ten_metres(paths):
     if min(math.dist(a, b) for i, a in enumerate(starts) for b in starts[i + 1 :]) < 40:
         return  # starts closer than the band: not an encounter this test is about
     assert _fly(starts, goals, steps=120) >= 10.0
+
+
+def test_a_peer_about_to_reverse_gets_a_second_prediction_towards_its_centroid():
+    cfg = SeparationConfig()
+    east = (0.0, 0.0, 30.0, 100.0, 0.0)
+    rows = peer_rows(east, (-300.0, 0.0), 44.7, cfg, own_xy=(-40.0, 0.0))
+    assert rows[0] == east and len(rows) == 2
+    assert rows[1][3] == pytest.approx(-100.0) and rows[1][4] == pytest.approx(0.0, abs=1e-9)
+    assert peer_rows(east, (300.0, 10.0), 44.7, cfg) == [east]  # flying at it already: one row
+    assert peer_rows(east, (-300.0, 0.0), 44.7, cfg, right_of_way=False) == [east]  # it yields to us
+    assert peer_rows(east, (-300.0, 0.0), 44.7, cfg, own_xy=(-100.0, 0.0)) == [east]  # beyond yield_m
+    assert peer_rows(east, (math.nan, 0.0), 44.7, cfg) == [east]
+    assert peer_rows(east, (-300.0, 0.0), 44.7, SeparationConfig(intent=False)) == [east]
+    slow = peer_rows((0.0, 0.0, 30.0, 0.0, 0.0), (0.0, 50.0), 44.7, cfg)[1]  # no velocity yet: v_stall
+    assert slow[3:] == pytest.approx((0.0, 44.7))
+
+
+def test_a_uav_avoids_where_a_reversing_peer_will_fly_not_only_its_straight_line():
+    """Issue 16's drop-point crossing: a peer with the right of way, 40 m south, flies east at
+    100 m/s; it has dropped and published a centroid (-100, 40) behind it, across our path west.
+    Its straight line diverges from ours (clear); the turn it is about to make (10 rad/s, about
+    0.3 s) puts it within 8 m of us in under a second. Only the second prediction sees it."""
+    cfg = SeparationConfig()
+    me, peer = (0.0, 40.0, 30.0), (0.0, 0.0, 30.0, 100.0, 0.0)
+    straight = np.array([peer])
+    head, changed, _ = avoid_heading(me, 100.0, math.pi, straight, cfg, yield_to=np.ones(1, bool))
+    assert not changed and head == math.pi  # the straight line alone sees no conflict
+    rows = np.array(peer_rows(peer, (-100.0, 40.0), 44.7, cfg, own_xy=me[:2]))
+    turned = rows[1]
+    u = -100.0 * np.array([1.0, 0.0]) - turned[3:5]  # our relative velocity on the desired heading
+    assert closest_approach_m(np.array(me[:2]) - turned[:2], u, cfg.horizon_s)[0] < 10.0
+    head, changed, clear = avoid_heading(me, 100.0, math.pi, rows, cfg, yield_to=np.ones(2, bool))
+    assert changed and clear
+    u = 100.0 * np.array([math.cos(head), math.sin(head)]) - turned[3:5]
+    assert closest_approach_m(np.array(me[:2]) - turned[:2], u, cfg.horizon_s)[0] >= cfg.radius_m
+
+
+def test_a_landing_uav_holds_its_layer_only_over_a_right_of_way_peer_near_and_below():
+    cfg = SeparationConfig()
+    me = (100.0, 240.0, 37.0)  # known fires, 14 UAVs, seed 2 at t = 26 s: UAV 1 over UAV 0
+    assert hold_layer(me, [(107.0, 236.0, 23.0)], cfg)  # 8 m off, 14 m below: descending meets it
+    assert not hold_layer(me, [(107.0, 236.0, 40.0)], cfg)  # above us: our descent opens the gap
+    assert not hold_layer(me, [(130.0, 240.0, 23.0)], cfg)  # 30 m off (the start-point spacing)
+    assert not hold_layer(me, [], cfg)
 
 
 def test_bad_config_is_refused_with_the_field_named():
