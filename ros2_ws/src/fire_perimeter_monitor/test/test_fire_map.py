@@ -224,3 +224,24 @@ def test_circular_fill_interpolates_across_the_wrap():
     one = np.full(6, np.nan)
     one[4] = 3.0
     assert circular_fill(one).tolist() == [3.0] * 6
+
+
+def test_angle_just_below_zero_is_in_the_last_bin():
+    """atan2 of (1, -1e-300) is -1e-300, whose mod 2 pi rounds to 2 pi itself: still the last bin."""
+    for bins in (8, 360):
+        assert angle_bin(1.0, -1e-300, 0.0, 0.0, bins).tolist() == bins - 1
+    assert FireMap(0.0, 0.0, bin_count=8).filled(np.full(8, np.nan)).tolist() == [0.0] * 8
+
+
+def test_skipped_bins_are_not_filled_across_more_than_a_quarter_turn():
+    """Near the centre two linked cells can span a wide angle: bins are filled up to 90 degrees."""
+    r = 60.0
+    for span_deg, filled in ((80, True), (100, False)):
+        th = np.radians([0.5, span_deg + 0.5])
+        fm = FireMap(0.0, 0.0, revisit_gap_s=10.0)
+        fm.record(r * np.cos(th), r * np.sin(th), 1.0, link_m=150.0)
+        assert fm.known.sum() == (span_deg + 1 if filled else 2), span_deg
+        if filled:  # the chord between the two cells, seen along each bin's centre ray
+            mid = np.radians(np.arange(1, span_deg) + 0.5) - np.radians(span_deg / 2 + 0.5)
+            chord = r * math.cos(math.radians(span_deg / 2)) / np.cos(mid)
+            np.testing.assert_allclose(fm.outer_d_m[1:span_deg], chord)
