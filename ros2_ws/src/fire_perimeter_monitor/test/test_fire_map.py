@@ -21,8 +21,11 @@ from fire_perimeter_monitor.fire_map import (
     perimeter_mask,
     reversed_direction,
 )
-from hypothesis import given, settings
+from hypothesis import Phase, given, settings
 from hypothesis import strategies as st
+
+# No shrinking: a failing example is reported as drawn (fast, also under mutation testing).
+NO_SHRINK = (Phase.explicit, Phase.reuse, Phase.generate)
 
 
 def _ellipse(va, vb, t, n=4000):
@@ -34,7 +37,7 @@ def _radial_ros(va, vb, theta):
     return va * vb / np.hypot(vb * np.cos(theta), va * np.sin(theta))
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=30, deadline=None, phases=NO_SHRINK)
 @given(st.floats(0.0, 2 * math.pi - 1e-6), st.sampled_from([8, 36, 360, 720]), st.floats(0.5, 5000.0))
 def test_angle_bin_is_the_angle_interval(theta, bins, r):
     cx, cy = 123.0, -45.0
@@ -84,7 +87,7 @@ def test_direction_helpers():
     assert reversed_direction(Direction.CW) == Direction.CCW
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=25, deadline=None, phases=NO_SHRINK)
 @given(st.integers(0, 2**32 - 1))
 def test_perimeter_mask_against_brute_force(seed):
     """A fire cell with an observed unburned 4-neighbour; unseen neighbours do not count."""
