@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 from typing import NamedTuple
@@ -82,16 +83,26 @@ def _bowl(problem: SearchProblem, cand) -> _Bowl:
 
 
 def test_thompson_sampling_beats_random_on_a_smooth_objective(problem: SearchProblem) -> None:
+    """On a 9-D bowl, 30 BO evaluations find a pool point random search rarely finds.
+
+    Random search draws ``B`` distinct points of the ``M``-point pool, so the probability that
+    its best is at least as good as BO's best -- whose rank in the pool is ``m`` -- is exactly
+    ``1 - C(M - m, B) / C(M, B)`` (hypergeometric; independent of any implementation). Over four
+    seeds (own pools) we require the product of these probabilities, i.e. the chance that random
+    search matches BO on all four, to be below 1 %. (Measured: ranks 2, 1, 1, 2 of 256, product
+    ~7e-4; random search's typical rank is M / (B + 1) ~ 8.)
+    """
     cfg = BoConfig(budget=30, pool_size=256)
-    bo, rs = [], []
+    p_random_as_good = []
     for seed in range(4):
         pool = make_pool(problem, cfg.pool_size, np.random.default_rng([seed, 0]))
-        bo.append(run_async_bo(problem, np.random.default_rng([seed, 1]), cfg, objective=_bowl, pool=pool))
-        rs.append(
-            run_random_search(problem, np.random.default_rng([seed, 2]), cfg, objective=_bowl, pool=pool)
-        )
-    assert all(t.best_so_far[-1] < t.costs[0] for t in bo)
-    assert np.mean([t.best_so_far[-1] for t in bo]) < np.mean([t.best_so_far[-1] for t in rs])
+        bo = run_async_bo(problem, np.random.default_rng([seed, 1]), cfg, objective=_bowl, pool=pool)
+        assert bo.best_so_far[-1] < bo.costs[0]
+        pool_costs = np.sum((pool - 0.3) ** 2, axis=1)
+        rank = int(np.sum(pool_costs <= bo.best_so_far[-1] + 1e-12))
+        m_pool, b = cfg.pool_size, cfg.budget
+        p_random_as_good.append(1.0 - math.comb(m_pool - rank, b) / math.comb(m_pool, b))
+    assert float(np.prod(p_random_as_good)) < 0.01, p_random_as_good
 
 
 def test_random_baseline_same_budget(problem: SearchProblem) -> None:
