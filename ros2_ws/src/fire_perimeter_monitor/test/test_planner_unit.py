@@ -16,6 +16,7 @@ from fire_perimeter_monitor.planner import (
     MonitorConfig,
     smooth_circular,
 )
+from fire_perimeter_monitor.shape import polygon_radial_extent
 from fire_perimeter_monitor.synthetic_fire import fly, star_fire
 
 C = 30.0
@@ -107,6 +108,10 @@ def test_initial_lap_about_a_known_centre_ends_after_one_turn(disc):
     assert m.fire_map.known.all()
     ros = m.fire_map.ros_mps()
     assert np.nanmax(np.abs(ros - 0.05)) < C / 6000.0
+    # PM VI-E: the hull of the perimeter cells' squares reaches the fire's edge (radius ~0.05 t)
+    hull_r = polygon_radial_extent(m.hull_m(), cx, cy, 72)
+    t_last = tr.t_s[-1]
+    assert np.all(hull_r > 0.05 * 6000.0 - C) and np.all(hull_r < 0.05 * t_last + 2 * C)
     front = m.front()
     assert front is not None and front[2] == pytest.approx(np.nanmax(ros))
     k = int(np.nanargmax(ros))
