@@ -253,7 +253,7 @@ class FireMap:
     def _visit(self, bins: np.ndarray, x: np.ndarray, y: np.ndarray, d: np.ndarray, t_s: float) -> None:
         prev_t = self.outer_t_s[bins]
         first = np.isnan(prev_t)
-        same_visit = ~first & (t_s - prev_t < self.revisit_gap_s)
+        same_visit = ~first & (t_s >= prev_t) & (t_s - prev_t < self.revisit_gap_s)  # older: ignored
         new_visit = ~first & ~same_visit & (t_s > prev_t)
         # Listing 2 (iii): the ignition point is the first inner cell.
         fb = bins[first]

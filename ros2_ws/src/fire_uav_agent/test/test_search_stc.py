@@ -108,3 +108,50 @@ def test_disconnected_region_is_rejected() -> None:
         stc_subcell_tour(region)
     with pytest.raises(PathError, match="empty"):
         spanning_tree(np.zeros((2, 2), dtype=bool))
+
+
+def test_loiter_is_a_ccw_circle_from_its_bottom_point() -> None:
+    from fire_uav_agent.search.stc import loiter_path
+
+    c, r = np.array([300.0, -200.0]), 80.0
+    path = loiter_path(c, r)
+    assert path.length_m == pytest.approx(2 * math.pi * r) and path.n_turns == 1
+    assert path.turn_length_m == pytest.approx(path.length_m) and path.straight_length_m == 0.0
+    assert path.min_turn_radius_m == r
+    s = np.linspace(0.0, path.length_m, 37)
+    p = path.positions_at(s)
+    np.testing.assert_allclose(np.linalg.norm(p - c, axis=1), r)
+    phase = s / r - math.pi / 2  # angle about the centre, CCW from the bottom point
+    np.testing.assert_allclose(p, c + r * np.column_stack([np.cos(phase), np.sin(phase)]), atol=1e-9)
+    h = path.headings_at(s)
+    np.testing.assert_allclose(np.cos(h), np.cos(phase + math.pi / 2), atol=1e-9)  # tangent, CCW
+    np.testing.assert_allclose(np.sin(h), np.sin(phase + math.pi / 2), atol=1e-9)
+    assert path.is_turn_at(s).all()
+
+
+def test_straight_and_turn_lengths_of_a_one_cell_region() -> None:
+    """One coarse cell: a square of side Delta/2 through the 4 sub-cell centres, 4 quarter arcs."""
+    r = 10.0
+    path = stc_path(np.ones((1, 1), dtype=bool), x_min_m=0.0, y_min_m=0.0, cell_size_m=CELL, turn_radius_m=r)
+    side = CELL / 2
+    assert path.n_turns == 4
+    assert path.straight_length_m == pytest.approx(4 * (side - 2 * r))
+    assert path.turn_length_m == pytest.approx(4 * (math.pi / 2) * r)
+    assert path.min_turn_radius_m == r
+    smp = path.sample(1.0)
+    assert smp.spacing_m == pytest.approx(path.length_m / math.ceil(path.length_m))
+    assert smp.is_turn.mean() == pytest.approx(path.turn_length_m / path.length_m, abs=0.02)
+    # headings on the first straight (bottom side, eastward) and the first arc (turning north)
+    assert path.headings_at(np.array([1.0]))[0] == pytest.approx(0.0)
+    assert not path.is_turn_at(np.array([1.0]))[0]
+    mid_arc = side - 2 * r + (math.pi / 4) * r
+    assert path.headings_at(np.array([mid_arc]))[0] == pytest.approx(math.pi / 4)
+    assert path.is_turn_at(np.array([mid_arc]))[0]
+    with pytest.raises(SearchConfigError, match="spacing_m"):
+        path.sample(0.0)
+    with pytest.raises(SearchConfigError, match="start_fraction"):
+        path.sample(1.0, start_fraction=-0.1)
+    with pytest.raises(SearchConfigError, match="cell_size_m"):
+        stc_path(np.ones((1, 1), dtype=bool), x_min_m=0.0, y_min_m=0.0, cell_size_m=0.0)
+    with pytest.raises(PathError, match="turn_radius_m"):
+        stc_path(np.ones((1, 1), dtype=bool), x_min_m=0.0, y_min_m=0.0, cell_size_m=CELL, turn_radius_m=0.0)
