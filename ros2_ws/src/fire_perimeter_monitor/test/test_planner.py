@@ -57,6 +57,7 @@ def test_circling_visits_every_bin_and_never_turns(fire):
     assert ang[-1] - ang[0] > 2 * np.pi  # CCW: angle increases
 
 
+@pytest.mark.slow  # ~17 s: six whole monitoring runs (the planner's unit tests are in test_planner_unit.py)
 def test_direction_changes_increase_with_alpha(fire):
     """PM VI-B / Fig. 11: 0, 8, 11, 15, 20, 43 changes for these alphas; we check the trend."""
     changes = []

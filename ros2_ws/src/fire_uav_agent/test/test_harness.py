@@ -1,6 +1,7 @@
 """The real World and real Agents in lockstep, in process (fire_uav_agent.testing.harness)."""
 
 import numpy as np
+import pytest
 from fire_uav_agent.testing.harness import Harness, scenario_path
 from fire_uav_common.angles import wrap_angle
 from fire_uav_common.constants import EventType, FireStatus, Objective, VehicleStatus
@@ -64,6 +65,7 @@ def _truth(h: Harness):
     ]
 
 
+@pytest.mark.slow  # ~24 s: two whole missions; sweeps and the system tests rely on it
 def test_the_harness_is_deterministic():
     sc = load_scenario(scenario_path("ff_two_fires"))
     runs = []
