@@ -258,3 +258,36 @@ def test_outcome_names_the_last_completion_event():
     assert outcome(_mission(world_events=[done(0.0)])) == ("time_limit", "value 0.0")
     assert outcome(_mission(world_events=[done(1.0), done(0.0)]))[0] == "time_limit"
     assert outcome(_mission())[0] == "incomplete"
+
+
+def _disc_grid(t: float, r_m: float, res: float = 2.0, n: int = 100) -> dict:
+    c = (np.arange(n) + 0.5) * res
+    xx, yy = np.meshgrid(c, c)
+    data = np.where(np.hypot(xx - 100.0, yy - 100.0) <= r_m, 60, 0).astype(np.int8)
+    return {"t": t, "origin": (0.0, 0.0), "resolution": res, "data": data}
+
+
+def test_raster_perimeter_error_uses_the_grid_nearest_in_time_around_the_maps_centre():
+    from fire_report.metrics import perimeter_distance_error_raster
+
+    bins = 24
+    grids = [_disc_grid(0.0, 30.0), _disc_grid(100.0, 40.0), _disc_grid(200.0, 60.0)]
+    outer = np.array([np.full(bins, 40.0), np.full(bins, 70.0), np.full(bins, np.nan), np.full(bins, 30.0)])
+    per = {
+        "t": np.array([90.0, 160.0, 170.0, 20.0]),  # nearest grids: 100 s (r 40), 200 s (r 60), -, 0 s (r 30)
+        "center": np.array([[100.0, 100.0]] * 4),
+        "outer": outer,
+    }
+    m = _mission(fire_grids=grids, perimeters={(0, 7): per})
+    e = perimeter_distance_error_raster(m, 0, 7)
+    assert e["t"].tolist() == [90.0, 160.0, 20.0]  # the all-unknown map is left out
+    assert e["error_m"] == pytest.approx([0.0, 10.0, 0.0], abs=2.0)  # within a cell of the disc
+    assert e["error_m"][1] > 8.0
+    # seen from a centre 20 m off, a map of a 40 m circle is wrong by up to 20 m
+    off = {**per, "center": np.array([[120.0, 100.0]] * 4)}
+    e_off = perimeter_distance_error_raster(_mission(fire_grids=grids, perimeters={(0, 7): off}), 0, 7)
+    assert 5.0 < e_off["error_m"][0] < 20.0
+    assert perimeter_distance_error_raster(m, 0, 8)["t"].size == 0  # no such map
+    assert (
+        perimeter_distance_error_raster(_mission(perimeters={(0, 7): per}), 0, 7)["t"].size == 0
+    )  # no grids
