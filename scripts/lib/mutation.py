@@ -146,7 +146,8 @@ def run(
     again: bool = False,
 ) -> Result:
     """Mutate ``module`` and test it; ``again``: re-check only the last run's survivors and
-    "no tests" mutants (for tests added since; the killed ones stand, the source is unchanged)."""
+    "no tests" mutants (for tests added since; the killed ones stand, the source is unchanged),
+    and check the ones a stopped run left unchecked."""
     d = STAGE / module if report_only else stage(module, tests, again)
     if report_only and not (d / "mutants").is_dir():
         raise SystemExit(f"mutation: module {module}: no earlier run in {d} (run without --report-only)")
@@ -159,7 +160,11 @@ def run(
     if not report_only:
         names: list[str] = []
         if again:
-            names = [k for k, s in statuses_of(d, module, env).items() if s in ("survived", "no tests")]
+            names = [
+                k
+                for k, s in statuses_of(d, module, env).items()
+                if s in ("survived", "no tests", "not checked")
+            ]
             names = [k for k in names if k not in equivalent]
             if not names:
                 print(f"[mutation] {module}: nothing left to re-check", file=sys.stderr, flush=True)
@@ -217,7 +222,7 @@ def main() -> int:
     ap.add_argument(
         "--again",
         action="store_true",
-        help="re-check only the last run's survivors and 'no tests' mutants (after adding tests)",
+        help="re-check only the last run's survivors and 'no tests' mutants (after adding tests); resumes a stopped run",
     )
     a = ap.parse_args()
     cfg = tomllib.loads(CONFIG.read_text())
