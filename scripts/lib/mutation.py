@@ -102,6 +102,14 @@ def stage(module: str, tests: list[str], again: bool = False) -> Path:
     else:
         shutil.rmtree(d, ignore_errors=True)  # never reuse an old run's results
         shutil.copytree(pkg, d / "src" / pkg.name, ignore=shutil.ignore_patterns("__pycache__"))
+    # mutmut runs each mutant's tests from <stage>/mutants by their node ids, which are relative to
+    # the repository root (--rootdir): without these links pytest finds no such file, the worker
+    # fails, and mutmut counts that failure as a KILL (every mutant with a test was "killed").
+    (d / "mutants").mkdir(parents=True, exist_ok=True)
+    for top in sorted({Path(t).parts[0] for t in tests}):
+        link = d / "mutants" / top
+        if not link.is_symlink():
+            link.symlink_to(ROOT / top, target_is_directory=True)
     (d / "pytest.ini").write_text(
         "[pytest]\naddopts = --import-mode=importlib -p no:cacheprovider -m 'not slow'\n"
         "markers =\n    system: real ROS processes\n    slow: over ~20 s\n"
@@ -171,6 +179,11 @@ def run(
         what = f"re-checking {len(names)} mutant(s)" if again else "mutmut run"
         print(f"[mutation] {module}: {what} against {len(tests)} test file(s)", file=sys.stderr, flush=True)
         t0 = time.monotonic()
+        if again:
+            # mutmut collects the stats of tests added since by their id relative to the stage dir,
+            # which fails for our tests (outside it): drop the stats, so that it collects them all
+            # again from the absolute selection (the results themselves are kept)
+            (d / "mutants" / "mutmut-stats.json").unlink(missing_ok=True)
         if names or not again:
             with open(d / "mutmut-run.log", "w") as log:  # mutmut's progress spinner, kept out of the table
                 rc = subprocess.run(
