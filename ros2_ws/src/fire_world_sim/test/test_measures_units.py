@@ -85,12 +85,14 @@ def test_drop_accounting() -> None:
     assert s.add_drop(800.0, 0, 0, hit=True) == 800.0  # analytic hit: no cells, the whole load
     assert s.add_drop(600.0, 0, 0, hit=False) == 0.0  # analytic miss
     assert s.add_drop(400.0, 40, 40, hit=True) == 400.0  # every cell burning: all of it
+    assert s.add_drop(0.5, 1, 2, hit=True) == 0.25  # a small release is still a drop
+    assert s.add_drop(100.0, 1, 1, hit=False) == 100.0  # a one-cell footprint, burning
     assert s.as_dict() == {
-        "drops": 5,
-        "hits": 3,
-        "hit_rate": pytest.approx(0.6),
-        "water_released_kg": pytest.approx(4800.0),
-        "water_on_burning_kg": pytest.approx(1700.0),
+        "drops": 7,
+        "hits": 4,
+        "hit_rate": pytest.approx(4 / 7),
+        "water_released_kg": pytest.approx(4900.5),
+        "water_on_burning_kg": pytest.approx(1800.25),
         "burned_area_m2": 0.0,
         "contained_at_s": None,
     }
