@@ -139,3 +139,9 @@ def test_bad_gates_are_refused_with_their_value():
         with pytest.raises(ValueError, match=r"gate_m must be > 0, got (-5.0|nan)"):
             match_tracks_to_fires({}, {}, gate_m=bad)
     assert match_tracks_to_fires({}, {}, gate_m=1e-9) == {}
+
+
+def test_a_fire_known_by_a_single_truth_sample_can_be_matched():
+    truth = {0: {"t": np.array([10.0]), "x": np.array([0.0]), "y": np.array([0.0]), "status": np.array([0])}}
+    est = {(0, 1): {"t": np.array([10.0]), "x": np.array([3.0]), "y": np.array([4.0])}}
+    assert match_tracks_to_fires(est, truth) == {1: 0}
