@@ -145,3 +145,21 @@ def test_a_fire_known_by_a_single_truth_sample_can_be_matched():
     truth = {0: {"t": np.array([10.0]), "x": np.array([0.0]), "y": np.array([0.0]), "status": np.array([0])}}
     est = {(0, 1): {"t": np.array([10.0]), "x": np.array([3.0]), "y": np.array([4.0])}}
     assert match_tracks_to_fires(est, truth) == {1: 0}
+
+
+def test_fires_that_cannot_match_do_not_stop_the_search():
+    """A fire that never burns, or burns only at other times, is passed over, not the end of the search."""
+    never = _still(0.0, 0.0, status=1)
+    later = _still(0.0, 0.0, 100.0, 160.0)
+    target = _still(400.0, 0.0)
+    track = {(0, 2): _still(401.0, 0.0, 1, 20)}
+    assert match_tracks_to_fires(track, {0: never, 1: target}) == {2: 1}
+    assert match_tracks_to_fires(track, {0: later, 1: target}) == {2: 1}
+
+
+def test_truth_is_interpolated_in_time_on_both_axes():
+    t = np.arange(0.0, 100.0, 10.0)
+    truth = {0: {"t": t, "x": 100.0 + t, "y": 2.0 * t, "status": np.zeros(t.size, int)}}
+    tt = t[:-1] + 5.0
+    est = {(0, 1): {"t": tt, "x": 100.0 + tt, "y": 2.0 * tt}}
+    assert match_tracks_to_fires(est, truth, gate_m=1e-6) == {1: 0}
