@@ -106,3 +106,21 @@ def test_fire_sensor_dropout_extent_clip_and_range_from_the_uav() -> None:
     assert y2.std() == pytest.approx(2.0, rel=0.06) and y2.mean() == pytest.approx(-80.0, abs=0.1)
     assert np.mean([d.x_m for d in d2]) == pytest.approx(60.0, abs=0.1)
     assert s.sample_fires(0, ux, uy, []) == []
+
+
+def test_noise_axes_are_independent_and_every_sensor_stream_differs_per_uav() -> None:
+    s = SensorSuite(Sensors(), seed=9, uav_id=0)
+    g = [p for p in (s.sample_gps(i, 0.0, 0.0) for i in range(4000)) if p is not None]
+    assert abs(np.corrcoef([p.x_m for p in g], [p.y_m for p in g])[0, 1]) < 0.08  # N(0, sigma^2 I)
+    f = [s.sample_fires(0, 0.0, 0.0, [(1, 0.0, 0.0, 10.0)])[0] for _ in range(3000)]
+    xs, ys, es = (np.array([getattr(d, k) for d in f]) for k in ("x_m", "y_m", "extent_m"))
+    assert abs(np.corrcoef(xs, ys)[0, 1]) < 0.08 and abs(np.corrcoef(xs, es)[0, 1]) < 0.08
+    assert abs(np.corrcoef(ys, es)[0, 1]) < 0.08
+    a, b = SensorSuite(Sensors(), 2, 0), SensorSuite(Sensors(), 2, 1)
+    alt = [(a.sample_altimeter(i, 20.0), b.sample_altimeter(i, 20.0)) for i in range(20)]
+    gyro = [(a.sample_gyro(i, 0.0), b.sample_gyro(i, 0.0)) for i in range(20)]
+    fire = [
+        (a.sample_fires(0, 0, 0, [(1, 0.0, 0.0, 5.0)]), b.sample_fires(0, 0, 0, [(1, 0.0, 0.0, 5.0)]))
+        for _ in range(5)
+    ]
+    assert any(x != y for x, y in alt) and any(x != y for x, y in gyro) and any(x != y for x, y in fire)
