@@ -6,7 +6,7 @@ import shutil
 
 import numpy as np
 import pytest
-from fire_report import compute_metrics, load_mission, write_report
+from fire_report import compute_metrics, load_mission
 from fire_report.metrics import voronoi_labels, wrap_angle
 from fire_report.synthetic import SyntheticMission, expected_metrics, write_synthetic_mission
 
@@ -63,29 +63,6 @@ def test_outcome_incomplete_without_completion_event(tmp_path):
     assert m["outcome"] == "incomplete" and m["drop_count"] == 0 and m["mean_inter_drop_interval_s"] is None
 
 
-def test_report_writes_every_figure_and_page(synthetic, tmp_path):
-    path, _ = synthetic
-    metrics = write_report(path, tmp_path / "out")
-    out = tmp_path / "out"
-    html = (out / "index.html").read_text()
-    assert (out / "metrics.json").is_file()
-    names = set(metrics["figures"])
-    assert {
-        "voronoi_phases.png",
-        "ekf_error.png",
-        "covariance_trace.png",
-        "tracks.png",
-        "drops.png",
-        "fire_0_estimates.png",
-        "fire_1_estimates.png",
-        "perimeter.png",
-        "faults.png",
-    } <= names
-    for name in names:
-        assert (out / name).stat().st_size > 1000
-        assert f'src="{name}"' in html
-
-
 def test_killed_recording_is_read_up_to_the_last_flush(tmp_path):
     """A copy of a bag taken while open (what SIGKILL leaves) is salvaged with a warning."""
     import fire_uav_recording as bag_io
@@ -136,3 +113,181 @@ def test_wrap_angle():
     assert np.allclose(
         wrap_angle(np.array([0.0, 3 * np.pi, -np.pi, 2 * np.pi + 0.1])), [0, np.pi, np.pi, 0.1]
     )
+
+
+# --- the pure pieces on in-memory data (fast; what the mutation run of fire_report.metrics needs) ---
+from fire_report.data import Event, Mission  # noqa: E402
+from fire_report.metrics import (  # noqa: E402
+    baseline_area,
+    burned_area_series,
+    containment_from_area,
+    drop_outcomes,
+    outcome,
+    suppression_metrics,
+    true_outer_distance,
+)
+from fire_uav_common.constants import EventType, FireStatus  # noqa: E402
+
+ACTIVE, OUT = int(FireStatus.ACTIVE), int(FireStatus.EXTINGUISHED)
+
+
+def _mission(**kw) -> Mission:
+    m = Mission(path="mem", custom_data={}, scenario=kw.pop("scenario", {}), warnings=[], topics={})
+    for k, v in kw.items():
+        setattr(m, k, v)
+    return m
+
+
+def _drop(t, fire_id, kg, detail="", uav=0):
+    return Event(t, EventType.DROP, uav, -1, fire_id, 0.0, 0.0, kg, detail, "world")
+
+
+def test_containment_from_area_is_sixty_quiet_seconds_after_the_last_growth():
+    t = np.arange(0.0, 201.0, 1.0)
+    grows_to_100 = np.minimum(t, 100.0)
+    on = np.ones(t.size, bool)
+    assert containment_from_area(t, grows_to_100, on) == 160.0  # last growth at 100 s
+    assert containment_from_area(t[:160], grows_to_100[:160], on[:160]) is None  # 59 s quiet at the end
+    assert containment_from_area(t[:161], grows_to_100[:161], on[:161]) == 160.0  # exactly 60 s
+    # a breach at 180 s: quiet again 60 s after it
+    t3 = np.arange(0.0, 301.0, 1.0)
+    breach = np.minimum(t3, 100.0) + np.where(t3 >= 180.0, 5.0, 0.0)
+    assert containment_from_area(t3, breach, np.ones(t3.size, bool)) == 240.0
+    # the first sample counts as growth: a flat history is contained 60 s after it starts
+    flat = np.full(t.size, 7.0)
+    assert containment_from_area(t + 10.0, flat, on) == 70.0
+    # no fire active: contained at once, growing or not
+    assert containment_from_area(t, t.copy(), np.zeros(t.size, bool)) == 0.0
+    out_at_50 = t < 50.0
+    assert containment_from_area(t, np.minimum(t, 50.0), out_at_50) == 50.0
+    assert containment_from_area(np.zeros(0), np.zeros(0), np.zeros(0, bool)) is None
+    # a shrinking area (a drop) is no growth
+    down = np.maximum(100.0 - t, 0.0)
+    assert containment_from_area(t, down, on) == 60.0
+
+
+def test_drop_outcomes_raster_and_analytic():
+    events = [
+        _drop(1.0, 0, 2000.0, "hit fires [0], 10 of 40 cells burning"),
+        _drop(2.0, -1, 1000.0, "missed, 0 of 40 cells burning"),
+        _drop(3.0, 0, 0.0, "empty tank, 3 of 40 cells burning"),  # released nothing: no drop
+        _drop(4.0, 1, 500.0, "hit fires [1], 5 of 5 cells burning"),
+        _drop(5.0, 1, 400.0, "no footprint, 0 of 0 cells burning"),
+        Event(6.0, EventType.EXTINGUISHED, 0, -1, 1, 0.0, 0.0, 1.0, "", "world"),
+    ]
+    r = drop_outcomes(events, is_raster=True)
+    assert r == {
+        "drops": 4,
+        "hits": 3,
+        "hit_rate": 0.75,
+        "water_released_kg": 3900.0,
+        "water_on_burning_kg": pytest.approx(500.0 + 500.0),
+    }
+    # analytic: no cell counts in the detail; a hit counts its whole load, a miss nothing
+    analytic = [_drop(1.0, 0, 2000.0, "hit"), _drop(2.0, -1, 2000.0, "missed"), _drop(3.0, 2, 300.0)]
+    a = drop_outcomes(analytic, is_raster=False)
+    assert (a["drops"], a["hits"], a["water_on_burning_kg"]) == (3, 2, 2300.0)
+    assert drop_outcomes(analytic, is_raster=True)["water_on_burning_kg"] == 0.0  # raster without counts
+    assert drop_outcomes([], is_raster=True)["hit_rate"] is None
+
+
+def test_burned_area_series_sums_the_fires_holding_each_last_sample():
+    f0 = {
+        "t": np.array([0.0, 10.0, 20.0]),
+        "area": np.array([1.0, 2.0, 3.0]),
+        "status": np.array([ACTIVE] * 3),
+    }
+    f1 = {"t": np.array([15.0, 25.0]), "area": np.array([10.0, 20.0]), "status": np.array([ACTIVE, OUT])}
+    t, area, active = burned_area_series(_mission(truth_fires={0: f0, 1: f1, 2: {}}))
+    assert t.tolist() == [0.0, 10.0, 15.0, 20.0, 25.0]
+    assert area.tolist() == [1.0, 2.0, 12.0, 13.0, 23.0]  # fire 1 unseen before 15 s
+    assert active.tolist() == [True, True, True, True, True]  # fire 0 still active at 25 s
+    f0_out = dict(f0, status=np.array([ACTIVE, OUT, OUT]))
+    _, _, active = burned_area_series(_mission(truth_fires={0: f0_out, 1: f1}))
+    assert active.tolist() == [True, False, True, True, False]
+    t, area, active = burned_area_series(_mission())
+    assert t.size == area.size == active.size == 0 and active.dtype == bool
+
+
+def test_suppression_metrics_and_baseline_from_a_mission():
+    t = np.arange(0.0, 301.0, 1.0)
+    fire = {"t": t, "area": 100.0 * np.minimum(t, 100.0), "status": np.full(t.size, ACTIVE)}
+    drops = [
+        _drop(20.0, 0, 2000.0, "hit fires [0], 10 of 40 cells burning"),
+        _drop(40.0, -1, 2000.0, "missed"),
+    ]
+    raster = _mission(scenario={"fires": {"model": "raster"}}, truth_fires={0: fire}, world_events=drops)
+    s = suppression_metrics(raster)
+    assert (s["hit_rate"], s["water_on_burning_kg"], s["burned_area_m2"], s["contained_at_s"]) == (
+        0.5,
+        500.0,
+        10000.0,
+        160.0,
+    )
+    analytic = _mission(
+        scenario={"fires": {"model": "analytic"}}, truth_fires={0: fire}, world_events=drops[:1]
+    )
+    assert suppression_metrics(analytic)["water_on_burning_kg"] == 500.0  # the count in the detail wins
+    empty = suppression_metrics(_mission(scenario="not a dict"))
+    assert empty["burned_area_m2"] is None and empty["contained_at_s"] is None
+    assert baseline_area(None) is None and baseline_area(_mission()) is None
+    b = baseline_area(_mission(truth_fires={0: fire}))
+    assert b["t_s"].tolist() == t.tolist() and b["area_m2"][-1] == 10000.0
+
+
+def test_true_outer_distance_per_bin_is_the_farthest_ignited_cell():
+    res = 1.0
+    data = np.zeros((21, 21), np.int8)
+    data[10, 10:21] = 60  # a burnt ray from the centre cell toward +x, 10 cells long
+    data[10:21, 10] = 100  # a burning ray toward +y
+    data[0, 0] = 20  # wet: not burnt
+    g = {"origin": (-10.5, -10.5), "resolution": res, "data": data}  # cell (10, 10) centred on (0, 0)
+    d = true_outer_distance(g, (0.0, 0.0), 4)
+    assert d[0] == pytest.approx(10.0) and d[1] == pytest.approx(10.0)  # bins [0, 90) and [90, 180) deg
+    assert np.isnan(d[2]) and np.isnan(d[3])
+    shifted = true_outer_distance(g, (5.0, 0.0), 4)  # seen from x = 5 m: the +x ray ends 5 m away
+    assert shifted[0] == pytest.approx(5.0)
+    assert np.isnan(true_outer_distance({**g, "data": np.zeros((3, 3), np.int8)}, (0, 0), 8)).all()
+
+
+def test_outcome_names_the_last_completion_event():
+    def done(v):
+        return Event(9.0, EventType.MISSION_COMPLETE, -1, -1, -1, 0, 0, v, f"value {v}", "world")
+
+    assert outcome(_mission(world_events=[done(1.0)])) == ("complete", "value 1.0")
+    assert outcome(_mission(world_events=[done(0.0)])) == ("time_limit", "value 0.0")
+    assert outcome(_mission(world_events=[done(1.0), done(0.0)]))[0] == "time_limit"
+    assert outcome(_mission())[0] == "incomplete"
+
+
+def _disc_grid(t: float, r_m: float, res: float = 2.0, n: int = 100) -> dict:
+    c = (np.arange(n) + 0.5) * res
+    xx, yy = np.meshgrid(c, c)
+    data = np.where(np.hypot(xx - 100.0, yy - 100.0) <= r_m, 60, 0).astype(np.int8)
+    return {"t": t, "origin": (0.0, 0.0), "resolution": res, "data": data}
+
+
+def test_raster_perimeter_error_uses_the_grid_nearest_in_time_around_the_maps_centre():
+    from fire_report.metrics import perimeter_distance_error_raster
+
+    bins = 24
+    grids = [_disc_grid(0.0, 30.0), _disc_grid(100.0, 40.0), _disc_grid(200.0, 60.0)]
+    outer = np.array([np.full(bins, 40.0), np.full(bins, 70.0), np.full(bins, np.nan), np.full(bins, 30.0)])
+    per = {
+        "t": np.array([90.0, 160.0, 170.0, 20.0]),  # nearest grids: 100 s (r 40), 200 s (r 60), -, 0 s (r 30)
+        "center": np.array([[100.0, 100.0]] * 4),
+        "outer": outer,
+    }
+    m = _mission(fire_grids=grids, perimeters={(0, 7): per})
+    e = perimeter_distance_error_raster(m, 0, 7)
+    assert e["t"].tolist() == [90.0, 160.0, 20.0]  # the all-unknown map is left out
+    assert e["error_m"] == pytest.approx([0.0, 10.0, 0.0], abs=2.0)  # within a cell of the disc
+    assert e["error_m"][1] > 8.0
+    # seen from a centre 20 m off, a map of a 40 m circle is wrong by up to 20 m
+    off = {**per, "center": np.array([[120.0, 100.0]] * 4)}
+    e_off = perimeter_distance_error_raster(_mission(fire_grids=grids, perimeters={(0, 7): off}), 0, 7)
+    assert 5.0 < e_off["error_m"][0] < 20.0
+    assert perimeter_distance_error_raster(m, 0, 8)["t"].size == 0  # no such map
+    assert (
+        perimeter_distance_error_raster(_mission(perimeters={(0, 7): per}), 0, 7)["t"].size == 0
+    )  # no grids

@@ -15,6 +15,7 @@ import re
 import shutil
 import subprocess
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -71,17 +72,44 @@ def package_dir(module: str) -> Path:
     raise SystemExit(f"mutation: no package '{top}' under ros2_ws/src/* or tools/ (module {module})")
 
 
-def stage(module: str, tests: list[str]) -> Path:
+def module_file(module: str) -> tuple[Path, Path]:
+    """(package dir, module path relative to it)."""
     pkg = package_dir(module)
     rel = Path(*module.split(".")[1:]).with_suffix(".py")
     if not (pkg / rel).is_file():
         raise SystemExit(f"mutation: module {module}: no file {pkg / rel}")
+    return pkg, rel
+
+
+def stage(module: str, tests: list[str], again: bool = False) -> Path:
+    """Stage ``module`` afresh; with ``again`` keep the last run (its mutants and results) and only
+    rewrite the test selection, after checking the module's source is the one that was mutated."""
+    pkg, rel = module_file(module)
     missing = [t for t in tests if not (ROOT / t).is_file()]
     if missing:
         raise SystemExit(f"mutation: module {module}: test file(s) not found: {', '.join(missing)}")
     d = STAGE / module
-    shutil.rmtree(d, ignore_errors=True)  # never reuse an old run's results
-    shutil.copytree(pkg, d / "src" / pkg.name, ignore=shutil.ignore_patterns("__pycache__"))
+    if again:
+        staged = d / "src" / pkg.name / rel
+        if not (d / "mutants").is_dir() or not staged.is_file():
+            raise SystemExit(
+                f"mutation: module {module}: no earlier run in {d} to re-check (run it without --again)"
+            )
+        if staged.read_bytes() != (pkg / rel).read_bytes():
+            raise SystemExit(
+                f"mutation: module {module}: source changed since the last run; run it without --again"
+            )
+    else:
+        shutil.rmtree(d, ignore_errors=True)  # never reuse an old run's results
+        shutil.copytree(pkg, d / "src" / pkg.name, ignore=shutil.ignore_patterns("__pycache__"))
+    # mutmut runs each mutant's tests from <stage>/mutants by their node ids, which are relative to
+    # the repository root (--rootdir): without these links pytest finds no such file, the worker
+    # fails, and mutmut counts that failure as a KILL (every mutant with a test was "killed").
+    (d / "mutants").mkdir(parents=True, exist_ok=True)
+    for top in sorted({Path(t).parts[0] for t in tests}):
+        link = d / "mutants" / top
+        if not link.is_symlink():
+            link.symlink_to(ROOT / top, target_is_directory=True)
     (d / "pytest.ini").write_text(
         "[pytest]\naddopts = --import-mode=importlib -p no:cacheprovider -m 'not slow'\n"
         "markers =\n    system: real ROS processes\n    slow: over ~20 s\n"
@@ -98,8 +126,37 @@ def stage(module: str, tests: list[str]) -> Path:
     return d
 
 
-def run(module: str, tests: list[str], equivalent: set[str], show: bool, report_only: bool = False) -> Result:
-    d = STAGE / module if report_only else stage(module, tests)
+def statuses_of(d: Path, module: str, env: dict[str, str]) -> dict[str, str]:
+    out = subprocess.run(
+        [sys.executable, "-m", "mutmut", "results", "--all", "true"],
+        cwd=d,
+        env=env,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    statuses = {}
+    for line in out.splitlines():
+        m = re.match(r"\s*(\S+__mutmut_\d+): (.+)$", line)
+        if m:
+            statuses[m.group(1)] = m.group(2).strip()
+    if not statuses:
+        raise SystemExit(f"mutation: module {module}: mutmut reported no mutants:\n{out}")
+    return statuses
+
+
+def run(
+    module: str,
+    tests: list[str],
+    equivalent: set[str],
+    show: bool,
+    report_only: bool = False,
+    again: bool = False,
+) -> Result:
+    """Mutate ``module`` and test it; ``again``: re-check only the last run's survivors and
+    "no tests" mutants (for tests added since; the killed ones stand, the source is unchanged),
+    and check the ones a stopped run left unchecked."""
+    d = STAGE / module if report_only else stage(module, tests, again)
     if report_only and not (d / "mutants").is_dir():
         raise SystemExit(f"mutation: module {module}: no earlier run in {d} (run without --report-only)")
     pkg_root = package_dir(module).parent
@@ -109,23 +166,39 @@ def run(module: str, tests: list[str], equivalent: set[str], show: bool, report_
     env.setdefault("PYTHONHASHSEED", "0")
     mutmut = [sys.executable, "-m", "mutmut"]
     if not report_only:
-        print(f"[mutation] {module}: mutmut run against {len(tests)} test file(s)", file=sys.stderr, flush=True)
-        with open(d / "mutmut-run.log", "w") as log:  # mutmut's progress spinner, kept out of the table
-            rc = subprocess.run([*mutmut, "run", "--max-children", "1"], cwd=d, env=env, stdout=log, stderr=log)
-        if rc.returncode != 0:
-            raise SystemExit(f"mutation: module {module}: mutmut run failed (exit {rc.returncode}); see {d}/mutmut-run.log")
-    out = subprocess.run(
-        [*mutmut, "results", "--all", "true"], cwd=d, env=env, check=True, capture_output=True, text=True
-    ).stdout
-    statuses = {}
-    for line in out.splitlines():
-        m = re.match(r"\s*(\S+__mutmut_\d+): (.+)$", line)
-        if m:
-            statuses[m.group(1)] = m.group(2).strip()
-    if not statuses:
-        raise SystemExit(f"mutation: module {module}: mutmut reported no mutants:\n{out}")
+        names: list[str] = []
+        if again:
+            names = [
+                k
+                for k, s in statuses_of(d, module, env).items()
+                if s in ("survived", "no tests", "not checked")
+            ]
+            names = [k for k in names if k not in equivalent]
+            if not names:
+                print(f"[mutation] {module}: nothing left to re-check", file=sys.stderr, flush=True)
+        what = f"re-checking {len(names)} mutant(s)" if again else "mutmut run"
+        print(f"[mutation] {module}: {what} against {len(tests)} test file(s)", file=sys.stderr, flush=True)
+        t0 = time.monotonic()
+        if again:
+            # mutmut collects the stats of tests added since by their id relative to the stage dir,
+            # which fails for our tests (outside it): drop the stats, so that it collects them all
+            # again from the absolute selection (the results themselves are kept)
+            (d / "mutants" / "mutmut-stats.json").unlink(missing_ok=True)
+        if names or not again:
+            with open(d / "mutmut-run.log", "w") as log:  # mutmut's progress spinner, kept out of the table
+                rc = subprocess.run(
+                    [*mutmut, "run", "--max-children", "1", *names], cwd=d, env=env, stdout=log, stderr=log
+                )
+            if rc.returncode != 0:
+                raise SystemExit(
+                    f"mutation: module {module}: mutmut run failed (exit {rc.returncode}); see {d}/mutmut-run.log"
+                )
+        print(f"[mutation] {module}: {time.monotonic() - t0:.0f} s wall", file=sys.stderr, flush=True)
+    statuses = statuses_of(d, module, env)
     result = Result(module, statuses, equivalent & statuses.keys())
-    survivors = [k for k, s in statuses.items() if s not in KILLED and s != "not checked" and k not in equivalent]
+    survivors = [
+        k for k, s in statuses.items() if s not in KILLED and s != "not checked" and k not in equivalent
+    ]
     for k in survivors:
         print(f"  {statuses[k]}: {k}")
         if show:
@@ -159,6 +232,11 @@ def main() -> int:
     ap.add_argument("--show", action="store_true", help="print the diff of every surviving mutant")
     ap.add_argument("--report-only", action="store_true", help="re-read the last run's results, run nothing")
     ap.add_argument("--no-doc", action="store_true", help=f"do not update {DOC.relative_to(ROOT)}")
+    ap.add_argument(
+        "--again",
+        action="store_true",
+        help="re-check only the last run's survivors and 'no tests' mutants (after adding tests); resumes a stopped run",
+    )
     a = ap.parse_args()
     cfg = tomllib.loads(CONFIG.read_text())
     modules = cfg["modules"]
@@ -172,7 +250,7 @@ def main() -> int:
     equivalent = set(cfg.get("equivalent", {}))
     results = []
     for m in a.modules or list(modules):
-        results.append(run(m, modules[m]["tests"], equivalent, a.show, a.report_only))
+        results.append(run(m, modules[m]["tests"], equivalent, a.show, a.report_only, a.again))
         print(results[-1].row(), flush=True)
         if not a.no_doc:
             update_doc(results[-1:])  # after each module: a long run that stops keeps what it measured

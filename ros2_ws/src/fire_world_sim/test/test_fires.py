@@ -1,4 +1,4 @@
-"""Fire models: Rothermel against published values, raster shape, analytic drops."""
+"""Fire models: raster shape, analytic drops (Rothermel itself: test_rothermel*.py)."""
 
 from __future__ import annotations
 
@@ -10,44 +10,6 @@ from fire_uav_common.constants import CellState
 from fire_uav_common.scenario import AnalyticFire, Ignition, Raster, Wind
 from fire_uav_common.terrain import Terrain
 from fire_world_sim.fires import AnalyticFireModel, RasterFireModel
-from fire_world_sim.fires.fuel_models import fuel_model
-from fire_world_sim.fires.rothermel import length_to_breadth, rate_of_spread, spread_params
-
-CHAINS_PER_HOUR = 20.1168 / 3600.0  # [m/s]
-MPH = 0.44704  # [m/s]
-
-
-# Anderson, H.E. 1982. Aids to determining fuel models for estimating fire behavior.
-# USDA For. Serv. Gen. Tech. Rep. INT-122, Table 1 ("fire behavior ... at 8 percent dead fuel
-# moisture, 100 percent live fuel moisture, 5 mi/h midflame wind", flat ground): rate of
-# spread in chains/hour.
-@pytest.mark.parametrize(
-    ("model", "published_ch_h"),
-    [(1, 78.0), (2, 35.0), (3, 104.0), (4, 75.0), (9, 7.5), (10, 7.9), (13, 13.5)],
-)
-def test_rothermel_matches_anderson_1982(model: int, published_ch_h: float) -> None:
-    p = spread_params(fuel_model(model), 0.08, 0.08, 0.08, 1.0, 1.0)
-    ros = rate_of_spread(p, 5.0 * MPH) / CHAINS_PER_HOUR
-    assert ros == pytest.approx(published_ch_h, rel=0.10)
-
-
-def test_rothermel_wind_and_slope_increase_spread() -> None:
-    p = spread_params(fuel_model(1), 0.06)
-    r0 = rate_of_spread(p, 0.0)
-    assert r0 == pytest.approx(p.r0_mps)
-    assert rate_of_spread(p, 2.0) > r0 * 5
-    # slope factor by hand: phi_s = 5.275 beta^-0.3 tan^2 -> R = R0 (1 + phi_s)
-    assert rate_of_spread(p, 0.0, 0.3) == pytest.approx(r0 * (1 + p.slope_k * 0.09))
-    # above the moisture of extinction nothing spreads
-    assert spread_params(fuel_model(1), 0.13).r0_mps == 0.0
-
-
-def test_length_to_breadth_is_one_without_wind_grows_and_caps() -> None:
-    # the values themselves are checked against Behave in test_rothermel_behave.py
-    assert length_to_breadth(0.0) == pytest.approx(1.0)
-    u = np.linspace(0.0, 30.0, 61)
-    lb = length_to_breadth(u)
-    assert np.all(np.diff(lb) >= 0) and lb[-1] == pytest.approx(8.0)
 
 
 def run_raster(wind_mps: float, seconds: float, factor: float = 20.0) -> RasterFireModel:
@@ -122,3 +84,57 @@ def test_analytic_start_time_and_detection_range() -> None:
     assert m.step(0.0, 5.0) == [(0, "ignition")]
     assert [d[0] for d in m.detections_near(69.0, 0, 70)] == [0]
     assert m.detections_near(71.0, 0, 70) == []
+
+
+def test_analytic_fire_does_not_drift_before_it_starts_and_drifts_from_then() -> None:
+    m = AnalyticFireModel((AnalyticFire(100.0, 50.0, 10.0, 1.0, -2.0, start_s=5.0),), 2.0)
+    assert m.step(0.0, 2.0) == []
+    f = m.truth()[0]
+    assert (f.x_m, f.y_m, f.started) == (100.0, 50.0, False)
+    assert m.step(2.0, 3.0) == [(0, "ignition")]  # starts exactly at 5 s
+    assert m.truth()[0].started and (m.truth()[0].x_m, m.truth()[0].y_m) == (100.0, 50.0)
+    m.step(5.0, 10.0)  # 10 s after its start: c(start) + v * 10 s (FF IV-A)
+    assert (m.truth()[0].x_m, m.truth()[0].y_m) == pytest.approx((110.0, 30.0))
+    assert m.step(15.0, 1.0) == []  # ignition is reported once
+
+
+def test_analytic_fire_started_at_zero_is_burning_from_the_start_without_an_event() -> None:
+    m = AnalyticFireModel((AnalyticFire(0.0, 0.0, 10.0),), 2.0)
+    assert m.truth()[0].started and m.step(0.0, 1.0) == []
+    assert m.cells_near(0.0, 0.0, 70.0, 0) is None
+
+
+def test_analytic_drops_radius_rules_and_who_is_hit() -> None:
+    fires = (
+        AnalyticFire(0.0, 0.0, 10.0),
+        AnalyticFire(500.0, 0.0, 10.0),
+        AnalyticFire(0, 0, 10.0, start_s=99.0),
+    )
+    m = AnalyticFireModel(fires, extinction_sigma_m=2.0, drop_radius_m=25.0)
+    assert m.apply_drop(25.0, 0.0) == [0]  # default footprint 25 m > sigma 10 m, edge inclusive
+    assert m.apply_drop(25.1, 0.0) == []  # sigma now 5 m: the 25 m footprint decides
+    assert m.apply_drop(24.9, 0.0) == [0]
+    assert m.apply_drop(500.0, 3.0, radius_m=3.0) == [1]  # an explicit radius
+    assert m.apply_drop(500.0, 3.1, radius_m=3.0) == []
+    assert m.truth()[2].drops_received == 0  # not started: not hit, though under the drop
+    t = m.truth()
+    assert [r.drops_received for r in t] == [2, 1, 0]
+    assert t[0].area_m2 == pytest.approx(math.pi * 2.5**2) and t[0].extent_m == 2.5
+    assert t[1].area_m2 == pytest.approx(math.pi * 5.0**2)
+
+
+def test_analytic_extinction_is_strictly_below_the_threshold_and_all_out_counts_unstarted() -> None:
+    m = AnalyticFireModel((AnalyticFire(0.0, 0.0, 8.0), AnalyticFire(900.0, 0.0, 4.0, start_s=50.0)), 2.0)
+    m.apply_drop(0.0, 0.0)
+    m.apply_drop(0.0, 0.0)  # sigma 2.0 = the threshold: still burning
+    t = m.truth()[0]
+    assert t.status == 0 and t.extent_m == 2.0 and [d[0] for d in m.detections_near(0, 0, 70)] == [0]
+    assert m.apply_drop(0.0, 0.0) == [0]  # 1.0 < 2.0: out
+    t = m.truth()[0]
+    assert (t.status, t.extent_m, t.area_m2) == (1, 0.0, 0.0)
+    assert m.apply_drop(0.0, 0.0) == []  # an extinguished fire is not hit again
+    assert not m.all_out  # the second fire has not started yet
+    m.step(0.0, 50.0)
+    assert not m.all_out and m.detections_near(900.0, 70.0, 70.0) == [(1, 900.0, 0.0, 4.0)]
+    m.apply_drop(900.0, 0.0)
+    assert m.apply_drop(900.0, 0.0) == [1] and m.all_out
