@@ -40,10 +40,29 @@ def test_two_cell_tour() -> None:
     assert m.sampled_energy_j(path.sample(0.1)) == pytest.approx(expected, rel=2e-3)
 
 
-def test_bad_parameters() -> None:
-    with pytest.raises(SearchConfigError, match="turn_factor"):
-        EnergyModel(turn_factor=0.5)
-    with pytest.raises(SearchConfigError, match="speed_mps"):
-        EnergyModel(speed_mps=0.0)
-    with pytest.raises(SearchConfigError, match="durations"):
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"cruise_power_w": 0.0}, r"cruise_power_w must be > 0, got 0.0"),
+        ({"cruise_power_w": math.inf}, r"cruise_power_w must be > 0, got inf"),
+        ({"turn_factor": 0.5}, r"turn_factor must be >= 1, got 0.5"),
+        ({"turn_factor": math.nan}, r"turn_factor must be >= 1, got nan"),
+        ({"speed_mps": 0.0}, r"speed_mps must be > 0, got 0.0"),
+    ],
+)
+def test_bad_parameters(kw, match) -> None:
+    with pytest.raises(SearchConfigError, match=match):
+        EnergyModel(**kw)
+
+
+def test_the_edges_of_the_valid_parameters_are_accepted() -> None:
+    """A turn costs no more than cruising (gamma = 1), and small powers and speeds are physical."""
+    m = EnergyModel(cruise_power_w=0.5, turn_factor=1.0, speed_mps=0.5)
+    assert m.energy_j(cruise_time_s=2.0, turn_time_s=2.0) == pytest.approx(2.0)
+
+
+def test_negative_durations_are_refused() -> None:
+    with pytest.raises(SearchConfigError, match=r"^durations must be >= 0"):
         EnergyModel().energy_j(-1.0, 0.0)
+    with pytest.raises(SearchConfigError, match=r"^durations must be >= 0"):
+        EnergyModel().energy_j(0.0, -1.0)
