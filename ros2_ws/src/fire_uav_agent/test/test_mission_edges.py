@@ -7,7 +7,6 @@ Times and distances are chosen exactly representable, so an edge is tested at th
 """
 
 import pytest
-
 from fire_uav_agent.mission import Mission, MissionConfig, MissionView, Objective
 from fire_uav_agent.peer_link import FireEntry
 from fire_uav_common.constants import PayloadAction, VehicleStatus
@@ -113,7 +112,9 @@ def test_search_and_monitor_targets():
 
 
 def test_peers_must_all_be_land_or_landed_and_there_must_be_one():
-    assert airborne(peer_objectives={1: Objective.LAND, 2: Objective.SUPPRESS}).objective == Objective.SUPPRESS
+    assert (
+        airborne(peer_objectives={1: Objective.LAND, 2: Objective.SUPPRESS}).objective == Objective.SUPPRESS
+    )
     assert airborne(peer_objectives={1: Objective.LANDED}).objective == Objective.LAND
     assert airborne(peer_objectives={}).objective == Objective.SUPPRESS
 
@@ -376,3 +377,45 @@ def test_stalled_refill_steers_straight_to_the_lake():
     directs(m, [5.0, 10.0], water_kg=0.0)
     assert directs(m, [15.0], water_kg=100.0, over_lake=True) == [False]
     assert directs(m, [34.5, 35.0], water_kg=100.0) == [False, True]
+
+
+def test_stuck_factor_counts_from_the_start_of_the_watch_not_from_time_zero():
+    # takeoff at 30 s: the watch starts then; a moving centroid attacks at 30 + 40 s, not before
+    m = Mission(MissionConfig(takeoff_time_s=30.0))
+    m.step(view(30.0, vehicle=VehicleStatus.ON_GROUND, centroid_xy=(0.0, 0.0)))
+    ts = [30.0 + 5.0 * k for k in range(1, 9)]  # 35 .. 70 s
+    out = [m.step(view(t, centroid_xy=(t * 10.0, 0.0))).direct for t in ts]
+    assert out == [False] * 7 + [True]
+
+
+@pytest.mark.parametrize(
+    ("pos", "fires", "want"),
+    [
+        # nearest by distance is B; nearest on y alone would be A
+        ((0.0, 0.0), (FireEntry(11, True, 100.0, 10.0, 5.0), FireEntry(12, True, 30.0, 50.0, 5.0)), 12),
+        # nearest by distance is B; nearest on x alone would be A
+        ((0.0, 0.0), (FireEntry(11, True, 10.0, 100.0, 5.0), FireEntry(12, True, 50.0, 30.0, 5.0)), 12),
+        # from (0, 100): A is 100 m off, B 60 m (a mix-up of x and y would put A at 0 m)
+        ((0.0, 100.0), (FireEntry(11, True, 100.0, 100.0, 5.0), FireEntry(12, True, 0.0, 160.0, 5.0)), 12),
+    ],
+)
+def test_fallback_target_is_the_nearest_fire_in_the_plane(pos, fires, want):
+    m = airborne(fires=fires, target_fire_id=9)
+    d = m.step(view(1.0, fires=fires, target_fire_id=9, pos_xy=pos))
+    assert d.target_fire_id == want and d.request is None
+
+
+def test_any_water_left_is_released():
+    m = airborne(MissionConfig(min_water_fraction=0.0), water_kg=0.5)
+    assert m.step(view(1.0, water_kg=0.5, pos_xy=(200.0, 100.0))).request == PayloadAction.DROP
+
+
+def test_drops_are_counted():
+    m = airborne()
+    for k in range(3):
+        t0 = 10.0 * k
+        assert m.step(view(t0 + 1.0, pos_xy=(200.0, 100.0))).request == PayloadAction.DROP
+        for j in range(2, 6):  # the guard, then a full tank: back to SUPPRESS
+            m.step(view(t0 + j, water_kg=2000.0))
+        assert m.objective == Objective.SUPPRESS
+    assert m.drops == 3
