@@ -314,8 +314,9 @@ class Agent:
         self.fires.predict(cfg.control_period_s)
         new_ids = self.fires.fuse(self.link.alive_fires(), t1)
         det = bundle.fires if vehicle == VehicleStatus.AIRBORNE else np.zeros((0, 4))
-        new_ids += self.fires.observe(det, (float(s[0]), float(s[1])), t1)
-        self._fuse_front(bundle, vehicle, t1)
+        self._fuse_front(bundle, vehicle, t1)  # first: its burning cells gate negative evidence
+        burning = None if self.front is None else self.front.burning_xy(t1)
+        new_ids += self.fires.observe(det, (float(s[0]), float(s[1])), t1, burning)
         for fid in new_ids:
             tr = self.fires.tracks.get(fid)
             if tr is not None and fid >> 16 == cfg.uav_id:

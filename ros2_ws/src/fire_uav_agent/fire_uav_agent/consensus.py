@@ -59,6 +59,19 @@ evidence on a stale estimate was the other half of that path: an estimate predic
 seconds with a wrong drift sat 50+ m from the fire, a UAV flew over the estimate, saw nothing
 and declared the fire out, and the freshest-status rule spread it.
 
+**Raster fires (issue [suppression]).** The negative-evidence rule above assumes that a fire
+still burning is in sight from near its centre (FF III-C step 4: FF's fires are Gaussians around
+their centre). A raster fire's reported centre is the centroid of its burned ground and its
+extent the radius of that area (100-200 m for a fire of a few ha, above the 70 m sensor range),
+so the centre is burnt out while the front burns at the edge: on ``grass_brush_hill`` (flank,
+6 UAVs, seeds 1 and 3) a UAV passing over the centroid saw nothing for 5 steps, declared the fire
+out, the freshest-status rule spread it, and the fleet landed with the fire burning. Our choice:
+:meth:`FireConsensus.observe` takes the cells the agent's front picture holds as burning
+(``fire_front.FrontPicture.burning_xy``, seen within its ``max_age_s`` and not seen burnt since)
+and counts no negative evidence against a track with one within its association gate. A fire
+is then ended only once every burning cell known near it has been seen burnt or has aged out,
+and a UAV then looks at its centre and sees nothing. FF fires pass no cells: unchanged.
+
 **Fire ids.** A detection is associated with the nearest active entry within
 ``max(gate_min_m, gate_sigmas * extent)``; otherwise it opens a new entry with fleet-wide id
 ``(uav_id << 16) | counter`` (unique without coordination, fits FireEstimate.fire_id uint32 and
@@ -172,6 +185,14 @@ class FireConsensus:
 
     def _gate(self, extent_m: float) -> float:
         return max(self.cfg.gate_min_m, self.cfg.gate_sigmas * extent_m)
+
+    def _burning_near(self, tr: _Track, burning_xy: np.ndarray | None) -> bool:
+        """Whether a known burning cell [m] lies within the track's association gate (raster fires)."""
+        if burning_xy is None or len(burning_xy) == 0:
+            return False
+        b = np.asarray(burning_xy, dtype=float).reshape(-1, 2)
+        d2 = (b[:, 0] - tr.x_m) ** 2 + (b[:, 1] - tr.y_m) ** 2
+        return bool(np.any(d2 <= self._gate(tr.extent_m) ** 2))
 
     def negative_range(self, tr: _Track, t_s: float) -> float:
         """Range [m] within which not seeing ``tr`` counts as evidence that it is out (<= 0: none).
@@ -290,9 +311,18 @@ class FireConsensus:
         return [f for f in new_ids if f in self.tracks]
 
     def observe(
-        self, detections: np.ndarray, own_xy: tuple[float, float] | None, t_now_s: float
+        self,
+        detections: np.ndarray,
+        own_xy: tuple[float, float] | None,
+        t_now_s: float,
+        burning_xy: np.ndarray | None = None,
     ) -> list[int]:
-        """Fuse own detections, rows (t_s, x_m, y_m, extent_m). Returns ids first seen here."""
+        """Fuse own detections, rows (t_s, x_m, y_m, extent_m). Returns ids first seen here.
+
+        ``burning_xy``: (N, 2) centres [m] of the cells this agent's front picture holds as burning
+        (raster fires only; None for FF fires): no negative evidence against a track with one
+        within its association gate (module doc, "Raster fires").
+        """
         new_ids: list[int] = []
         seen: set[int] = set()
         dets = np.asarray(detections, dtype=float).reshape(-1, 4)
@@ -333,6 +363,9 @@ class FireConsensus:
         if own_xy is not None:
             for tr in self.tracks.values():
                 if not tr.active or tr.fire_id in seen:
+                    continue
+                if self._burning_near(tr, burning_xy):
+                    tr.unseen_steps = 0  # a raster fire still burning away from its centre
                     continue
                 if math.hypot(tr.x_m - own_xy[0], tr.y_m - own_xy[1]) <= self.negative_range(tr, t_now_s):
                     tr.unseen_steps += 1

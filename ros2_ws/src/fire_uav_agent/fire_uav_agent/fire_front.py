@@ -240,6 +240,16 @@ class FrontPicture:
         d = np.hypot(x - fm.center_x_m, y - fm.center_y_m)
         return self.cfg.nominal_ros_mps * d / max(float(d.max()), self.cfg.cell_size_m)
 
+    def burning_xy(self, t_s: float | None = None) -> np.ndarray:
+        """(N, 2) centres [m] of the cells last seen BURNING within ``max_age_s`` of ``t_s`` [s]
+        (default: the latest observation): what the consensus's negative evidence must respect."""
+        t = self._t_s if t_s is None else t_s
+        i, j = np.nonzero(self.state == CellState.BURNING)
+        with np.errstate(invalid="ignore"):
+            fresh = t - self.t_obs[i, j] <= self.cfg.max_age_s
+        x, y = self.centre_xy(i[fresh], j[fresh])
+        return np.column_stack([x, y])
+
     def known_cells(self, states: tuple[int, ...]) -> FrontCells:
         """Every known cell in ``states`` (for sharing retractions and the report)."""
         mask = np.isin(self.state, states)
