@@ -56,6 +56,8 @@ async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[di
                 frame = await asyncio.wait_for(ws.recv(), timeout=1.0)
             except asyncio.TimeoutError:
                 continue
+            except websockets.exceptions.ConnectionClosed:
+                break  # the mission ended (the runner stops the bridge): the counts below tell
             if isinstance(frame, str):
                 msg = json.loads(frame)
                 if msg.get("op") == "advertise":
@@ -87,12 +89,14 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
     env = dict(ros_env)
     env["PYTHONPATH"] = str(ROOT / "tools") + os.pathsep + env.get("PYTHONPATH", "")
     env.pop("ROS_DOMAIN_ID", None)
-    cmd = [sys.executable, "-m", "fire_mission.runner", "tiny_test", "--mode", "realtime", "--rtf", "2",
+    cmd = [sys.executable, "-m", "fire_mission.runner", "tiny_test", "--mode", "realtime", "--rtf", "1",
            "--max-duration", "60", "--foxglove", "--foxglove-port", str(port), "--out", str(tmp_path / "run"),
            "--quiet", "--no-report"]  # fmt: skip
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
-        # /tf: the world (truth frames) and every agent (estimate frames) publish it, in any order
+        # /tf: the world (truth frames) and every agent (estimate frames) publish it, in any order.
+        # Real time (rtf 1): the 53 s mission is the window to collect in (a loaded CI machine
+        # once delivered too few at rtf 2 before the mission ended and the bridge closed)
         want = {"/viz/world": 3, "/tf": 30}
         channels, got = asyncio.run(_collect(port, want, time.monotonic() + 120))
     finally:
