@@ -2,7 +2,12 @@
 
 import numpy as np
 import pytest
-from fire_perimeter_monitor.importance import adjust_heterogeneity, rate_of_spread, should_turn, window_importance
+from fire_perimeter_monitor.importance import (
+    adjust_heterogeneity,
+    rate_of_spread,
+    should_turn,
+    window_importance,
+)
 
 
 def test_eq1_divides_by_the_time_between_the_two_visits():
