@@ -592,7 +592,7 @@ class Agent:
                 height = plan.height_m
             v_cap = plan.speed_cap_mps
         if self.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
-            height = self.tactic.layer_height_m(cfg.uav_id, veh.flight_height_m)
+            height = self.tactic.layer_height_m(cfg.uav_id)
         self._centroid = target
         cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
         return self._separate(s, cmd, target, pview) if cfg.avoidance else cmd

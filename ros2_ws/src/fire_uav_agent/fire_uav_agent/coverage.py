@@ -241,8 +241,9 @@ def control_law(
     v_lin = min(max(gains.kp * dist, limits.v_stall_mps), v_hi)
     vz_cap = min(limits.vz_max_mps, gains.vz_cmd_max_mps)
     look = v_hi * gains.terrain_lookahead_s
+    gx, gy = terrain.gradient(x, y)
     grade = max(
-        math.hypot(*terrain.gradient(x, y)),
+        math.hypot(gx, gy),
         math.hypot(*terrain.gradient(x + look * math.cos(th), y + look * math.sin(th))),
     )
     if grade > 0.0:  # climb-limited speed (docstring)
@@ -250,7 +251,6 @@ def control_law(
     err = wrap_angle(math.atan2(dy, dx) - th) if dist > 1e-9 else 0.0  # Eq. 11
     omega = max(-limits.omega_max_radps, min(limits.omega_max_radps, gains.ka * err))
     e = float(terrain.elevation(x, y))
-    gx, gy = terrain.gradient(x, y)
     ff = v_lin * (gx * math.cos(th) + gy * math.sin(th))
     v_z = max(-vz_cap, min(vz_cap, gains.kz * (e - z + height_m) + ff))  # Eq. 12
     return v_lin, v_z, omega

@@ -104,6 +104,7 @@ class FrontPicture:
         self._t_recorded = -math.inf
         self._version = 0  # bumped by every observe/merge (the front cache's key)
         self._front_cache: tuple[tuple[int, float], FrontCells] | None = None
+        self._burning_cache: tuple[tuple[int, float], tuple[np.ndarray, np.ndarray]] | None = None
 
     # --- geometry ------------------------------------------------------------------------
     def index(self, x_m: np.ndarray, y_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -191,10 +192,7 @@ class FrontPicture:
         Tested only at the burning cells (a few hundred of the grid's cells): a cell outside the
         grid counts as not open, as the zero padding of a whole-grid neighbour test would.
         """
-        i, j = np.nonzero(self.state == CellState.BURNING)
-        with np.errstate(invalid="ignore"):
-            fresh = t_s - self.t_obs[i, j] <= self.cfg.max_age_s
-        i, j = i[fresh], j[fresh]
+        i, j = self._fresh_burning_ij(t_s)
         if i.size == 0:
             return i, j
         st = np.pad(self.state, 1, constant_values=CellState.BURNED)
@@ -205,6 +203,19 @@ class FrontPicture:
                     s = st[i + 1 + di, j + 1 + dj]
                     nb |= (s == CellState.UNBURNED) | (s == UNKNOWN)
         return i[nb], j[nb]
+
+    def _fresh_burning_ij(self, t_s: float) -> tuple[np.ndarray, np.ndarray]:
+        """(row, col) of the cells last seen BURNING within ``max_age_s`` of ``t_s`` [s]; cached
+        until the next ``observe``/``merge`` (the front and the consensus both ask each step)."""
+        key = (self._version, t_s)
+        if self._burning_cache is not None and self._burning_cache[0] == key:
+            return self._burning_cache[1]
+        i, j = np.nonzero(self.state == CellState.BURNING)
+        with np.errstate(invalid="ignore"):
+            fresh = t_s - self.t_obs[i, j] <= self.cfg.max_age_s
+        out = (i[fresh], j[fresh])
+        self._burning_cache = (key, out)
+        return out
 
     def _front_mask(self, t_s: float) -> np.ndarray:
         mask = np.zeros((self.ny, self.nx), dtype=bool)
@@ -243,11 +254,7 @@ class FrontPicture:
     def burning_xy(self, t_s: float | None = None) -> np.ndarray:
         """(N, 2) centres [m] of the cells last seen BURNING within ``max_age_s`` of ``t_s`` [s]
         (default: the latest observation): what the consensus's negative evidence must respect."""
-        t = self._t_s if t_s is None else t_s
-        i, j = np.nonzero(self.state == CellState.BURNING)
-        with np.errstate(invalid="ignore"):
-            fresh = t - self.t_obs[i, j] <= self.cfg.max_age_s
-        x, y = self.centre_xy(i[fresh], j[fresh])
+        x, y = self.centre_xy(*self._fresh_burning_ij(self._t_s if t_s is None else t_s))
         return np.column_stack([x, y])
 
     def known_cells(self, states: tuple[int, ...]) -> FrontCells:

@@ -100,10 +100,10 @@ class TacticConfig:
                 f"below {self.layer_top_m} m put the lowest at {bottom:g} m"
             )
 
-    def layer_height_m(self, uav_id: int, flight_height_m: float = 0.0) -> float:
+    def layer_height_m(self, uav_id: int) -> float:
         """Height [m above terrain] of ``uav_id``'s raster layer: ``layer_top_m`` down in steps of
-        ``layer_step_m``, UAV id modulo ``layers`` (``flight_height_m`` is not used: the stack is
-        bounded by the altimeter's range, see :func:`raster_layers`)."""
+        ``layer_step_m``, UAV id modulo ``layers`` (not from the flight height: the stack is bounded
+        by the altimeter's range, see :func:`raster_layers`)."""
         return self.layer_top_m - self.layer_step_m * (self.layers - 1 - uav_id % self.layers)
 
 

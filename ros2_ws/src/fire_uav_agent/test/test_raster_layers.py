@@ -27,7 +27,7 @@ def test_uavs_on_different_layers_cannot_come_within_the_collision_radius(n):
     different layers (step - 2 e) still exceeds the collision radius, whatever their tracks."""
     sc, agents = _agents(n)
     r = sc.vehicle.collision_radius_m
-    h = [a.tactic.layer_height_m(a.cfg.uav_id, sc.vehicle.flight_height_m) for a in agents]
+    h = [a.tactic.layer_height_m(a.cfg.uav_id) for a in agents]
     for i, j in itertools.combinations(range(n), 2):
         if h[i] != h[j]:
             assert abs(h[i] - h[j]) - 2 * TRACKING_ERROR_M > r, (i, j, h[i], h[j])
