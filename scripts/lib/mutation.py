@@ -10,6 +10,7 @@ config/mutation.toml) in place, with the other packages importable unmutated via
 from __future__ import annotations
 
 import argparse
+import fcntl
 import os
 import re
 import shutil
@@ -208,6 +209,16 @@ def run(
 
 
 def update_doc(results: list[Result]) -> None:
+    """Rewrite the rows of ``results`` in the table of docs/testing.md. Two runs finishing at once
+    (two modules in two shells) take turns on a lock, so neither writes back a table read before
+    the other's row went in."""
+    STAGE.mkdir(parents=True, exist_ok=True)
+    with open(STAGE / "doc.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        _update_doc(results)
+
+
+def _update_doc(results: list[Result]) -> None:
     text = DOC.read_text() if DOC.exists() else f"# Testing\n\n{TABLE_START}\n{TABLE_END}\n"
     if TABLE_START not in text:
         raise SystemExit(f"mutation: {DOC} has no '{TABLE_START}' marker")
