@@ -24,6 +24,14 @@ class StalenessSearch:
     fire: the fresh disc around a circling UAV balances the rest of its cell, an equilibrium
     that stops exploring. A waypoint on the stale frontier is seen as the UAV reaches it, so
     the target always moves on.
+
+    The UAV keeps its waypoint until that point has been seen (by anyone) or has left its
+    cell; only then does it choose again. Choosing afresh every step made the waypoint jump
+    50-70 m from one 0.1 s step to the next as the stalest set changed under the fleet's
+    sensors, so the UAV turned 50-90 deg per step and the waypoint it had published (which
+    its peers use to predict a turning UAV, :func:`.separation.peer_rows`) was stale the
+    step after: two searching UAVs closed from 34 m to 6 m in 0.2 s in FF unknown-fires,
+    14 UAVs, seed 1 (docs/benchmarks.md, acceptance matrix).
     """
 
     def __init__(
@@ -34,6 +42,8 @@ class StalenessSearch:
         self.horizon_s = horizon_s
         self.stale_band = stale_band
         self.last_seen = np.full(grid.points.shape[0], -horizon_s)
+        self._target: int | None = None  # index into grid.points of the committed waypoint
+        self._chosen_s = 0.0  # when it was chosen [s]
 
     def observe(self, t_s: float, positions_xy: np.ndarray) -> None:
         """Mark every grid point within the sensor range of a position as seen at ``t_s``.
@@ -63,12 +73,19 @@ class StalenessSearch:
         return np.clip((t_s - self.last_seen) / self.horizon_s, 0.0, 1.0)
 
     def plan(self, view: PlannerView) -> PlannerTarget | None:
-        age = self.staleness(view.t_s)
         mask = view.cell_mask
-        cand = np.flatnonzero(mask) if mask is not None and np.any(mask) else np.arange(age.size)
+        own = mask is not None and bool(np.any(mask))
+        k = self._target
+        if k is not None and self.last_seen[k] < self._chosen_s and (not own or bool(mask[k])):
+            x, y = self.grid.points[k]  # committed: not seen since chosen, still in the own cell
+            return PlannerTarget(waypoint_xy=(float(x), float(y)))
+        age = self.staleness(view.t_s)
+        cand = np.flatnonzero(mask) if own else np.arange(age.size)
         a = age[cand]
         sel = cand[a >= a.max() - self.stale_band]
         pts = self.grid.points[sel]
         d2 = (pts[:, 0] - view.s[0]) ** 2 + (pts[:, 1] - view.s[1]) ** 2
-        x, y = pts[int(np.argmin(d2))]
+        k = int(sel[int(np.argmin(d2))])
+        self._target, self._chosen_s = k, float(view.t_s)
+        x, y = self.grid.points[k]
         return PlannerTarget(waypoint_xy=(float(x), float(y)))

@@ -45,3 +45,31 @@ def test_observe_keeps_earlier_sightings_and_updates_only_new_ones():
     assert s.staleness(2.0)[0] == 1.0 / 60.0  # (5, 5) seen at t = 1 s
     assert s.staleness(2.0)[-1] == 0.0  # (95, 95) seen now
     assert s.staleness(2.0)[45] == 1.0  # (55, 45) never seen: saturated
+
+
+def _view(t_s, xy, mask):
+    from fire_uav_agent.planning import PlannerView
+
+    return PlannerView(t_s, 0, np.array([xy[0], xy[1], 20.0, 0.0]), None, mask, {}, ())
+
+
+def test_the_waypoint_is_kept_until_seen_or_out_of_the_cell():
+    """A chosen waypoint is kept while unseen and in the own cell (it jumped 50-70 m per step).
+
+    Every point is unseen, so the choice is the point nearest the UAV. The UAV then moves next
+    to another point: a fresh choice would take that one, the committed waypoint stays. Seeing
+    the waypoint, or the waypoint leaving the own cell, releases it.
+    """
+    grid = make_grid(0.0, 100.0, 0.0, 100.0, 10.0)
+    s = StalenessSearch(grid, 4.0, horizon_s=60.0)
+    every = np.ones(len(grid.points), dtype=bool)
+    first = s.plan(_view(1.0, (6.0, 4.0), every)).waypoint_xy
+    assert first == (5.0, 5.0)
+    s.observe(1.1, np.array([[50.0, 50.0]]))  # someone else sees a far point: not the waypoint
+    assert s.plan(_view(1.1, (94.0, 94.0), every)).waypoint_xy == (5.0, 5.0)  # kept, not (95, 95)
+    s.observe(1.2, np.array([[5.0, 5.0]]))  # the waypoint is seen
+    assert s.plan(_view(1.2, (94.0, 94.0), every)).waypoint_xy == (95.0, 95.0)  # chosen afresh
+    out = every.copy()
+    out[np.flatnonzero((grid.points == (95.0, 95.0)).all(axis=1))] = False  # cell shrinks off it
+    got = s.plan(_view(1.3, (94.0, 94.0), out)).waypoint_xy
+    assert got != (95.0, 95.0) and got in {(85.0, 95.0), (95.0, 85.0)}
