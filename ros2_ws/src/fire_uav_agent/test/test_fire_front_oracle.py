@@ -294,12 +294,14 @@ def test_before_eq1_knows_a_bin_ros_grows_with_distance_and_the_farthest_cell_ge
     near = p.ros_at(np.array([c[0], c[0] + 2.0]), np.array([c[1], c[1]]))
     assert near[0] == pytest.approx(0.0) and 0.0 < near[1] < 0.7
     assert p.ros_at(np.zeros(0), np.zeros(0)).shape == (0,)
+    one = p.ros_at(np.array([f.x_m[int(np.argmax(d))]]), np.array([f.y_m[int(np.argmax(d))]]))
+    assert one.shape == (1,) and np.isfinite(one[0])  # a single query point too
 
 
 def test_eq1_ros_of_a_circle_growing_at_a_known_rate() -> None:
     """A circular fire whose edge advances 0.5 m/s, seen whole at t = 0 and t = 60 s (a revisit,
     ``revisit_gap_s`` 30 s): PM Eq. 1 gives 0.5 m/s in every direction, within a cell per minute."""
-    cfg = FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0)
+    cfg = FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0, nominal_ros_mps=2.0)
     p = FrontPicture(cfg)
     p.observe(*_disc(5.0, 100.0, 100.0, 30.0, 25.0, 200.0), 0.0)
     p.observe(*_disc(5.0, 100.0, 100.0, 60.0, 55.0, 200.0), 60.0)
@@ -312,7 +314,7 @@ def test_eq1_ros_of_a_circle_growing_at_a_known_rate() -> None:
 def test_a_peer_learns_the_same_eq1_ros_from_shared_fronts_alone() -> None:
     """Agent b sees nothing itself; merging a's published fronts (with their observation times)
     at both sightings gives it the ROS a measured."""
-    cfg = FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0)
+    cfg = FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0, nominal_ros_mps=2.0)
     a, b = FrontPicture(cfg), FrontPicture(cfg)
     for r, t in ((30.0, 0.0), (60.0, 60.0)):
         a.observe(*_disc(5.0, 100.0, 100.0, r, r - 5.0, 200.0), t)
@@ -328,7 +330,7 @@ def test_own_sightings_reach_the_pm_map_at_most_once_per_record_period() -> None
     a full period after does. Constructed so it shows in Eq. 1: the ring is drawn 10 m larger in
     the intermediate sighting; only if recorded does it become the baseline of the revisit."""
     for t_mid, recorded in ((0.5, False), (1.0, True)):
-        p = FrontPicture(FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0))
+        p = FrontPicture(FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0, nominal_ros_mps=2.0))
         p.observe(*_disc(5.0, 100.0, 100.0, 30.0, 25.0, 200.0), 0.0)
         p.observe(*_disc(5.0, 100.0, 100.0, 40.0, 35.0, 200.0), t_mid)
         p.observe(*_disc(5.0, 100.0, 100.0, 60.0, 55.0, 200.0), 60.0)
@@ -339,9 +341,71 @@ def test_own_sightings_reach_the_pm_map_at_most_once_per_record_period() -> None
 def test_an_empty_sighting_does_not_delay_the_next_record() -> None:
     """An empty FireCells sample (nothing in the footprint) records nothing, so the next real
     sighting 0.7 s later (but 1.2 s after the last record) still goes in."""
-    p = FrontPicture(FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0))
+    p = FrontPicture(FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0, nominal_ros_mps=2.0))
     p.observe(*_disc(5.0, 100.0, 100.0, 30.0, 25.0, 200.0), 0.0)
     p.observe(np.zeros(0), np.zeros(0), np.zeros(0), 0.5)
     p.observe(*_disc(5.0, 100.0, 100.0, 40.0, 35.0, 200.0), 1.2)
     p.observe(*_disc(5.0, 100.0, 100.0, 60.0, 55.0, 200.0), 60.0)
     assert np.median(p.front().ros_mps) == pytest.approx(20.0 / 58.8, abs=0.05)
+
+
+def test_the_smallest_positive_sizes_are_accepted() -> None:
+    p = FrontPicture(FrontConfig((0.0, 1.0, 0.0, 1.0), 0.5, max_age_s=0.5))
+    p.observe(np.array([0.25, 0.75]), np.array([0.25, 0.25]), np.array([B, U]), 1.0)
+    assert len(p.front(1.5)) == 1 and len(p.front(1.6)) == 0
+
+
+def test_a_point_outside_a_one_column_grid_is_ignored_by_merge() -> None:
+    p = FrontPicture(FrontConfig((0.0, 5.0, 0.0, 10.0), 5.0))  # one column, two rows
+    assert p.merge(_cells([(7.5, 2.5), (2.5, -1.0)], [B, B], [1.0, 1.0])) == 0
+    assert p.merge(_cells([(2.5, 2.5), (12.5, 7.5)], [B, B], [1.0, 1.0])) == 1
+
+
+def test_an_enclosed_lone_burning_cell_is_not_front() -> None:
+    p = FrontPicture(FrontConfig((0.0, 15.0, 0.0, 15.0), 5.0))
+    g = np.array([2.5, 7.5, 12.5])
+    xx, yy = np.meshgrid(g, g)
+    s = np.full(9, N)
+    s[4] = B
+    p.observe(xx.ravel(), yy.ravel(), s, 1.0)
+    assert len(p.front()) == 0 and len(p.burning_xy()) == 1
+
+
+def test_every_new_sample_shows_in_the_front_even_at_one_instant() -> None:
+    """front(t) is cached; samples that arrive at the same sim time (own sighting and a peer's
+    cells in one step, in either order) must still show in it."""
+    p = FrontPicture(FrontConfig((0.0, 30.0, 0.0, 10.0), 10.0))
+    assert len(p.front(5.0)) == 0
+    p.merge(_cells([(25.0, 5.0)], [U], [5.0]))
+    p.observe(np.array([5.0, 15.0]), np.array([5.0, 5.0]), np.array([U, B]), 5.0)
+    f = p.front(5.0)
+    assert ij_of(p, f) == {(0, 1)} and f.state.dtype == np.int64
+    p.observe(np.array([15.0]), np.array([5.0]), np.array([N]), 5.0)  # put out in the same step
+    assert len(p.front(5.0)) == 0
+    q = FrontPicture(FrontConfig((0.0, 30.0, 0.0, 10.0), 10.0))
+    assert len(q.front(5.0)) == 0
+    q.observe(np.array([5.0]), np.array([5.0]), np.array([U]), 5.0)
+    q.merge(_cells([(15.0, 5.0)], [B], [5.0]))
+    assert ij_of(q, q.front(5.0)) == {(0, 1)}
+    assert len(q.burning_xy(5.0)) == 1
+
+
+def test_neighbouring_front_cells_are_linked_in_the_pm_map_and_a_gap_is_not() -> None:
+    """PM map record's deviation: bins between two neighbouring front cells (diagonal 1.41 cells)
+    are filled, so one sighting of a ring r = 30 m (fewer cells than the 72 bins) knows every bin;
+    two front cells two cells apart with a burnt cell between are not neighbours: the bins
+    between them stay unknown."""
+    p = FrontPicture(FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0))
+    p.observe(*_disc(5.0, 100.0, 100.0, 30.0, 25.0, 200.0), 0.0)
+    assert p.fire_map is not None and p.fire_map.known.all()
+    q = FrontPicture(FrontConfig((0.0, 200.0, 0.0, 200.0), 5.0, min_cells_for_centre=9))
+    g = np.array([97.5, 102.5, 107.5])
+    xx, yy = np.meshgrid(g, g)  # a burnt 3 x 3 block: the map centre (102.5, 102.5)
+    q.observe(xx.ravel(), yy.ravel(), np.full(9, N), 0.0)
+    q.observe(np.array([97.5, 102.5, 107.5]), np.full(3, 132.5), np.array([B, N, B]), 2.0)
+    fm = q.fire_map
+    assert fm is not None and (fm.center_x_m, fm.center_y_m) == (102.5, 102.5)
+    b_right, b_left = int(fm.bin_of(107.5, 132.5)), int(fm.bin_of(97.5, 132.5))
+    assert b_left - b_right == 3  # two bins between the cells
+    assert fm.known[b_right] and fm.known[b_left]
+    assert not fm.known[b_right + 1] and not fm.known[b_right + 2]

@@ -237,3 +237,50 @@ def test_release_at_the_threshold_and_on_a_level_pass_along_the_heading() -> Non
     assert release_now(cells, (0.0, -2.0), -math.pi / 2, 5.0, one)
     # flying east across the row at its middle: ahead is empty, release
     assert release_now(cells, (0.0, 50.0), 0.0, 10.0, cfg)
+
+
+def test_small_positive_sizes_are_accepted() -> None:
+    c = TacticConfig(sigma_m=0.5, flank_scale_m=0.5, release_radius_m=0.5)
+    assert (c.sigma_m, c.flank_scale_m, c.release_radius_m) == (0.5, 0.5, 0.5)
+
+
+def test_raster_layers_with_small_and_zero_steps() -> None:
+    """Step 1 m (R 0, e 1): top 10 m, floor 7.5 m -> layers at 10, 9, 8 m; no step at all (R 0,
+    e 0): every layer fits, the cap."""
+    assert raster_layers(0.0, 12.0, 7.5, 1.0) == (3, 1.0, 10.0)
+    assert raster_layers(0.0, 40.0, 7.5, 0.0)[0] == MAX_LAYERS
+
+
+def test_flank_weights_use_the_anchor_distance_in_2d() -> None:
+    """Cells on a vertical line x = 0 at y = 100, 140, 180, anchor at (0, 60): d = 40, 80, 120."""
+    cfg = TacticConfig("flank", flank_scale_m=40.0, min_weight=0.0)
+    f = front([0.0, 0.0, 0.0], [100.0, 140.0, 180.0])
+    assert front_weights(f, cfg, (0.0, 60.0)) == pytest.approx([1.0, math.exp(-1), math.exp(-2)])
+    g = front([100.0, 130.0], [50.0, 90.0])  # anchor (100, 50): d = 0, 50
+    assert front_weights(g, cfg, (100.0, 50.0)) == pytest.approx([1.0, math.exp(-50.0 / 40.0)])
+
+
+def test_density_reaches_out_to_the_three_sigma_cut_off_in_every_direction() -> None:
+    """Eq. 13' truncated at 3 sigma (the module's kernel cut-off): at 3 sigma from a lone cell the
+    density is exp(-4.5) of its weight, east, west, north and south alike; beyond, zero."""
+    g = make_grid(0.0, 300.0, 0.0, 300.0, 5.0)
+    f = front([152.5], [152.5])
+    d = front_density(g, f, np.array([1.0]), 10.0).reshape(g.shape)
+    i = j = 30  # the cell's grid point
+    for di, dj in ((0, 6), (0, -6), (6, 0), (-6, 0)):  # 30 m = 3 sigma
+        assert d[i + di, j + dj] == pytest.approx(math.exp(-4.5), rel=0.3)
+    for di, dj in ((0, 7), (0, -7), (7, 0), (-7, 0)):
+        assert d[i + di, j + dj] == 0.0
+
+
+def test_a_single_burning_cell_counts_and_release_looks_ahead_along_the_heading() -> None:
+    one = (np.array([40.0]), np.array([-20.0]), np.array([B]))
+    assert burning_within(one, (40.0, -20.0), 1.0) == 1
+    # a row along x at y = 0 (x = 0, 5, ..., 100): 2 m short of its east end flying east, ahead
+    # (103, 0) has 1 cell against 2 here: the peak, release
+    xs = np.arange(0.0, 101.0, 5.0)
+    row = (xs, np.zeros(xs.size), np.full(xs.size, B))
+    cfg = TacticConfig(min_burning_cells=1, release_radius_m=5.0)
+    assert burning_within(row, (98.0, 0.0), 5.0) == 2
+    assert release_now(row, (98.0, 0.0), 0.0, 5.0, cfg)
+    assert not release_now(row, (98.0, 0.0), math.pi, 3.0, cfg)  # flying west: 3 at (95, 0)
