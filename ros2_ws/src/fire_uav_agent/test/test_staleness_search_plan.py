@@ -96,3 +96,18 @@ def test_without_an_own_cell_the_waypoint_is_kept_until_seen() -> None:
     assert s.plan(view(4.0, (94.0, 5.0), cell)).waypoint_xy == (95.0, 5.0)  # left the cell
     assert isinstance(s.plan(view(4.0, (94.0, 5.0), cell)).waypoint_xy[0], float)
     assert idx(grid, (95.0, 5.0)) == 9
+
+
+def test_a_point_exactly_at_the_sensor_range_is_seen() -> None:
+    grid = make_grid(0.0, 30.0, 0.0, 10.0, 10.0)  # points (5, 5), (15, 5), (25, 5)
+    s = StalenessSearch(grid, 10.0, horizon_s=60.0)
+    s.observe(3.0, np.array([[5.0, 5.0]]))
+    assert s.last_seen.tolist() == [3.0, 3.0, -60.0]  # (15, 5) at exactly 10 m: within range
+
+
+def test_a_zero_band_takes_the_nearest_of_the_stalest_only() -> None:
+    grid = make_grid(0.0, 100.0, 0.0, 10.0, 10.0)
+    s = StalenessSearch(grid, 1.0, horizon_s=100.0, stale_band=0.0)
+    s.observe(99.0, np.array([[5.0, 5.0]]))  # (5, 5) fresh: 0.01
+    s.observe(1.0, np.array([[15.0, 5.0]]))  # (15, 5) 0.99
+    assert s.plan(view(100.0, (0.0, 5.0), np.ones(10, dtype=bool))).waypoint_xy == (25.0, 5.0)
