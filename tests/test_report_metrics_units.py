@@ -236,3 +236,15 @@ def test_metrics_without_uavs_have_no_ekf_figures():
     assert ekf["samples"] == 0 and ekf["per_uav"] == {}
     assert all(ekf[k] is None for k in ("x", "y", "z", "yaw", "horizontal"))
     assert m["outcome"] == "incomplete" and m["mission_duration_s"] == 3.0
+
+
+def test_perimeter_error_needs_both_the_map_and_the_truth():
+    per = {"t": np.array([1.0]), "center": np.array([[0.0, 0.0]]), "outer": np.full((1, 8), 10.0)}
+    tru = {"t": np.array([1.0]), "area": np.array([math.pi * 100.0])}  # radius 10 m
+    assert perimeter_distance_error(_mission(perimeters={(0, 1): per}), 0, 1)["t"].size == 0
+    assert perimeter_distance_error(_mission(truth_fires={1: tru}), 0, 1)["t"].size == 0
+    both = perimeter_distance_error(_mission(perimeters={(0, 1): per}, truth_fires={1: tru}), 0, 1)
+    assert both["t"].tolist() == [1.0] and both["error_m"] == pytest.approx([0.0])
+    m = compute_metrics(_mission(perimeters={(0, 1): per}, truth_fires={1: {**tru, "status": np.array([1])}}))
+    assert m["perimeter_distance_error_m"] == {"0/1": pytest.approx(0.0)}
+    assert m["seed"] is None and m["uav_count"] == 0
