@@ -248,3 +248,64 @@ def test_perimeter_error_needs_both_the_map_and_the_truth():
     m = compute_metrics(_mission(perimeters={(0, 1): per}, truth_fires={1: {**tru, "status": np.array([1])}}))
     assert m["perimeter_distance_error_m"] == {"0/1": pytest.approx(0.0)}
     assert m["seed"] is None and m["uav_count"] == 0
+
+
+def test_metrics_keys_and_the_fleet_event_lists():
+    """The metrics.json keys (docs/recording.md); rejoins, crashes and scheduled outages as given;
+    drops per UAV ordered by id as a number."""
+    world = [
+        _event(1.0, EventType.DROP, uav=10, fire_id=0, value=5.0),
+        _event(2.0, EventType.DROP, uav=9, fire_id=0, value=5.0),
+        _event(3.0, EventType.CRASH, uav=9, detail="terrain"),
+    ]
+    fleet = [
+        _event(4.0, EventType.PEER_CRASHED, uav=10, peer=9, source="fleet"),
+        _event(5.0, EventType.PEER_REJOINED, uav=10, peer=9, source="fleet"),
+    ]
+    outages = [{"start_s": 1.0, "end_s": 2.0}]
+    m = compute_metrics(
+        _mission(
+            world_events=world, fleet_events=fleet, scenario={"name": "s", "comms": {"outages": outages}}
+        )
+    )
+    assert set(m) == {
+        "bag",
+        "scenario",
+        "seed",
+        "uav_count",
+        "outcome",
+        "outcome_detail",
+        "mission_duration_s",
+        "drop_count",
+        "drops_per_fire",
+        "drops_per_uav",
+        "drop_times_s",
+        "mean_inter_drop_interval_s",
+        "inter_drop_intervals_s",
+        "extinction_times_s",
+        "crash_events",
+        "peers_declared_crashed",
+        "peers_rejoined",
+        "packets",
+        "packets_lost_total",
+        "packets_rejected_total",
+        "link_outages_scheduled",
+        "ekf_error",
+        "perimeter_distance_error_m",
+        "drops",
+        "hits",
+        "hit_rate",
+        "water_released_kg",
+        "water_on_burning_kg",
+        "burned_area_m2",
+        "contained_at_s",
+        "event_counts",
+        "recorder_closed_cleanly",
+        "warnings",
+    }
+    assert m["bag"] == "mem" and m["scenario"] == "s" and m["link_outages_scheduled"] == outages
+    assert list(m["drops_per_uav"]) == ["9", "10"]
+    assert m["crash_events"] == [{"t_s": 3.0, "uav_id": 9, "detail": "terrain"}]
+    assert m["peers_rejoined"] == [{"t_s": 5.0, "by_uav": 10, "peer_id": 9}]
+    assert m["packets_rejected_total"] == 0 and m["outcome_detail"] == "no MISSION_COMPLETE event in the bag"
+    assert compute_metrics(_mission(scenario={"name": "s"}))["link_outages_scheduled"] == []
