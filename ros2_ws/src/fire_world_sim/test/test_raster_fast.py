@@ -270,3 +270,15 @@ def test_sensors_see_burning_cells_within_range() -> None:
     assert np.array_equal(np.asarray(s.state)[got], g[inside][order])
     assert np.allclose(np.asarray(s.x_m)[got], xx[inside][order])
     assert len(m.cells_near(-900.0, 0.0, 5.0, 1).state) == 0
+
+
+@pytest.mark.parametrize("r", [1, 2, 3])
+def test_ring_is_the_chebyshev_ring_ordered_by_angle(r: int) -> None:
+    """Brute-force oracle: every offset at Chebyshev distance r (8 r of them), by angle."""
+    from fire_world_sim.fires.raster import _ring
+
+    ring = _ring(r)
+    expect = {(di, dj) for di in range(-5, 6) for dj in range(-5, 6) if max(abs(di), abs(dj)) == r}
+    assert len(ring) == 8 * r and set(ring) == expect
+    angles = [math.atan2(di, dj) for di, dj in ring]
+    assert angles == sorted(angles)

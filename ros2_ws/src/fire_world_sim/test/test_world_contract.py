@@ -233,3 +233,39 @@ def test_stamps_are_whole_periods_for_a_one_second_control_period() -> None:
     w = World(sc, seed=0)
     r = w.step({0: GO})
     assert r.stamp_ns == 1_000_000_000 and w.stamp_ns(4) == 5_000_000_000 and w.t_ns == 1_000_000_000
+
+
+def test_vehicle_events_in_full() -> None:
+    """docs/protocol.md "Events": vehicle events carry fire_id -1, the vehicle's position, their
+    value (counts / kg / 0) and their detail text."""
+    from fire_world_sim.world import Event
+
+    w = World(scenario(count=1, x=300.0, y=300.0, lakes=[]), seed=0)
+    r0 = w.step({0: Command(150.0, 1.0, 0.0)})  # takeoff, clamped
+    assert r0.events == [
+        Event(EventType.TAKEOFF, 0, 0, -1, 300.0, 300.0, 0.0, "takeoff"),
+        Event(EventType.COMMAND_CLAMPED, 0, 0, -1, 300.0, 300.0, 1.0, "command outside the vehicle limits"),
+    ]
+    v = w.vehicles[0]
+    x, y = v.x_m, v.y_m
+    r1 = w.step({})
+    assert r1.events == [
+        Event(EventType.COMMAND_MISSED, 100_000_000, 0, -1, x, y, 1.0, "no valid command for this step")
+    ]
+    x, y = v.x_m, v.y_m
+    r2 = w.step({0: Command(30.0, 0.0, 0.0)}, {0: [Action.DROP]})  # 0.2 m up, slow: lands
+    assert r2.events == [
+        Event(EventType.DROP, 200_000_000, 0, -1, x, y, 2000.0, "missed"),
+        Event(EventType.LANDED, 200_000_000, 0, -1, x, y, 0.0, "landed"),
+    ]
+    w2 = World(scenario(count=1, x=300.0, y=300.0, lakes=[]), seed=0)
+    w2.step({0: GO})
+    w2.vehicles[0].water_kg = 0.0
+    x, y = w2.vehicles[0].x_m, w2.vehicles[0].y_m
+    r = w2.step({0: LEVEL}, {0: [Action.DROP]})
+    assert r.events == [Event(EventType.DROP, 100_000_000, 0, -1, x, y, 0.0, "tank empty")]
+    res = [w2.step({}) for _ in range(30)]
+    (crash,) = events(res, EventType.CRASH)
+    v2 = w2.vehicles[0]
+    assert crash == Event(EventType.CRASH, 3_100_000_000, 0, -1, v2.x_m, v2.y_m, 0.0, v2.crash_reason)
+    assert res[-1].vehicles[0].commands_missed == 30 and res[-1].vehicles[0].water_kg == 0.0
