@@ -217,14 +217,10 @@ def test_extinguished_event_when_a_fire_burns_out() -> None:
     assert np.all(m.state_grid() == CellState.BURNED)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="bug: _advance takes the fires active at the previous update after the drop has "
-    "already put their cells out, so a raster fire that a drop puts out completely between two "
-    "updates never gets its 'extinguished' event (and World emits drop-extinguished events for "
-    "analytic fires only)",
-)
 def test_extinguished_event_when_the_last_cell_is_put_out() -> None:
+    """A drop that puts a fire's last burning cells out between two updates yields its event.
+
+    (Was a bug: the fires active at the previous update were recomputed after the drop.)"""
     m = model(ignitions=((62.5, 62.5, 0.0), (10.0, 10.0, 0.0)))
     run(m, 0.0, 3.0)
     m.apply_drop(62.5, 62.5, 40.0)

@@ -165,6 +165,7 @@ class RasterFireModel:
         self.t_start_s = min([0.0, *starts])  # [s] the model's own clock starts here
         self.t_s = self.t_start_s
         self._t_updated = self.t_start_s
+        self._active_at_update: set[int] | None = None  # fire ids burning at the last update
         self._drops = [0] * len(spec.ignitions)
         self._ignited = [False] * len(spec.ignitions)
         self._truth_cache: list[FireTruthRecord] | None = None
@@ -379,7 +380,11 @@ class RasterFireModel:
         self.t_s = t1
         events = [(n, "ignition") for n in self._start_ignitions(t1)]
         if t1 - self._t_updated >= self.update_period_s - 1e-9 or events:
-            was_active = self._active_ids(self._t_updated)  # burning at the previous update
+            # burning at the previous update, as it was then: recomputed now, a drop since then
+            # would already have removed a fire it put out, and its event would be lost
+            was_active = self._active_at_update
+            if was_active is None:
+                was_active = self._active_ids(self._t_updated)
             if self._set_wind(t1):
                 # burning cells re-derive their burn-out time under the new wind
                 bi, bj = np.nonzero(self._burning(t1))
@@ -390,6 +395,7 @@ class RasterFireModel:
             self._t_updated = t1
             self._truth_cache = None
             now_active = self._active_ids()
+            self._active_at_update = now_active
             events += [(n, "extinguished") for n in sorted(was_active - now_active) if self._ignited[n]]
         return events
 
