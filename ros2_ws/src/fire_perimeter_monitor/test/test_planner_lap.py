@@ -205,23 +205,21 @@ def ellipse():
     return star_fire((40, 40), C, (20, 20), elliptical_ros(0.2, 0.8, 0.0))
 
 
-@pytest.mark.parametrize("margin", [0.0, 0.5])
-def test_turns_follow_listing_3_with_the_margin(ellipse, margin):
-    """PM Listing 3 (with our margin): at each planning step the UAV turns exactly when
-    IMP_BACK > (1 + margin) IMP_FRONT; every turn reverses the direction and is counted."""
-    cx, cy = ellipse.ignition_xy_m
+def _fly_deciding(fire, **config):
+    """An importance monitor that knows the ignition point, flown 8 min on ``fire`` from t = 1000 s."""
+    cx, cy = fire.ignition_xy_m
     cfg = MonitorConfig(
         cell_size_m=C,
         speed_mps=SPEED,
         center_x_m=cx,
         center_y_m=cy,
         ignition_time_s=0.0,
-        turn_margin=margin,
         min_run_fraction=0.0,
+        **config,
     )
     m = _Deciding(cfg)
     tr = fly(
-        ellipse,
+        fire,
         m,
         start_angle_rad=0.3,
         t_start_s=1000.0,
@@ -229,6 +227,14 @@ def test_turns_follow_listing_3_with_the_margin(ellipse, margin):
         speed_mps=SPEED,
         sensor_range_m=1.5 * C,
     )
+    return m, tr
+
+
+@pytest.mark.parametrize("margin", [0.0, 0.5])
+def test_turns_follow_listing_3_with_the_margin(ellipse, margin):
+    """PM Listing 3 (with our margin): at each planning step the UAV turns exactly when
+    IMP_BACK > (1 + margin) IMP_FRONT; every turn reverses the direction and is counted."""
+    m, tr = _fly_deciding(ellipse, turn_margin=margin)
     assert m.direction_changes > 0
     for back, front, _, turned in m.decisions:
         if abs(back - (1 + margin) * front) > 1e-9 * max(back, front, 1e-30):
@@ -239,26 +245,7 @@ def test_turns_follow_listing_3_with_the_margin(ellipse, margin):
 
 def test_after_a_turn_the_uav_flies_min_run_cells_first(ellipse):
     """Hysteresis: no decision within min_run_cells cells of a turn, and one as soon as allowed."""
-    cx, cy = ellipse.ignition_xy_m
-    cfg = MonitorConfig(
-        cell_size_m=C,
-        speed_mps=SPEED,
-        center_x_m=cx,
-        center_y_m=cy,
-        ignition_time_s=0.0,
-        min_run_cells=6,
-        min_run_fraction=0.0,
-    )
-    m = _Deciding(cfg)
-    tr = fly(
-        ellipse,
-        m,
-        start_angle_rad=0.3,
-        t_start_s=1000.0,
-        t_end_s=1480.0,
-        speed_mps=SPEED,
-        sensor_range_m=1.5 * C,
-    )
+    m, tr = _fly_deciding(ellipse, min_run_cells=6)
     flips = np.flatnonzero(np.diff(np.array(tr.direction)) != 0)
     assert len(flips) >= 2
     assert np.diff(flips).min() == 6  # cells flown between turns: never fewer, and 6 when it pays
