@@ -637,3 +637,225 @@ def test_fronts_known_from_peers_feed_the_published_fires_and_the_aim():
     assert a._fronts[fid] == (160.0, 180.0, 1.5)  # the NaN front (rate 5) is not a front
     (aim,) = [e for e in a._aim(tuple(a.fires.active())) if e.fire_id == fid]
     assert (aim.x_m, aim.y_m) == (160.0, 180.0)
+
+
+# --- lockstep helper --------------------------------------------------------------------------
+def test_the_lockstep_wait_expects_the_previous_steps_messages_of_the_alive_peers():
+    from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
+
+    st, fi = int(FLEET_STATE_SPEC.loss_index), int(FLEET_FIRES_SPEC.loss_index)
+    a = Agent(_cfg(n=3, mission=sc.Mission(crash_threshold_steps=2), takeoff_interval_s=100.0))
+    assert a.expected_peer_messages(0) == set()  # nothing was sent before step 0
+    assert a.expected_peer_messages(1) == {(1, st), (1, fi), (2, st), (2, fi)}
+    for k in range(3):
+        a.step(_bundle(k, GROUND), [_peer(2, k - 1, 10.0, 10.0)] if k else [])
+    assert a.link.crashed_ids() == [1]
+    assert a.expected_peer_messages(3) == {(2, st), (2, fi)}
+    lossy = Agent(_cfg(n=3, loss_probability=1.0))
+    assert lossy.expected_peer_messages(5) == set()  # every message of step 4 is lost on receipt
+
+
+# --- raster fires (FireCells) -----------------------------------------------------------------
+def _block(cx=145.0, cy=145.0, cs=10.0, burning=1, ring=2):
+    """FireCells: a 3 x 3 BURNING block centred on (cx, cy) inside rings of UNBURNED cells."""
+    xs, ys, st = [], [], []
+    for di in range(-ring, ring + 1):
+        for dj in range(-ring, ring + 1):
+            xs.append(cx + dj * cs)
+            ys.append(cy + di * cs)
+            st.append(1 if max(abs(di), abs(dj)) <= burning else 0)
+    return (np.array(xs), np.array(ys), np.array(st, dtype=np.int64))
+
+
+def _ring_cells(cx=145.0, cy=145.0, cs=10.0):
+    """The active front of :func:`_block`: its 8 outer burning cells (the centre has no unburned
+    neighbour)."""
+    return {(cx + dj * cs, cy + di * cs) for di in (-1, 0, 1) for dj in (-1, 0, 1) if (di, dj) != (0, 0)}
+
+
+def test_a_raster_fire_makes_the_front_picture_and_the_uavs_fly_their_tactic_layers():
+    """raster_layers for the defaults: 4 layers 36, 28, 20, 12 m (tactics); uav 0 holds 12 m."""
+    a = Agent(_cfg())
+    out = _fly(a, 0, 50.0, 50.0, z=12.0, cells=_block(), cell_size=10.0)
+    assert a.front is not None and a.front.cfg.cell_size_m == 10.0
+    assert out.command[1] == pytest.approx(0.0, abs=1e-9)  # at its layer
+    assert {(float(x), float(y)) for x, y in zip(out.front.x_m, out.front.y_m, strict=True)} == _ring_cells()
+    b = Agent(_cfg(uid=1))
+    assert _fly(b, 0, 50.0, 50.0, z=20.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
+        0.0, abs=1e-9
+    )
+    c = Agent(_cfg())  # no raster: the FF layer (23 m), so 12 m climbs
+    assert _fly(c, 0, 50.0, 50.0, z=12.0).command[1] > 0 and c.front is None
+
+
+def test_own_cells_are_observed_only_airborne_and_the_front_is_published_every_n_steps():
+    a = Agent(_cfg(front_every_steps=3, takeoff_interval_s=100.0, uid=1))
+    _place(a, 50.0, 50.0, 0.0)
+    out = a.step(_bundle(0, GROUND, cells=_block(), cell_size=10.0))
+    assert a.front is not None and len(a.front.front(0.1)) == 0  # on the ground: nothing seen
+    assert len(out.front) == 0  # step 0: published (empty)
+    a = Agent(_cfg(front_every_steps=3))
+    outs = [_fly(a, k, 50.0, 50.0, cells=_block(), cell_size=10.0) for k in range(7)]
+    assert [k for k, o in enumerate(outs) if o.front is not None] == [0, 3, 6]
+    z = Agent(_cfg(front_every_steps=0))  # 0 counts as every step
+    assert all(_fly(z, k, 50.0, 50.0, cells=_block(), cell_size=10.0).front is not None for k in range(2))
+
+
+def test_peer_fronts_are_merged_and_malformed_ones_ignored():
+    from fire_uav_agent.fire_front import FrontCells
+    from fire_uav_agent.front_consensus import PeerFront
+
+    a = Agent(_cfg(n=3))
+    _fly(a, 0, 50.0, 50.0, cells=_block(), cell_size=10.0)
+    good = FrontCells(np.array([255.0]), np.array([255.0]), np.array([1]), np.array([0.05]), np.array([0.3]))
+    bad = FrontCells(np.array([25.0]), np.array([25.0]), np.array([1]), np.array(["noon"]), np.array([0.3]))
+    out = _fly(a, 1, 50.0, 50.0, cells=_block(), cell_size=10.0,
+               inbox=[PeerFront(1, 1, 0, good), PeerFront(2, 1, 0, bad)])  # fmt: skip
+    assert a.fronts_received == 1 and a._peer_fronts == []
+    fr = a.front.front(out.stamp_s)
+    assert (255.0, 255.0) in {(float(x), float(y)) for x, y in zip(fr.x_m, fr.y_m, strict=True)}
+    # no picture yet (no raster): peer fronts are dropped, not kept for later
+    b = Agent(_cfg(n=3))
+    _fly(b, 0, 50.0, 50.0)
+    b._peer_fronts.append(PeerFront(1, 1, 0, good))
+    b._fuse_front(_bundle(1), AIR, 0.2)
+    assert b._peer_fronts == [] and b.front is None and b.fronts_received == 0
+
+
+def test_over_a_raster_fire_the_uav_aims_at_a_front_cell_and_releases_only_at_the_peak():
+    """Release rule (tactics): >= 3 burning cells within 0.8 x 20 = 16 m, and no more one step ahead."""
+    fire = (145.0, 145.0, 15.0)
+    a = _suppressor(fire=fire)
+    out = _fly(a, 0, 60.0, 145.0, cells=_block(), cell_size=10.0)
+    assert out.state.objective == Objective.SUPPRESS and out.payload_requests == ()
+    assert out.state.centroid_xy in _ring_cells()  # the aim point is on the active front
+    # at (125, 145) heading east: 3 burning cells in reach, 4 one step (4.47 m) ahead: not yet
+    out = _fly(a, 1, 125.0, 145.0, cells=_block(), cell_size=10.0)
+    assert out.payload_requests == ()
+    # over the block's centre: 9 in reach, 7 ahead: release
+    out = _fly(a, 2, 145.0, 145.0, cells=_block(), cell_size=10.0)
+    assert out.payload_requests == ((int(PayloadAction.DROP), out.state.target_fire_id),)
+
+
+def test_the_aim_point_lies_in_the_own_cell():
+    a = _suppressor(fire=(145.0, 145.0, 15.0))
+    _fly(a, 0, 60.0, 145.0, cells=_block(), cell_size=10.0)
+    out = _fly(a, 1, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[_peer(1, 0, 230.0, 145.0)])
+    x, y = out.state.centroid_xy
+    assert (x, y) in _ring_cells() and x < (60.0 + 230.0) / 2  # west of the bisector at 145 m
+    assert a._front_aim == (x, y)
+
+
+def test_a_direct_run_over_a_raster_fire_without_front_goes_to_the_own_point_of_the_circle():
+    """tactics.direct_run_point: 25 m around the track centre, 6 points, uav id modulo 6."""
+    for uid, ang in ((1, math.pi / 3), (6, 0.0)):
+        a = _suppressor(fire=(145.0, 145.0, 15.0), uid=uid, n=7)
+        burnt = _block()
+        burnt = (burnt[0], burnt[1], np.where(burnt[2] == 1, 2, 0))  # all burnt out: no front
+        _fly(a, 0, 60.0, 145.0, cells=burnt, cell_size=10.0)
+        a.mission._attack_since_s = 0.1
+        out = _fly(a, 1, 60.0, 145.0, cells=burnt, cell_size=10.0)
+        assert out.direct
+        assert out.state.centroid_xy == pytest.approx(
+            (145.0 + 25 * math.cos(ang), 145.0 + 25 * math.sin(ang))
+        )
+
+
+def test_the_flank_anchor_is_chosen_once():
+    a = _suppressor(fire=(145.0, 145.0, 15.0), mission=sc.Mission(tactic="flank"))
+    _fly(a, 0, 60.0, 145.0, cells=_block(), cell_size=10.0)
+    first = a._anchor
+    assert first in _ring_cells()
+    _fly(a, 1, 60.0, 145.0, cells=_block(cx=175.0), cell_size=10.0)  # the front moved east
+    assert a._anchor == first
+
+
+# --- perimeter monitoring (PM) ----------------------------------------------------------------
+def test_the_nearest_uav_monitors_the_fire_and_publishes_its_perimeter_every_n_steps():
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1),
+                   perimeter_every_steps=4))  # fmt: skip
+    outs = [_fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0) for k in range(9)]
+    # step 0: no published position yet, so no role; then MONITOR (mission: monitor before suppress)
+    assert _objectives(outs) == [Objective.SUPPRESS] + [Objective.MONITOR] * 8
+    fid = outs[1].state.target_fire_id
+    assert fid == outs[1].fires[0].fire_id
+    assert [k for k, o in enumerate(outs) if o.perimeter is not None] == [4, 8]
+    assert outs[4].perimeter[0] == fid
+
+
+def test_loss_and_outages_follow_the_seeded_rule_of_the_peer_link():
+    """peer_link doc: lost if rng.bernoulli(p, seed, "loss", j, i, s, topic) or (j -> i) is in an outage
+    at (s + 1) T."""
+    from fire_uav_agent.peer_link import Outage
+    from fire_uav_common import rng
+    from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
+
+    tis = (int(FLEET_STATE_SPEC.loss_index), int(FLEET_FIRES_SPEC.loss_index))
+    for seed in (3, 4):
+        a = Agent(_cfg(uid=2, n=4, seed=seed, loss_probability=0.5))
+        for s in range(6):
+            want = {
+                (j, ti) for j in (0, 1, 3) for ti in tis if not rng.bernoulli(0.5, seed, "loss", j, 2, s, ti)
+            }
+            assert a.expected_peer_messages(s + 1) == want
+    down = Agent(_cfg(uid=0, n=2, outages=(Outage(1, 0, 0.0, 0.45),)))  # steps 0..3 stamped 0.1 .. 0.4
+    assert [bool(down.expected_peer_messages(s + 1)) for s in range(6)] == [False] * 4 + [True] * 2
+    slow = Agent(_cfg(uid=0, n=2, outages=(Outage(1, 0, 0.0, 0.45),), timing=sc.Timing(control_period_s=0.2)))
+    assert [bool(slow.expected_peer_messages(s + 1)) for s in range(3)] == [False, False, True]
+
+
+def _ending(dist_m, known=False, cells=None, steps=6):
+    """Detect a fire at (150, 150) at step 0, then fly ``dist_m`` west of it without seeing it."""
+    m = sc.Mission(prior_fires="known" if known else "unknown")
+    a = Agent(_cfg(mission=m))
+    outs = [
+        _fly(
+            a,
+            0,
+            110.0,
+            150.0,
+            fires=[(0.05, 150.0, 150.0, 5.0)],
+            cells=cells,
+            cell_size=10.0 if cells else 0.0,
+        )
+    ]
+    for k in range(1, steps + 1):
+        outs.append(_fly(a, k, 150.0 - dist_m, 150.0, cells=cells, cell_size=10.0 if cells else 0.0))
+    return outs
+
+
+def test_a_fire_is_ended_by_not_seeing_it_from_within_the_negative_range():
+    """'No fire here' range = min(50 m, 0.7 x 70 m sensor range) = 49 m (GuidanceConfig), 5 steps."""
+    outs = _ending(48.5)
+    assert [o.fires[0].active for o in outs] == [True] * 5 + [False] * 2
+    assert _objectives(outs)[-1] == Objective.SEARCH  # unknown fires: sweep before landing
+    assert all(o.fires[0].active for o in _ending(49.5))
+    # known-fires mode: no sweep, land as soon as the fires are out
+    assert _objectives(_ending(48.5, known=True))[4:] == [Objective.SUPPRESS, Objective.LAND, Objective.LAND]
+
+
+def test_burning_cells_near_a_fire_keep_it_alive():
+    """Raster fires (consensus doc): no negative evidence while a known burning cell is in its gate."""
+    outs = _ending(20.0, cells=_block(cx=165.0, cy=165.0))
+    assert all(o.fires[0].active for o in outs)
+    assert not _ending(20.0)[-1].fires[0].active
+
+
+def test_a_malformed_peer_perimeter_counts_nothing():
+    from fire_uav_agent.agent_types import PeerPerimeter
+
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1)))
+    for k in range(3):
+        _fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0)
+    fid = a.mission.target_fire_id
+    assert fid in a.monitor.monitors
+    bad = PeerPerimeter(1, 1, 2, fid, {"center_x_m": 1.0})
+    other = PeerPerimeter(1, 2, 2, fid + 1, {"center_x_m": 1.0})  # a fire this UAV does not monitor
+    try:
+        _fly(a, 3, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[bad, other])
+    except (KeyError, TypeError) as e:  # pragma: no cover - a malformed map must not crash the agent
+        pytest.fail(f"malformed perimeter crashed the agent: {e!r}")
+    assert (a.perimeter_received, a.perimeter_lost) == (0, 0)
+    good = PeerPerimeter(1, 3, 3, fid, a.monitor.active.to_summary())
+    _fly(a, 4, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[good])
+    assert (a.perimeter_received, a.perimeter_lost) == (1, 0)
