@@ -21,10 +21,9 @@ import pytest
 from fire_uav_agent.agent_core import Agent, AgentConfig, Bundle, GuidanceConfig, PlannerTarget
 from fire_uav_agent.estimation import Samples
 from fire_uav_agent.peer_link import FireEntry, PeerFires, PeerState
-from fire_uav_agent.separation import SeparationConfig
 from fire_uav_common import scenario as sc
 from fire_uav_common.constants import EventType, Objective, PayloadAction, VehicleStatus
-from fire_uav_common.terrain import Lake
+from fire_uav_common.terrain import Lake, Terrain
 
 AIR, GROUND, LANDED, CRASHED = (
     VehicleStatus.AIRBORNE,
@@ -549,7 +548,7 @@ def test_a_density_plan_is_flown_to_its_centroid_and_no_plan_falls_back_to_the_s
 
 
 # --- separation -------------------------------------------------------------------------------
-def _miss(own_xy, heading, speed, peer_xy, peer_v, horizon=2.0, n=2001):
+def _miss(own_xy, heading, speed, peer_xy, peer_v, horizon=2.0, n=4001):
     """Brute force: closest sampled distance of two straight-line motions over the horizon."""
     t = np.linspace(0.0, horizon, n)
     ox = own_xy[0] + speed * math.cos(heading) * t
@@ -558,39 +557,124 @@ def _miss(own_xy, heading, speed, peer_xy, peer_v, horizon=2.0, n=2001):
     return float(np.hypot(ox - px, oy - py).min())
 
 
-def _head_on(avoidance=True, peer_obj=Objective.SEARCH, jump=0.0):
-    """UAV 1 flies east at (100, 150) to a waypoint far east; peer 0 flies west at 60 m/s toward it."""
-    a = Agent(_cfg(uid=1, avoidance=avoidance), planners={int(Objective.SEARCH): _Waypoint((290.0, 150.0))})
-    a.avoider.cfg = SeparationConfig()
-    _fly(a, 0, 100.0, 150.0)
-    _fly(a, 1, 100.0, 150.0, inbox=[_peer(0, 0, 206.0 + jump, 150.0, yaw=math.pi, obj=peer_obj, cx=0.0)])
-    before = a.avoidance_steps
-    out = _fly(a, 2, 100.0, 150.0, inbox=[_peer(0, 1, 200.0, 150.0, yaw=math.pi, obj=peer_obj, cx=0.0)])
-    a.avoidance_steps -= before  # count step 2 only
-    return a, out
+def _wrap(a):
+    return (a + math.pi) % (2 * math.pi) - math.pi
 
 
-def test_separation_turns_away_from_a_peer_on_a_collision_course():
-    r = SeparationConfig().radius_m
-    a, out = _head_on()
-    # peer predicted one period on: (194, 150), velocity (-60, 0)
-    straight = _miss((100.0, 150.0), 0.0, out.command[0], (194.0, 150.0), (-60.0, 0.0))
-    assert straight < 1.0  # the law alone flies into it
-    new = _heading_after(out, 0.0)
-    assert abs(new) > 0.1 and a.avoidance_steps == 1
-    assert _miss((100.0, 150.0), new, max(out.command[0], 44.7), (194.0, 150.0), (-60.0, 0.0)) >= r - 0.5
-    off, out_off = _head_on(avoidance=False)
-    assert out_off.command[2] == pytest.approx(0.0, abs=1e-9) and off.avoidance_steps == 0
+def _nearest_clear(own_xy, want, speed, peer_xy, peer_v, yield_m=None, r=20.0):
+    """The separation rule by brute force: the desired heading if its sampled miss distance is at
+    least ``r``, else the nearest of the 72 candidate headings around it that is; with ``yield_m``
+    (the peer has the right of way and is that close) also no heading that closes on the peer."""
+    away = (own_xy[0] - peer_xy[0], own_xy[1] - peer_xy[1])
+
+    def ok(h):
+        opening = yield_m is None or math.cos(h) * away[0] + math.sin(h) * away[1] >= 0
+        return opening and _miss(own_xy, h, speed, peer_xy, peer_v) >= r
+
+    if ok(want):
+        return want
+    cands = [want - math.pi + k * 2 * math.pi / 72 for k in range(72)]
+    return min((c for c in cands if ok(c)), key=lambda c: abs(_wrap(c - want)))
+
+
+OWN = (60.0, 100.0)
+
+
+def _crossing(uid, pid, p0, v, yaw=0.0, n=2, avoidance=True, extra=(), z=30.0, steps=6):
+    """UAV ``uid`` at OWN heading ``yaw``, its waypoint due east; peer ``pid`` (no published target)
+    reports (p0 at step 0) and (p0 + 2 T v at step 2), the second only at our step 4 (late). Our
+    step 4 then predicts it at t_5 = p0 + 4 T v, moving at v. Returns the agent and its outputs."""
+    a = Agent(
+        _cfg(uid=uid, n=n, avoidance=avoidance), planners={int(Objective.SEARCH): _Waypoint((290.0, OWN[1]))}
+    )
+    yaw_p = math.atan2(v[1], v[0])
+    p2 = (p0[0] + 2 * T * v[0], p0[1] + 2 * T * v[1])
+    outs = []
+    for k in range(steps):
+        inbox = list(extra) if k == 1 else []
+        if k == 1:
+            inbox.append(_peer(pid, 0, *p0, z=z, yaw=yaw_p, cx=math.nan, cy=math.nan))
+        if k == 4:
+            inbox.append(_peer(pid, 2, *p2, z=z, yaw=yaw_p, cx=math.nan, cy=math.nan))
+        outs.append(_fly(a, k, *OWN, yaw=yaw, inbox=inbox))
+    return a, outs
+
+
+@pytest.mark.parametrize(
+    ("p0", "v"),
+    [((170.0, 10.0), (-30.0, 90.0)), ((150.0, 190.0), (-20.0, -80.0)), ((200.0, 40.0), (-10.0, 50.0))],
+)
+def test_separation_turns_to_the_nearest_heading_that_clears_the_peer(p0, v):
+    """The peer's motion from its last two states (2 steps apart), moved to our t_{k+1}; the heading
+    flown after the step is the nearest clear one, by brute force (lower ids have the right of way,
+    so uav 0 has no peer to yield to)."""
+    q = (p0[0] + 4 * T * v[0], p0[1] + 4 * T * v[1])
+    a, outs = _crossing(0, 1, p0, v)
+    assert all(o.command[2] == 0.0 for o in outs[:4])  # the first report alone (no velocity): clear
+    assert _miss(OWN, 0.0, 100.0, q, v) < 20.0  # the law's heading would pass too close
+    want = _nearest_clear(OWN, 0.0, 100.0, q, v)
+    assert _heading_after(outs[4], 0.0) == pytest.approx(want, abs=1e-9)
+    assert outs[4].command[0] == 100.0  # clear: at the law's speed
+    assert a.avoidance_steps == 2  # steps 4 and 5 (it keeps to its deviation)
+    off, outs_off = _crossing(0, 1, p0, v, avoidance=False)
+    assert outs_off[4].command[2] == 0.0 and off.avoidance_steps == 0
+
+
+def test_separation_wants_the_targets_bearing_not_the_current_heading():
+    p0, v = (150.0, 190.0), (-20.0, -80.0)
+    q = (p0[0] + 4 * T * v[0], p0[1] + 4 * T * v[1])
+    a, outs = _crossing(0, 1, p0, v, yaw=0.3)
+    want = _nearest_clear(OWN, 0.0, 100.0, q, v)  # the waypoint is due east, whatever the heading
+    assert 0.3 + _wrap(want - 0.3) == pytest.approx(_heading_after(outs[4], 0.3), abs=1e-9)
+
+
+def test_a_peer_with_the_right_of_way_close_by_is_never_closed_on():
+    """Within yield_m = 60 m of a lower id: only headings that do not close on it (separation doc)."""
+    p0, v = (110.0, 60.0), (-20.0, 40.0)
+    q = (p0[0] + 4 * T * v[0], p0[1] + 4 * T * v[1])
+    a, outs = _crossing(1, 0, p0, v)
+    want = _nearest_clear(OWN, 0.0, 100.0, q, v, yield_m=60.0)
+    turn = max(-1.0, min(1.0, want))  # at most omega_max T = 1 rad in one step
+    assert _heading_after(outs[4], 0.0) == pytest.approx(turn, abs=1e-9)
+    b, outs_b = _crossing(0, 1, p0, v)  # the same peer without the right of way
+    assert _heading_after(outs_b[4], 0.0) == pytest.approx(_nearest_clear(OWN, 0.0, 100.0, q, v), abs=1e-9)
+
+
+def test_the_peers_velocity_is_kept_while_it_is_not_heard_again():
+    """Step 5 reuses the step-2 report: the peer is predicted 3 T on (p0 + 5 T v), same velocity.
+    (The avoider's commitment to its step-4 deviation is cleared first, so the rule is the plain one.)"""
+    p0, v = (150.0, 190.0), (-20.0, -80.0)
+    a, outs = _crossing(0, 1, p0, v, steps=5)
+    a.avoider.heading_rad = None
+    out = _fly(a, 5, *OWN)
+    q = (p0[0] + 5 * T * v[0], p0[1] + 5 * T * v[1])
+    assert _heading_after(out, 0.0) == pytest.approx(_nearest_clear(OWN, 0.0, 100.0, q, v), abs=1e-9)
 
 
 def test_separation_ignores_grounded_peers_and_a_jumping_peer_has_no_velocity():
-    a, out = _head_on(peer_obj=Objective.GROUNDED)
-    assert out.command[2] == pytest.approx(0.0, abs=1e-9) and a.avoidance_steps == 0
-    # a peer that "moved" 2000 m in a step (GPS reset, rejoin): no velocity, a standing peer 100 m
-    # ahead on the line, 2 s x 100 m/s reach it: still avoided, but from a standing prediction
-    a, out = _head_on(jump=-2000.0)
-    new = _heading_after(out, 0.0)
-    assert _miss((100.0, 150.0), new, max(out.command[0], 44.7), (200.0, 150.0), (0.0, 0.0)) >= 19.5
+    p0, v = (150.0, 190.0), (-20.0, -80.0)
+    grounded = PeerState(1, 1, 0, 65.0, 100.0, 30.0, 0.0, int(Objective.GROUNDED), -1, 2000.0, 65.0, 100.0)
+    a, outs = _crossing(0, 2, p0, v, n=3, extra=[grounded])  # uav 1 grounded 5 m away: no conflict
+    assert all(o.command[2] == 0.0 for o in outs[:4]) and outs[4].command[2] != 0.0
+    # a peer that "moved" 2000 m between its reports (rejoin, GPS reset): no velocity; standing at
+    # its last report p2, 2 s x 100 m/s reach it
+    a, outs = _crossing(0, 1, (150.0 - 2000.0, 190.0), v)
+    p2 = (150.0 + 2 * T * v[0], 190.0 + 2 * T * v[1])
+    assert _heading_after(outs[4], 0.0) == pytest.approx(
+        _nearest_clear(OWN, 0.0, 100.0, p2, (0.0, 0.0)), abs=1e-9
+    )
+
+
+def test_peers_far_above_are_no_conflict_and_with_no_clear_heading_it_slows_to_stall():
+    p0, v = (150.0, 190.0), (-20.0, -80.0)
+    a, outs = _crossing(0, 1, p0, v, z=45.0)  # 15 m above (> vertical_m = 10 m)
+    assert outs[4].command[2] == 0.0 and a.avoidance_steps == 0
+    # a standing peer 5 m away: every heading passes within 20 m; speed down to stall
+    a = Agent(_cfg(uid=0), planners={int(Objective.SEARCH): _Waypoint((290.0, OWN[1]))})
+    _fly(a, 0, *OWN)
+    out = _fly(a, 1, *OWN, inbox=[_peer(1, 0, OWN[0] - 5.0, OWN[1])])
+    assert out.command[0] == 44.7 and a.avoidance_steps == 1
+    assert Agent(_cfg()).avoidance_steps == 0
 
 
 # --- stage 6: publish -------------------------------------------------------------------------
@@ -859,3 +943,363 @@ def test_a_malformed_peer_perimeter_counts_nothing():
     good = PeerPerimeter(1, 3, 3, fid, a.monitor.active.to_summary())
     _fly(a, 4, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[good])
     assert (a.perimeter_received, a.perimeter_lost) == (1, 0)
+
+
+# --- wiring of the configuration into the stages ------------------------------------------------
+def test_the_altimeter_measures_height_above_the_a_priori_terrain():
+    """h(s) = z - E(x, y) (estimation doc): on ground 5 m above datum, a 24 m reading at prior z = 20
+    (15 m above ground) moves z by K x 9."""
+    a = Agent(
+        _cfg(
+            start_pose=(100.0, 50.0, 20.0, 0.0), terrain=Terrain(base_m=5.0), uid=1, takeoff_interval_s=100.0
+        )
+    )
+    out = a.step(_bundle(0, GROUND, samples=Samples(alt=np.array([[0.05, 24.0]]))))
+    assert out.state.s[2] == pytest.approx(20.0 + 9.0 * 2.25 / (2.25 + 2.25), abs=1e-9)
+
+
+def test_the_prediction_runs_at_the_physics_period():
+    """5 substeps of 0.02 s: P_zz grows by 5 x 0.02^2 x sigma_nu^2 (not 10 x 0.01^2)."""
+    a = Agent(_cfg(timing=sc.Timing(physics_period_s=0.02)))
+    a.ekf.s = np.array([100.0, 100.0, 30.0, 0.0])
+    a._last_vehicle = int(AIR)
+    out = a.step(_bundle(0, AIR))
+    assert out.state.covariance[2, 2] == pytest.approx(1.5**2 + 5 * 0.02**2, abs=1e-12)
+
+
+def test_the_tank_capacity_and_the_briefing_sigma_come_from_the_scenario():
+    small = sc.Vehicle(water_capacity_kg=1000.0)
+    a = _suppressor(vehicle=small)
+    assert _fly(a, 0, 60.0, 150.0, water=600.0).state.objective == Objective.SUPPRESS  # > 50 % of 1000
+    b = _suppressor()
+    assert _fly(b, 0, 60.0, 150.0, water=600.0).state.objective == Objective.REFILL  # < 50 % of 2000
+    # briefed centre sigma 5 m: 3 sigma = 15 m of uncertainty, negative range min(49, 70 - 15) = 49 m;
+    # with the default 10 m it is 70 - 30 = 40 m, so 45 m away the fire is not ended
+    for sigma, ended in ((5.0, True), (10.0, False)):
+        c = _suppressor(mission=sc.Mission(prior_position_sigma_m=sigma))
+        outs = [_fly(c, k, 105.0, 150.0) for k in range(6)]
+        assert (not outs[-1].fires[0].active) is ended
+
+
+def test_the_negative_range_follows_the_sensor_range():
+    """Fire sensor range 60 m: 'no fire here' range = min(50, 0.7 x 60) = 42 m."""
+    sens = sc.Sensors(fire=sc.FireSensorSpec(range_m=60.0))
+    for dist, ended in ((41.0, True), (43.0, False)):
+        a = Agent(_cfg(sensors=sens))
+        _fly(a, 0, 110.0, 150.0, fires=[(0.05, 150.0, 150.0, 5.0)])
+        outs = [_fly(a, k, 150.0 - dist, 150.0) for k in range(1, 7)]
+        assert (not outs[-1].fires[0].active) is ended
+
+
+def test_the_monitor_planner_takes_the_configured_speed_alpha_and_kind():
+    from fire_perimeter_monitor.planner import CirclingMonitor, ImportanceMonitor
+
+    a = Agent(_cfg(mission=sc.Mission(monitors_per_fire=1), monitor_alpha=0.4, monitor_circling=True))
+    assert a.monitor.cfg.speed_mps == pytest.approx(44.7 + 5.0)  # v_stall + monitor_speed_margin
+    assert a.monitor.cfg.alpha == 0.4 and a.monitor.cfg.circling
+    assert a.monitor.uav_id == 0 and a.planners[int(Objective.MONITOR)] is a.monitor
+    assert isinstance(a.monitor.monitor_for(7, (1.0, 1.0), 10.0), CirclingMonitor)
+    b = Agent(_cfg(mission=sc.Mission(monitors_per_fire=1)))
+    assert isinstance(b.monitor.monitor_for(7, (1.0, 1.0), 10.0), ImportanceMonitor)
+    assert Agent(_cfg()).monitor is None and Agent(_cfg()).monitor_assigner is None  # no PM
+
+
+def test_a_given_monitor_assigner_and_planner_are_used():
+    views = []
+
+    def assigner(view):
+        views.append(view)
+        return view.fires[0].fire_id
+
+    p = _Waypoint((200.0, 250.0))
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1)),
+              planners={int(Objective.MONITOR): p}, monitor_assigner=assigner)  # fmt: skip
+    assert a.monitor is None and a.monitor_assigner is assigner
+    out = _fly(a, 0, 60.0, 145.0)
+    assert out.state.objective == Objective.MONITOR and out.state.centroid_xy == (200.0, 250.0)
+    assert p.views[0].target_fire_id == out.state.target_fire_id == views[0].fires[0].fire_id
+    b = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),)), monitor_assigner=assigner)  # without PM too
+    assert _fly(b, 0, 60.0, 145.0).state.objective == Objective.MONITOR
+
+
+def test_raster_layers_follow_the_altimeter_range_and_the_release_radius_the_footprint():
+    """Altimeter range 60 m: top 60 - 2 x 2 = 56 m, 8 m apart, 6 layers (the cap): uav 0 at 16 m."""
+    a = Agent(_cfg(sensors=sc.Sensors(altimeter=sc.AltimeterSpec(max_range_m=60.0))))
+    assert _fly(a, 0, 50.0, 50.0, z=16.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
+        0.0, abs=1e-9
+    )
+    # footprint 10 m: release within 8 m, where only the centre cell burns (< 3 cells): no drop
+    b = _suppressor(fire=(145.0, 145.0, 15.0), drop_radius_m=10.0)
+    _fly(b, 0, 60.0, 145.0, cells=_block(), cell_size=10.0)
+    assert _fly(b, 1, 145.0, 145.0, cells=_block(), cell_size=10.0).payload_requests == ()
+
+
+def test_over_a_raster_fire_the_release_rule_replaces_the_distance_rule():
+    """At (137, 145) heading east the aim point is within 14 m, but one step ahead more cells burn
+    within the release radius (7 > 6): wait for the peak."""
+    a = _suppressor(fire=(145.0, 145.0, 15.0))
+    _fly(a, 0, 60.0, 145.0, cells=_block(), cell_size=10.0)
+    out = _fly(a, 1, 137.0, 145.0, cells=_block(), cell_size=10.0)
+    assert math.hypot(out.state.centroid_xy[0] - 137.0, out.state.centroid_xy[1] - 145.0) <= 14.0
+    assert out.payload_requests == ()
+
+
+def test_the_grounded_uav_publishes_its_start_point_as_its_centroid():
+    a = Agent(_cfg(uid=1, start_pose=(12.0, 34.0, 0.0, 0.0), takeoff_interval_s=100.0))
+    out = a.step(_bundle(0, GROUND))
+    assert out.state.centroid_xy == (12.0, 34.0) and a.fronts_received == 0 and a.perimeter_received == 0
+
+
+def test_known_fires_mode_without_a_fire_suppresses_nothing_and_searches():
+    """Search disabled (known fires): the objective is SUPPRESS with no target; the search planner flies."""
+    p = _Waypoint((250.0, 150.0))
+    a = Agent(_cfg(mission=sc.Mission(prior_fires="known")), planners={int(Objective.SEARCH): p})
+    out = _fly(a, 0, 60.0, 150.0)
+    assert out.state.objective == Objective.SUPPRESS and out.state.target_fire_id == -1
+    assert p.views == []  # SUPPRESS without a fire flies the staleness search, not the SEARCH planner
+    assert out.state.centroid_xy == _fly(Agent(_cfg()), 0, 60.0, 150.0).state.centroid_xy
+
+
+def test_tiny_masses_still_pick_the_largest_and_the_nearest_uses_both_coordinates():
+    # both fires outside the area, their tails in the cell with masses far below 1: the larger wins
+    a = Agent(_cfg(prior_fires=((-40.0, 150.0, 8.0), (420.0, 150.0, 30.0))))
+    out = _fly(a, 0, 100.0, 150.0)
+    assert out.state.target_fire_id == max(out.fires, key=lambda f: f.x_m).fire_id
+    # no mass at all: the nearest in the plane (1150 m vs 1185 m; by x alone the other one)
+    b = Agent(_cfg(prior_fires=((-900.0, 150.0, 1.0), (1300.0, 700.0, 1.0))))
+    out = _fly(b, 0, 250.0, 150.0, z=700.0)
+    assert out.state.target_fire_id == min(out.fires, key=lambda f: f.x_m).fire_id
+    c = Agent(_cfg(prior_fires=((-900.0, -150.0, 1.0), (1300.0, 400.0, 1.0))))  # 1188 m vs 1079 m
+    out = _fly(c, 0, 250.0, 150.0)
+    assert out.state.target_fire_id == max(out.fires, key=lambda f: f.x_m).fire_id
+
+
+def test_the_planner_sees_the_fleet_as_the_agent_does():
+    p = _Waypoint((250.0, 150.0))
+    a = Agent(_cfg(n=3), planners={int(Objective.SEARCH): p})
+    _fly(a, 0, 60.0, 150.0)
+    peers = [
+        _peer(1, 0, 200.0, 150.0, obj=Objective.SUPPRESS, fire=7),
+        _peer(2, 0, 10.0, 10.0, obj=Objective.GROUNDED),
+    ]
+    _fly(a, 1, 61.0, 150.0, inbox=peers, cells=_block(), cell_size=10.0)
+    v = p.views[-1]
+    assert v.grid is a.grid and np.array_equal(v.cell_mask, a._cell) and not v.cell_mask.all()
+    assert v.peers_xy == {1: (200.0, 150.0)}  # the grounded peer does not fly
+    assert v.peer_roles == {1: (int(Objective.SUPPRESS), 7), 2: (int(Objective.GROUNDED), -1)}
+    assert v.own_published_xy == (60.0, 150.0) and v.own_objective == int(Objective.SEARCH)
+    assert v.own_target_fire_id == -1 and v.fires == ()
+    assert v.cell_size_m == 10.0 and v.cells is not None and np.array_equal(v.cells[0], _block()[0])
+    assert v.s[0] == 61.0 and v.t_s == pytest.approx(0.2)
+    _place(a, 61.0, 150.0, 0.0)
+    a.step(_bundle(2, GROUND, cells=_block(), cell_size=10.0))
+    assert len(p.views) == 2 or p.views[-1].cells is None  # on the ground: no cells for the planner
+
+
+def test_two_steps_in_flight_then_a_touchdown_without_help():
+    """The step-(k-1) command is predicted as applied in flight, and not after touching down."""
+    a = Agent(_cfg(), planners={int(Objective.SEARCH): _Waypoint((290.0, 100.0))})
+    a.ekf.s = np.array([60.0, 100.0, 30.0, 0.0])
+    o0 = a.step(_bundle(0, AIR))
+    o1 = a.step(_bundle(1, AIR))
+    assert o1.state.s[0] == pytest.approx(o0.state.s[0] + o0.command[0] * T, abs=1e-6)
+    o2 = a.step(_bundle(2, LANDED))
+    assert o2.state.s[0] == o1.state.s[0]
+
+
+def test_lost_peer_messages_are_counted_in_the_published_state():
+    a = Agent(_cfg(loss_probability=1.0, takeoff_interval_s=100.0))
+    a.last_step = 3
+    out = a.step(_bundle(4, GROUND), [_peer(1, 3, 10.0, 10.0), PeerFires(1, 4, 3, ())])
+    assert (out.state.packets_lost, out.state.packets_received) == (2, 0)
+
+
+# --- landing details --------------------------------------------------------------------------
+def _lander(home=(100.0, 100.0), **kw):
+    a = Agent(_cfg(start_pose=(*home, 0.0, 0.0), **kw))
+    a.mission.objective = Objective.LAND
+    return a
+
+
+def test_homes_on_the_area_border_are_in_the_area():
+    """Home on the border: inside (<=), so beyond 120 m the Eq. 15 density is flown; its centroid
+    lies inside the area, off the home point (the density is cut at the border)."""
+    for home in ((0.0, 0.0), (300.0, 300.0)):
+        a = _lander(home)
+        out = _fly(a, 0, 150.0, 150.0)
+        c = out.state.centroid_xy
+        assert c != home and 0.0 < c[0] < 300.0 and 0.0 < c[1] < 300.0
+
+
+def test_the_approach_starts_strictly_inside_the_radius():
+    """At exactly 120 m: still the density target and no slow-down; home near the border (cut density)."""
+    a = _lander((100.0, 5.0))
+    out = _fly(a, 0, 220.0, 5.0, yaw=math.pi)
+    assert out.command[0] > 44.7 and out.state.centroid_xy != (100.0, 5.0)
+
+
+def test_the_landing_profile_and_touchdown_scale_with_the_landing_height():
+    """landing_height 2 m: lowest approach 0.5 x 2 = 1 m, touch down below 0.8 x 2 = 1.6 m."""
+    a = _lander(vehicle=sc.Vehicle(landing_height_m=2.0))
+    assert _fly(a, 0, 130.0, 100.0, z=1.0, yaw=math.pi).command[1] == pytest.approx(0.0, abs=1e-9)
+    assert _fly(a, 1, 101.0, 100.0, z=1.5, yaw=math.pi).command == (0.0, -0.5, 0.0)
+
+
+def test_touchdown_boundaries_and_height_above_sloped_ground():
+    a = _lander()
+    assert _fly(a, 0, 100.0, 102.5, z=0.5, yaw=-math.pi / 2).command == (0.0, -0.5, 0.0)  # 2.5 m: in
+    assert _fly(a, 1, 101.0, 100.0, z=0.8, yaw=math.pi).command != (0.0, -0.5, 0.0)  # 0.8 m AGL: not below
+    # ground E = 10 + 0.5 x: 61 m at x = 102, so z = 61.5 is 0.5 m above it
+    b = _lander(terrain=Terrain(base_m=10.0, slope_x=0.5))
+    assert _fly(b, 0, 102.0, 100.0, z=61.5, yaw=math.pi).command == (0.0, -0.5, 0.0)
+
+
+def test_the_go_around_uses_the_true_bearing_to_home():
+    home = (100.0, 60.0)
+    a = _lander(home)
+    bearing = math.atan2(60.0 - 70.0, 100.0 - 110.0)  # from (110, 70): -3 pi / 4
+    out = _fly(a, 0, 110.0, 70.0, z=5.0, yaw=bearing + 0.3)  # lined up: steer in
+    assert out.command[2] != 0.0
+    out = _fly(a, 1, 110.0, 70.0, z=5.0, yaw=bearing + 0.7)  # not lined up, 14 m out: straight on
+    assert out.command[2] == 0.0 and out.state.centroid_xy == home
+    out = _fly(a, 2, 125.0, 60.0, z=5.0, yaw=0.0)  # exactly 25 m out: not "within"
+    assert out.command[2] != 0.0
+
+
+def test_a_going_around_uav_avoids_on_its_own_heading():
+    """The go-around flies straight on; a peer ahead on that line is avoided around the current
+    heading (not the bearing to home behind it, which is clear)."""
+    a = _lander()
+    _fly(a, 0, 120.0, 100.0, z=5.0)
+    out = _fly(a, 1, 120.0, 100.0, z=5.0, inbox=[_peer(1, 0, 160.0, 108.0, z=5.0, cx=math.nan, cy=math.nan)])
+    want = _nearest_clear((120.0, 100.0), 0.0, 44.7, (160.0, 108.0), (0.0, 0.0))
+    assert out.command[2] != 0.0 and _heading_after(out, 0.0) == pytest.approx(max(-1.0, min(1.0, want)))
+
+
+def test_a_home_outside_the_own_cell_is_flown_at_directly():
+    """No density mass in the cell (a flying peer between): the fallback is the home point itself."""
+    a = _lander((20.0, 150.0), area_m=(0.0, 1000.0, 0.0, 300.0))  # 480 m = 48 sigma: exactly 0
+    _fly(a, 0, 900.0, 150.0, yaw=math.pi)
+    out = _fly(a, 1, 900.0, 150.0, yaw=math.pi, inbox=[_peer(1, 0, 500.0, 150.0)])
+    assert out.state.centroid_xy == (20.0, 150.0)
+
+
+def test_a_zero_density_plan_holds_the_own_position():
+    a = Agent(_cfg())
+    a.planners[int(Objective.SEARCH)] = _Waypoint(density=np.zeros(a.grid.points.shape[0]))
+    assert _fly(a, 0, 80.0, 120.0).state.centroid_xy == (80.0, 120.0)
+
+
+# --- helpers of the stages --------------------------------------------------------------------
+def test_the_markers_border_is_every_cell_point_with_a_neighbour_outside_the_cell():
+    """Brute force over the grid: a cell point is on the border if one of its 4 neighbours inside
+    the grid is not in the cell."""
+    a = Agent(_cfg(area_m=(0.0, 100.0, 0.0, 60.0)))
+    _fly(a, 0, 20.0, 15.0)
+    out = _fly(a, 1, 20.0, 15.0, inbox=[_peer(1, 0, 75.0, 50.0)], markers=True)
+    ny, nx = a.grid.shape
+    m = a._cell.reshape(ny, nx)
+    want = set()
+    for i in range(ny):
+        for j in range(nx):
+            if not m[i, j]:
+                continue
+            nbs = [(i + di, j + dj) for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1))]
+            if any(0 <= p < ny and 0 <= q < nx and not m[p, q] for p, q in nbs):
+                want.add((float(a.grid.xs[j]), float(a.grid.ys[i])))
+    got = {(float(x), float(y)) for x, y in out.markers.cell_boundary_xy}
+    assert got == want and len(want) > 5
+
+
+def test_refill_goes_to_the_nearest_lake_in_the_plane():
+    for lakes, uav, nearest in (
+        ((Lake(250.0, 150.0, 20.0), Lake(60.0, 280.0, 20.0)), (50.0, 150.0), 1),  # 200 m vs 130 m
+        ((Lake(150.0, 160.0, 20.0), Lake(60.0, 40.0, 20.0)), (50.0, 150.0), 0),  # 100.5 m vs 110.5 m
+    ):
+        a = _suppressor(lakes=lakes)
+        c = _fly(a, 0, *uav, water=0.0).state.centroid_xy
+        d = [math.hypot(c[0] - lk.x_m, c[1] - lk.y_m) for lk in lakes]
+        assert d[nearest] < d[1 - nearest], (lakes, c)
+
+
+def test_peer_perimeters_and_fronts_from_uav_0_count_and_one_lost_one_does_not_stop_the_rest():
+    from fire_uav_agent.agent_types import PeerPerimeter
+    from fire_uav_agent.fire_front import FrontCells
+    from fire_uav_agent.front_consensus import PeerFront
+    from fire_uav_agent.peer_link import Outage
+
+    a = Agent(_cfg(uid=2, n=4, outages=(Outage(1, 2, 0.0, 100.0),)))
+    msgs = [PeerPerimeter(1, 1, 4, 7, {}), PeerPerimeter(1, 2, 4, 8, {}), PeerPerimeter(0, 1, 4, 7, {}),
+            PeerFront(0, 1, 4, FrontCells.empty()), _peer(3, 4, 10.0, 10.0)]  # fmt: skip
+    a.last_step = 4
+    got = a._link(5, msgs, [])
+    assert [p.uav_id for p in got] == [0] and [f.uav_id for f in a._peer_fronts] == [0]
+    assert a.perimeter_lost == 2 and 3 in a.link.alive_states()
+
+
+def test_peer_fire_pictures_outside_the_step_window_are_refused():
+    a = Agent(_cfg(takeoff_interval_s=100.0))
+    a.last_step = 19
+    fe = FireEntry((1 << 16) | 1, True, 200.0, 200.0, 10.0, last_measurement_s=0.3)
+    out = a.step(_bundle(20, GROUND), [PeerFires(1, 5, 9, (fe,))])
+    assert out.fires == () and out.state.packets_rejected == 1
+
+
+def test_assign_monitor_returns_minus_one_unless_this_uav_is_the_nearest_eligible():
+    from fire_uav_agent.coverage import make_grid
+    from fire_uav_agent.planning import PlannerView
+
+    grid = make_grid(*AREA, 5.0)
+    fire = (FireEntry(5, True, 300.0, 300.0, 30.0),)
+
+    def view(own_xy, peers_xy, roles):
+        return PlannerView(0.0, 0, np.array([*own_xy, 30.0, 0.0]), grid, np.ones(grid.points.shape[0], bool),
+                           peers_xy, fire, peer_roles=roles, own_published_xy=own_xy,
+                           own_objective=int(Objective.SEARCH))  # fmt: skip
+
+    a = Agent(_cfg(n=3, mission=sc.Mission(monitors_per_fire=1)))
+    # own 70.7 m from the fire, peer 1 at (150, 300) 150 m: this UAV monitors it
+    assert a.assign_monitor(view((250.0, 250.0), {1: (150.0, 300.0)}, {1: (int(Objective.SEARCH), -1)})) == 5
+    # peer 1 nearer (10 m): it monitors, this UAV does not
+    assert a.assign_monitor(view((250.0, 250.0), {1: (290.0, 300.0)}, {1: (int(Objective.SEARCH), -1)})) == -1
+    # the nearer peer is grounded (not eligible): this UAV; a peer without a known role counts as SEARCH
+    assert (
+        a.assign_monitor(view((250.0, 250.0), {1: (290.0, 300.0)}, {1: (int(Objective.GROUNDED), -1)})) == 5
+    )
+    assert a.assign_monitor(view((250.0, 250.0), {1: (290.0, 300.0)}, {})) == -1
+    assert a.roles == {5: (1,)}
+
+
+def test_the_fastest_front_wins_whichever_peer_reports_it_and_own_monitors_come_first():
+    a = _suppressor(fire=(150.0, 150.0, 20.0), n=3)
+    fid = _fly(a, 0, 50.0, 150.0).state.target_fire_id
+    fast = FireEntry(fid, True, 150.0, 150.0, 20.0, front_x_m=160.0, front_y_m=180.0, max_spread_rate_mps=1.5)
+    slow = FireEntry(fid, True, 150.0, 150.0, 20.0, front_x_m=120.0, front_y_m=150.0, max_spread_rate_mps=0.5)
+    _fly(a, 1, 50.0, 150.0, inbox=[PeerFires(1, 1, 0, (fast,)), PeerFires(2, 1, 0, (slow,))])
+    assert a._fronts[fid] == (160.0, 180.0, 1.5)
+
+
+def test_a_monitor_without_a_front_of_its_own_takes_the_peers():
+    a = Agent(_cfg(n=3, prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1)))
+    outs = [_fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0) for k in range(4)]
+    fid = outs[-1].state.target_fire_id
+    assert outs[-1].state.objective == Objective.MONITOR and a.monitor.front(fid) is None  # no Eq. 1 yet
+    peer = FireEntry(fid, True, 145.0, 145.0, 15.0, front_x_m=1.0, front_y_m=2.0, max_spread_rate_mps=0.7)
+    _fly(a, 4, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[PeerFires(1, 1, 3, (peer,))])
+    assert a._fronts == {fid: (1.0, 2.0, 0.7)}
+
+
+def test_a_monitor_flies_at_its_fire():
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1)))
+    outs = [_fly(a, k, 60.0, 145.0) for k in range(3)]
+    assert outs[-1].state.objective == Objective.MONITOR
+    assert outs[-1].state.centroid_xy == (145.0, 145.0)  # no cells yet: "go and see" the fire
+
+
+def test_without_a_search_planner_the_staleness_search_is_the_search_planner():
+    from fire_uav_agent.agent_core import StalenessSearch
+
+    a = Agent(_cfg())
+    assert a.planners == {int(Objective.SEARCH): a.search} and isinstance(a.search, StalenessSearch)
+    p = _Waypoint((1.0, 2.0))
+    assert Agent(_cfg(), planners={int(Objective.SEARCH): p}).planners[int(Objective.SEARCH)] is p
