@@ -74,6 +74,11 @@ def test_a_recent_sighting_off_the_front_is_repeated_for_recent_s_then_dropped()
     assert [k for k in msg if k[:2] == (1, 1)] == [(1, 1, B, 1.0)]
     with pytest.raises(ValueError, match="recent_s"):
         FrontSharing(recent_s=-1.0)
+    # the default window is the documented 3 s; shared sightings carry no rate of spread (NaN)
+    d = FrontSharing().message(p, 5.0)
+    k = keyset(p, d).index((1, 4, N, 2.0))
+    assert np.isnan(d.ros_mps[k]) and d.ros_mps.dtype == float
+    assert (1, 4, N, 2.0) not in keyset(p, FrontSharing().message(p, 5.01))
 
 
 def test_a_cell_that_aged_off_the_front_is_retracted_with_its_old_sighting() -> None:
