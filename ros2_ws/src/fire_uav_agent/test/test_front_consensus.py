@@ -74,6 +74,10 @@ def test_a_recent_sighting_off_the_front_is_repeated_for_recent_s_then_dropped()
     assert [k for k in msg if k[:2] == (1, 1)] == [(1, 1, B, 1.0)]
     with pytest.raises(ValueError, match="recent_s"):
         FrontSharing(recent_s=-1.0)
+    with pytest.raises(ValueError, match="recent_s"):
+        FrontSharing(recent_s=float("nan"))
+    # a zero window still shares what was seen at the message's own time
+    assert (1, 4, N, 2.0) in keyset(p, FrontSharing(recent_s=0.0).message(p, 2.0))
     # the default window is the documented 3 s; shared sightings carry no rate of spread (NaN)
     d = FrontSharing().message(p, 5.0)
     k = keyset(p, d).index((1, 4, N, 2.0))
