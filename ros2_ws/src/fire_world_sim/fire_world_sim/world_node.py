@@ -124,6 +124,7 @@ class WorldNode(Node):
         self._resent_ns = 0  # [steady ns] when bundles were last re-sent
         self._asked_again: dict[int, int] = {}  # uav -> stamp of the step whose bundle it got twice
         self._started = False
+        self._finished = False  # the mission is over: answers to its last bundle are not awaited
         self._last_viz_ns = -(10**18)
         self._viz_period_ns = int(NS_PER_S / self.cfg.viz_rate_hz)
         self._start_wall_ns = self._steady.now().nanoseconds
@@ -427,6 +428,8 @@ class WorldNode(Node):
             self._advance()
 
     def _on_cmd(self, uid: int, msg: TwistStamped) -> None:
+        if self._finished:
+            return  # the agents answer the mission's last bundle too: nothing waits for that
         if self.auth is not None:
             return  # TwistStamped has no tag: the command comes from the signed PayloadRequest
         topic = topics.CMD_SPEC.for_uav(uid)
@@ -447,6 +450,8 @@ class WorldNode(Node):
         self._maybe_advance()
 
     def _on_payload(self, uid: int, msg: PayloadRequest) -> None:
+        if self._finished:
+            return  # an answer to the last bundle (see _on_cmd)
         topic = topics.PAYLOAD_SPEC.for_uav(uid)
         ns = stamp_to_ns(msg.header.stamp)
         if msg.uav_id != uid:
@@ -490,6 +495,7 @@ class WorldNode(Node):
 
     # --- finishing ---------------------------------------------------------------------------
     def _finish(self, result: StepResult) -> None:
+        self._finished = True
         self.get_logger().info(
             f"mission complete at t = {result.stamp_ns / NS_PER_S:.1f} s: {result.complete_reason}; "
             f"rejected commands / payload requests: {self.rejected or 'none'}"
