@@ -196,7 +196,17 @@ def run(
                 )
         print(f"[mutation] {module}: {time.monotonic() - t0:.0f} s wall", file=sys.stderr, flush=True)
     statuses = statuses_of(d, module, env)
-    result = Result(module, statuses, equivalent & statuses.keys())
+    listed = equivalent & statuses.keys()
+    # mutmut numbers a function's mutants in order, so editing a module re-points the keys of
+    # config/mutation.toml at other mutants: a listed "equivalent" that the tests kill is such a
+    # stale key (or was never equivalent); it counts as killed, and the key must be fixed
+    for k in sorted(k for k in listed if statuses[k] in KILLED):
+        print(
+            f"  WARNING: {k} is listed as equivalent in config/mutation.toml but the tests kill it: "
+            "a stale key (the module changed, mutmut renumbered its mutants) or not equivalent",
+            flush=True,
+        )
+    result = Result(module, statuses, {k for k in listed if statuses[k] not in KILLED})
     survivors = [
         k for k, s in statuses.items() if s not in KILLED and s != "not checked" and k not in equivalent
     ]

@@ -53,12 +53,18 @@ def test_five_uavs_twice_identical(ff5_first, ros_env, tmp_path):
     _same(ff5_first, _run(tmp_path, "second", ros_env, *FF, "--uavs", "5"))
 
 
-def test_a_200_ms_stall_changes_nothing_but_wall_time(ff5_first, ros_env, tmp_path):
+def test_stalls_change_nothing_but_wall_time(ff5_first, ros_env, tmp_path):
+    """A 200 ms stall, and one of 6 s: longer than RESEND_AFTER_WALL_S, so the world re-sends the
+    stalled agent its bundle and the agent may answer twice (world_node._resend_if_stuck)."""
     stalled = _run(
-        tmp_path, "stalled", ros_env, *FF, "--uavs", "5", "--stall", "2@3.0:200", "--stall", "4@20:200"
+        tmp_path, "stalled", ros_env, *FF, "--uavs", "5", "--stall", "2@3.0:200", "--stall", "4@20:6000"
     )
     # the stall is listed among the faults of the stalled run; everything else must be equal
     _same(ff5_first, stalled, ignore=("faults_injected",))
+    world = (stalled / "logs" / "world.log").read_text()
+    assert "re-sending their bundles" in world, world[-2000:]
+    # a second copy of an answer the world asked for again is not a rejected message
+    assert "rejected a message" not in world, world[-2000:]
 
 
 def test_kill_and_freeze_twice_identical(ros_env, tmp_path):

@@ -363,6 +363,7 @@ class UavAgentNode(Node):
             self.search_link.on_arrival = self._on_coverage_arrival
         self._inbox: list[PeerState | PeerFires | PeerPerimeter] = []
         self._pending: SensorBundle | None = None
+        self._answer: tuple[int, list] | None = None  # (step, [(publisher, msg)]) last sent to the world
         self.wait = PeerWait(uid, self.cfg.uav_count, self.cfg.control_period_s, schedule)
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
         # not a timeout: while waiting, notice a peer whose process is gone (its publishers left the graph)
@@ -630,6 +631,13 @@ class UavAgentNode(Node):
 
     def _on_bundle(self, msg: SensorBundle) -> None:
         k = int(msg.step)
+        if self.mode == "lockstep" and self._answer is not None and k == self._answer[0]:
+            # the world re-sent the bundle of a step already answered: our answer did not reach it
+            # (the world re-sends only to agents it still waits for, docs/protocol.md); say it again
+            self.get_logger().warning(f"step {k}: bundle received again; re-sending this step's answer")
+            for pub, m in self._answer[1]:
+                pub.publish(m)
+            return
         if k <= self.agent.last_step or (self._pending is not None and k <= self._pending.step):
             return  # protocol item 1: answer only the newest bundle
         if self._pending is not None:
@@ -745,6 +753,7 @@ class UavAgentNode(Node):
         self.pub_state.publish(state)
         self.pub_fires.publish(fires)
         log = [(self.pub_state, state), (self.pub_fires, fires)]
+        answer = []  # what the world waits for: kept to answer a re-sent bundle (_on_bundle)
         v_lin, v_z, omega_z = (float(v) for v in out.command)
         # exactly one request per step (ACTION_NONE if nothing): the lockstep world waits for it
         for action, fire_id in out.payload_requests or [(PayloadAction.NONE, -1)]:
@@ -756,6 +765,7 @@ class UavAgentNode(Node):
             if self.auth is not None:
                 self.auth.sign(req, topics.PAYLOAD_SPEC.for_uav(uid), uid, stamp_ns)
             self.pub_payload.publish(req)
+            answer.append((self.pub_payload, req))
             what = PayloadAction(action).name
             if action == PayloadAction.DROP:
                 self.get_logger().info(f"step {out.step}: {what} on fire {fire_id}")
@@ -778,6 +788,8 @@ class UavAgentNode(Node):
         cmd.header.frame_id = f"uav_{uid}"
         cmd.twist.linear.x, cmd.twist.linear.z, cmd.twist.angular.z = v_lin, v_z, omega_z
         self.pub_cmd.publish(cmd)
+        answer.append((self.pub_cmd, cmd))
+        self._answer = (out.step, answer)
         if out.markers is not None:
             self.pub_viz.publish(_markers(out, stamp, f"uav_{uid}"))
         self._publish_tf_estimate(out, stamp)

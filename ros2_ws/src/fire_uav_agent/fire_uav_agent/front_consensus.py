@@ -3,8 +3,15 @@
 Each agent publishes (``FireFront``, every ``front_every_steps``) its current active front --
 own sightings and cells learnt from peers alike, so knowledge travels over several hops -- plus
 *retractions*: cells it published last time that are no longer on its front, with their newer
-state (BURNED after a drop, UNBURNED never) and observation time. A receiver merges every cell
-with :meth:`FrontPicture.merge` (newest observation wins per cell). With a connected fleet and
+state (BURNED after a drop, UNBURNED never) and observation time -- plus every BURNING or
+BURNED cell observed (by anyone) within the last ``recent_s`` seconds that is not on the front.
+A receiver merges every cell with :meth:`FrontPicture.merge` (newest observation wins per cell).
+
+Why the recent cells: a cell an agent never had on its own front (first seen BURNED after a drop,
+or burning inside the fire) was otherwise never shared, so a peer that saw it BURNING earlier kept
+it on its front for ever (2026-12-01, found by a strict xfail in test_front_consensus.py). Every
+new sighting now reaches the peers, repeated in each message for ``recent_s`` (3 messages at the
+default 1 Hz), so one lost message does not lose it. With a connected fleet and
 no new sightings, every agent's front converges to the same set after as many rounds as the
 graph's diameter: merging is a per-cell maximum over (time, state), which is associative,
 commutative and idempotent (a join), so the order and duplication of messages do not matter.
@@ -16,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from fire_uav_common.constants import CellState
 
 from .fire_front import FrontCells, FrontPicture
 
@@ -45,7 +53,10 @@ def concat(a: FrontCells, b: FrontCells) -> FrontCells:
 class FrontSharing:
     """Builds one agent's outgoing front messages (front + retractions)."""
 
-    def __init__(self) -> None:
+    def __init__(self, recent_s: float = 3.0) -> None:
+        if not recent_s >= 0:
+            raise ValueError(f"FrontSharing: recent_s must be >= 0 [s], got {recent_s}")
+        self.recent_s = recent_s
         self._sent_x = np.zeros(0)
         self._sent_y = np.zeros(0)
 
@@ -67,4 +78,19 @@ class FrontSharing:
                     ),
                 )
         self._sent_x, self._sent_y = front.x_m.copy(), front.y_m.copy()
-        return out
+        return concat(out, self._recent(picture, t_s, out))
+
+    def _recent(self, picture: FrontPicture, t_s: float, out: FrontCells) -> FrontCells:
+        """BURNING / BURNED cells observed within ``recent_s`` of ``t_s`` and not in ``out``."""
+        with np.errstate(invalid="ignore"):
+            mask = (picture.t_obs >= t_s - self.recent_s) & np.isin(
+                picture.state, (CellState.BURNING, CellState.BURNED)
+            )
+        if out.x_m.size:
+            oi, oj, ok = picture.index(out.x_m, out.y_m)
+            mask[oi[ok], oj[ok]] = False
+        i, j = np.nonzero(mask)
+        x, y = picture.centre_xy(i, j)
+        return FrontCells(
+            x, y, picture.state[i, j].astype(np.int64), picture.t_obs[i, j], np.full(i.size, np.nan)
+        )

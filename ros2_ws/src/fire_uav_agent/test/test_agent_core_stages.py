@@ -762,7 +762,12 @@ def test_a_raster_fire_makes_the_front_picture_and_the_uavs_fly_their_tactic_lay
     out = _fly(a, 0, 50.0, 50.0, z=12.0, cells=_block(), cell_size=10.0)
     assert a.front is not None and a.front.cfg.cell_size_m == 10.0
     assert out.command[1] == pytest.approx(0.0, abs=1e-9)  # at its layer
-    assert {(float(x), float(y)) for x, y in zip(out.front.x_m, out.front.y_m, strict=True)} == _ring_cells()
+    f = a.front.front()
+    assert {(float(x), float(y)) for x, y in zip(f.x_m, f.y_m, strict=True)} == _ring_cells()
+    # the published FireFront: the front plus the burning cells just seen off it (the centre;
+    # front_consensus' recent cells)
+    sent = {(float(x), float(y)) for x, y in zip(out.front.x_m, out.front.y_m, strict=True)}
+    assert sent == _ring_cells() | {(145.0, 145.0)}
     b = Agent(_cfg(uid=1))
     assert _fly(b, 0, 50.0, 50.0, z=20.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
         0.0, abs=1e-9

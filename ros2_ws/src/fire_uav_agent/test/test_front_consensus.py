@@ -40,7 +40,7 @@ def test_messages_carry_the_front_then_retract_what_left_it_once() -> None:
     p = pic()
     cells = [(1, 1), (1, 2), (1, 3)]
     p.observe(*xy(cells), np.array([B, B, B]), 1.0)
-    sh = FrontSharing()
+    sh = FrontSharing(recent_s=0.5)  # recent sightings: see the next test
     m1 = sh.message(p, 1.0)
     assert keyset(p, m1) == keyset(p, p.front(1.0)) and len(m1) == 3
     p.observe(*xy([(1, 2)]), np.array([N]), 2.0)  # the middle cell put out
@@ -54,6 +54,35 @@ def test_messages_carry_the_front_then_retract_what_left_it_once() -> None:
     q.merge(m1)
     q.merge(m2)
     assert keyset(q, q.front(2.0)) == keyset(p, p.front(2.0))
+
+
+def test_a_recent_sighting_off_the_front_is_repeated_for_recent_s_then_dropped() -> None:
+    """A cell first seen BURNED (never on this agent's front) is in every message for
+    ``recent_s`` after its sighting, so a peer that misses one message still learns it."""
+    p = pic()
+    p.observe(*xy([(1, 1)]), np.array([B]), 1.0)
+    p.observe(*xy([(1, 4)]), np.array([N]), 2.0)  # seen burnt; never on the front
+    sh = FrontSharing(recent_s=3.0)
+    for t in (2.0, 3.0, 5.0):
+        assert (1, 4, N, 2.0) in keyset(p, sh.message(p, t)), t
+    assert (1, 4, N, 2.0) not in keyset(p, sh.message(p, 5.5))
+    # an interior burning cell (every neighbour burning or burnt) is shared while it is recent
+    q = pic(3, 3)
+    q.observe(*xy([(r, c) for r in range(3) for c in range(3)]), np.full(9, B), 1.0)
+    q.observe(*xy([(0, 0)]), np.array([N]), 1.5)
+    msg = keyset(q, FrontSharing(recent_s=3.0).message(q, 2.0))
+    assert [k for k in msg if k[:2] == (1, 1)] == [(1, 1, B, 1.0)]
+    with pytest.raises(ValueError, match="recent_s"):
+        FrontSharing(recent_s=-1.0)
+    with pytest.raises(ValueError, match="recent_s"):
+        FrontSharing(recent_s=float("nan"))
+    # a zero window still shares what was seen at the message's own time
+    assert (1, 4, N, 2.0) in keyset(p, FrontSharing(recent_s=0.0).message(p, 2.0))
+    # the default window is the documented 3 s; shared sightings carry no rate of spread (NaN)
+    d = FrontSharing().message(p, 5.0)
+    k = keyset(p, d).index((1, 4, N, 2.0))
+    assert np.isnan(d.ros_mps[k]) and d.ros_mps.dtype == float
+    assert (1, 4, N, 2.0) not in keyset(p, FrontSharing().message(p, 5.01))
 
 
 def test_a_cell_that_aged_off_the_front_is_retracted_with_its_old_sighting() -> None:
@@ -96,7 +125,7 @@ def test_one_agents_front_reaches_the_far_end_of_a_line_of_three(sightings) -> N
     """Agent 0 sees random cells of a 3 x 6 raster at t = 1, 2, ... (any order of states); then,
     with no new sightings, each round every agent merges its neighbours' messages (line
     0 - 1 - 2). After two rounds (the diameter) agents 1 and 2 hold agent 0's front, which is
-    the front of everything seen. (Several observers: see the xfail below.)"""
+    the front of everything seen. (Several observers: the next test.)"""
     agents = [pic(), pic(), pic()]
     for t, (i, j, s) in enumerate(sightings, start=1):
         x, y = xy([(i, j)])
@@ -113,14 +142,6 @@ def test_one_agents_front_reaches_the_far_end_of_a_line_of_three(sightings) -> N
         assert keyset(a, a.front(t_end)) == expect
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="bug: a cell an agent knows but never had on its own front (first seen BURNED, or burning "
-    "inside the fire) is never shared, so a peer keeps an older BURNING sighting of it, or counts it as "
-    "unknown next to its own burning cells, on its front: with several observers the fronts do not "
-    "converge as the module doc claims (FrontSharing.message shares only the front and retractions of "
-    "cells it sent)",
-)
 def test_a_cell_seen_burnt_by_one_agent_leaves_the_front_of_a_peer_that_saw_it_burning() -> None:
     """UAV 1 sees cell X burning at t = 1 s; UAV 0 passes at t = 2 s, after a drop put X out, and
     sees it BURNED. Newest wins per cell, so after they exchange messages neither should hold X
@@ -136,3 +157,38 @@ def test_a_cell_seen_burnt_by_one_agent_leaves_the_front_of_a_peer_that_saw_it_b
         a1.merge(m0)
     assert len(a0.front(3.0)) == 0
     assert len(a1.front(3.0)) == 0
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    sightings=st.lists(
+        st.tuples(st.integers(0, 2), st.integers(0, 2), st.integers(0, 5), st.integers(0, 2)),
+        min_size=1,
+        max_size=16,
+    ),
+)
+def test_several_observers_fronts_converge_on_the_front_of_everything_seen(sightings) -> None:
+    """Random agents of a line 0 - 1 - 2 see random cells at t = 1, 2, ...; each cell's states
+    follow the fire's own order (UNBURNED, then BURNING, then BURNED: a fire never un-burns).
+    After two rounds of messages every agent's front is the front of one picture that saw
+    every sighting (module doc). Before sharing recent sightings, a cell first seen BURNED by
+    one agent stayed on the front of a peer that had seen it BURNING."""
+    order = (U, B, N)
+    agents, ref = [pic(), pic(), pic()], pic()
+    last: dict[tuple[int, int], int] = {}
+    for t, (k, i, j, r) in enumerate(sightings, start=1):
+        r = max(r, last.get((i, j), 0))
+        last[(i, j)] = r
+        x, y = xy([(i, j)])
+        agents[k].observe(x, y, np.array([order[r]]), float(t))
+        ref.observe(x, y, np.array([order[r]]), float(t))
+    t_end = float(len(sightings))
+    sharing = [FrontSharing(recent_s=100.0) for _ in range(3)]
+    for _ in range(2):
+        msgs = [sharing[k].message(agents[k], t_end) for k in range(3)]
+        for k, nbrs in ((0, (1,)), (1, (0, 2)), (2, (1,))):
+            for n in nbrs:
+                agents[k].merge(msgs[n])
+    expect = keyset(ref, ref.front(t_end))
+    for a in agents:
+        assert keyset(a, a.front(t_end)) == expect
