@@ -395,9 +395,9 @@ class WorldNode(Node):
     def _resend_if_stuck(self, after_wall_s: float = RESEND_AFTER_WALL_S) -> None:
         """Re-send this step's bundle to every live agent whose answer is not in after ``after_wall_s``.
 
-        A reliable DDS writer should never need this, but a startup hang in which the fleet waited
-        for ever was seen once in ~10 runs (2026-12-02, cause not found): a bundle or an answer lost
-        between matched endpoints. The copy is harmless: an agent that has not run the step yet
+        A reliable DDS writer should never need this, but two fresh-clone test runs (2026-12-01/02)
+        hung in a lockstep wait that never ended (cause not found; 8 repeats on an idle machine did
+        not hang): suspected a bundle or an answer lost between matched endpoints. The copy is harmless: an agent that has not run the step yet
         ignores it (it answers only a newer bundle), and one that has answered already sends its
         answer again (agent_node._on_bundle); the world takes one answer per step. It changes no
         step's inputs, so a lockstep run stays reproducible; the warning names who was waited for.
