@@ -3,6 +3,7 @@
 Objectives are the ``UavState.OBJECTIVE_*`` constants (:class:`Objective`). Transitions:
 
 * GROUNDED -> airborne objective at the takeoff slot ``uav_id * takeoff_interval_s`` (IV-D a).
+  If the fleet has agreed to land by then, GROUNDED -> LANDED: the UAV never takes off.
 * Airborne objective choice (IV-D c, "reassess"): LAND if the fleet agrees every fire is out;
   REFILL if the tank holds less than ``min_water_fraction``; SUPPRESS if an active fire is known;
   else SEARCH (no fire known yet: FF assumes the fires are seen; our agents must find them).
@@ -161,7 +162,12 @@ class Mission:
             self._set(Objective.LANDED, v.t_s)
         elif self.objective == Objective.GROUNDED:
             if v.t_s >= self.cfg.takeoff_time_s or v.vehicle == VehicleStatus.AIRBORNE:
-                self._set(self._choose(v), v.t_s)
+                want = self._choose(v)
+                if want == Objective.LAND and v.vehicle == VehicleStatus.ON_GROUND:
+                    # The fleet agreed to land before this UAV's takeoff slot: it never took off,
+                    # so it is down already (IV-D d) instead of climbing out just to land again.
+                    want = Objective.LANDED
+                self._set(want, v.t_s)
         elif self.objective == Objective.LAND or self.objective == Objective.LANDED:
             pass  # terminal: fires do not re-ignite in FF
         elif self.objective == Objective.REFILL:
