@@ -114,6 +114,19 @@ def test_takeoff_at_the_slot_inclusive_or_when_the_world_says_airborne():
     assert m.step(view(1.0, vehicle=VehicleStatus.AIRBORNE, fires=())).objective == Objective.SEARCH
 
 
+def test_a_uav_grounded_when_the_fleet_lands_stays_down():
+    """IV-D d: the fleet agreed to land before this UAV's slot. Still on the ground, it goes to
+    LANDED (never takes off); a vehicle the world reports airborne at its slot goes to LAND."""
+    landing = {0: int(Objective.LAND), 2: int(Objective.LANDED)}
+    m = Mission(MissionConfig(takeoff_time_s=8.0))
+    d = m.step(view(8.0, vehicle=VehicleStatus.ON_GROUND, peer_objectives=landing))
+    assert d.objective == Objective.LANDED and d.changed and d.request is None
+    assert m.step(view(9.0, vehicle=VehicleStatus.ON_GROUND, peer_objectives={})).objective == Objective.LANDED
+    m = Mission(MissionConfig(takeoff_time_s=8.0))
+    d = m.step(view(8.0, vehicle=VehicleStatus.AIRBORNE, peer_objectives=landing))
+    assert d.objective == Objective.LAND
+
+
 def test_default_takeoff_slot_is_time_zero():
     assert Mission(MissionConfig()).step(view(0.0, vehicle=VehicleStatus.ON_GROUND)).changed
 
