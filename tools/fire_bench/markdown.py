@@ -46,6 +46,14 @@ def _plots(results: dict, out: Path) -> dict[str, str]:
         xs = [r["uavs"] for r in sc]
         ax.plot(xs, [r["steps_per_s"] for r in sc], "o-", label="fleet")
         ax.plot(xs, [r["skeleton_steps_per_s"] for r in sc], "s--", label="messaging skeleton")
+        if any(r.get("skeleton_1msg_steps_per_s") for r in sc):
+            ax.plot(
+                xs,
+                [r.get("skeleton_1msg_steps_per_s") or float("nan") for r in sc],
+                "^:",
+                label="skeleton, 1 peer message per step",
+            )
+        ax.axhline(10.0, color="grey", lw=0.8, label="real time (10 steps/s)")
         ax.set_xlabel("UAVs")
         ax.set_ylabel("lockstep control steps per wall second")
         ax.set_yscale("log")
@@ -187,7 +195,8 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
             "## Scale: lockstep step rate, CPU and memory",
             "",
             f"Command: `{r['command']}`; {r['mission_time_s']:g} s of mission time per run; the skeleton "
-            "has the same processes and topics with no algorithms (`fire_bench.skeleton`).",
+            'has the same processes and topics with no algorithms (`fire_bench.skeleton`); "1 peer msg": '
+            "the skeleton sending one peer message per step instead of the fleet's two.",
             "",
             _table(
                 r["rows"],
@@ -198,6 +207,8 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
                     ("ratio_to_skeleton", "ratio"),
                     ("agent_cpu_ms_per_step", "agent CPU ms/step"),
                     ("skeleton_agent_cpu_ms_per_step", "skeleton agent CPU ms/step"),
+                    ("skeleton_1msg_steps_per_s", "skeleton, 1 peer msg: steps/s"),
+                    ("skeleton_1msg_agent_cpu_ms_per_step", "skeleton, 1 peer msg: agent CPU ms/step"),
                     ("agent_rss_mb", "agent RSS MiB"),
                     ("skeleton_agent_rss_mb", "skeleton RSS MiB"),
                     ("world_cpu_ms_per_step", "world CPU ms/step"),
@@ -257,9 +268,14 @@ def _suppression_section(r: dict) -> list[str]:
                         "crashes": x["crashes"],
                     }
                 )
-    fleet = [
-        {"uavs": x["uavs"], "burned_ha": round(x["burned_area_m2"] / 1e4, 2)} for x in r.get("fleet_size", [])
-    ]
+    fleet: dict[int, dict] = {}  # UAVs -> burned [ha] per tactic (the no-fleet run under both)
+    for x in r.get("fleet_size", []):
+        row = fleet.setdefault(x["uavs"], {"uavs": x["uavs"]})
+        ha = round(x["burned_area_m2"] / 1e4, 2)
+        for t in ("head", "flank") if x.get("tactic", "head") == "none" else (x.get("tactic", "head"),):
+            row[f"{t}_ha"] = ha
+            if x["uavs"]:
+                row[f"{t}_contained"] = x.get("contained_at_s")
     out = [
         "## Raster suppression: burned area, head vs flank, fleet size",
         "",
@@ -284,9 +300,18 @@ def _suppression_section(r: dict) -> list[str]:
     if fleet:
         done = "" if len(fleet) >= 4 else "; only these fleet sizes finished"
         out += [
-            f"Burned area at 900 s vs fleet size (grass_running, head, seed 1{done}):",
+            f'Burned area at 900 s vs fleet size (grass_running, seed 1{done}; "-" = never contained or not run):',
             "",
-            _table(fleet, [("uavs", "UAVs"), ("burned_ha", "burned [ha]")]),
+            _table(
+                [fleet[k] for k in sorted(fleet)],
+                [
+                    ("uavs", "UAVs"),
+                    ("head_ha", "head: burned [ha]"),
+                    ("head_contained", "head: contained at [s]"),
+                    ("flank_ha", "flank: burned [ha]"),
+                    ("flank_contained", "flank: contained at [s]"),
+                ],
+            ),
         ]
     out += [f"![{p}](bench/{p})" for p in r.get("plots", [])] + [""]
     return out

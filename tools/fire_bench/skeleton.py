@@ -6,9 +6,11 @@ TwistStamped answering that step (lockstep), ``--steps`` times; prints steps per
 ``agent``: on each bundle publishes a UavState and a FireEstimateArray (two fires) on the
 fleet topics, subscribes to every peer's, and answers with its command. No estimation,
 consensus or control: what is left is the cost of DDS + rclpy for this topology.
+``--peer-messages 1``: the agent publishes only the UavState, no FireEstimateArray (the
+question of issue [scale]: does one peer message per step instead of two pay?).
 
 usage: python -m fire_bench.skeleton world --uavs N --steps S
-       python -m fire_bench.skeleton agent --uav-id K --uavs N
+       python -m fire_bench.skeleton agent --uav-id K --uavs N [--peer-messages 1|2]
 """
 
 from __future__ import annotations
@@ -82,9 +84,10 @@ class SkeletonWorld(Node):
 
 
 class SkeletonAgent(Node):
-    def __init__(self, k: int, n: int) -> None:
+    def __init__(self, k: int, n: int, peer_messages: int = 2) -> None:
         super().__init__("skeleton_agent", namespace=topics.uav_namespace(k))
         self.k, self.seq = k, 0
+        self.peer_messages = peer_messages
         self.cmd_pub = topics.publisher(self, topics.CMD_SPEC)
         self.state_pub = topics.publisher(self, topics.FLEET_STATE_SPEC)
         self.fires_pub = topics.publisher(self, topics.FLEET_FIRES_SPEC)
@@ -107,11 +110,15 @@ class SkeletonAgent(Node):
         s = UavState(uav_id=self.k, sequence=self.seq, step=b.step)
         s.header.stamp = b.header.stamp
         self.state_pub.publish(s)
-        f = FireEstimateArray(
-            uav_id=self.k, sequence=self.seq, step=b.step, fires=[FireEstimate(fire_id=j) for j in range(2)]
-        )
-        f.header.stamp = b.header.stamp
-        self.fires_pub.publish(f)
+        if self.peer_messages == 2:
+            f = FireEstimateArray(
+                uav_id=self.k,
+                sequence=self.seq,
+                step=b.step,
+                fires=[FireEstimate(fire_id=j) for j in range(2)],
+            )
+            f.header.stamp = b.header.stamp
+            self.fires_pub.publish(f)
         c = TwistStamped()
         c.header.stamp = b.header.stamp
         c.twist.linear.x = 50.0
@@ -131,9 +138,20 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--uavs", type=int, required=True)
     p.add_argument("--uav-id", type=int, default=0)
     p.add_argument("--steps", type=int, default=300)
+    p.add_argument(
+        "--peer-messages",
+        type=int,
+        choices=[1, 2],
+        default=2,
+        help="agent: peer messages per step (2: UavState + FireEstimateArray, as the fleet; 1: UavState only)",
+    )
     a = p.parse_args(argv)
     rclpy.init()
-    node = SkeletonWorld(a.uavs, a.steps) if a.role == "world" else SkeletonAgent(a.uav_id, a.uavs)
+    node = (
+        SkeletonWorld(a.uavs, a.steps)
+        if a.role == "world"
+        else SkeletonAgent(a.uav_id, a.uavs, a.peer_messages)
+    )
     spin(node, node.report if isinstance(node, SkeletonAgent) else None)
     return 0
 
