@@ -90,3 +90,27 @@ def test_case_spec():
     ]:
         with pytest.raises(SystemExit, match=why):
             parse_case(bad)
+
+
+def test_the_fleet_size_table_has_a_column_per_tactic(tmp_path):
+    """grass_running seed 1: the no-fleet area under both tactics, each fleet size's head and flank
+    runs on one row with their containment times; other scenarios and seeds stay out of it."""
+    md = tmp_path / "benchmarks.md"
+    md.write_text(PAGE)
+    runs = tmp_path / "suppression_runs.jsonl"
+    flank3 = dict(_run("grass_running", 3, 1, "flank", 250000.0), contained_at_s=700.0)
+    head3 = dict(_run("grass_running", 3, 1, "head", 450000.0), contained_at_s=None)
+    rows = [
+        _run("grass_running", 0, 1, "none", 531600.0),
+        flank3,
+        head3,
+        _run("grass_running", 6, 2, "head", 111100.0),  # seed 2: not a fleet-size row
+        _run("grass_brush_hill", 3, 1, "head", 99900.0),  # another scenario: neither
+    ]
+    runs.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    assert main(["--from-runs", str(runs), "--out", str(tmp_path / "bench"), "--write-section", str(md)]) == 0
+    text = md.read_text()
+    assert "| 0 | 53.16 | - | 53.16 | - |" in text
+    assert "| 3 | 45.00 | - | 25.00 | 700.00 |" in text
+    assert "11.11" not in text.split("Burned area at 900 s vs fleet size")[1] and "9.99" not in text
+    assert (tmp_path / "bench" / "suppression_fleet_size.png").is_file()

@@ -10,8 +10,8 @@ from real processes. Cases:
 
 * tactics: head attack vs flank attack, 6 UAVs, on the pre-burnt raster scenarios
   ``grass_running`` and ``grass_brush_hill``, seeds 1-3, 900 s;
-* fleet size: 0 (the fire alone: ``World(no_fleet=True)``), 3, 6 and 10 UAVs, head attack,
-  ``grass_running``, seed 1, 900 s;
+* fleet size: 0 (the fire alone: ``World(no_fleet=True)``), 3, 6 and 10 UAVs, head attack and
+  flank attack, ``grass_running``, seed 1, 900 s;
 * ``--quick``: ``grass_brush_hill``, seed 1, 300 s: no fleet, head and flank with 6 UAVs.
 
 A mission ends before 900 s only when every fire is out and every UAV has landed, so its final
@@ -126,8 +126,8 @@ def cases(quick: bool) -> list[tuple]:
         out += [(sc, 6, seed, t, dur) for sc in reversed(SCENARIOS) for t in TACTICS]  # the quicker first
         if seed == seeds[0]:
             out += [(sc, 0, 1, "head", dur) for sc in SCENARIOS]  # the fire alone has no randomness
-            out += [("grass_running", 3, seed, "head", dur)]
-    return out + [("grass_running", 10, seeds[0], "head", dur)]
+            out += [("grass_running", 3, seed, t, dur) for t in TACTICS]
+    return out + [("grass_running", 10, seeds[0], t, dur) for t in TACTICS]
 
 
 def _star(args: tuple) -> dict:
@@ -167,10 +167,22 @@ def summarise(results: list[dict]) -> dict:
                 for r in sorted(rows, key=lambda r: r["seed"])
             ]
         out["scenarios"][sc] = entry
-    for r in sorted(results, key=lambda r: r["uavs"]):
-        if r["scenario"] == "grass_running" and r["seed"] == 1 and r["tactic"] in ("head", "none"):
-            out["fleet_size"].append({"uavs": r["uavs"], "burned_area_m2": r["burned_area_m2"]})
+    for r in _fleet_size_runs(results):
+        out["fleet_size"].append(
+            {
+                "uavs": r["uavs"],
+                "tactic": r["tactic"],
+                "burned_area_m2": r["burned_area_m2"],
+                "contained_at_s": r["contained_at_s"],
+            }
+        )
     return out
+
+
+def _fleet_size_runs(results: list[dict]) -> list[dict]:
+    """grass_running, seed 1: the no-fleet run and every fleet size, by (UAVs, tactic)."""
+    runs = [r for r in results if r["scenario"] == "grass_running" and r["seed"] == 1]
+    return sorted(runs, key=lambda r: (r["uavs"], r["tactic"]))
 
 
 def plot(results: list[dict], out: Path) -> list[str]:
@@ -196,20 +208,21 @@ def plot(results: list[dict], out: Path) -> list[str]:
     fig.savefig(out / "suppression_area.png", dpi=110)
     plt.close(fig)
     names.append("suppression_area.png")
-    fs = sorted(
-        (
-            r
-            for r in results
-            if r["scenario"] == "grass_running" and r["seed"] == 1 and r["tactic"] in ("head", "none")
-        ),
-        key=lambda r: r["uavs"],
-    )
+    fs = _fleet_size_runs(results)
     if fs:
         fig, ax = plt.subplots(figsize=(5, 4))
-        ax.plot([r["uavs"] for r in fs], [r["burned_area_m2"] / 1e4 for r in fs], "o-")
+        base = [r for r in fs if r["uavs"] == 0]
+        for tactic, style in (("head", "o-"), ("flank", "s--")):
+            line = base + [r for r in fs if r["tactic"] == tactic]
+            if len(line) > len(base):
+                ax.plot(
+                    [r["uavs"] for r in line], [r["burned_area_m2"] / 1e4 for r in line], style, label=tactic
+                )
         ax.set_xlabel("UAVs")
         ax.set_ylabel(f"burned area at {fs[0]['duration_s']:g} s [ha]")
-        ax.set_title("grass_running, head attack, seed 1")
+        ax.set_title("grass_running, seed 1")
+        ax.set_ylim(bottom=0)
+        ax.legend()
         fig.tight_layout()
         fig.savefig(out / "suppression_fleet_size.png", dpi=110)
         plt.close(fig)
