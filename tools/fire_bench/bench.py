@@ -397,6 +397,7 @@ def bench_scale(quick: bool) -> dict:
                 # the floor if the fleet sent one peer message per step instead of two
                 "skeleton_1msg_steps_per_s": sk1.get("steps_per_s"),
                 "skeleton_1msg_agent_cpu_ms_per_step": sk1.get("agent_cpu_ms_per_step"),
+                "skeleton_resends": [sk.get("resends"), sk1.get("resends")],  # bundles sent again (lost)
                 "world_cpu_ms_per_step": procs.get("world", {}).get("cpu_ms_per_step"),
                 "agent_rss_mb": _mean([a["rss_mb"] for a in agents]),
                 "skeleton_agent_rss_mb": sk.get("agent_rss_mb_mean"),

@@ -32,6 +32,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, Range
 
 CONTROL_PERIOD_S = 0.1
+RESEND_AFTER_WALL_S = 5.0  # [s, wall] as fire_world_sim.world_node
 PERIOD_NS = s_to_ns(CONTROL_PERIOD_S)
 
 
@@ -46,7 +47,10 @@ class SkeletonWorld(Node):
             topics.subscription(self, topics.CMD_SPEC, lambda m, i=i: self.on_cmd(i, m), uav_id=i)
         self.t0 = None
         self.started = False
+        self.resends = 0
+        self._last_progress = time.monotonic()
         self.create_timer(0.05, self.wait_for_agents)
+        self.create_timer(1.0, self.resend_if_stuck)
 
     def wait_for_agents(self) -> None:
         if self.started:
@@ -58,11 +62,27 @@ class SkeletonWorld(Node):
             self.t0 = time.monotonic()
             self.publish_step()
 
-    def publish_step(self) -> None:
+    def resend_if_stuck(self) -> None:
+        """As the real world (``world_node``): after RESEND_AFTER_WALL_S without an answer from
+        every agent, send the step's bundle again to those that have not answered. A bundle
+        published while discovery is still settling can be lost (a 30-UAV skeleton waited
+        forever for one answer); an agent answers every bundle, and a second answer is ignored."""
+        if not self.started or time.monotonic() - self._last_progress < RESEND_AFTER_WALL_S:
+            return
+        missing = [i for i in range(self.n) if i not in self.answered]
+        self.resends += len(missing)
+        self._last_progress = time.monotonic()
+        self.publish_step(only=missing)
+
+    def publish_step(self, only: list[int] | None = None) -> None:
         stamp = to_time_msg(step_to_ns(self.k, PERIOD_NS), Time)
-        self.clock_pub.publish(Clock(clock=stamp))
-        self.answered.clear()
+        if only is None:
+            self.clock_pub.publish(Clock(clock=stamp))
+            self.answered.clear()
+            self._last_progress = time.monotonic()
         for i, pub in enumerate(self.sensor_pubs):
+            if only is not None and i not in only:
+                continue
             b = SensorBundle(uav_id=i, step=self.k, control_period_s=CONTROL_PERIOD_S)
             b.header.stamp = stamp
             b.gyro = [Imu() for _ in range(10)]
@@ -78,7 +98,17 @@ class SkeletonWorld(Node):
             self.k += 1
             if self.k >= self.steps:
                 wall = time.monotonic() - self.t0
-                print(json.dumps({"steps": self.k, "wall_s": wall, "steps_per_s": self.k / wall}), flush=True)
+                print(
+                    json.dumps(
+                        {
+                            "steps": self.k,
+                            "wall_s": wall,
+                            "steps_per_s": self.k / wall,
+                            "resends": self.resends,
+                        }
+                    ),
+                    flush=True,
+                )
                 raise SystemExit(0)
             self.publish_step()
 
