@@ -100,6 +100,36 @@ def _encode(value: Any, ftype: str, out: list[bytes]) -> None:
     out.append((struct.pack(">Q", arr.size) if is_array else b"") + packed)
 
 
+# numeric scalar primitives that struct packs exactly as numpy's cast does for in-range values
+_SCALAR_STRUCT = {
+    "boolean": struct.Struct(">B"), "uint8": struct.Struct(">B"), "int8": struct.Struct(">b"),
+    "uint16": struct.Struct(">H"), "int16": struct.Struct(">h"), "uint32": struct.Struct(">I"),
+    "int32": struct.Struct(">i"), "uint64": struct.Struct(">Q"), "int64": struct.Struct(">q"),
+    "float": struct.Struct(">f"), "double": struct.Struct(">d"),
+}  # fmt: skip
+_PLANS: dict[type, tuple[tuple[str, str, struct.Struct | None], ...]] = {}
+
+
+def _plan(cls: type, msg: Any) -> tuple[tuple[str, str, struct.Struct | None], ...]:
+    """(field, declared type, struct of a numeric scalar or None) of every field but ``auth``.
+
+    Kept per class for generated ROS messages (their field table is the class attribute
+    ``_fields_and_field_types``, fixed per type); built afresh for any other object, whose
+    table may differ from one instance to the next."""
+    plan = _PLANS.get(cls)
+    if plan is None:
+        rows = []
+        for name, ftype in msg.get_fields_and_field_types().items():
+            if name == _AUTH_FIELD:
+                continue
+            base, is_array = _element_type(ftype)
+            rows.append((name, ftype, None if is_array else _SCALAR_STRUCT.get(base)))
+        plan = tuple(rows)
+        if isinstance(getattr(cls, "_fields_and_field_types", None), dict):
+            _PLANS[cls] = plan
+    return plan
+
+
 def canonical_bytes(msg: Any) -> bytes:
     """The bytes a tag covers: every field of ``msg`` except ``auth``, in declaration order.
 
@@ -107,13 +137,23 @@ def canonical_bytes(msg: Any) -> bytes:
     as float32 (rounded as the wire rounds it), integers at their width, booleans as one byte,
     strings and every array or sequence with an 8-byte length first, nested messages recursively.
     Equal messages give equal bytes on every host, whatever memory the serialiser reused.
+
+    The field table is read once per message class, and a numeric scalar (an int, float or bool
+    value in a numeric field) is packed with :mod:`struct`, the same bytes as the numpy cast of
+    :func:`_encode` gives for every value rclpy's setters accept; anything else, or a value
+    struct refuses, goes through :func:`_encode` (issue [scale]: the encoding was ~13 % of an agent
+    process's time at 10 UAVs, more than ``Agent.step``).
     """
-    fields = msg.get_fields_and_field_types()
     out: list[bytes] = []
-    for name, ftype in fields.items():
-        if name == _AUTH_FIELD:
-            continue
-        _encode(getattr(msg, name), ftype, out)
+    for name, ftype, st in _plan(type(msg), msg):
+        value = getattr(msg, name)
+        if st is not None and type(value) in (int, float, bool):
+            try:
+                out.append(st.pack(value))
+                continue
+            except (struct.error, OverflowError):
+                pass  # out of the field's range: numpy's cast decides, as before
+        _encode(value, ftype, out)
     return b"".join(out)
 
 
