@@ -9,20 +9,26 @@ from fire_uav_agent.testing.harness import Harness, scenario_path
 from fire_uav_common.constants import EventType, FireStatus
 from fire_uav_common.scenario import load_scenario
 
-_FAILED_IN_CI_ONLY = pytest.mark.xfail(strict=False, reason="failed in the fresh-clone CI of 2026-12-01 (14/2 collision, 8/1 landing 5.10 m, drift 0.27 m/s), passes on the same commit here alone and after the package tests; cause not found")
+# Only the three cases that failed in the fresh-clone CI of 2026-12-01 carry it; the fresh-clone
+# CI of 2026-12-03 passed all three (and hid behind the mark, then on every case, the landing
+# count that the takeoff-after-land fix changed: see the known-fires test).
+_FAILED_IN_CI_ONLY = pytest.mark.xfail(strict=False, reason="failed in the fresh-clone CI of 2026-12-01 (14/2 collision, 8/1 landing 5.10 m, drift 0.27 m/s), passes on the same commit here alone and after the package tests, and passed in the fresh-clone CI of 2026-12-03; cause not found")
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("uavs, seed", [(8, 3), (14, 1), (14, 2)])
-@_FAILED_IN_CI_ONLY
+@pytest.mark.parametrize("uavs, seed", [(8, 3), (14, 1), pytest.param(14, 2, marks=_FAILED_IN_CI_ONLY)])
 def test_known_fires_fleet_keeps_apart_lands_at_home_and_hits(uavs, seed):
     """(14, 1) measured 9.1 m before peers' intent was predicted (separation.peer_rows); (14, 2)
-    9.3 m with intent, before the landing hold (separation.hold_layer)."""
+    9.3 m with intent, before the landing hold (separation.hold_layer). With 14 UAVs (takeoff slots
+    2 s apart) both fires are out at ~21 s, before the slots of UAVs 11-13: those never take off
+    (the mission's GROUNDED -> LANDED), and every UAV that did take off lands within 5 m."""
     d = run_inprocess("ff_two_fires", uavs=uavs, seed=seed, overrides={"mission.prior_fires": "known"})
     assert d["outcome"] == "complete", d["detail"]
     assert d["collisions"] == 0 and d["crashes"] == []
     assert d["min_separation_m"] >= 10.0
-    assert len(d["landing_error_m"]) == uavs and max(d["landing_error_m"].values()) <= 5.0
+    flew = {str(e["uav_id"]) for e in d["events"] if e["type"] == EventType.TAKEOFF}
+    assert len(flew) >= min(uavs, 11), sorted(flew)  # no UAV stays down while there is work
+    assert set(d["landing_error_m"]) == flew and max(d["landing_error_m"].values()) <= 5.0
     assert d["hit_rate"] >= 0.9
     hits: dict[int, int] = {}
     for e in d["events"]:
@@ -35,13 +41,12 @@ def test_known_fires_fleet_keeps_apart_lands_at_home_and_hits(uavs, seed):
 @pytest.mark.parametrize(
     "uavs, seed",
     [
-        (8, 1),
+        pytest.param(8, 1, marks=_FAILED_IN_CI_ONLY),
         (8, 3),
         (14, 3),
         (14, 1),
     ],
 )  # fmt: skip
-@_FAILED_IN_CI_ONLY
 def test_unknown_fires_fleet_keeps_the_band(uavs, seed):
     """The cells that measured 3.6 m (8 UAVs seed 3) and 4.6 m (14, seed 1) before layers and right of
     way, 7.8 m (8, seed 1) with them but before peers' intent was predicted, 14 / 3, which
