@@ -32,7 +32,6 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, Range
 
 CONTROL_PERIOD_S = 0.1
-RESEND_AFTER_WALL_S = 5.0  # [s, wall] as fire_world_sim.world_node
 PERIOD_NS = s_to_ns(CONTROL_PERIOD_S)
 
 
@@ -47,6 +46,9 @@ class SkeletonWorld(Node):
             topics.subscription(self, topics.CMD_SPEC, lambda m, i=i: self.on_cmd(i, m), uav_id=i)
         self.t0 = None
         self.started = False
+        from fire_world_sim.world_node import RESEND_AFTER_WALL_S  # the real world's (world role only)
+
+        self.resend_after_wall_s = RESEND_AFTER_WALL_S
         self.resends = 0
         self._last_progress = time.monotonic()
         self.create_timer(0.05, self.wait_for_agents)
@@ -63,18 +65,18 @@ class SkeletonWorld(Node):
             self.publish_step()
 
     def resend_if_stuck(self) -> None:
-        """As the real world (``world_node``): after RESEND_AFTER_WALL_S without an answer from
+        """As the real world (``world_node``): after its RESEND_AFTER_WALL_S without an answer from
         every agent, send the step's bundle again to those that have not answered. A bundle
         published while discovery is still settling can be lost (a 30-UAV skeleton waited
         forever for one answer); an agent answers every bundle, and a second answer is ignored."""
-        if not self.started or time.monotonic() - self._last_progress < RESEND_AFTER_WALL_S:
+        if not self.started or time.monotonic() - self._last_progress < self.resend_after_wall_s:
             return
-        missing = [i for i in range(self.n) if i not in self.answered]
+        missing = {i for i in range(self.n) if i not in self.answered}
         self.resends += len(missing)
         self._last_progress = time.monotonic()
         self.publish_step(only=missing)
 
-    def publish_step(self, only: list[int] | None = None) -> None:
+    def publish_step(self, only: set[int] | None = None) -> None:
         stamp = to_time_msg(step_to_ns(self.k, PERIOD_NS), Time)
         if only is None:
             self.clock_pub.publish(Clock(clock=stamp))

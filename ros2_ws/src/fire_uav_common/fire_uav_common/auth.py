@@ -110,12 +110,13 @@ _SCALAR_STRUCT = {
 _PLANS: dict[type, tuple[tuple[str, str, struct.Struct | None], ...]] = {}
 
 
-def _plan(cls: type, msg: Any) -> tuple[tuple[str, str, struct.Struct | None], ...]:
+def _plan(msg: Any) -> tuple[tuple[str, str, struct.Struct | None], ...]:
     """(field, declared type, struct of a numeric scalar or None) of every field but ``auth``.
 
     Kept per class for generated ROS messages (their field table is the class attribute
     ``_fields_and_field_types``, fixed per type); built afresh for any other object, whose
     table may differ from one instance to the next."""
+    cls = type(msg)
     plan = _PLANS.get(cls)
     if plan is None:
         rows = []
@@ -145,7 +146,7 @@ def canonical_bytes(msg: Any) -> bytes:
     fleet's step rate did not change measurably, docs/profile.md).
     """
     out: list[bytes] = []
-    for name, ftype, st in _plan(type(msg), msg):
+    for name, ftype, st in _plan(msg):
         value = getattr(msg, name)
         if st is not None and type(value) in (int, float, bool):
             try:
