@@ -65,7 +65,7 @@ def test_recorded_mission_report_matches_live_and_replays(procs, ros_env, tmp_pa
     procs.start("listener", [sys.executable, "-c", LISTENER, str(tmp_path / "count.txt")])
     time.sleep(1.0)
     rep = subprocess.run(
-        [str(ROOT / "scripts/replay"), str(out / "bag"), "--rate", "20", "--no-progress"],
+        [str(ROOT / "scripts/replay"), str(out / "bag"), "--rate", "20", "--delay", "3", "--no-progress"],
         env=procs.env,
         capture_output=True,
         text=True,

@@ -125,7 +125,9 @@ def test_record_sigint_then_replay(tmp_path, env):
         sub = subprocess.Popen([sys.executable, "-c", SUBSCRIBER], env=env, stdout=subprocess.PIPE, text=True)
         time.sleep(2.0)
         rep = subprocess.Popen(
-            [str(ROOT / "scripts/replay"), str(bag), "--rate", "4", "--no-progress"],
+            # --delay: the subscriber must be matched before the first message (volatile
+                # publishers); the fresh-clone CI of 2026-12-03 lost 21 of 169 to a 5 ms start
+                [str(ROOT / "scripts/replay"), str(bag), "--rate", "4", "--delay", "3", "--no-progress"],
             env=env,
             stderr=subprocess.PIPE,
             text=True,

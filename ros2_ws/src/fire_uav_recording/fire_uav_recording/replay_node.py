@@ -8,6 +8,10 @@ Parameters (read once):
   replayed if the bag has it; if it has none, a ``/clock`` is generated from the bag time.
 - ``tick_period_wall_s`` (0.005): wall timer period of the publishing loop [s].
 - ``progress`` (true): progress bar on stderr.
+- ``delay_s`` (double, >= 0, default 1.0): wall seconds between creating the publishers and the
+  first message (as ``ros2 bag play --delay``). Publishers are volatile, so a subscriber that
+  DDS discovery has not matched yet misses what is sent before; 1 s covers discovery on a quiet
+  host, a loaded one may need more.
 
 Messages are republished raw (CDR bytes as recorded): a topic of ``fire_uav_common.topics``
 with its spec's QoS, any other with the QoS its recorded publishers offered.
@@ -52,6 +56,7 @@ class ReplayConfig:
     topics: tuple[str, ...]
     tick_period_wall_s: float
     progress: bool
+    delay_s: float = 1.0
 
 
 def publisher_qos(conn: object) -> QoSProfile:
@@ -128,6 +133,7 @@ class ReplayNode(Node):
         self.declare_parameter("topics", [""], ro)
         self.declare_parameter("tick_period_wall_s", 0.005, ro)
         self.declare_parameter("progress", True, ro)
+        self.declare_parameter("delay_s", 1.0, ro)
         g = self.get_parameter
         bag = str(g("bag").value)
         if not bag:
@@ -135,6 +141,9 @@ class ReplayNode(Node):
         start_s = float(g("start_s").value)
         if start_s < 0:
             raise ReplayConfigError(f"parameter start_s: must be >= 0, got {start_s}")
+        delay_s = float(g("delay_s").value)
+        if not 0.0 <= delay_s <= 3600.0:
+            raise ReplayConfigError(f"parameter delay_s: must be in [0, 3600] s, got {delay_s}")
         tick = float(g("tick_period_wall_s").value)
         if not 0.0005 <= tick <= 1.0:
             raise ReplayConfigError(f"parameter tick_period_wall_s: must be in [0.0005, 1] s, got {tick}")
@@ -145,6 +154,7 @@ class ReplayNode(Node):
             topics=tuple(t for t in g("topics").value if t),
             tick_period_wall_s=tick,
             progress=bool(g("progress").value),
+            delay_s=delay_s,
         )
 
     def _setup(self) -> None:
@@ -195,6 +205,7 @@ class ReplayNode(Node):
         self.count = 0
         self.done = False
         self._wall0: float | None = None
+        self._start_wall = time.monotonic() + self.config.delay_s
         self._bar = ProgressBar(ns_to_s(self.bag_end_ns - self.first_ns), self.config.progress)
         wall = Clock(clock_type=ClockType.STEADY_TIME)
         self._timer = self.create_timer(self.config.tick_period_wall_s, self._tick, clock=wall)
@@ -211,6 +222,8 @@ class ReplayNode(Node):
             return
         now = time.monotonic()
         if self._wall0 is None:
+            if now < self._start_wall:  # discovery: let subscribers match first
+                return
             self._wall0 = now
         target_ns = self.first_ns + s_to_ns((now - self._wall0) * self.config.rate)
         try:
