@@ -128,8 +128,8 @@ class SkeletonAgent(Node):
         self.cpu0: float | None = None  # process CPU time at the first bundle [s]
         self.cpu_last = 0.0
         self.bundles = 0
-        topics.subscription(self, topics.FLEET_STATE_SPEC, self.on_peer)
-        topics.subscription(self, topics.FLEET_FIRES_SPEC, self.on_peer)
+        topics.subscription(self, topics.FLEET_STATE_SPEC, self.on_peer, drain=True)
+        topics.subscription(self, topics.FLEET_FIRES_SPEC, self.on_peer, drain=True)
 
     def on_peer(self, msg) -> None:
         self.heard += 1

@@ -755,6 +755,16 @@ def _wait_for_node(node, name: str, timeout_s: float, procs: ProcessGroup) -> No
     raise MissionError(f"{name} did not appear on the ROS graph within {timeout_s:g} s:\n{procs.tail(name)}")
 
 
+def _fail_on_agent_error_before_start(procs: ProcessGroup, uav_count: int) -> None:
+    """An agent that exited with an error before step 0: the lockstep world would wait for its
+    AGENT_READY for ever (a fault plan kills by signal, a negative return code, and only later)."""
+    for k in range(uav_count):
+        child = procs.children[f"agent_{k}"]
+        code = child.popen.poll()
+        if code is not None and code > 0:
+            raise MissionError(f"agent_{k} exited (code {code}) before step 0:\n{procs.tail(child.name)}")
+
+
 def _supervise(
     sup: Supervisor,
     procs: ProcessGroup,
@@ -777,6 +787,8 @@ def _supervise(
                 if st is not None:
                     summary.proc_stats[name] = st
         alive_agents = sum(1 for k in range(uav_count) if procs.children[f"agent_{k}"].alive())
+        if sup.steps == 0 and alive_agents < uav_count:
+            _fail_on_agent_error_before_start(procs, uav_count)
         progress.show(sup.t_s, summary, uav_count, alive_agents)
         if sup.done:
             return "complete" if summary.complete_success else "time_limit"

@@ -352,13 +352,13 @@ class UavAgentNode(Node):
         self.pub_events = topics.publisher(self, topics.FLEET_EVENTS_SPEC)
         self.pub_perimeter = topics.publisher(self, topics.FLEET_PERIMETER_SPEC)
         self._perimeter_seq = 0
-        self.sub_perimeter = topics.subscription(self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter)
+        self.sub_perimeter = topics.subscription(self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter, drain=True)
         self.pub_front = topics.publisher(self, topics.FLEET_FRONT_SPEC)
         self._front_seq = 0
-        self.sub_front = topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front)
+        self.sub_front = topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front, drain=True)
         self.sub_sensors = topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own)
-        self.sub_state = topics.subscription(self, topics.FLEET_STATE_SPEC, self._on_state)
-        self.sub_fires = topics.subscription(self, topics.FLEET_FIRES_SPEC, self._on_fires)
+        self.sub_state = topics.subscription(self, topics.FLEET_STATE_SPEC, self._on_state, drain=True)
+        self.sub_fires = topics.subscription(self, topics.FLEET_FIRES_SPEC, self._on_fires, drain=True)
         if self.search_link is not None:
             self.search_link.on_arrival = self._on_coverage_arrival
         self._inbox: list[PeerState | PeerFires | PeerPerimeter] = []

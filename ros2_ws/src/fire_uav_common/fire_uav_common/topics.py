@@ -226,13 +226,66 @@ def recorded_patterns() -> tuple[str, ...]:
     return tuple(spec.pattern() for spec in ALL_TOPICS if spec.recorded)
 
 
+# Quiet endpoints: the helpers below create their endpoints without rclpy's default QoS-event
+# handlers. rclpy gives every publisher and subscription two (incompatible QoS, incompatible type), each a
+# waitable that the executor adds to, and checks in, every wait set in Python: ~140 of them in a
+# 20-UAV world node, for events that cannot happen between endpoints that all take their QoS and
+# type from this table (issue [scale], docs/profile.md). A tool that subscribes with an
+# incompatible QoS still gets the warning from its own subscription's default handler.
+
+
 def publisher(node: Any, spec: TopicSpec, uav_id: int | None = None) -> Any:
     """``node.create_publisher`` for ``spec`` (absolute per-vehicle name when ``uav_id`` is given)."""
+    from rclpy.event_handler import PublisherEventCallbacks
+
     name = spec.for_uav(uav_id) if uav_id is not None else spec.name
-    return node.create_publisher(spec.msg_class(), name, spec.qos())
+    quiet = PublisherEventCallbacks(use_default_callbacks=False)  # quiet endpoints (above)
+    return node.create_publisher(spec.msg_class(), name, spec.qos(), event_callbacks=quiet)
 
 
-def subscription(node: Any, spec: TopicSpec, callback: Any, uav_id: int | None = None, **kw: Any) -> Any:
-    """``node.create_subscription`` for ``spec`` (absolute per-vehicle name when ``uav_id`` is given)."""
+def subscription(
+    node: Any, spec: TopicSpec, callback: Any, uav_id: int | None = None, *, drain: bool = False, **kw: Any
+) -> Any:
+    """``node.create_subscription`` for ``spec`` (absolute per-vehicle name when ``uav_id`` is given).
+
+    ``drain=True``: see :func:`drain_queue` (for topics many peers publish on every step).
+    """
+    from rclpy.event_handler import SubscriptionEventCallbacks
+
     name = spec.for_uav(uav_id) if uav_id is not None else spec.name
-    return node.create_subscription(spec.msg_class(), name, callback, spec.qos(), **kw)
+    quiet = SubscriptionEventCallbacks(use_default_callbacks=False)  # quiet endpoints (above)
+    kw.setdefault("event_callbacks", quiet)
+    sub = node.create_subscription(spec.msg_class(), name, callback, spec.qos(), **kw)
+    return drain_queue(sub) if drain else sub
+
+
+DRAIN_LIMIT = 64
+"""At most this many further messages taken by one drained callback (others' turn comes after)."""
+
+
+def drain_queue(sub: Any, limit: int = DRAIN_LIMIT) -> Any:
+    """Make ``sub``'s callback also take and handle the messages already queued behind its own.
+
+    rclpy's executor takes one message per ready subscription per wait, and rebuilds the wait set
+    (Python bookkeeping over every entity of the node) for the next: an agent of a 20-UAV fleet
+    got ~40 peer messages per step on two topics, so ~20 waits per step (issue [scale],
+    docs/profile.md). A drained subscription handles its whole queue in the one callback, in
+    arrival order, as the executor would have, through the same ``take_message``; a message rclpy
+    cannot convert raises from there as it would from the executor's own take. Only for a
+    callback of the message alone (no ``MessageInfo``). Returns ``sub``.
+    """
+    if sub._callback_type is not type(sub).CallbackType.MessageOnly:
+        raise ValueError(f"drain_queue: the callback of {sub.topic_name} must take the message alone")
+    inner = sub.callback
+
+    def drained(msg: Any) -> None:
+        inner(msg)
+        for _ in range(limit):
+            with sub.handle:
+                got = sub.handle.take_message(sub.msg_type, sub.raw)
+            if got is None:
+                return
+            inner(got[0])
+
+    sub.callback = drained
+    return sub
