@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import shutil
 
 import numpy as np
@@ -51,6 +52,23 @@ def test_mission_arrays(synthetic):
     assert np.allclose(trace, expected_metrics(spec)["trace_p"])
     assert mission.states[1]["t"].max() < 7.0  # crashed UAV stops broadcasting
     assert mission.scenario["lakes"][0]["diameter_m"] == 90
+
+
+def test_fire_estimates_read_alike_from_the_state_and_from_old_fires_topic(tmp_path, synthetic):
+    """The fleet's fire picture rides in UavState; bags from before have it on /fleet/fires."""
+    path, spec = synthetic
+    assert spec.fires_in_state
+    old = tmp_path / "old"
+    write_synthetic_mission(old, dataclasses.replace(spec, fires_in_state=False))
+    new_m, old_m = load_mission(path), load_mission(old)
+    assert set(new_m.fire_estimates) == set(old_m.fire_estimates) == {(u, f) for u in (0, 1) for f in (0, 1)}
+    for key, est in new_m.fire_estimates.items():
+        assert len(est["t"]) > 10
+        for col in ("t", "x", "y", "extent", "status"):
+            assert np.array_equal(est[col], old_m.fire_estimates[key][col]), (key, col)
+    m_new, m_old = compute_metrics(new_m), compute_metrics(old_m)
+    m_new.pop("bag"), m_old.pop("bag")
+    assert m_new == m_old
 
 
 def test_outcome_incomplete_without_completion_event(tmp_path):

@@ -38,11 +38,7 @@ def main() -> int:
     pub_pay = {k: topics.publisher(node, topics.PAYLOAD_SPEC, k) for k in range(3)}
     pub_cmd = {k: topics.publisher(node, topics.CMD_SPEC, k) for k in range(3)}
     latest: dict[int, UavState] = {}
-    latest_fires: dict[int, FireEstimateArray] = {}
     node.create_subscription(UavState, "/fleet/state", lambda m: latest.__setitem__(m.uav_id, m), 100)
-    node.create_subscription(
-        FireEstimateArray, "/fleet/fires", lambda m: latest_fires.__setitem__(m.uav_id, m), 100
-    )
     sent: dict[str, int] = {}
 
     def count(kind: str) -> None:
@@ -72,20 +68,15 @@ def main() -> int:
     while time.monotonic() < t_end:
         rclpy.spin_once(node, timeout_sec=0.0)
         if mode == "spoof":
-            for k, g in list(latest.items()):
+            for g in list(latest.values()):
                 f = copy.deepcopy(g)
                 f.x_m += 500.0
                 f.sequence += 1
                 f.step += 1
+                f.fires_sequence += 1  # and a forged fire picture: it rides in the state
+                f.fires.append(FireEstimate(fire_id=99, x_m=0.0, y_m=0.0, extent_m=50.0))
                 pub_state.publish(f)
                 count("forged state")
-                if k in latest_fires:
-                    ff = copy.deepcopy(latest_fires[k])
-                    ff.step += 1
-                    ff.sequence += 1
-                    ff.fires.append(FireEstimate(fire_id=99, x_m=0.0, y_m=0.0, extent_m=50.0))
-                    pub_fires.publish(ff)
-                    count("forged fires")
             req = PayloadRequest(uav_id=1, action=1, target_fire_id=0)
             if 1 in latest:
                 req.header.stamp = latest[1].header.stamp
@@ -148,10 +139,7 @@ def _fuzz_once(rnd, pub_state, pub_fires, pub_perim, pub_pay, pub_cmd, latest, c
     s.alive_peers = [rnd.randrange(256) for _ in range(rnd.choice([0, 5, 5000]))]
     s.sent_per_topic = [rnd.randrange(65536) for _ in range(rnd.choice([0, 3, 3000]))]
     s.final = rnd.random() < 0.5
-    pub_state.publish(s)
-    count("fuzz state")
-    f = FireEstimateArray(uav_id=rnd.randrange(256), sequence=rnd.randrange(2**32), step=step)
-    f.fires = [
+    fires = [
         FireEstimate(
             fire_id=rnd.randrange(2**32),
             status=rnd.randrange(256),
@@ -160,6 +148,12 @@ def _fuzz_once(rnd, pub_state, pub_fires, pub_perim, pub_pay, pub_cmd, latest, c
         )
         for _ in range(rnd.choice([0, 3, 2000]))
     ]
+    s.fires_sequence, s.fires = rnd.randrange(2**32), fires  # the fire picture rides in the state
+    pub_state.publish(s)
+    count("fuzz state")
+    # /fleet/fires: no agent listens any more; the recorder and the bridge still follow it
+    f = FireEstimateArray(uav_id=rnd.randrange(256), sequence=rnd.randrange(2**32), step=step)
+    f.fires = fires
     pub_fires.publish(f)
     count("fuzz fires")
     p = PerimeterMap(uav_id=rnd.randrange(256), sequence=rnd.randrange(2**32), fire_id=rnd.randrange(-5, 5))

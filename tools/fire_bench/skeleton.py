@@ -3,11 +3,11 @@
 ``world``: publishes /clock and a SensorBundle per UAV (10 gyro, 2-3 altimeter, 1 GPS
 samples, like the real world at 10 Hz control / 100 Hz gyro), then waits for every agent's
 TwistStamped answering that step (lockstep), ``--steps`` times; prints steps per second.
-``agent``: on each bundle publishes a UavState and a FireEstimateArray (two fires) on the
-fleet topics, subscribes to every peer's, and answers with its command. No estimation,
-consensus or control: what is left is the cost of DDS + rclpy for this topology.
-``--peer-messages 1``: the agent publishes only the UavState, no FireEstimateArray (the
-question of issue [scale]: does one peer message per step instead of two pay?).
+``agent``: on each bundle publishes a UavState carrying two fires on /fleet/state (the fleet's
+one peer message per step), subscribes to every peer's, and answers with its command. No
+estimation, consensus or control: what is left is the cost of DDS + rclpy for this topology.
+``--peer-messages 2``: the protocol before issue [scale]: a UavState without fires and a
+FireEstimateArray (two fires) on /fleet/fires.
 
 usage: python -m fire_bench.skeleton world --uavs N --steps S
        python -m fire_bench.skeleton agent --uav-id K --uavs N [--peer-messages 1|2]
@@ -141,6 +141,9 @@ class SkeletonAgent(Node):
         self.seq += 1
         s = UavState(uav_id=self.k, sequence=self.seq, step=b.step)
         s.header.stamp = b.header.stamp
+        if self.peer_messages == 1:
+            s.fires_sequence = self.seq
+            s.fires = [FireEstimate(fire_id=j) for j in range(2)]
         self.state_pub.publish(s)
         if self.peer_messages == 2:
             f = FireEstimateArray(
@@ -174,8 +177,8 @@ def main(argv: list[str] | None = None) -> int:
         "--peer-messages",
         type=int,
         choices=[1, 2],
-        default=2,
-        help="agent: peer messages per step (2: UavState + FireEstimateArray, as the fleet; 1: UavState only)",
+        default=1,
+        help="agent: peer messages per step (1: UavState with the fires, as the fleet; 2: UavState + FireEstimateArray)",
     )
     a = p.parse_args(argv)
     rclpy.init()

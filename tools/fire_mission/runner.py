@@ -467,7 +467,7 @@ class Supervisor:
         topics.subscription(self.node, topics.WORLD_TRUTH_SPEC, self._on_truth)
         topics.subscription(self.node, topics.WORLD_EVENTS_SPEC, self._on_event)
         topics.subscription(self.node, topics.FLEET_EVENTS_SPEC, self._on_event)
-        topics.subscription(self.node, topics.FLEET_STATE_SPEC, self._on_state)
+        topics.subscription(self.node, topics.FLEET_STATE_SPEC, self._on_state, drain=True)
 
     def _on_clock(self, msg) -> None:
         self.t_s = stamp_to_s(msg.clock)

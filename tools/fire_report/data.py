@@ -181,6 +181,10 @@ def _load(bag: bag_io.MissionBag, path: str) -> Mission:
                     "rejected": int(msg.packets_rejected),
                 }
             )
+            for f in getattr(msg, "fires", ()):  # the fire picture rides in the state (bags before: /fleet/fires)
+                fest[(int(msg.uav_id), int(f.fire_id))].append(
+                    {"t": t, "x": f.x_m, "y": f.y_m, "extent": f.extent_m, "status": int(f.status)}
+                )
         elif topic == WORLD_TRUTH:
             t = _stamp_s(msg)
             for v in msg.vehicles:

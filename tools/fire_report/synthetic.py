@@ -44,6 +44,8 @@ class SyntheticMission:
     peer_crashed: tuple[float, int, int] | None = (0.8, 0, 1)  # UAV 0 declares UAV 1 crashed
     lost_final: tuple[int, ...] = (3, 4)  # last packets_lost per UAV (repeated if uav_count > 2)
     monitor: tuple[int, int] | None = (0, 1)  # UAV 0 monitors fire 1
+    # the fire picture inside UavState (the fleet since issue [scale]); False: on /fleet/fires (bags before)
+    fires_in_state: bool = True
     scenario_yaml: str = (
         "name: synthetic\nseed: 7\narea: {x_min_m: 0, x_max_m: 600, y_min_m: 0, y_max_m: 600}\n"
         "lakes: [{x_m: 50, y_m: 50, diameter_m: 90}]\n"
@@ -148,6 +150,27 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
             w.write(conn, s_to_ns(t), ts.serialize_cdr(msg, msg.__msgtype__))
 
         cov = np.diag(COVARIANCE_DIAG).ravel()
+
+        def estimates(u: int, t: float, stamp: Any) -> list:
+            return [
+                FireEstimate(
+                    fire_id=fid,
+                    status=FireStatus.EXTINGUISHED
+                    if t >= ext_t.get(fid, math.inf)
+                    else FireStatus.ACTIVE,
+                    x_m=fx + u,
+                    y_m=fy - u,
+                    extent_m=sig,
+                    vx_mps=0.0,
+                    vy_mps=0.0,
+                    last_measurement=stamp,
+                    front_x_m=math.nan,
+                    front_y_m=math.nan,
+                    max_spread_rate_mps=0.0,
+                )
+                for fid, (fx, fy, sig) in fires0.items()
+            ]
+
         for k in range(n_steps):
             t = (k + 1) * spec.control_period_s
             stamp = to_time_msg(s_to_ns(t), Time)
@@ -202,6 +225,8 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
                         packets_rejected=0,
                         sent_per_topic=np.array([1, 1, 0, 0, 0, 0], dtype=np.uint16),
                         final=False,
+                        fires_sequence=k + 1,
+                        fires=estimates(u, t, stamp) if spec.fires_in_state else [],
                         auth=no_tag,
                     ),
                 )
@@ -230,24 +255,9 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
             for u in range(spec.uav_count):
                 if spec.crash and u == spec.crash[1] and t >= crash_t:
                     continue
-                ests = [
-                    FireEstimate(
-                        fire_id=fid,
-                        status=FireStatus.EXTINGUISHED
-                        if t >= ext_t.get(fid, math.inf)
-                        else FireStatus.ACTIVE,
-                        x_m=fx + u,
-                        y_m=fy - u,
-                        extent_m=sig,
-                        vx_mps=0.0,
-                        vy_mps=0.0,
-                        last_measurement=stamp,
-                        front_x_m=math.nan,
-                        front_y_m=math.nan,
-                        max_spread_rate_mps=0.0,
-                    )
-                    for fid, (fx, fy, sig) in fires0.items()
-                ]
+                ests = estimates(u, t, stamp)
+                if spec.fires_in_state:
+                    continue
                 put(
                     c_fires,
                     t,

@@ -21,7 +21,6 @@ from fire_uav_common.lockstep import OfflineWindow, parse_schedule
 from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
 from fire_uav_msgs.msg import (
     FireEstimate,
-    FireEstimateArray,
     FireFront,
     MissionEvent,
     PayloadRequest,
@@ -153,7 +152,8 @@ def _to_peer_state(m: UavState) -> PeerState:
     )  # fmt: skip
 
 
-def _to_peer_fires(m: FireEstimateArray) -> PeerFires:
+def _to_peer_fires(m: UavState) -> PeerFires:
+    """The fire picture a peer's UavState carries (``fires``, ``fires_sequence``)."""
     entries = tuple(
         FireEntry(
             int(f.fire_id),
@@ -170,7 +170,7 @@ def _to_peer_fires(m: FireEstimateArray) -> PeerFires:
         )  # fmt: skip
         for f in m.fires
     )
-    return PeerFires(int(m.uav_id), int(m.sequence), int(m.step), entries)
+    return PeerFires(int(m.uav_id), int(m.fires_sequence), int(m.step), entries)
 
 
 def _from_state(out: StepOutput, stamp: TimeMsg) -> UavState:
@@ -193,11 +193,9 @@ def _from_state(out: StepOutput, stamp: TimeMsg) -> UavState:
     return m
 
 
-def _from_fires(out: StepOutput, stamp: TimeMsg) -> FireEstimateArray:
-    m = FireEstimateArray()
-    m.header.stamp = stamp
-    m.header.frame_id = "map"
-    m.uav_id, m.sequence, m.step = out.state.uav_id, out.fires_sequence, out.step
+def _add_fires(m: UavState, out: StepOutput) -> UavState:
+    """Put this step's fire picture into the state message (one peer message per step)."""
+    m.fires_sequence = out.fires_sequence
     for e in out.fires:
         f = FireEstimate()
         f.fire_id = e.fire_id
@@ -348,7 +346,6 @@ class UavAgentNode(Node):
         self.pub_payload = topics.publisher(self, topics.PAYLOAD_SPEC, own)
         self.pub_viz = topics.publisher(self, topics.VIZ_AGENT_SPEC, own)
         self.pub_state = topics.publisher(self, topics.FLEET_STATE_SPEC)
-        self.pub_fires = topics.publisher(self, topics.FLEET_FIRES_SPEC)
         self.pub_events = topics.publisher(self, topics.FLEET_EVENTS_SPEC)
         self.pub_perimeter = topics.publisher(self, topics.FLEET_PERIMETER_SPEC)
         self._perimeter_seq = 0
@@ -358,7 +355,6 @@ class UavAgentNode(Node):
         self.sub_front = topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front, drain=True)
         self.sub_sensors = topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own)
         self.sub_state = topics.subscription(self, topics.FLEET_STATE_SPEC, self._on_state, drain=True)
-        self.sub_fires = topics.subscription(self, topics.FLEET_FIRES_SPEC, self._on_fires, drain=True)
         if self.search_link is not None:
             self.search_link.on_arrival = self._on_coverage_arrival
         self._inbox: list[PeerState | PeerFires | PeerPerimeter] = []
@@ -508,6 +504,10 @@ class UavAgentNode(Node):
             return
         self.wait.on_state(sender, step, tuple(msg.sent_per_topic), bool(msg.final))
         self._inbox.append(_to_peer_state(msg))
+        # the fire picture it carries: counted and kept as the part it is (FLEET_FIRES loss index)
+        if not self._duplicate(sender, topics.FLEET_FIRES_SPEC, step):
+            self.wait.on_message(sender, step, topics.FLEET_FIRES_SPEC.loss_index)
+            self._inbox.append(_to_peer_fires(msg))
         self._maybe_run()
 
     def _on_perimeter(self, msg: PerimeterMap) -> None:
@@ -535,18 +535,6 @@ class UavAgentNode(Node):
             self.get_logger().warning(
                 f"FireFront from uav {msg.uav_id} dropped: {err}", throttle_duration_sec=5.0
             )
-        self._maybe_run()
-
-    def _on_fires(self, msg: FireEstimateArray) -> None:
-        if msg.uav_id == self.cfg.uav_id:
-            return
-        sender, step = int(msg.uav_id), int(msg.step)
-        if not self._admit(msg, topics.FLEET_FIRES_SPEC, sender, step, step):
-            return
-        if self._duplicate(sender, topics.FLEET_FIRES_SPEC, step):
-            return
-        self.wait.on_message(sender, step, topics.FLEET_FIRES_SPEC.loss_index)
-        self._inbox.append(_to_peer_fires(msg))
         self._maybe_run()
 
     # --- resend: recovery from a message the transport lost (docs/protocol.md "Resend") ----------
@@ -601,14 +589,16 @@ class UavAgentNode(Node):
         only when every writer has matched every peer reader; each agent checks its own writers
         and readers against the DDS graph, and the world starts when all have said ready.
         """
-        if self.pub_cmd.get_subscription_count() == 0 or self.pub_payload.get_subscription_count() == 0:
+        if self.pub_payload.get_subscription_count() == 0:
             return
+        if self.auth is None and self.pub_cmd.get_subscription_count() == 0:
+            return  # unsigned, the world takes the command from /uav_k/cmd (signed: from the payload)
         if self.sub_sensors.get_publisher_count() == 0:
             return
         peers = {topics.uav_namespace(j) for j in range(self.cfg.uav_count) if j != self.cfg.uav_id}
         me = (self.get_name(), self.get_namespace())
-        endpoints = [(self.pub_state, True), (self.pub_fires, True), (self.pub_perimeter, True)]
-        endpoints += [(self.sub_state, False), (self.sub_fires, False), (self.sub_perimeter, False)]
+        endpoints = [(self.pub_state, True), (self.pub_perimeter, True)]
+        endpoints += [(self.sub_state, False), (self.sub_perimeter, False)]
         if self.search_link is not None:
             endpoints += self.search_link.endpoints()
         for ep, is_pub in endpoints:
@@ -739,20 +729,17 @@ class UavAgentNode(Node):
         if self.search_link is not None:
             for index, n in self.search_link.counts(coverage).items():
                 sent[index] = n
-        state = _from_state(out, stamp)
-        state.sent_per_topic = sent
+        state = _add_fires(_from_state(out, stamp), out)
+        state.sent_per_topic = sent  # fires: 1, the part the state carries (its own loss draw)
         state.final = final
-        fires = _from_fires(out, stamp)
         stamp_ns = stamp_to_ns(stamp)
         if self.auth is not None:
             self.auth.sign(state, topics.FLEET_STATE_SPEC.name, uid, out.step)
-            self.auth.sign(fires, topics.FLEET_FIRES_SPEC.name, uid, out.step)
             if pm is not None:
                 pm_step = stamp_to_step(stamp_ns, s_to_ns(self.cfg.control_period_s))
                 self.auth.sign(pm, topics.FLEET_PERIMETER_SPEC.name, uid, pm_step)
         self.pub_state.publish(state)
-        self.pub_fires.publish(fires)
-        log = [(self.pub_state, state), (self.pub_fires, fires)]
+        log = [(self.pub_state, state)]
         answer = []  # what the world waits for: kept to answer a re-sent bundle (_on_bundle)
         v_lin, v_z, omega_z = (float(v) for v in out.command)
         # exactly one request per step (ACTION_NONE if nothing): the lockstep world waits for it

@@ -20,7 +20,7 @@ from fire_uav_agent.agent_node import (
     _to_peer_state,
 )
 from fire_uav_agent.peer_link import PeerLink, Verdict
-from fire_uav_msgs.msg import FireEstimate, FireEstimateArray, PerimeterMap, SensorBundle, UavState
+from fire_uav_msgs.msg import FireEstimate, PerimeterMap, SensorBundle, UavState
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -40,12 +40,7 @@ def uav_states(draw):
     m.target_fire_id = draw(i32)
     m.sent_per_topic = draw(st.lists(st.integers(0, 65535), max_size=3000))
     m.alive_peers = draw(st.lists(u8, max_size=300))
-    return m
-
-
-@st.composite
-def fire_arrays(draw):
-    m = FireEstimateArray(uav_id=draw(u8), sequence=draw(u32), step=draw(u32))
+    m.fires_sequence = draw(u32)  # the fire picture rides in the state
     n = draw(st.sampled_from([0, 1, 3, 500]))
     for _ in range(n):
         f = FireEstimate(fire_id=draw(i32), status=draw(u8), x_m=draw(f64), y_m=draw(f64), extent_m=draw(f64))
@@ -70,24 +65,25 @@ def _link() -> PeerLink:
 
 
 @settings(max_examples=80, deadline=None)
-@given(st.lists(st.one_of(uav_states(), fire_arrays()), min_size=1, max_size=8), st.integers(0, 2**32))
-def test_fuzzed_states_and_fires_convert_and_are_counted(msgs, now):
+@given(st.lists(uav_states(), min_size=1, max_size=8), st.integers(0, 2**32))
+def test_fuzzed_states_and_their_fires_convert_and_are_counted(msgs, now):
     link = _link()
     for m in msgs:
-        p = _to_peer_state(m) if isinstance(m, UavState) else _to_peer_fires(m)
-        v = (
-            link.receive_state(p, now_step=now)
-            if isinstance(m, UavState)
-            else link.receive_fires(p, now_step=now)
-        )
-        assert v in (Verdict.ACCEPTED, Verdict.LOST, Verdict.REJECTED)
-        if v == Verdict.ACCEPTED:  # only plausible, finite messages get through
-            assert (
-                0 < p.uav_id < 4 and now - link.max_step_lag <= p.step < now and 1 <= p.sequence <= p.step + 1
-            )
-            if isinstance(m, UavState):
-                assert all(math.isfinite(x) for x in (p.x_m, p.y_m, p.z_m, p.yaw_rad))
-    assert link.received + link.lost + link.rejected == len(msgs)
+        p, q = _to_peer_state(m), _to_peer_fires(m)  # the state and the fire picture it carries
+        assert (q.uav_id, q.sequence, q.step) == (m.uav_id, m.fires_sequence, m.step)
+        assert len(q.fires) == len(m.fires)
+        v_state = link.receive_state(p, now_step=now)
+        for part, v in ((p, v_state), (q, link.receive_fires(q, now_step=now))):
+            assert v in (Verdict.ACCEPTED, Verdict.LOST, Verdict.REJECTED)
+            if v == Verdict.ACCEPTED:  # only plausible, finite messages get through
+                assert (
+                    0 < part.uav_id < 4
+                    and now - link.max_step_lag <= part.step < now
+                    and 1 <= part.sequence <= part.step + 1
+                )
+        if v_state == Verdict.ACCEPTED:
+            assert all(math.isfinite(x) for x in (p.x_m, p.y_m, p.z_m, p.yaw_rad))
+    assert link.received + link.lost + link.rejected == 2 * len(msgs)
 
 
 @settings(max_examples=60, deadline=None)

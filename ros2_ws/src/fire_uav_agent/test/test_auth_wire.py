@@ -29,6 +29,8 @@ def _state() -> UavState:
     m.alive_peers, m.crashed_peers = [0, 1, 2], [3]
     m.packets_received, m.packets_lost, m.packets_rejected = 17, 2, 1
     m.sent_per_topic = [1, 1, 0, 0, 0, 0, 1]
+    m.fires_sequence = 4  # the fire picture rides in the state: the tag covers it
+    m.fires = [FireEstimate(fire_id=7, x_m=12.5, y_m=-0.25, extent_m=9.0, vy_mps=-0.5, front_y_m=math.nan)]
     return m
 
 

@@ -159,6 +159,9 @@ VIZ_AGENT_SPEC = TopicSpec("viz", "visualization_msgs/msg/MarkerArray", "viz", p
                            doc="agent k -> RViz/Foxglove")  # fmt: skip
 # fleet (peer-to-peer), absolute; loss_index: the topic's index in the peer link's loss draw
 FLEET_STATE_SPEC = TopicSpec("/fleet/state", "fire_uav_msgs/msg/UavState", "fleet", loss_index=0)
+# /fleet/fires: the fleet's fire picture now rides in UavState (one peer message per step, issue
+# [scale]); loss_index 1 is that part's own loss draw and lockstep count. Nothing of the fleet
+# publishes on the topic any more; it stays for bags recorded before and for tools.
 FLEET_FIRES_SPEC = TopicSpec("/fleet/fires", "fire_uav_msgs/msg/FireEstimateArray", "fleet", loss_index=1)
 FLEET_PERIMETER_SPEC = TopicSpec("/fleet/perimeter", "fire_uav_msgs/msg/PerimeterMap", "fleet", loss_index=2)
 FLEET_EVENTS_SPEC = TopicSpec("/fleet/events", "fire_uav_msgs/msg/MissionEvent", "events",

@@ -107,7 +107,8 @@ class WorldNode(Node):
         self.pub_sensors = {}
         for i in range(self.n):
             self.pub_sensors[i] = topics.publisher(self, topics.SENSORS_SPEC, uav_id=i)
-            topics.subscription(self, topics.CMD_SPEC, lambda m, i=i: self._on_cmd(i, m), uav_id=i)
+            if self.auth is None:  # signed: the command comes from the PayloadRequest (_on_cmd)
+                topics.subscription(self, topics.CMD_SPEC, lambda m, i=i: self._on_cmd(i, m), uav_id=i)
             topics.subscription(self, topics.PAYLOAD_SPEC, lambda m, i=i: self._on_payload(i, m), uav_id=i)
         self._ready: set[int] = set()
         topics.subscription(self, topics.FLEET_EVENTS_SPEC, self._on_fleet_event)
