@@ -78,7 +78,7 @@ class Outage:
 
 @dataclass(frozen=True)
 class FireEntry:
-    """One fire estimate as exchanged on /fleet/fires (FireEstimate.msg), units in names."""
+    """One fire estimate as exchanged in UavState.fires (FireEstimate.msg), units in names."""
 
     fire_id: int
     active: bool
@@ -116,7 +116,7 @@ class PeerState:
 
 @dataclass(frozen=True)
 class PeerFires:
-    """A peer's FireEstimateArray, ROS-free."""
+    """A peer's fire picture (UavState.fires, fires_sequence), ROS-free; its own loss draw and count."""
 
     uav_id: int
     sequence: int

@@ -98,7 +98,7 @@ def world_command(out: StepOutput) -> tuple[wsim.Command, list[int]]:
 
 
 def peer_messages(out: StepOutput, perimeter_sequence: int = 0) -> list[PeerMessage]:
-    """Agent output -> what its peers receive (``UavState``, ``FireEstimateArray``, ``PerimeterMap``)."""
+    """Agent output -> what its peers receive (``UavState`` with its fires, ``PerimeterMap``)."""
     st = out.state.as_peer_state()
     st = PeerState(**{**st.__dict__, "water_kg": _f32(st.water_kg)})
     fires = tuple(
