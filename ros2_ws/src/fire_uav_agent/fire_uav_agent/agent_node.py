@@ -504,10 +504,10 @@ class UavAgentNode(Node):
             return
         self.wait.on_state(sender, step, tuple(msg.sent_per_topic), bool(msg.final))
         self._inbox.append(_to_peer_state(msg))
-        # the fire picture it carries: counted and kept as the part it is (FLEET_FIRES loss index)
-        if not self._duplicate(sender, topics.FLEET_FIRES_SPEC, step):
-            self.wait.on_message(sender, step, topics.FLEET_FIRES_SPEC.loss_index)
-            self._inbox.append(_to_peer_fires(msg))
+        # the fire picture it carries: counted and kept as the part it is (FLEET_FIRES loss index);
+        # a resent copy was dropped with its state above
+        self.wait.on_message(sender, step, topics.FLEET_FIRES_SPEC.loss_index)
+        self._inbox.append(_to_peer_fires(msg))
         self._maybe_run()
 
     def _on_perimeter(self, msg: PerimeterMap) -> None:
@@ -539,8 +539,8 @@ class UavAgentNode(Node):
 
     # --- resend: recovery from a message the transport lost (docs/protocol.md "Resend") ----------
     def _duplicate(self, sender: int, spec: topics.TopicSpec, step: int) -> bool:
-        """A resent copy of a (sender, topic, step) already taken: dropped (state, fires,
-        perimeter and front carry one message per sender and step)."""
+        """A resent copy of a (sender, topic, step) already taken: dropped (state with its
+        fires, perimeter and front carry one message per sender and step)."""
         return self.resend.duplicate(sender, spec.loss_index, step)
 
     def _ask_resend(self, k: int, waited_s: float) -> None:

@@ -431,8 +431,8 @@ class WorldNode(Node):
     def _on_cmd(self, uid: int, msg: TwistStamped) -> None:
         if self._finished:
             return  # the agents answer the mission's last bundle too: nothing waits for that
-        if self.auth is not None:
-            return  # TwistStamped has no tag: the command comes from the signed PayloadRequest
+        # only subscribed unsigned: TwistStamped has no tag, so signed the command comes from the
+        # PayloadRequest (_on_payload) and /uav_k/cmd is not subscribed at all
         topic = topics.CMD_SPEC.for_uav(uid)
         problem = self._stamp_problem(uid, stamp_to_ns(msg.header.stamp))
         if problem is not None:
