@@ -13,6 +13,7 @@ class _Handle:
     def __init__(self, queue: deque) -> None:
         self.queue = queue
         self.entered = 0
+        self.calls: list[tuple[object, object]] = []
 
     def __enter__(self) -> _Handle:
         self.entered += 1
@@ -22,6 +23,7 @@ class _Handle:
         return None
 
     def take_message(self, msg_type: object, raw: bool):
+        self.calls.append((msg_type, raw))
         if not self.queue:
             return None
         item = self.queue.popleft()
@@ -50,6 +52,9 @@ def test_the_first_callback_takes_every_queued_message_in_arrival_order():
     sub.callback(1)  # what the executor took
     assert seen == [1, 2, 3, 4]
     assert not sub.handle.queue
+    # taken as the executor takes: the subscription's own type and raw flag, under its handle
+    assert sub.handle.calls == [(sub.msg_type, False)] * 4 and all(c[1] is False for c in sub.handle.calls)
+    assert sub.handle.entered == 4
     sub.callback(5)  # an empty queue: only the executor's message
     assert seen == [1, 2, 3, 4, 5]
 
@@ -76,3 +81,10 @@ def test_a_callback_with_message_info_is_refused_by_name():
     sub = _Sub([], lambda m, info: None, kind=_Sub.CallbackType.WithMessageInfo)
     with pytest.raises(ValueError, match="/fleet/state"):
         topics.drain_queue(sub)
+
+
+def test_vehicle_namespaces_start_at_uav_0():
+    assert topics.uav_namespace(0) == "/uav_0"
+    assert topics.uav_topic(3, topics.SENSORS_SPEC.name) == "/uav_3/sensors"
+    with pytest.raises(ValueError, match="uav_id must be >= 0, got -1"):
+        topics.uav_namespace(-1)
