@@ -151,6 +151,9 @@ class LinkEvent:
     step: int
 
 
+_DRAW_STEPS = 4  # steps of loss draws kept by PeerLink.is_lost
+
+
 class PeerLink:
     """Bookkeeping of agent ``uav_id`` about its ``uav_count - 1`` peers."""
 
@@ -190,6 +193,9 @@ class PeerLink:
         self.max_step_lag = crash_threshold_steps if max_step_lag is None else int(max_step_lag)
         if self.max_step_lag < 1:
             raise ValueError(f"max_step_lag must be >= 1, got {self.max_step_lag}")
+        # loss draws of the last few steps, {step: {(sender, topic_index): lost}}: the lockstep wait
+        # asks for step k's draws and the receipt of the same messages asks again (a draw costs ~15 us)
+        self._draws: dict[int, dict[tuple[int, int], bool]] = {}
 
     # --- loss model ----------------------------------------------------------------------
     def in_outage(self, sender: int, step: int) -> bool:
@@ -199,10 +205,25 @@ class PeerLink:
         )
 
     def is_lost(self, sender: int, step: int, topic_index: int) -> bool:
-        """True if message (sender -> me, step, topic) is dropped by injection (deterministic)."""
+        """True if message (sender -> me, step, topic) is dropped by injection (deterministic).
+
+        The draw is a pure function of its arguments (:func:`fire_uav_common.rng.bernoulli`), so
+        the draws of the last :data:`_DRAW_STEPS` steps asked for are kept and reused.
+        """
         if self.in_outage(sender, step):
             return True
-        return rng.bernoulli(self.loss_probability, self.seed, "loss", sender, self.uav_id, step, topic_index)
+        draws = self._draws.get(step)
+        if draws is None:
+            if len(self._draws) >= _DRAW_STEPS:
+                del self._draws[min(self._draws)]
+            draws = self._draws[step] = {}
+        key = (sender, topic_index)
+        lost = draws.get(key)
+        if lost is None:
+            lost = draws[key] = rng.bernoulli(
+                self.loss_probability, self.seed, "loss", sender, self.uav_id, step, topic_index
+            )
+        return lost
 
     def expected(self, step: int) -> set[tuple[int, int]]:
         """(peer, topic_index) messages of ``step`` the lockstep wait should hold out for."""

@@ -31,6 +31,28 @@ def test_loss_rate_matches_probability_and_is_order_independent():
     ]
 
 
+def test_kept_draws_are_the_draws_whatever_the_order_and_eviction():
+    """is_lost keeps the last steps' draws: every answer is still rng.bernoulli of its arguments.
+
+    Asked in a shuffled order over 40 steps (so kept steps are evicted and asked again), for
+    every sender, topic index and step, with an outage in the middle that no kept draw hides.
+    """
+    import random
+
+    from fire_uav_common import rng
+
+    link = PeerLink(
+        2, 5, seed=9, loss_probability=0.4, control_period_s=0.1, outages=(Outage(3, 2, 1.0, 2.0),)
+    )
+    asks = [(j, k, t) for j in (0, 1, 3, 4) for k in range(40) for t in (0, 1, 2, 3)] * 2
+    random.Random(4).shuffle(asks)
+    for j, k, t in asks:
+        outage = j == 3 and 1.0 <= (k + 1) * 0.1 < 2.0
+        want = outage or rng.bernoulli(0.4, 9, "loss", j, 2, k, t)
+        assert link.is_lost(j, k, t) == want, (j, k, t)
+    assert len(link._draws) <= 4
+
+
 def test_bad_messages_rejected_and_counted():
     link = PeerLink(1, 3, seed=0, loss_probability=0.0, control_period_s=0.1)
     assert link.receive_state(state(0, 1, 0)) == Verdict.ACCEPTED

@@ -38,3 +38,46 @@ def test_edges_and_errors():
         bernoulli(1.5, 1, "loss", 0)
     with pytest.raises(ValueError, match="seed and ids must be >= 0"):
         bernoulli(0.5, 1, "loss", -1)
+
+
+def test_uniform_is_numpys_first_draw_bit_for_bit():
+    """rng.uniform re-implements SeedSequence + PCG64 in integers: numpy is the reference.
+
+    Word lists of 0 to 9 ids (fewer than the pool's 4 words, exactly 4, more), with 0, 1,
+    2**32 - 1 and ids above 32 bits (the fallback), in every position.
+    """
+    import random
+
+    import numpy as np
+    from fire_uav_common.rng import _key, stream, uniform
+
+    r = random.Random(20261203)
+    pick = [
+        lambda: 0,
+        lambda: 1,
+        lambda: 2**32 - 1,
+        lambda: r.randint(0, 2**32 - 1),
+        lambda: r.randint(0, 200),
+    ]
+    for n in range(3000):
+        seed = r.choice(pick)()
+        ids = [r.choice(pick)() for _ in range(r.randint(0, 9))]
+        if n % 100 == 0:
+            ids.append(2**40 + n)  # split into two words by SeedSequence: the numpy path
+        purpose = r.choice(["loss", "gps", "x" * (n % 7)])
+        ref = np.random.default_rng(np.random.SeedSequence([seed, _key(purpose), *ids])).random()
+        assert uniform(seed, purpose, *ids) == ref == stream(seed, purpose, *ids).random(), (
+            seed,
+            purpose,
+            ids,
+        )
+
+
+def test_bernoulli_is_the_first_draw_of_the_stream_below_p():
+    from fire_uav_common.rng import stream
+
+    for s in range(300):
+        for p in (0.1, 0.5, 0.93):
+            assert bernoulli(p, 11, "loss", s % 7, 3, s, s % 2) == (
+                stream(11, "loss", s % 7, 3, s, s % 2).random() < p
+            )
