@@ -41,7 +41,7 @@ from fire_uav_common.topics import FLEET_FRONT_SPEC, FLEET_PERIMETER_SPEC
 from .agent_config import AgentConfig, GuidanceConfig, config_from_scenario
 from .agent_types import AgentEvent, Bundle, MarkersData, OwnState, PeerPerimeter, StepOutput
 from .consensus import ConsensusConfig, FireConsensus
-from .coverage import control_law, gaussian_density, make_grid, mass_centroid, own_cell
+from .coverage import control_law, gaussian_density, make_grid, mass_centroid, own_cell_on_grid
 from .estimation import EkfConfig, StateEkf
 from .fire_front import FrontConfig, FrontPicture
 from .front_consensus import FrontSharing, PeerFront
@@ -354,7 +354,7 @@ class Agent:
         pos = np.array(s[:2])
         others = np.array(list(flying.values())).reshape(-1, 2)
         band = cfg.mission.safety_radius_m if cfg.mission.use_safety_band else None
-        self._cell = own_cell(self.grid.points, pos, others, band)
+        self._cell = own_cell_on_grid(self.grid, pos, others, band)
         if vehicle == VehicleStatus.AIRBORNE:
             self.search.observe(t1, np.vstack([pos[None, :], others]))
         target_fire = -1

@@ -240,3 +240,43 @@ def test_speed_cap_and_terrain_following_rate():
     # wrapped (Eq. 11) that is a gentle right turn K_a * -0.15, not a 351 deg left turn
     _, _, om = control_law(np.array([0, 0, 30.0, -3.0]), np.array([-100.0, 1.0]), 30.0, Terrain(), lim, g)
     assert -1.0 < om < -0.5
+
+
+def _cell_cases(seed: int):
+    """Fleets on three grids: random, clustered, coincident, and grid-aligned (exact ties and
+    axis-parallel bisectors), with 0 to 24 others."""
+    from fire_uav_agent.coverage import make_grid
+
+    rs = np.random.default_rng(seed)
+    for res, side in ((5.0, 600.0), (7.3, 1000.0), (10.0, 600.0)):
+        g = make_grid(0.0, side, 0.0, side, res)
+        for t in range(150):
+            n = int(rs.integers(0, 25))
+            others = rs.uniform(-50, side + 50, (n, 2))
+            p = rs.uniform(0, side, 2)
+            if t % 5 == 0 and n > 2:
+                others[:3] = p + rs.normal(0, 15, (3, 2))  # inside the safety band
+            if t % 7 == 0 and n > 0:
+                others[0] = p  # coincident
+            if t % 3 == 0:
+                p = g.points[rs.integers(len(g.points))].copy()
+                if n > 0:
+                    others = g.points[rs.integers(len(g.points), size=n)].copy()
+                if n > 1:
+                    others[1] = p + (2 * res, 0.0)  # bisector through a grid column
+            yield g, p, others
+
+
+@pytest.mark.parametrize("band", [None, 0.0, 20.0])
+def test_own_cell_on_grid_is_own_cell_point_for_point(band):
+    """The row-interval form decides every grid point as the half-plane form does (Eqs. 6-7)."""
+    from fire_uav_agent.coverage import own_cell, own_cell_on_grid
+
+    cases = 0
+    for g, p, others in _cell_cases(5):
+        want = own_cell(g.points, p, others, band)
+        got = own_cell_on_grid(g, p, others, band)
+        assert got.dtype == bool and got.shape == want.shape
+        assert np.array_equal(got, want), (p, others, band, np.flatnonzero(got != want)[:5])
+        cases += 1
+    assert cases == 450
