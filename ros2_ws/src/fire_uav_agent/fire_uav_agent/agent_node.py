@@ -349,7 +349,9 @@ class UavAgentNode(Node):
         self.pub_events = topics.publisher(self, topics.FLEET_EVENTS_SPEC)
         self.pub_perimeter = topics.publisher(self, topics.FLEET_PERIMETER_SPEC)
         self._perimeter_seq = 0
-        self.sub_perimeter = topics.subscription(self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter, drain=True)
+        self.sub_perimeter = topics.subscription(
+            self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter, drain=True
+        )
         self.pub_front = topics.publisher(self, topics.FLEET_FRONT_SPEC)
         self._front_seq = 0
         self.sub_front = topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front, drain=True)

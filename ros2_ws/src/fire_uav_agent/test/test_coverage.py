@@ -280,3 +280,22 @@ def test_own_cell_on_grid_is_own_cell_point_for_point(band):
         assert np.array_equal(got, want), (p, others, band, np.flatnonzero(got != want)[:5])
         cases += 1
     assert cases == 450
+
+
+@pytest.mark.parametrize("gap", [-5e-7, -2e-9, 2e-9, 5e-7, 3e-6])
+@pytest.mark.parametrize("band", [None, 20.0])
+def test_points_a_hair_from_the_bisector_are_decided_exactly(gap, band):
+    """A grid column ``gap`` m inside (> 0) or outside (< 0) the bound of one half-plane, in
+    x, in y and on a diagonal: inside the 1e-6 m margin only own_cell's expression decides."""
+    from fire_uav_agent.coverage import make_grid, own_cell, own_cell_on_grid
+
+    g = make_grid(0.0, 100.0, 0.0, 100.0, 5.0)  # centres at 2.5, 7.5, ...
+    p = np.array([22.5, 47.5])
+    edge = 42.5 + gap - 1e-9  # own_cell keeps a point up to 1e-9 m past the bound
+    shift = 2 * (edge - p[0]) if band is None else edge - p[0] + 2 * band
+    for u in (np.array([1.0, 0.0]), np.array([0.0, 1.0]), np.array([-0.6, 0.8])):
+        q = p + shift * u
+        others = np.vstack([q, [[95.0, 95.0], [5.0, 95.0]]])
+        want = own_cell(g.points, p, others, band)
+        assert np.array_equal(own_cell_on_grid(g, p, others, band), want), (u, gap)
+    assert want.any() and not want.all()

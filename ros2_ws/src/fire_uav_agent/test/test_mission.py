@@ -121,7 +121,9 @@ def test_a_uav_grounded_when_the_fleet_lands_stays_down():
     m = Mission(MissionConfig(takeoff_time_s=8.0))
     d = m.step(view(8.0, vehicle=VehicleStatus.ON_GROUND, peer_objectives=landing))
     assert d.objective == Objective.LANDED and d.changed and d.request is None
-    assert m.step(view(9.0, vehicle=VehicleStatus.ON_GROUND, peer_objectives={})).objective == Objective.LANDED
+    assert (
+        m.step(view(9.0, vehicle=VehicleStatus.ON_GROUND, peer_objectives={})).objective == Objective.LANDED
+    )
     m = Mission(MissionConfig(takeoff_time_s=8.0))
     d = m.step(view(8.0, vehicle=VehicleStatus.AIRBORNE, peer_objectives=landing))
     assert d.objective == Objective.LAND

@@ -53,6 +53,22 @@ def test_kept_draws_are_the_draws_whatever_the_order_and_eviction():
     assert len(link._draws) <= 4
 
 
+def test_a_kept_draw_is_drawn_once(monkeypatch):
+    """The lockstep wait and the receipt ask for the same draw: it is computed once."""
+    import fire_uav_agent.peer_link as pl
+
+    calls = []
+    real = pl.rng.bernoulli
+    monkeypatch.setattr(pl.rng, "bernoulli", lambda *a: calls.append(a) or real(*a))
+    link = PeerLink(0, 3, seed=2, loss_probability=0.5, control_period_s=0.1)
+    first = link.expected(7)
+    assert len(calls) == 4  # 2 peers x 2 topic indices
+    assert link.expected(7) == first and [link.is_lost(j, 7, t) for j in (1, 2) for t in (0, 1)]
+    assert len(calls) == 4
+    link.is_lost(1, 8, 0)
+    assert calls[-1] == (0.5, 2, "loss", 1, 0, 8, 0) and len(calls) == 5
+
+
 def test_bad_messages_rejected_and_counted():
     link = PeerLink(1, 3, seed=0, loss_probability=0.0, control_period_s=0.1)
     assert link.receive_state(state(0, 1, 0)) == Verdict.ACCEPTED

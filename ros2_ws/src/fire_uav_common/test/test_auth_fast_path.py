@@ -66,11 +66,22 @@ def _fill(msg, rng: np.random.Generator, depth: int = 0):
 
 
 def _generic(msg) -> bytes:
-    """The generic path alone: no scalar structs, no kept plans."""
-    with pytest.MonkeyPatch.context() as m:
-        m.setattr(auth, "_SCALAR_STRUCT", {})
-        m.setattr(auth, "_PLANS", {})
-        return auth.canonical_bytes(msg)
+    """The generic path alone: ``_encode`` field by field, nested messages by this function
+    (no runs, no array shortcuts, no flattening, no kept plans)."""
+    out: list[bytes] = []
+    for name, ftype in msg.get_fields_and_field_types().items():
+        if name == "auth":
+            continue
+        value = getattr(msg, name)
+        base, is_array = auth._element_type(ftype)
+        if base in auth._PRIMITIVE or base.startswith(("string", "wstring")):
+            auth._encode(value, ftype, out)
+            continue
+        items = list(value) if is_array else [value]
+        if is_array:
+            out.append(struct.pack(">Q", len(items)))
+        out.extend(_generic(item) for item in items)
+    return b"".join(out)
 
 
 @settings(max_examples=60, deadline=None)

@@ -81,3 +81,17 @@ def test_bernoulli_is_the_first_draw_of_the_stream_below_p():
             assert bernoulli(p, 11, "loss", s % 7, 3, s, s % 2) == (
                 stream(11, "loss", s % 7, 3, s, s % 2).random() < p
             )
+
+
+def test_a_draw_equal_to_p_is_not_a_loss_and_stream_checks_its_ids():
+    """P(u < p) = p for u uniform on [0, 1): a draw exactly p is kept, as numpy's own test reads."""
+    from fire_uav_common.rng import stream, uniform
+
+    u = uniform(5, "loss", 1, 2, 3, 0)
+    assert not bernoulli(u, 5, "loss", 1, 2, 3, 0)
+    assert bernoulli(math.nextafter(u, 1.0), 5, "loss", 1, 2, 3, 0)
+    for bad in ((-1, "loss", 0), (1, "loss", 0, -2)):
+        with pytest.raises(ValueError, match=r"^seed and ids must be >= 0, got seed="):
+            stream(*bad)
+        with pytest.raises(ValueError, match=r"^seed and ids must be >= 0, got seed="):
+            uniform(*bad)
