@@ -804,14 +804,15 @@ class UavAgentNode(Node):
 
 
 def make_executor():
-    """The executor an agent spins on: rclpy's SingleThreadedExecutor (what ``rclpy.spin`` uses),
-    made explicit so that the profile hook below wraps exactly what runs. rclpy's EventsExecutor
-    (rclpy.experimental) was tried for the issue [scale]: with this rclpy wheel the messaging
-    skeleton did not finish its steps and its processes ignored SIGINT/SIGTERM, so it is not
-    offered (docs/profile.md)."""
-    from rclpy.executors import SingleThreadedExecutor
+    """The executor an agent spins on: ``fire_uav_common.ros_io.make_executor`` (the lean
+    executor, a wait set built once; ``FIRE_UAV_EXECUTOR=rclpy`` for rclpy's
+    SingleThreadedExecutor), made explicit so that the profile hook below wraps exactly what
+    runs. rclpy's EventsExecutor (rclpy.experimental) was tried for the issue [scale]: with this
+    rclpy wheel the messaging skeleton did not finish its steps and its processes ignored
+    SIGINT/SIGTERM, so it is not offered (docs/profile.md)."""
+    from fire_uav_common.ros_io import make_executor as _make
 
-    return SingleThreadedExecutor()
+    return _make()
 
 
 def _profiled(fn, path: str) -> None:

@@ -185,11 +185,11 @@ def _field_step(name: str, ftype: str) -> _Step:
         if kind is np.ndarray and value.dtype.kind in _ARRAY_KINDS:
             arr = value.ravel()
         elif kind is array.array and value.typecode in _ARRAY_TYPECODES:
-            arr = np.frombuffer(value, dtype=value.typecode) if len(value) else np.zeros(0, np.uint8)
+            arr = np.frombuffer(value, dtype=value.typecode)
         else:
             _encode(value, ftype, out)
             return
-        out.append(_LENGTH.pack(arr.size) + arr.astype(dtype, casting="unsafe").tobytes())
+        out.append(_LENGTH.pack(arr.size) + arr.astype(dtype).tobytes())  # astype casts unsafely by default
 
     return _Step((name,), encode_array)
 
@@ -231,11 +231,9 @@ def _plan(msg: Any) -> tuple[_Step, ...]:
             if not is_array and base in _SCALAR_STRUCT:
                 run.append((prefix + name, ftype))
                 continue
-            if not is_array and base not in _PRIMITIVE and "/" in base and _generated(obj):
-                child = getattr(obj, name)
-                if _generated(child):
-                    walk(child, prefix + name + ".")
-                    continue
+            if not is_array and "/" in base and _generated(child := getattr(obj, name)):
+                walk(child, prefix + name + ".")
+                continue
             close_run()
             steps.append(_field_step(prefix + name, ftype))
 

@@ -70,6 +70,7 @@ class Outer:
     _fields_and_field_types = {
         "t": "pkg/Stamp", "frame": "string", "a": "uint8", "cov": "double[2]", "ids": "sequence<uint16>",
         "f": "sequence<float>", "items": "sequence<pkg/Item>", "auth": "uint8[32]", "last": "boolean",
+        "k": "octet", "none": "sequence<uint8>", "words": "sequence<wstring>",
     }  # fmt: skip
 
     def __init__(self) -> None:
@@ -81,6 +82,7 @@ class Outer:
         self.f = array.array("f", [0.1])
         self.items = [Item(1), Item(2)]
         self.auth, self.last = bytes(32), True
+        self.k, self.none, self.words = 7, array.array("B"), ["\u00e9"]
 
     @classmethod
     def get_fields_and_field_types(cls) -> dict:
@@ -97,18 +99,15 @@ def test_a_generated_message_is_flattened_into_runs_with_the_same_bytes(monkeypa
         + Q(1) + struct.pack(">f", array_f32(0.1))
         + Q(2) + struct.pack(">HiId", 1, 1, 7, 0.5) + struct.pack(">HiId", 2, 2, 7, 1.0)
         + b"\x01"
+        + b"\x07"  # an octet: not a struct scalar, _encode's
+        + Q(0)  # an empty array.array
+        + Q(1) + Q(2) + "\u00e9".encode()  # a sequence of wstrings is no sequence of messages
     )  # fmt: skip
     assert canonical_bytes(m) == want
     assert [s.names for s in auth._PLANS[Outer]] == [
-        ("t.sec", "t.nanosec"),
-        ("frame",),
-        ("a",),
-        ("cov",),
-        ("ids",),
-        ("f",),
-        ("items",),
-        ("last",),
-    ]
+        ("t.sec", "t.nanosec"), ("frame",), ("a",), ("cov",), ("ids",), ("f",), ("items",), ("last",),
+        ("k",), ("none",), ("words",),
+    ]  # fmt: skip
     assert [s.names for s in auth._PLANS[Item]] == [("id", "t.sec", "t.nanosec", "w")]  # auth left out
     # the shortcuts give the numpy cast's bytes: the same message held as plain lists
     m.cov, m.ids, m.f = [0.25, -1.0], [1, 65535], [array_f32(0.1)]
@@ -118,6 +117,16 @@ def test_a_generated_message_is_flattened_into_runs_with_the_same_bytes(monkeypa
     m.frame, m.ids = "map", array.array("u", "ab")  # a typecode with no number: _encode refuses it
     with pytest.raises(ValueError):
         canonical_bytes(m)
+
+
+def test_the_generic_encoder_writes_nested_messages_alone_and_in_sequences():
+    """_encode, the path every shortcut falls back to, on nested messages (what a message that
+    is not a generated class holds): one as its fields, a sequence with its length first."""
+    out: list[bytes] = []
+    auth._encode([Stamp(1, 2), Stamp(-3, 4)], "sequence<builtin_interfaces/Time>", out)
+    auth._encode(Stamp(5, 6), "builtin_interfaces/Time", out)
+    auth._encode([], "pkg/Stamp[]", out)
+    assert b"".join(out) == Q(2) + struct.pack(">iIiI", 1, 2, -3, 4) + struct.pack(">iI", 5, 6) + Q(0)
 
 
 def array_f32(x: float) -> float:

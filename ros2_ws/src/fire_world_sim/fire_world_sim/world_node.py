@@ -731,7 +731,9 @@ def _spin_until_done(node: WorldNode) -> None:
     without any fuzzing too: agents now and then drop one near a mission's end, and on
     2026-12-02 the world got one in the 1 s after "mission complete" of a 10-UAV run beside a CPU
     hog and exited 1 (cause not found)."""
-    executor = rclpy.get_global_executor()
+    from fire_uav_common.ros_io import make_executor
+
+    executor = make_executor()
     executor.add_node(node)
     try:
         while not node.done.done():
@@ -747,6 +749,7 @@ def _spin_until_done(node: WorldNode) -> None:
                 )
     finally:
         executor.remove_node(node)
+        executor.shutdown()
 
 
 def main(args: list[str] | None = None) -> int:
