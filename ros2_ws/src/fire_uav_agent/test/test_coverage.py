@@ -299,3 +299,49 @@ def test_points_a_hair_from_the_bisector_are_decided_exactly(gap, band):
         want = own_cell(g.points, p, others, band)
         assert np.array_equal(own_cell_on_grid(g, p, others, band), want), (u, gap)
     assert want.any() and not want.all()
+
+
+@pytest.mark.parametrize("on_grid", [False, True])
+def test_half_planes_in_closed_form_coincident_close_and_banded(on_grid):
+    """One other UAV: the cell is the half-plane behind a line whose place Eqs. 6-7 fix.
+
+    Coincident (d = 0): the fixed direction +x, so x <= p_x (ties to i) or, with the band,
+    x <= p_x - 2 delta. At d = 0.5 m along +y: the bisector y <= p_y + 0.25, and with a 20 m
+    band y <= p_y + 0.5 - 40. At d = 100 m > 2 Delta with a 20 m band (Delta = 40 < d/2): the
+    plain bisector y <= p_y + 50. At d = 60 m (Delta > d/2): y <= p_y + 60 - 40. With a band of
+    0.6 m, between 0 and 1: y <= p_y + 0.5 - 1.2 at d = 0.5.
+    """
+    from fire_uav_agent.coverage import make_grid, own_cell, own_cell_on_grid
+
+    g = make_grid(0.0, 200.0, 0.0, 200.0, 1.0)
+    p = np.array([100.3, 100.3])  # off the grid's half-metres: no point on any line below
+    rx, ry = g.points[:, 0] - p[0], g.points[:, 1] - p[1]
+    cases = [
+        ((0.0, 0.0), None, rx <= 0.0),
+        ((0.0, 0.0), 20.0, rx <= -40.0),
+        ((0.0, 0.5), None, ry <= 0.25),
+        ((0.0, 0.5), 20.0, ry <= 0.5 - 40.0),
+        ((0.0, 100.0), 20.0, ry <= 50.0),
+        ((0.0, 60.0), 20.0, ry <= 20.0),
+        ((0.0, 0.5), 0.6, ry <= 0.5 - 1.2),
+    ]
+    for (dx, dy), band, want in cases:
+        other = p + (dx, dy)
+        got = own_cell_on_grid(g, p, other[None, :], band) if on_grid else own_cell(g.points, p, other, band)
+        assert np.array_equal(got, want), ((dx, dy), band, int((got != want).sum()))
+
+
+def test_points_near_two_bounds_with_opposite_answers_are_each_decided():
+    """Two half-planes pass within 1e-6 m of grid columns, one just keeping its column and one
+    just cutting its own: each near point gets its own answer."""
+    from fire_uav_agent.coverage import make_grid, own_cell, own_cell_on_grid
+
+    g = make_grid(0.0, 100.0, 0.0, 100.0, 5.0)
+    p = np.array([47.5, 47.5])
+    keep = 2 * (72.5 + 5e-7 - p[0])  # bisector 5e-7 m beyond column x = 72.5: kept
+    cut = 2 * (p[0] - (22.5 + 5e-7))  # bisector 5e-7 m inside column x = 22.5: cut
+    others = np.array([[p[0] + keep, p[1]], [p[0] - cut, p[1]]])
+    want = own_cell(g.points, p, others)
+    xs = g.points[:, 0]
+    assert want[np.isclose(xs, 72.5)].all() and not want[np.isclose(xs, 22.5)].any()
+    assert np.array_equal(own_cell_on_grid(g, p, others), want)
