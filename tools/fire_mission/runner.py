@@ -448,6 +448,12 @@ class Supervisor:
         self.uav_count = uav_count
         self.control_period_s = control_period_s
         self.node = rclpy.create_node("mission_supervisor")
+        # one executor for the run (ros_io.make_executor: the lean one unless FIRE_UAV_EXECUTOR=rclpy);
+        # rclpy.spin_once(node) built a wait set per call and took one message per call
+        from fire_uav_common.ros_io import make_executor
+
+        self.executor = make_executor()
+        self.executor.add_node(self.node)
         self.t_s = 0.0
         self.steps = 0
         self.done = False
@@ -653,13 +659,13 @@ def run(args: argparse.Namespace) -> int:
                         "fire_uav_recording", "recorder", ["--params-file", str(params["recorder"])]
                     ),
                 )
-                _wait_for_node(sup.node, "recorder", 20.0, procs)
+                _wait_for_node(sup, "recorder", 20.0, procs)
             if not args.no_record or args.foxglove:
                 # /fleet/perimeter drawn as markers on /viz/perimeter: recorded in every bag, live in Foxglove
                 procs.start(
                     "perimeter_viewer", ros_run_argv("fire_perimeter_monitor", "perimeter_viewer", [])
                 )
-                _wait_for_node(sup.node, "perimeter_viewer", 20.0, procs)
+                _wait_for_node(sup, "perimeter_viewer", 20.0, procs)
             if args.foxglove:
                 procs.start(
                     "foxglove_bridge",
@@ -667,7 +673,7 @@ def run(args: argparse.Namespace) -> int:
                         "fire_uav_recording", "foxglove_bridge", ["-p", f"port:={args.foxglove_port}"]
                     ),
                 )
-                _wait_for_node(sup.node, "foxglove_bridge", 20.0, procs)
+                _wait_for_node(sup, "foxglove_bridge", 20.0, procs)
                 print(f"[run_mission] Foxglove: ws://127.0.0.1:{args.foxglove_port}", file=sys.stderr)
             for k in range(uav_count):
                 ns = args.agent_netns
@@ -702,7 +708,8 @@ def run(args: argparse.Namespace) -> int:
                 # drain what is still in flight (final states, events)
                 end = time.monotonic() + 0.5
                 while time.monotonic() < end:
-                    rclpy.spin_once(sup.node, timeout_sec=0.05)
+                    sup.executor.spin_once(timeout_sec=0.05)
+                sup.executor.shutdown()
                 sup.node.destroy_node()
             rclpy.try_shutdown()
     summary.settle_states()
@@ -742,16 +749,14 @@ def run(args: argparse.Namespace) -> int:
     return 0 if outcome == "complete" else 1
 
 
-def _wait_for_node(node, name: str, timeout_s: float, procs: ProcessGroup) -> None:
-    import rclpy
-
+def _wait_for_node(sup: Supervisor, name: str, timeout_s: float, procs: ProcessGroup) -> None:
     end = time.monotonic() + timeout_s
     while time.monotonic() < end:
-        if name in node.get_node_names():
+        if name in sup.node.get_node_names():
             return
         if not procs.children[name].alive():
             raise MissionError(f"{name} exited at start:\n{procs.tail(name)}")
-        rclpy.spin_once(node, timeout_sec=0.1)
+        sup.executor.spin_once(timeout_sec=0.1)
     raise MissionError(f"{name} did not appear on the ROS graph within {timeout_s:g} s:\n{procs.tail(name)}")
 
 
@@ -774,11 +779,10 @@ def _supervise(
     uav_count: int,
     wall0: float,
 ) -> str:
-    import rclpy
 
     last_sample = 0.0
     while True:
-        rclpy.spin_once(sup.node, timeout_sec=0.02 if sup.resume_at else 0.1)
+        sup.executor.spin_once(timeout_sec=0.02 if sup.resume_at else 0.1)
         sup.resume_stalled()
         if time.monotonic() - last_sample > 1.0:
             last_sample = time.monotonic()
@@ -797,7 +801,7 @@ def _supervise(
             # let late events arrive, then judge
             end = time.monotonic() + 1.0
             while time.monotonic() < end and not sup.done:
-                rclpy.spin_once(sup.node, timeout_sec=0.05)
+                sup.executor.spin_once(timeout_sec=0.05)
             if sup.done:
                 continue
             raise MissionError(
