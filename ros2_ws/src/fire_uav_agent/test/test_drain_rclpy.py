@@ -17,21 +17,15 @@ from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 
 
 @pytest.fixture
-def node():
-    from fire_mission.procs import claim_domain  # a domain no other test or run on this host holds
-
-    with claim_domain() as domain:
-        ctx = rclpy.Context()
-        rclpy.init(context=ctx, domain_id=domain)
-        n = rclpy.create_node("drain_test", context=ctx)
-        ex = SingleThreadedExecutor(context=ctx)
-        ex.add_node(n)
-        try:
-            yield n, ex
-        finally:
-            ex.shutdown()
-            n.destroy_node()
-            rclpy.shutdown(context=ctx)
+def node(ros_context):
+    n = rclpy.create_node("drain_test", context=ros_context)
+    ex = SingleThreadedExecutor(context=ros_context)
+    ex.add_node(n)
+    try:
+        yield n, ex
+    finally:
+        ex.shutdown()
+        n.destroy_node()
 
 
 def _burst(node, drain: bool) -> tuple[list[int], list[int]]:

@@ -20,16 +20,26 @@ from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor  #
 
 
 @pytest.fixture
-def ctx():
-    from fire_mission.procs import claim_domain  # a domain no other test or run on this host holds
+def ctx(ros_context):
+    return ros_context
 
-    with claim_domain() as domain:
-        c = rclpy.Context()
-        rclpy.init(context=c, domain_id=domain)
-        try:
-            yield c
-        finally:
-            rclpy.try_shutdown(context=c)
+
+@pytest.fixture
+def lean(ctx):
+    """``lean(name, **node_kwargs) -> (node, executor)``; every pair is torn down after the test."""
+    made = []
+
+    def make(name: str, **kw):
+        n = rclpy.create_node(name, context=ctx, **kw)
+        ex = LeanExecutor(context=ctx)
+        ex.add_node(n)
+        made.append((n, ex))
+        return n, ex
+
+    yield make
+    for n, ex in reversed(made):
+        ex.shutdown()
+        n.destroy_node()
 
 
 def _spin_until(ex, cond, timeout_s: float = 10.0) -> None:
@@ -39,10 +49,8 @@ def _spin_until(ex, cond, timeout_s: float = 10.0) -> None:
     assert cond()
 
 
-def test_messages_arrive_in_order_with_and_without_message_info(ctx):
-    n = rclpy.create_node("lean_subs", context=ctx)
-    ex = LeanExecutor(context=ctx)
-    ex.add_node(n)
+def test_messages_arrive_in_order_with_and_without_message_info(lean):
+    n, ex = lean("lean_subs")
     plain: list[int] = []
     infos: list[tuple[int, bool]] = []
     topics.subscription(n, topics.FLEET_STATE_SPEC, lambda m: plain.append(int(m.step)))
@@ -59,14 +67,10 @@ def test_messages_arrive_in_order_with_and_without_message_info(ctx):
     _spin_until(ex, lambda: len(plain) == 25 and len(infos) == 25)
     assert plain == list(range(25))
     assert infos == [(k, True) for k in range(25)]
-    ex.shutdown()
-    n.destroy_node()
 
 
-def test_timers_fire_and_timers_made_or_destroyed_in_callbacks_are_waited_on(ctx):
-    n = rclpy.create_node("lean_timers", context=ctx)
-    ex = LeanExecutor(context=ctx)
-    ex.add_node(n)
+def test_timers_fire_and_timers_made_or_destroyed_in_callbacks_are_waited_on(lean):
+    n, ex = lean("lean_timers")
     ticks: list[str] = []
 
     def once() -> None:
@@ -77,8 +81,6 @@ def test_timers_fire_and_timers_made_or_destroyed_in_callbacks_are_waited_on(ctx
     first = n.create_timer(0.01, once)
     _spin_until(ex, lambda: ticks.count("later") >= 3)
     assert ticks.count("once") == 1 and ticks[0] == "once"
-    ex.shutdown()
-    n.destroy_node()
 
 
 def test_a_parameter_service_is_answered(ctx):
@@ -109,10 +111,8 @@ def test_a_parameter_service_is_answered(ctx):
         server.destroy_node()
 
 
-def test_wake_ends_a_blocking_wait_and_shutdown_raises_as_rclpy_does(ctx):
-    n = rclpy.create_node("lean_wake", context=ctx)
-    ex = LeanExecutor(context=ctx)
-    ex.add_node(n)
+def test_wake_ends_a_blocking_wait_and_shutdown_raises_as_rclpy_does(ctx, lean):
+    n, ex = lean("lean_wake")
     threading.Timer(0.2, ex.wake).start()
     t0 = time.monotonic()
     ex.spin_once()  # no timeout: only the wake ends it
@@ -122,8 +122,6 @@ def test_wake_ends_a_blocking_wait_and_shutdown_raises_as_rclpy_does(ctx):
         ex.spin()
     with pytest.raises(ExternalShutdownException):
         ex.spin_once(timeout_sec=0.0)
-    ex.shutdown()
-    n.destroy_node()
 
 
 def test_clear_errors_for_what_it_does_not_do(ctx, monkeypatch):
