@@ -28,6 +28,11 @@ def _run(result: Any, what: str) -> Any:
     raise RuntimeError(f"LeanExecutor: the coroutine of {what} awaited something; use rclpy's executor")
 
 
+def _refuse_clients(node: Any) -> None:
+    if list(node.clients):
+        raise ValueError(f"LeanExecutor: node {node.get_name()} has service clients; use rclpy's executor")
+
+
 class LeanExecutor:
     """A single-threaded executor for one node, with a wait set built once (issue [scale]).
 
@@ -51,9 +56,11 @@ class LeanExecutor:
 
     def __init__(self, context: Any = None) -> None:
         import rclpy
+        from rclpy.executors import ExternalShutdownException
         from rclpy.guard_condition import GuardCondition
         from rclpy.signals import SignalHandlerGuardCondition
 
+        self._shutdown_error = ExternalShutdownException  # raised by spin_once, as rclpy's executors do
         self._context: Any = context or rclpy.get_default_context()
         self._guard: Any = GuardCondition(None, None, context=self._context)  # wake()
         self._sigint: Any = SignalHandlerGuardCondition(self._context)  # Ctrl-C wakes the wait
@@ -70,10 +77,7 @@ class LeanExecutor:
     def add_node(self, node: Any) -> bool:
         if self._node is not None and self._node is not node:
             raise ValueError("LeanExecutor spins one node; use rclpy's executor for several")
-        if list(node.clients):
-            raise ValueError(
-                f"LeanExecutor: node {node.get_name()} has service clients; use rclpy's executor"
-            )
+        _refuse_clients(node)
         self._node = node
         self._key = None
         return True
@@ -115,17 +119,18 @@ class LeanExecutor:
 
     # --- the wait ---------------------------------------------------------------------------------
     def _build(self) -> None:
-        from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
-        from rclpy.waitable import NumberOfEntities
-
+        """Rebuild the wait set if the node's entities changed since the last wait (every wait
+        compares the entity lists; the imports and the new WaitSet only on a change)."""
         n = self._node
         subs, tmrs, srvs = list(n.subscriptions), list(n.timers), list(n.services)
         gcs, wts = list(n.guards), list(n.waitables)
         key = tuple(tuple(map(id, group)) for group in (subs, tmrs, srvs, gcs, wts))
         if key == self._key:
             return
-        if list(n.clients):
-            raise ValueError(f"LeanExecutor: node {n.get_name()} has service clients; use rclpy's executor")
+        from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+        from rclpy.waitable import NumberOfEntities
+
+        _refuse_clients(n)
         count = NumberOfEntities(len(subs), len(gcs) + 2, len(tmrs), 0, len(srvs), 0)
         for w in wts:
             count += w.get_num_entities()
@@ -143,10 +148,8 @@ class LeanExecutor:
         """Wait up to ``timeout_sec`` (None or < 0: until something is ready), then run every ready
         callback. Raises rclpy's ``ExternalShutdownException`` once the context is shut down (a
         signal, ``rclpy.shutdown``), as rclpy's executors do."""
-        from rclpy.executors import ExternalShutdownException
-
         if not self._context.ok():
-            raise ExternalShutdownException()
+            raise self._shutdown_error()
         if self._node is None:
             return
         self._build()
@@ -168,7 +171,7 @@ class LeanExecutor:
         with self._context.handle:
             ws.wait(timeout_ns)
         if not self._context.ok():
-            raise ExternalShutdownException()
+            raise self._shutdown_error()
         for p in ws.get_ready_entities("timer"):
             t = self._tmr_at.get(p)
             if t is not None and t.handle.is_timer_ready():  # rclpy checks too (cancelled timers)
