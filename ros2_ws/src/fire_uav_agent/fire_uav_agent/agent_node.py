@@ -818,8 +818,11 @@ def make_executor():
 def _profiled(fn, path: str) -> None:
     """Run ``fn()`` under cProfile and write the statistics to ``path`` (FIRE_UAV_PROFILE_DIR)."""
     import cProfile
+    import time
 
-    prof = cProfile.Profile()
+    # the main thread's CPU time: on a shared, oversubscribed machine wall time would charge a
+    # call for every moment the process waited for a core (Fast DDS's threads are not counted)
+    prof = cProfile.Profile(time.thread_time)
     try:
         prof.runcall(fn)
     finally:
