@@ -98,7 +98,7 @@ def profile_process(uavs: int, max_duration_s: float, scenario: str, top: int) -
         return "\n".join(
             [
                 f"process: {scenario}, {uavs} UAVs, {max_duration_s:g} s of mission time; agent 0 "
-                f"spent {total:.1f} s CPU+wait in spin",
+                f"spent {total:.1f} s of main-thread CPU in spin (cProfile over time.thread_time; its overhead included)",
                 "",
                 _top(st, "tottime", top),
                 "",
