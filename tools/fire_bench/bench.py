@@ -88,6 +88,25 @@ def machine() -> dict:
     }
 
 
+def machine_probe(repeats: int = 5) -> dict:
+    """How fast this (shared) machine runs Python right now, next to each scale row.
+
+    The same code gave 5.9 and 9.4 steps/s on different days here (docs/profile.md): other
+    tenants' load, invisible in /proc/stat, slows every process. ``probe_ms`` is the median wall
+    time of a fixed pure-Python loop (integer arithmetic, like the agents' bookkeeping), so a row
+    can be read against the machine's speed of that moment; ``loadavg_1m`` is what the kernel
+    reports (the host's, on this machine). A figure, not a correction: no row is rescaled."""
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        acc = 0
+        for i in range(300_000):
+            acc = (acc * 31 + i) & 0xFFFFFFFF
+        times.append(time.perf_counter() - t0)
+    times.sort()
+    return {"probe_ms": round(1000 * times[len(times) // 2], 2), "loadavg_1m": round(os.getloadavg()[0], 2)}
+
+
 # --- running missions -----------------------------------------------------------------------
 def mission(scenario: str | Path, *args: str, timeout_s: float = 1800) -> dict:
     """One run_mission here (no recording, no report, a private ROS domain); its summary.json."""
@@ -379,6 +398,7 @@ def bench_scale(quick: bool) -> dict:
         log(f"scale: skeleton with {n} UAVs, two peer messages per step (the protocol before)")
         sk2 = _skeleton(n, int(duration * 10), peer_messages=2)
         log(f"scale: fleet with {n} UAVs for {duration:g} s of mission time")
+        probe = machine_probe()
         r = mission("ff_two_fires", "--uavs", str(n), "--seed", "1", "--max-duration", str(duration))
         procs = r.get("processes", {})
         agents = [v for k, v in procs.items() if k.startswith("agent")]
@@ -403,6 +423,7 @@ def bench_scale(quick: bool) -> dict:
                 "skeleton_agent_rss_mb": sk.get("agent_rss_mb_mean"),
                 "world_cpu_s": procs.get("world", {}).get("cpu_s"),
                 "world_rss_mb": procs.get("world", {}).get("rss_mb"),
+                **probe,  # the machine's speed just before the fleet's run (machine_probe)
             }
         )
     return {"mission_time_s": duration, "rows": rows, "targets": SCALE_TARGETS}

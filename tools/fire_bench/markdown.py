@@ -214,8 +214,14 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
                     ("skeleton_agent_rss_mb", "skeleton RSS MiB"),
                     ("world_cpu_ms_per_step", "world CPU ms/step"),
                     ("world_rss_mb", "world RSS MiB"),
+                    ("probe_ms", "probe ms"),
+                    ("loadavg_1m", "load avg"),
                 ],
             ),
+            "",
+            "probe ms: the machine's speed just before the fleet's run (a fixed pure-Python loop, "
+            "median of 5; larger is slower; `fire_bench.bench.machine_probe`); load avg: the kernel's "
+            "1-minute load average, which on a shared host includes other tenants.",
         ]
         t = r.get("targets")
         if t:
