@@ -95,3 +95,22 @@ def test_a_draw_equal_to_p_is_not_a_loss_and_stream_checks_its_ids():
             stream(*bad)
         with pytest.raises(ValueError, match=r"^seed and ids must be >= 0, got seed="):
             uniform(*bad)
+
+
+def test_the_tabled_hash_constants_are_numpys_at_every_position():
+    """The tables replace SeedSequence's running hash constant: it is the same whatever the words
+    (checked after the pool's first phases for random heads), and word lists around and beyond
+    the tables' 16 extra words (the loop that carries the constant on) still match numpy."""
+    import random
+
+    import numpy as np
+    from fire_uav_common.rng import _HA, _TAIL_WORDS, _first_double, _pool_head
+
+    r = random.Random(7)
+    for _ in range(200):
+        head = tuple(r.randint(0, 2**32 - 1) for _ in range(r.randint(0, 4)))
+        assert _pool_head(head)[1] == _HA[16]
+    for n in [4 + _TAIL_WORDS - 1, 4 + _TAIL_WORDS, 4 + _TAIL_WORDS + 1, 4 + _TAIL_WORDS + 7]:
+        for _ in range(20):
+            words = [r.randint(0, 2**32 - 1) for _ in range(n)]
+            assert _first_double(words) == np.random.default_rng(np.random.SeedSequence(words)).random(), n
