@@ -37,7 +37,9 @@ def test_the_summary_does_not_import_matplotlib():
 
 
 def test_write_report_still_comes_from_the_package_and_brings_it():
-    got = _run("from fire_report import write_report\nprint(callable(write_report), 'matplotlib' in sys.modules)")
+    got = _run(
+        "from fire_report import write_report\nprint(callable(write_report), 'matplotlib' in sys.modules)"
+    )
     assert got == ["False", "True", "True"]
 
 
