@@ -34,6 +34,7 @@ from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.serialization import deserialize_message, serialize_message
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .agent_config import AgentConfig, config_from_scenario
@@ -349,14 +350,17 @@ class UavAgentNode(Node):
         self.pub_events = topics.publisher(self, topics.FLEET_EVENTS_SPEC)
         self.pub_perimeter = topics.publisher(self, topics.FLEET_PERIMETER_SPEC)
         self._perimeter_seq = 0
+        # signed topics arrive raw: the tag is checked on the bytes as sent (auth.check_serialized)
         self.sub_perimeter = topics.subscription(
-            self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter, drain=True
+            self, topics.FLEET_PERIMETER_SPEC, self._on_perimeter, drain=True, raw=True
         )
         self.pub_front = topics.publisher(self, topics.FLEET_FRONT_SPEC)
         self._front_seq = 0
         self.sub_front = topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front, drain=True)
         self.sub_sensors = topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own)
-        self.sub_state = topics.subscription(self, topics.FLEET_STATE_SPEC, self._on_state, drain=True)
+        self.sub_state = topics.subscription(
+            self, topics.FLEET_STATE_SPEC, self._on_state, drain=True, raw=True
+        )
         if self.search_link is not None:
             self.search_link.on_arrival = self._on_coverage_arrival
         self._inbox: list[PeerState | PeerFires | PeerPerimeter] = []
@@ -468,8 +472,25 @@ class UavAgentNode(Node):
         except ValueError as e:
             raise ValueError(f"parameter fleet_key: {e}") from None
 
-    def _admit(self, msg, spec: topics.TopicSpec, sender: int, step: int, auth_step: int) -> bool:
+    def _decode(self, data: bytes, msg_type: type, spec: topics.TopicSpec):
+        """A raw peer message as ``msg_type``; None (counted as a rejection) if it is not one."""
+        try:
+            return deserialize_message(data, msg_type)
+        except RuntimeError as err:  # rclpy's RMWError: bytes that are no CDR of this type
+            self.agent.link.count_rejection("undecodable")
+            self.get_logger().warning(
+                f"rejected {len(data)} bytes on {spec.name} that are no {msg_type.__name__}: {err}",
+                throttle_duration_sec=2.0,
+            )
+            return None
+
+    def _admit(
+        self, msg, data: bytes, spec: topics.TopicSpec, sender: int, step: int, auth_step: int
+    ) -> bool:
         """Checks before a peer message is counted by the lockstep wait: id, step, HMAC.
+
+        ``data``: the message's bytes as received (raw); the tag is checked on them
+        (``Authenticator.check_serialized``), after the cheaper id and step checks.
 
         A rejected message is counted in the peer link's ``reject_reasons`` (so in
         ``UavState.packets_rejected``) and never reaches :class:`PeerWait`: a forged state cannot
@@ -483,7 +504,7 @@ class UavAgentNode(Node):
             slack = self._step_slack + (0 if lockstep else self.cfg.crash_threshold_steps)
             reason = _step_verdict(step, self.agent.last_step, lockstep, slack)
         if reason is None and self.auth is not None:
-            if not self.auth.check(msg, spec.name, sender, auth_step):
+            if not self.auth.check_serialized(data, spec.name, sender, auth_step):
                 reason = "bad auth"
         if reason is None:
             return True
@@ -496,11 +517,14 @@ class UavAgentNode(Node):
         return False
 
     # --- peer traffic ---------------------------------------------------------------------------------
-    def _on_state(self, msg: UavState) -> None:
+    def _on_state(self, data: bytes) -> None:
+        msg = self._decode(data, UavState, topics.FLEET_STATE_SPEC)
+        if msg is None:
+            return
         if msg.uav_id == self.cfg.uav_id:
             return  # our own broadcast
         sender, step = int(msg.uav_id), int(msg.step)
-        if not self._admit(msg, topics.FLEET_STATE_SPEC, sender, step, step):
+        if not self._admit(msg, data, topics.FLEET_STATE_SPEC, sender, step, step):
             return
         if self._duplicate(sender, topics.FLEET_STATE_SPEC, step):
             return
@@ -512,11 +536,12 @@ class UavAgentNode(Node):
         self._inbox.append(_to_peer_fires(msg))
         self._maybe_run()
 
-    def _on_perimeter(self, msg: PerimeterMap) -> None:
-        if msg.uav_id == self.cfg.uav_id:
+    def _on_perimeter(self, data: bytes) -> None:
+        msg = self._decode(data, PerimeterMap, topics.FLEET_PERIMETER_SPEC)
+        if msg is None or msg.uav_id == self.cfg.uav_id:
             return
         pm = _to_peer_perimeter(msg, self.cfg.control_period_s)
-        if not self._admit(msg, topics.FLEET_PERIMETER_SPEC, pm.uav_id, pm.step, pm.step):
+        if not self._admit(msg, data, topics.FLEET_PERIMETER_SPEC, pm.uav_id, pm.step, pm.step):
             return
         if self._duplicate(pm.uav_id, topics.FLEET_PERIMETER_SPEC, pm.step):
             return
@@ -712,6 +737,10 @@ class UavAgentNode(Node):
         t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2), math.cos(yaw / 2)
         self._pub_tf.publish(TFMessage(transforms=[t]))
 
+    def _signed(self, msg, topic: str, step: int) -> bytes:
+        """``msg`` serialised and signed for ``topic`` (its auth field zero until now)."""
+        return self.auth.sign_serialized(serialize_message(msg), topic, self.cfg.uav_id, step)
+
     def _publish(self, out: StepOutput, stamp: TimeMsg, coverage: list, final: bool) -> None:
         """Publish step ``out.step``: the state first (it tells peers what else to wait for)."""
         uid = self.cfg.uav_id
@@ -735,11 +764,11 @@ class UavAgentNode(Node):
         state.sent_per_topic = sent  # fires: 1, the part the state carries (its own loss draw)
         state.final = final
         stamp_ns = stamp_to_ns(stamp)
-        if self.auth is not None:
-            self.auth.sign(state, topics.FLEET_STATE_SPEC.name, uid, out.step)
+        if self.auth is not None:  # signed: the bytes that go out (auth.sign_serialized), kept as sent
+            state = self._signed(state, topics.FLEET_STATE_SPEC.name, out.step)
             if pm is not None:
                 pm_step = stamp_to_step(stamp_ns, s_to_ns(self.cfg.control_period_s))
-                self.auth.sign(pm, topics.FLEET_PERIMETER_SPEC.name, uid, pm_step)
+                pm = self._signed(pm, topics.FLEET_PERIMETER_SPEC.name, pm_step)
         self.pub_state.publish(state)
         log = [(self.pub_state, state)]
         answer = []  # what the world waits for: kept to answer a re-sent bundle (_on_bundle)
@@ -752,7 +781,7 @@ class UavAgentNode(Node):
             # the command rides along: TwistStamped has no room for a tag (docs/security.md)
             req.cmd_linear_x_mps, req.cmd_linear_z_mps, req.cmd_angular_z_radps = v_lin, v_z, omega_z
             if self.auth is not None:
-                self.auth.sign(req, topics.PAYLOAD_SPEC.for_uav(uid), uid, stamp_ns)
+                req = self._signed(req, topics.PAYLOAD_SPEC.for_uav(uid), stamp_ns)
             self.pub_payload.publish(req)
             answer.append((self.pub_payload, req))
             what = PayloadAction(action).name

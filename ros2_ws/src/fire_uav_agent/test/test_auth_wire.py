@@ -12,7 +12,7 @@ import struct
 
 import pytest
 from fire_uav_common.auth import Authenticator
-from fire_uav_msgs.msg import FireEstimate, FireEstimateArray, PayloadRequest, UavState
+from fire_uav_msgs.msg import FireEstimate, FireEstimateArray, PayloadRequest, PerimeterMap, UavState
 from rclpy.serialization import deserialize_message, serialize_message
 
 KEY = bytes(range(32))
@@ -118,3 +118,87 @@ def test_the_state_has_padding_bytes_the_tag_ignores():
             continue
         pads += _equal_but_auth(got, _state())
     assert pads > 0
+
+
+# --- the scheme the fleet uses: the tag over the serialised bytes as sent (sign_serialized) ----
+def _perimeter(n: int) -> PerimeterMap:
+    m = PerimeterMap(uav_id=3, sequence=n + 1, fire_id=2, direction=1, direction_changes=n)
+    m.header.frame_id = "m" * n
+    m.outer_distance_m = [1.5 * i for i in range(n)]
+    m.importance = [0.25] * (n % 3)
+    return m
+
+
+def _varied(n: int) -> list:
+    """Each signed type with n-dependent strings, sequences and nested lists (so every alignment
+    of the trailing tag occurs): the tag must be the last 32 bytes of each."""
+    s = _state()
+    s.header.frame_id = "x" * n
+    s.alive_peers = list(range(n))
+    s.fires = [FireEstimate(fire_id=i, x_m=float(i)) for i in range(n % 4)]
+    r = _request()
+    r.header.frame_id = "y" * n
+    f = _fires()
+    f.fires = f.fires * (n % 3)
+    return [s, r, f, _perimeter(n)]
+
+
+@pytest.mark.parametrize("n", range(9))
+def test_every_signed_type_ends_in_its_auth_field(n):
+    """sign_serialized relies on it (and refuses bytes where it does not hold)."""
+    for msg in _varied(n):
+        assert list(msg.get_fields_and_field_types())[-1] == "auth", type(msg).__name__
+        msg.auth = [0xA5] * 32
+        assert serialize_message(msg)[-32:] == bytes([0xA5]) * 32, (type(msg).__name__, n)
+
+
+@pytest.mark.parametrize("n", range(9))
+def test_a_serialised_tag_checks_on_the_same_bytes_and_is_the_messages_auth(n):
+    auth = Authenticator(KEY)
+    for msg in _varied(n):
+        data = auth.sign_serialized(serialize_message(msg), "/fleet/state", 4, 17 + n)
+        assert auth.check_serialized(data, "/fleet/state", 4, 17 + n)
+        got = deserialize_message(data, type(msg))
+        assert bytes(bytearray(got.auth)) == data[-32:]  # the receiver's message carries the tag
+        assert _equal_but_auth(got, msg)
+        assert not auth.check_serialized(data, "/fleet/state", 5, 17 + n)  # another sender
+        assert not auth.check_serialized(data, "/fleet/state", 4, 18 + n)  # another step
+        assert not auth.check_serialized(data, "/fleet/perimeter", 4, 17 + n)  # another topic
+        assert not Authenticator(bytes(32)).check_serialized(data, "/fleet/state", 4, 17 + n)  # another key
+
+
+def test_every_byte_of_the_serialised_form_is_covered_padding_and_header_included():
+    """Unlike the canonical tag, nothing is exempt: the receiver hashes what arrived, so a flipped
+    padding byte is a changed message (a rogue cannot smuggle bits through the padding)."""
+    auth = Authenticator(KEY)
+    data = auth.sign_serialized(serialize_message(_state()), "/fleet/state", 1, 4)
+    for i in range(len(data)):
+        flipped = bytearray(data)
+        flipped[i] ^= 0x01
+        assert not auth.check_serialized(bytes(flipped), "/fleet/state", 1, 4), i
+    assert not auth.check_serialized(data + b"\x00", "/fleet/state", 1, 4)  # appended
+    assert not auth.check_serialized(data[:-1], "/fleet/state", 1, 4)  # truncated
+
+
+def test_the_two_schemes_never_accept_each_others_tags():
+    auth = Authenticator(KEY)
+    msg = _state()
+    wire = auth.sign_serialized(serialize_message(msg), "/fleet/state", 1, 4)
+    got = deserialize_message(wire, UavState)
+    assert not auth.check(got, "/fleet/state", 1, 4)  # a serialised tag is no canonical one
+    auth.sign(msg, "/fleet/state", 1, 4)
+    assert not auth.check_serialized(serialize_message(msg), "/fleet/state", 1, 4)
+
+
+def test_signing_refuses_bytes_whose_tail_is_not_a_zero_auth_field():
+    auth = Authenticator(KEY)
+    msg = _state()
+    msg.auth = [1] * 32  # signed twice, or a type whose auth is not last
+    with pytest.raises(ValueError, match="last 32 bytes are not a zero auth field"):
+        auth.sign_serialized(serialize_message(msg), "/fleet/state", 1, 4)
+    with pytest.raises(ValueError, match="expected the CDR bytes of a message"):
+        auth.sign_serialized(b"\x00\x01\x00\x00", "/fleet/state", 1, 4)
+    with pytest.raises(ValueError, match="expected the CDR bytes of a message"):
+        auth.sign_serialized(bytearray(64), "/fleet/state", 1, 4)  # type: ignore[arg-type]
+    for bad in [b"", b"\x00" * 35, None, 42, "text"]:
+        assert not auth.check_serialized(bad, "/fleet/state", 1, 4)  # type: ignore[arg-type]

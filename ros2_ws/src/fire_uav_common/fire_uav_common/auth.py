@@ -4,19 +4,21 @@ docs/security.md. The Fast DDS build in the PyPI wheels has no DDS Security plug
 not available; this module is the stand-in. It is ROS-free: it reads a message through the
 field table every generated ROS 2 Python message has (``get_fields_and_field_types()``).
 
-The tag of a message is ``HMAC-SHA256(key, DOMAIN || topic || sender || step || payload)``
-(RFC 2104 with SHA-256, FIPS 180-4), where ``payload`` is :func:`canonical_bytes` of the message
-(every field but ``auth``, in declaration order, at its declared width, big-endian), ``sender``
-(int32) and ``step`` (int64) are big-endian, and so a tag is bound to one topic, one sender and one
-step (for a PayloadRequest, the stamp in nanoseconds). What it does not give: confidentiality,
-protection against a replay of an authentic message (the receivers' step plausibility and
-duplicate checks handle that), or protection once the key leaks (anyone holding it is the fleet).
+The fleet signs *serialised* messages (:meth:`Authenticator.sign_serialized`): the tag is
+``HMAC-SHA256(key, DOMAIN || topic || sender || step || body)`` (RFC 2104 with SHA-256, FIPS
+180-4), where ``body`` is the message's CDR bytes as sent, up to its ``auth`` field (every signed
+type's last field, so its last 32 bytes, where the tag then goes); ``sender`` (int32) and ``step``
+(int64) are big-endian, so a tag is bound to one topic, one sender and one step (for a
+PayloadRequest, the stamp in nanoseconds). The sender publishes those bytes as they are and the
+receivers subscribe raw and check the bytes that arrived (:meth:`Authenticator.check_serialized`),
+then deserialise them. What it does not give: confidentiality, protection against a replay of an
+authentic message (the receivers' step plausibility and duplicate checks handle that), or
+protection once the key leaks (anyone holding it is the fleet).
 
-Why not the CDR bytes: CDR aligns fields, and the serialiser in the wheels leaves the alignment
-padding uninitialised. A sender's padding held heap garbage where the receiver's re-serialisation
-had zeros, so every UavState failed its check and the fleet stalled at step 1. The canonical
-encoding has no padding, and it rounds a float32 field as the wire does (a sender may hold a
-double there that the receiver only ever sees rounded).
+Why the bytes as sent and not a re-serialisation: CDR aligns fields, and the serialiser in the
+wheels leaves the alignment padding uninitialised. A sender's padding held heap garbage where the
+receiver's re-serialisation had zeros, so every UavState failed its check and the fleet stalled at
+step 1. Nothing is re-serialised now; the receiver hashes what DDS delivered, the sender's bytes.
 """
 
 from __future__ import annotations
@@ -37,6 +39,8 @@ __all__ = ["KEY_BYTES", "TAG_BYTES", "Authenticator", "canonical_bytes", "new_ke
 KEY_BYTES = 32  # [B] key length: the SHA-256 block is 64 B; 32 B of entropy is the usual choice
 TAG_BYTES = 32  # [B] a full SHA-256 tag (no truncation)
 _DOMAIN = b"fire-uav-auth-v1\x00"
+_WIRE_DOMAIN = b"fire-uav-auth-cdr-v1\x00"  # the serialised form (sign_serialized): never confused with v1
+_ZERO_TAG = bytes(TAG_BYTES)
 
 
 def new_key_hex() -> str:
@@ -299,6 +303,42 @@ class Authenticator:
         if len(tag) != TAG_BYTES:
             return False
         return hmac.compare_digest(self.tag(topic, sender, step, payload), tag)
+
+    # --- on serialised messages: what the fleet sends and checks ---------------------------------
+    def _wire_tag(self, topic: str, sender: int, step: int, body: bytes) -> bytes:
+        t = topic.encode("utf-8")
+        head = _WIRE_DOMAIN + struct.pack(">I", len(t)) + t + struct.pack(">iq", int(sender), int(step))
+        return hmac.new(self._key, head + body, hashlib.sha256).digest()
+
+    def sign_serialized(self, data: bytes, topic: str, sender: int, step: int) -> bytes:
+        """``data`` with its last 32 bytes set to the tag of everything before them.
+
+        ``data`` is the CDR of a message whose last field is ``uint8[32] auth``, serialised with
+        that field zero (a fresh message; ``rclpy.serialization.serialize_message``). The sender
+        publishes the returned bytes as they are (``Publisher.publish`` takes bytes), and a raw
+        subscription hands the receiver the very same bytes, alignment padding included, so
+        :meth:`check_serialized` needs no canonical form and no re-serialisation. A ValueError
+        names what is wrong if the last 32 bytes are not a zero tag (a type whose ``auth`` is not
+        its last field, or a message signed twice).
+        """
+        if not isinstance(data, bytes) or len(data) < 4 + TAG_BYTES:
+            raise ValueError(f"sign_serialized: expected the CDR bytes of a message, got {type(data).__name__} "
+                             f"of length {len(data) if hasattr(data, '__len__') else '?'}")  # fmt: skip
+        if data[-TAG_BYTES:] != _ZERO_TAG:
+            raise ValueError(
+                "sign_serialized: the last 32 bytes are not a zero auth field: the message type's auth must be "
+                "its last field, and the message must be serialised before it is signed (auth all zeros)"
+            )
+        body = data[:-TAG_BYTES]
+        return body + self._wire_tag(topic, sender, step, body)
+
+    def check_serialized(self, data: bytes, topic: str, sender: int, step: int) -> bool:
+        """Whether the last 32 bytes of ``data`` (as received, raw) are the tag of the rest for
+        this topic, sender and step (constant-time comparison). False for anything too short."""
+        if not isinstance(data, (bytes, bytearray)) or len(data) < 4 + TAG_BYTES:
+            return False
+        data = bytes(data)
+        return hmac.compare_digest(self._wire_tag(topic, sender, step, data[:-TAG_BYTES]), data[-TAG_BYTES:])
 
     # --- on messages ---------------------------------------------------------------------------
     def sign(self, msg: Any, topic: str, sender: int, step: int) -> None:

@@ -37,6 +37,7 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
+from rclpy.serialization import deserialize_message
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
 from sensor_msgs.msg import Imu, Range
@@ -109,7 +110,10 @@ class WorldNode(Node):
             self.pub_sensors[i] = topics.publisher(self, topics.SENSORS_SPEC, uav_id=i)
             if self.auth is None:  # signed: the command comes from the PayloadRequest (_on_cmd)
                 topics.subscription(self, topics.CMD_SPEC, lambda m, i=i: self._on_cmd(i, m), uav_id=i)
-            topics.subscription(self, topics.PAYLOAD_SPEC, lambda m, i=i: self._on_payload(i, m), uav_id=i)
+            # raw: the tag is checked on the bytes as the agent sent them (auth.check_serialized)
+            topics.subscription(
+                self, topics.PAYLOAD_SPEC, lambda d, i=i: self._on_payload(i, d), uav_id=i, raw=True
+            )
         self._ready: set[int] = set()
         topics.subscription(self, topics.FLEET_EVENTS_SPEC, self._on_fleet_event)
         self._commands: dict[int, Command | None] = {}
@@ -450,14 +454,18 @@ class WorldNode(Node):
         self._waiting.discard(uid)
         self._maybe_advance()
 
-    def _on_payload(self, uid: int, msg: PayloadRequest) -> None:
+    def _on_payload(self, uid: int, data: bytes) -> None:
         if self._finished:
             return  # an answer to the last bundle (see _on_cmd)
         topic = topics.PAYLOAD_SPEC.for_uav(uid)
+        try:
+            msg = deserialize_message(data, PayloadRequest)
+        except RuntimeError:  # rclpy's RMWError: bytes that are no CDR of a PayloadRequest
+            return self._reject(uid, topic, "undecodable")
         ns = stamp_to_ns(msg.header.stamp)
         if msg.uav_id != uid:
             return self._reject(uid, topic, "wrong id")
-        if self.auth is not None and not self.auth.check(msg, topic, uid, ns):
+        if self.auth is not None and not self.auth.check_serialized(data, topic, uid, ns):
             return self._reject(uid, topic, "bad auth")
         if msg.action not in tuple(PayloadAction):
             return self._reject(uid, topic, "unknown action")
