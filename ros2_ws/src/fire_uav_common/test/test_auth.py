@@ -23,12 +23,12 @@ def test_key_parsing_errors_do_not_echo_the_key():
     with pytest.raises(ValueError, match="64 hex digits, got 5 characters"):
         parse_key("abcde")
     bad = "zz" * 32
-    with pytest.raises(ValueError, match="hex digits only") as e:
+    with pytest.raises(ValueError) as e:
         parse_key(bad)
-    assert bad not in str(e.value)
+    assert str(e.value) == "fleet key must be hex digits only (0-9, a-f)"  # and so never the key
     with pytest.raises(ValueError, match="32 bytes, got 3"):
         Authenticator(b"abc")
-    assert "key" in repr(Authenticator(bytes(32))) and bytes(32).hex() not in repr(Authenticator(bytes(32)))
+    assert repr(Authenticator(bytes(32))) == "Authenticator(<key>)"  # never the key
 
 
 HEADER = b"\x00\x01\x00\x00"  # a CDR encapsulation header (little-endian CDR)
@@ -84,11 +84,17 @@ def test_garbage_is_rejected_not_raised(data):
 
 def test_signing_names_what_is_wrong_with_its_input():
     a = Authenticator(bytes(range(32)))
-    with pytest.raises(ValueError, match="last 32 bytes are not a zero auth field"):
+    with pytest.raises(ValueError) as e:
         a.sign_serialized(HEADER + b"x" + bytes([1]) * TAG_BYTES, "/t", 0, 0)
+    assert str(e.value) == (
+        "sign_serialized: the last 32 bytes are not a zero auth field: the message type's auth must be "
+        "its last field, and the message must be serialised before it is signed (auth all zeros)"
+    )
     signed = a.sign_serialized(serialised(b"x"), "/t", 0, 0)
     with pytest.raises(ValueError, match="last 32 bytes are not a zero auth field"):
         a.sign_serialized(signed, "/t", 0, 0)  # signed twice
-    for bad in [b"", HEADER + bytes(TAG_BYTES - 1), bytearray(64), None]:
-        with pytest.raises(ValueError, match="expected the CDR bytes of a message"):
+    for bad, what in [(b"", "bytes of length 0"), (HEADER + bytes(TAG_BYTES - 1), "bytes of length 35"),
+                      (bytearray(64), "bytearray of length 64"), (None, "NoneType of length ?")]:  # fmt: skip
+        with pytest.raises(ValueError) as e:
             a.sign_serialized(bad, "/t", 0, 0)  # type: ignore[arg-type]
+        assert str(e.value) == f"sign_serialized: expected the CDR bytes of a message, got {what}"
