@@ -18,6 +18,14 @@ def _table(rows: list[dict], cols: list[tuple[str, str]]) -> str:
     return head + "".join("| " + " | ".join(_fmt(r.get(k)) for k, _ in cols) + " |\n" for r in rows)
 
 
+def _ran_on(r: dict) -> list[str]:
+    """A section's own machine line (``scripts/bench --only`` runs on other days and hosts)."""
+    m = r.get("machine")
+    if not m:
+        return []
+    return [f"Ran on: {m.get('cpu')}, {m.get('cores')} cores; commit {m.get('commit')}, {m.get('date')}.", ""]
+
+
 def _plots(results: dict, out: Path) -> dict[str, str]:
     import matplotlib
 
@@ -194,6 +202,7 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
         lines += [
             "## Scale: lockstep step rate, CPU and memory",
             "",
+            *_ran_on(r),
             f"Command: `{r['command']}`; {r['mission_time_s']:g} s of mission time per run; the skeleton "
             "has the same processes and topics with no algorithms (`fire_bench.skeleton`) and, like the "
             'fleet, one peer message per step; "2 peer msgs": the skeleton with the two peer messages per '
@@ -215,13 +224,12 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
                     ("world_cpu_ms_per_step", "world CPU ms/step"),
                     ("world_rss_mb", "world RSS MiB"),
                     ("probe_ms", "probe ms"),
-                    ("loadavg_1m", "load avg"),
                 ],
             ),
             "",
-            "probe ms: the machine's speed just before the fleet's run (a fixed pure-Python loop, "
-            "median of 5; larger is slower; `fire_bench.bench.machine_probe`); load avg: the kernel's "
-            "1-minute load average, which on a shared host includes other tenants.",
+            "probe ms: one core's Python speed just before the fleet's run (a fixed pure-Python loop, "
+            "median of 5; larger is slower; `fire_bench.bench.machine_probe`). It does not follow the "
+            "fleet's day-to-day variation; the skeleton beside each row does.",
         ]
         t = r.get("targets")
         if t:
