@@ -53,8 +53,6 @@ def _request() -> PayloadRequest:
     return m
 
 
-
-
 def _plain(v):
     """A message as nested Python values: floats by their bits, arrays as lists."""
     if hasattr(v, "get_fields_and_field_types"):

@@ -76,7 +76,9 @@ def test_any_change_to_the_bytes_sender_step_or_topic_fails(body, sender, step, 
 
 
 @settings(max_examples=100, deadline=None)
-@given(st.one_of(st.binary(), st.lists(st.integers(0, 255), max_size=40), st.none(), st.integers(), st.text()))
+@given(
+    st.one_of(st.binary(), st.lists(st.integers(0, 255), max_size=40), st.none(), st.integers(), st.text())
+)
 def test_garbage_is_rejected_not_raised(data):
     a = Authenticator(bytes(range(32)))
     assert a.check_serialized(data, "/t", 0, 0) is False
