@@ -6,7 +6,7 @@ unreachable scheduler and a missing dask. The slow test starts a two-worker
 ``distributed.LocalCluster`` (separate worker processes) and runs the same small sweep of
 harness missions locally and on the cluster: the two ``results.json`` must be identical but
 for the fields that describe the run rather than the missions (``machine``, the benchmark's
-``wall_s`` and ``executor``). The system test runs real-process missions on the cluster, each on
+``wall_s``, ``executor`` and its own ``machine``). The system test runs real-process missions on the cluster, each on
 its own claimed ROS domain.
 """
 
@@ -30,8 +30,9 @@ from fire_bench.sweep import (
 from fire_mission.determinism import VOLATILE_KEYS
 from fire_mission.procs import DOMAIN_RANGE
 
-#: fields of results.json that describe the run, not the missions
-RUN_FIELDS = ("wall_s", "executor")
+#: fields of a results.json section that describe the run, not the missions (a section's
+#: ``machine`` carries the minute it ran: two runs across a minute boundary differ there)
+RUN_FIELDS = ("wall_s", "executor", "machine")
 
 
 def _free_port() -> int:
