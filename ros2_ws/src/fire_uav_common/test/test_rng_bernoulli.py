@@ -114,3 +114,24 @@ def test_the_tabled_hash_constants_are_numpys_at_every_position():
         for _ in range(20):
             words = [r.randint(0, 2**32 - 1) for _ in range(n)]
             assert _first_double(words) == np.random.default_rng(np.random.SeedSequence(words)).random(), n
+
+
+def test_tables_built_afresh_give_numpys_draws(monkeypatch):
+    """The tables are built at import; this builds them again through ``_h_table`` and draws
+    with those: the same floats as numpy's SeedSequence + PCG64 (so a wrong table fails here
+    even where the import-time tables are the right ones)."""
+    import random
+
+    import numpy as np
+    from fire_uav_common import rng
+
+    fresh_a = rng._h_table(rng._INIT_A, rng._MULT_A, 16 + 4 * rng._TAIL_WORDS)
+    fresh_b = rng._h_table(rng._INIT_B, rng._MULT_B, 8)
+    assert len(fresh_a) == 17 + 4 * rng._TAIL_WORDS and len(fresh_b) == 9
+    monkeypatch.setattr(rng, "_HA", fresh_a)
+    monkeypatch.setattr(rng, "_HB", fresh_b)
+    r = random.Random(11)
+    for n in [1, 4, 5, 6, 9, 20, 23]:
+        for _ in range(10):
+            words = [r.randint(0, 2**32 - 1) for _ in range(n)]
+            assert rng._first_double(words) == np.random.default_rng(np.random.SeedSequence(words)).random()
