@@ -47,6 +47,7 @@ from .lockstep_wait import PeerWait
 from .peer_link import FireEntry, Outage, PeerFires, PeerState
 from .resend import ResendBook
 from .search_io import attach_search
+from .state_wire import WireState, read_uav_state
 
 
 # --- conversions (the only place messages meet arrays) -----------------------------------------
@@ -484,9 +485,7 @@ class UavAgentNode(Node):
             )
             return None
 
-    def _admit(
-        self, msg, data: bytes, spec: topics.TopicSpec, sender: int, step: int, auth_step: int
-    ) -> bool:
+    def _admit(self, data: bytes, spec: topics.TopicSpec, sender: int, step: int, auth_step: int) -> bool:
         """Checks before a peer message is counted by the lockstep wait: id, step, HMAC.
 
         ``data``: the message's bytes as received (raw); the tag is checked on them
@@ -517,23 +516,37 @@ class UavAgentNode(Node):
         return False
 
     # --- peer traffic ---------------------------------------------------------------------------------
-    def _on_state(self, data: bytes) -> None:
+    def _read_state(self, data: bytes) -> WireState | None:
+        """A raw peer UavState -> :class:`WireState`, read from its bytes (``state_wire``); an encoding
+        that reader does not take (not XCDR1 little-endian) goes through ``deserialize_message``;
+        None (counted as ``undecodable``) if neither reads it."""
+        try:
+            return read_uav_state(data)
+        except ValueError:
+            pass
         msg = self._decode(data, UavState, topics.FLEET_STATE_SPEC)
         if msg is None:
-            return
-        if msg.uav_id == self.cfg.uav_id:
-            return  # our own broadcast
-        sender, step = int(msg.uav_id), int(msg.step)
-        if not self._admit(msg, data, topics.FLEET_STATE_SPEC, sender, step, step):
+            return None
+        return WireState(
+            int(msg.uav_id), int(msg.step), tuple(msg.sent_per_topic), bool(msg.final),
+            _to_peer_state(msg), _to_peer_fires(msg),
+        )  # fmt: skip
+
+    def _on_state(self, data: bytes) -> None:
+        w = self._read_state(data)
+        if w is None or w.uav_id == self.cfg.uav_id:
+            return  # undecodable, or our own broadcast
+        sender, step = w.uav_id, w.step
+        if not self._admit(data, topics.FLEET_STATE_SPEC, sender, step, step):
             return
         if self._duplicate(sender, topics.FLEET_STATE_SPEC, step):
             return
-        self.wait.on_state(sender, step, tuple(msg.sent_per_topic), bool(msg.final))
-        self._inbox.append(_to_peer_state(msg))
+        self.wait.on_state(sender, step, w.sent_per_topic, w.final)
+        self._inbox.append(w.state)
         # the fire picture it carries: counted and kept as the part it is (FLEET_FIRES loss index);
         # a resent copy was dropped with its state above
         self.wait.on_message(sender, step, topics.FLEET_FIRES_SPEC.loss_index)
-        self._inbox.append(_to_peer_fires(msg))
+        self._inbox.append(w.fires)
         self._maybe_run()
 
     def _on_perimeter(self, data: bytes) -> None:
@@ -541,7 +554,7 @@ class UavAgentNode(Node):
         if msg is None or msg.uav_id == self.cfg.uav_id:
             return
         pm = _to_peer_perimeter(msg, self.cfg.control_period_s)
-        if not self._admit(msg, data, topics.FLEET_PERIMETER_SPEC, pm.uav_id, pm.step, pm.step):
+        if not self._admit(data, topics.FLEET_PERIMETER_SPEC, pm.uav_id, pm.step, pm.step):
             return
         if self._duplicate(pm.uav_id, topics.FLEET_PERIMETER_SPEC, pm.step):
             return

@@ -1,0 +1,187 @@
+"""``state_wire.read_uav_state`` against rclpy's own deserialisation (the reference it replaces).
+
+Generated UavStates (every field random, frame ids of every length mod 8 so that each alignment
+rule is exercised, up to 6 fires) are serialised by ``rclpy.serialization.serialize_message``
+(rmw_fastrtps's CDR) and read both ways; the results must be equal field for field. The field lists
+of UavState.msg and FireEstimate.msg are pinned, so a message change fails here first. Bad bytes
+(every truncation, bytes left over, another encapsulation, noise) raise ValueError and nothing else.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+pytest.importorskip("fire_uav_msgs.msg")
+
+from builtin_interfaces.msg import Time
+from fire_uav_agent.agent_node import _to_peer_fires, _to_peer_state
+from fire_uav_agent.state_wire import FIREESTIMATE_FIELDS, UAVSTATE_FIELDS, read_uav_state
+from fire_uav_common.auth import Authenticator
+from fire_uav_msgs.msg import FireEstimate, UavState
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from rclpy.serialization import deserialize_message, serialize_message
+
+f64 = st.floats(allow_nan=True, allow_infinity=True)
+f32 = st.floats(width=32, allow_nan=True, allow_infinity=True)
+u8, u16, u32 = st.integers(0, 255), st.integers(0, 65535), st.integers(0, 2**32 - 1)
+i32 = st.integers(-(2**31), 2**31 - 1)
+stamps = st.builds(Time, sec=i32, nanosec=st.integers(0, 999_999_999))
+
+
+@st.composite
+def uav_states(draw) -> UavState:
+    m = UavState(uav_id=draw(u8), sequence=draw(u32), step=draw(u32), objective=draw(u8))
+    m.header.stamp = draw(stamps)
+    m.header.frame_id = draw(st.text(st.characters(codec="ascii", exclude_characters="\x00"), max_size=17))
+    m.x_m, m.y_m, m.z_m, m.yaw_rad = (draw(f64) for _ in range(4))
+    m.covariance = [draw(f64) for _ in range(16)]
+    m.target_fire_id, m.water_kg = draw(i32), draw(f32)
+    m.centroid_x_m, m.centroid_y_m = draw(f64), draw(f64)
+    m.alive_peers = draw(st.lists(u8, max_size=41))
+    m.crashed_peers = draw(st.lists(u8, max_size=9))
+    m.packets_received, m.packets_lost, m.packets_rejected = draw(u32), draw(u32), draw(u32)
+    m.sent_per_topic = draw(st.lists(u16, max_size=7))
+    m.final = draw(st.booleans())
+    m.fires_sequence = draw(u32)
+    for _ in range(draw(st.integers(0, 6))):
+        f = FireEstimate(fire_id=draw(u32), status=draw(u8))
+        f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps = (draw(f64) for _ in range(5))
+        f.last_measurement = draw(stamps)
+        f.front_x_m, f.front_y_m, f.max_spread_rate_mps = draw(f64), draw(f64), draw(f64)
+        m.fires.append(f)
+    m.auth = list(draw(st.binary(min_size=32, max_size=32)))
+    return m
+
+
+def _same(a, b) -> bool:
+    """Equal field for field, NaN equal to NaN (repr of a float round-trips it exactly)."""
+    return repr(a) == repr(b)
+
+
+def test_the_message_definitions_are_the_ones_the_reader_reads():
+    assert tuple(UavState.get_fields_and_field_types().items()) == UAVSTATE_FIELDS
+    assert tuple(FireEstimate.get_fields_and_field_types().items()) == FIREESTIMATE_FIELDS
+
+
+@settings(max_examples=300, deadline=None)
+@given(uav_states())
+def test_read_equals_rclpys_deserialisation(m):
+    data = serialize_message(m)
+    w = read_uav_state(data)
+    ref = deserialize_message(data, UavState)
+    assert _same(w.state, _to_peer_state(ref))
+    assert _same(w.fires, _to_peer_fires(ref))
+    assert (w.uav_id, w.step, w.final) == (ref.uav_id, ref.step, ref.final)
+    assert w.sent_per_topic == tuple(ref.sent_per_topic)
+    assert all(type(v) is int for v in w.sent_per_topic)
+
+
+@settings(max_examples=60, deadline=None)
+@given(uav_states(), st.integers(0, 255), st.integers(0, 2**32 - 1))
+def test_a_signed_state_reads_as_its_message(m, sender, step):
+    """As the fleet sends it: serialised with a zero tag, the tag then written into its last 32 bytes."""
+    m.auth = [0] * 32
+    auth = Authenticator(bytes(range(32)))
+    data = auth.sign_serialized(serialize_message(m), "/fleet/state", sender, step)
+    assert data[-32:] != bytes(32)
+    assert _same(read_uav_state(data).state, _to_peer_state(m))
+
+
+def test_values_come_through_exactly():
+    """A hand-built state: every value the agent uses, including the float32 gauge and the stamp."""
+    m = UavState(uav_id=7, sequence=11, step=42, x_m=1.25, y_m=-3.5, z_m=60.0, yaw_rad=-0.75)
+    m.header.frame_id = "map"
+    m.objective, m.target_fire_id, m.water_kg = 2, -1, 123.456
+    m.centroid_x_m, m.centroid_y_m = math.nan, 9.0
+    m.sent_per_topic, m.final, m.fires_sequence = [1, 0, 65535], True, 5
+    f = FireEstimate(fire_id=3, status=FireEstimate.STATUS_EXTINGUISHED, x_m=10.0, y_m=20.0, extent_m=4.0)
+    f.last_measurement = Time(sec=12, nanosec=300_000_000)
+    f.front_x_m, f.front_y_m, f.max_spread_rate_mps = 11.0, math.inf, 0.5
+    m.fires = [FireEstimate(fire_id=1, x_m=-1.0), f]
+    w = read_uav_state(serialize_message(m))
+    s = w.state
+    assert (s.uav_id, s.sequence, s.step, s.x_m, s.y_m, s.z_m, s.yaw_rad) == (
+        7,
+        11,
+        42,
+        1.25,
+        -3.5,
+        60.0,
+        -0.75,
+    )
+    assert (s.objective, s.target_fire_id, s.centroid_y_m) == (2, -1, 9.0) and math.isnan(s.centroid_x_m)
+    assert s.water_kg == pytest.approx(123.456, rel=1e-7) and s.water_kg != 123.456  # float32, widened
+    assert (w.uav_id, w.step, w.sent_per_topic, w.final) == (7, 42, (1, 0, 65535), True)
+    assert (w.fires.uav_id, w.fires.sequence, w.fires.step) == (7, 5, 42)
+    a, b = w.fires.fires
+    assert (a.fire_id, a.active, a.x_m) == (1, True, -1.0)
+    assert (b.fire_id, b.active, b.x_m, b.y_m, b.extent_m) == (3, False, 10.0, 20.0, 4.0)
+    assert (b.last_measurement_s, b.front_x_m, b.front_y_m, b.max_spread_rate_mps) == (
+        12.3,
+        11.0,
+        math.inf,
+        0.5,
+    )
+
+
+def _sample() -> bytes:
+    m = UavState(uav_id=2, step=3)
+    m.header.frame_id = "map"
+    m.alive_peers, m.sent_per_topic = [0, 1, 2], [1, 1]
+    m.fires = [FireEstimate(fire_id=1), FireEstimate(fire_id=2)]
+    return serialize_message(m)
+
+
+def test_every_truncation_is_a_value_error():
+    data = _sample()
+    for n in range(len(data)):
+        with pytest.raises(ValueError, match="UavState|CDR|length"):
+            read_uav_state(data[:n])
+
+
+def test_bytes_left_after_the_auth_field_are_refused():
+    with pytest.raises(ValueError, match="expected its auth field to end"):
+        read_uav_state(_sample() + b"\x00")
+
+
+@pytest.mark.parametrize("head", [b"\x00\x00", b"\x00\x03", b"\x00\x07", b""])
+def test_another_encapsulation_is_refused_by_name(head):
+    data = _sample()
+    with pytest.raises(ValueError, match="not XCDR1 little-endian"):
+        read_uav_state(head + data[2:] if head else b"")
+
+
+def test_a_length_past_the_end_is_named():
+    m = UavState()
+    m.sent_per_topic = [1, 2]
+    data = bytearray(serialize_message(m))
+    # the sent_per_topic length is the uint32 holding 2 just before the two uint16 values 1, 2
+    at = bytes(data).index(b"\x02\x00\x00\x00\x01\x00\x02\x00")
+    data[at : at + 4] = (10**6).to_bytes(4, "little")
+    with pytest.raises(ValueError, match="sent_per_topic length 1000000 runs past the end"):
+        read_uav_state(bytes(data))
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.binary(max_size=600), st.booleans())
+def test_noise_is_a_value_error_or_a_state(noise, with_header):
+    data = (b"\x00\x01\x00\x00" + noise) if with_header else noise
+    try:
+        read_uav_state(data)
+    except ValueError:
+        pass
+
+
+@settings(max_examples=150, deadline=None)
+@given(uav_states(), st.data())
+def test_a_flipped_byte_never_raises_anything_else(m, data):
+    raw = bytearray(serialize_message(m))
+    i = data.draw(st.integers(0, len(raw) - 1))
+    raw[i] ^= data.draw(st.integers(1, 255))
+    try:
+        read_uav_state(bytes(raw))
+    except ValueError:
+        pass
