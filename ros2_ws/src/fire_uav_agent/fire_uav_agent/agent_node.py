@@ -40,6 +40,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 from .agent_config import AgentConfig, config_from_scenario
 from .agent_core import Agent
 from .agent_types import Bundle, PeerPerimeter, StepOutput
+from .bundle_wire import WireBundle, read_sensor_bundle
 from .estimation import Samples
 from .fire_front import FrontCells
 from .front_consensus import PeerFront
@@ -358,14 +359,14 @@ class UavAgentNode(Node):
         self.pub_front = topics.publisher(self, topics.FLEET_FRONT_SPEC)
         self._front_seq = 0
         self.sub_front = topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front, drain=True)
-        self.sub_sensors = topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own)
+        self.sub_sensors = topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own, raw=True)
         self.sub_state = topics.subscription(
             self, topics.FLEET_STATE_SPEC, self._on_state, drain=True, raw=True
         )
         if self.search_link is not None:
             self.search_link.on_arrival = self._on_coverage_arrival
         self._inbox: list[PeerState | PeerFires | PeerPerimeter] = []
-        self._pending: SensorBundle | None = None
+        self._pending: WireBundle | None = None  # the bundle waiting for the peers' messages
         self._answer: tuple[int, list] | None = None  # (step, [(publisher, msg)]) last sent to the world
         self.wait = PeerWait(uid, self.cfg.uav_count, self.cfg.control_period_s, schedule)
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -659,8 +660,28 @@ class UavAgentNode(Node):
         self.pub_events.publish(ev)
         self.get_logger().info(f"ready for step 0 (world and {len(peers)} peers matched)")
 
-    def _on_bundle(self, msg: SensorBundle) -> None:
-        k = int(msg.step)
+    def _read_bundle(self, data: bytes) -> WireBundle | None:
+        """A raw SensorBundle -> :class:`WireBundle`, read from its bytes (``bundle_wire``); another
+        encoding goes through ``deserialize_message``; None (logged) if neither reads it."""
+        try:
+            return read_sensor_bundle(data)
+        except ValueError as fast_err:
+            try:
+                msg = deserialize_message(data, SensorBundle)
+            except RuntimeError as err:  # rclpy's RMWError: bytes that are no CDR of this type
+                self.get_logger().error(
+                    f"dropped {len(data)} bytes on {topics.SENSORS_SPEC.for_uav(self.cfg.uav_id)} that are "
+                    f"no SensorBundle: {fast_err}; {err}",
+                    throttle_duration_sec=2.0,
+                )
+                return None
+        return WireBundle(_to_bundle(msg), int(msg.header.stamp.sec), int(msg.header.stamp.nanosec))
+
+    def _on_bundle(self, data: bytes) -> None:
+        wb = self._read_bundle(data)
+        if wb is None:
+            return
+        k = wb.bundle.step
         if self.mode == "lockstep" and self._answer is not None and k == self._answer[0]:
             # the world re-sent the bundle of a step already answered: our answer did not reach it
             # (the world re-sends only to agents it still waits for, docs/protocol.md); say it again
@@ -668,13 +689,13 @@ class UavAgentNode(Node):
             for pub, m in self._answer[1]:
                 pub.publish(m)
             return
-        if k <= self.agent.last_step or (self._pending is not None and k <= self._pending.step):
+        if k <= self.agent.last_step or (self._pending is not None and k <= self._pending.bundle.step):
             return  # protocol item 1: answer only the newest bundle
         if self._pending is not None:
             self._run()  # a newer bundle overtook the one we were waiting on (realtime)
             if k <= self.agent.last_step:
                 return
-        self._pending = msg
+        self._pending = wb
         if self.mode == "realtime" or k == 0:
             self._run()
             return
@@ -685,7 +706,7 @@ class UavAgentNode(Node):
     def _maybe_run(self) -> bool:
         if self._pending is None:
             return False
-        if self.wait.ready(int(self._pending.step)):
+        if self.wait.ready(self._pending.bundle.step):
             self._run()
             return True
         return False
@@ -695,7 +716,7 @@ class UavAgentNode(Node):
         if self._pending is None:
             self._liveness_timer.cancel()
             return
-        k = int(self._pending.step)
+        k = self._pending.bundle.step
         waited_s = (self._steady.now().nanoseconds - self._wait_since_ns) / 1e9
         if waited_s > 5.0:  # a long wait is worth a line (throttled): it names what is missing
             self.get_logger().warning(
@@ -715,22 +736,22 @@ class UavAgentNode(Node):
 
     def _run(self) -> None:
         self._liveness_timer.cancel()
-        msg, self._pending = self._pending, None
-        if msg is None:
+        wb, self._pending = self._pending, None
+        if wb is None:
             return
-        k = int(msg.step)
+        k = wb.bundle.step
         # in a total order, not arrival order: fusion may depend on the order it sees messages in
         take = sorted((m for m in self._inbox if m.step < k), key=_inbox_order)
         self._inbox = [m for m in self._inbox if m.step >= k]
         want_markers = self.marker_every > 0 and k % self.marker_every == 0
-        out = self.agent.step(_to_bundle(msg), take, want_markers=want_markers)
+        out = self.agent.step(wb.bundle, take, want_markers=want_markers)
         if out is None:
             return
         coverage = []
         if self.search_link is not None:
             coverage = self.search_link.step(out.stamp_s, out.step, out.state.alive_peers)
-        final = int(msg.vehicle_status) == VehicleStatus.CRASHED
-        self._publish(out, msg.header.stamp, coverage, final)
+        final = wb.bundle.vehicle == VehicleStatus.CRASHED
+        self._publish(out, TimeMsg(sec=wb.stamp_sec, nanosec=wb.stamp_nanosec), coverage, final)
         self.wait.prune(k)
         self.resend.ran(k)
 

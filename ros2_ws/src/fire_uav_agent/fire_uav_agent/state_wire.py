@@ -9,12 +9,13 @@ field is compared against ``deserialize_message`` on generated messages (test_st
 the field list of ``UavState.msg`` / ``FireEstimate.msg`` is pinned there, so a change to the
 message fails that test instead of being misread here.
 
-The encoding read is the one the fleet sends: XCDR1 little-endian (``PLAIN_CDR``, encapsulation
-``00 01``), as rmw_fastrtps serialises ROS 2 messages. Fields are aligned to their size relative
-to the byte after the 4-byte encapsulation header (OMG DDS-XTypes 1.3, 7.4.1). Anything else
-(another encapsulation, bytes that do not end exactly with the 32-byte ``auth`` field) raises
-:class:`ValueError`, and the node then falls back to ``deserialize_message`` (any encoding
-rclpy reads) or counts the bytes as undecodable.
+The encoding read is the one the fleet sends: XCDR1 little-endian, as rmw_fastrtps serialises
+ROS 2 messages (its layout rules: ``fire_uav_common.cdr``). Anything else (another encapsulation,
+bytes that do not end exactly with the 32-byte ``auth`` field) raises :class:`ValueError`, and
+the node then falls back to ``deserialize_message`` (any encoding rclpy reads) or counts the
+bytes as undecodable. The reader is more lenient than rclpy in one way: it does not decode
+``header.frame_id``, so it does not refuse one that is not UTF-8 (the agent never reads it, and a
+signed state's bytes are covered by its tag).
 
 ROS-free: bytes in, :mod:`peer_link` types out.
 """
@@ -23,6 +24,8 @@ from __future__ import annotations
 
 import struct
 from dataclasses import dataclass
+
+from fire_uav_common.cdr import U32, align4, align8, check_encapsulation, read_string_end
 
 from .peer_link import FireEntry, PeerFires, PeerState
 
@@ -46,13 +49,9 @@ FIREESTIMATE_FIELDS = (
     ("front_y_m", "double"), ("max_spread_rate_mps", "double"),
 )  # fmt: skip
 
-_PLAIN_CDR_LE = b"\x00\x01"  # encapsulation identifier of XCDR1 little-endian
 _STATUS_ACTIVE = 0  # FireEstimate.STATUS_ACTIVE
 _AUTH_BYTES = 32
 _NS_PER_S = 1_000_000_000
-
-_U32 = struct.Struct("<I")
-_HEADER = struct.Struct("<iII")  # stamp.sec, stamp.nanosec, frame_id length (with its NUL)
 _IDS = struct.Struct("<II")  # sequence, step
 _POSE = struct.Struct("<4d")  # x, y, z, yaw; the 16 covariance doubles follow (not read)
 _OBJECTIVE_TAIL = struct.Struct("<if")  # target_fire_id, water_kg
@@ -76,11 +75,6 @@ class WireState:
     fires: PeerFires
 
 
-def _align8(i: int) -> int:
-    """Index ``i`` of the bytes rounded up to 8-byte alignment of the payload (which starts at 4)."""
-    return ((i + 3) & ~7) + 4
-
-
 def read_uav_state(data: bytes | bytearray | memoryview) -> WireState:
     """A serialised ``fire_uav_msgs/UavState`` (as received raw) -> :class:`WireState`.
 
@@ -90,47 +84,43 @@ def read_uav_state(data: bytes | bytearray | memoryview) -> WireState:
     ``last_measurement`` is seconds as ``stamps.stamp_to_s`` computes them).
     """
     n = len(data)
-    if n < 4 or data[0:2] != _PLAIN_CDR_LE:
-        raise ValueError(f"not XCDR1 little-endian CDR (encapsulation {bytes(data[0:2]).hex() or 'missing'})")
+    check_encapsulation(data, "UavState")
     try:
-        _sec, _nsec, frame_len = _HEADER.unpack_from(data, 4)
-        i = 16 + frame_len
-        if frame_len < 1 or i > n:
-            raise ValueError(f"header.frame_id length {frame_len} does not fit in {n} bytes")
+        i = read_string_end(data, 12, "UavState header.frame_id")  # after the stamp (sec, nanosec)
         uav_id = data[i]
-        i = (i + 4) & ~3
+        i = align4(i + 1)
         sequence, step = _IDS.unpack_from(data, i)
-        i = _align8(i + 8)
+        i = align8(i + 8)
         x, y, z, yaw = _POSE.unpack_from(data, i)
         i += 20 * 8  # the pose and the 4x4 covariance
         objective = data[i]
-        i = (i + 4) & ~3
+        i = align4(i + 1)
         target, water = _OBJECTIVE_TAIL.unpack_from(data, i)
-        i = _align8(i + 8)
+        i = align8(i + 8)
         cx, cy = _CENTROID.unpack_from(data, i)
         i += 16
         for _ in range(2):  # alive_peers, crashed_peers: uint8[] (not read: the peer's own view)
-            (k,) = _U32.unpack_from(data, i)
+            (k,) = U32.unpack_from(data, i)
             i += 4 + k
-            i = (i + 3) & ~3
+            i = align4(i)
         i += _COUNTERS.size
-        (k,) = _U32.unpack_from(data, i)
+        (k,) = U32.unpack_from(data, i)
         i += 4
         if i + 2 * k > n:
             raise ValueError(f"sent_per_topic length {k} runs past the end of {n} bytes")
         sent = struct.unpack_from(f"<{k}H", data, i)
         i += 2 * k
         final = data[i]
-        i = (i + 4) & ~3
+        i = align4(i + 1)
         fires_sequence, k = _IDS.unpack_from(data, i)
         i += 8
         if i + _FIRE_MIN_BYTES * k > n:
             raise ValueError(f"fires length {k} runs past the end of {n} bytes")
         fires = []
         for _ in range(k):
-            i = (i + 3) & ~3
+            i = align4(i)
             fire_id, status = _FIRE_HEAD.unpack_from(data, i)
-            i = _align8(i + 5)
+            i = align8(i + 5)
             fx, fy, ext, vx, vy, t_sec, t_nsec, frx, fry, rate = _FIRE_BODY.unpack_from(data, i)
             i += _FIRE_BODY.size
             t_s = (t_sec * _NS_PER_S + t_nsec) / _NS_PER_S

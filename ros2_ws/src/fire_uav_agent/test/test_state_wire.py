@@ -18,6 +18,7 @@ pytest.importorskip("fire_uav_msgs.msg")
 from builtin_interfaces.msg import Time
 from fire_uav_agent.agent_node import _to_peer_fires, _to_peer_state
 from fire_uav_agent.state_wire import FIREESTIMATE_FIELDS, UAVSTATE_FIELDS, read_uav_state
+from fire_uav_agent.testing.compare import same
 from fire_uav_common.auth import Authenticator
 from fire_uav_msgs.msg import FireEstimate, UavState
 from hypothesis import given, settings
@@ -56,11 +57,6 @@ def uav_states(draw) -> UavState:
     return m
 
 
-def _same(a, b) -> bool:
-    """Equal field for field, NaN equal to NaN (repr of a float round-trips it exactly)."""
-    return repr(a) == repr(b)
-
-
 def test_the_message_definitions_are_the_ones_the_reader_reads():
     assert tuple(UavState.get_fields_and_field_types().items()) == UAVSTATE_FIELDS
     assert tuple(FireEstimate.get_fields_and_field_types().items()) == FIREESTIMATE_FIELDS
@@ -72,8 +68,8 @@ def test_read_equals_rclpys_deserialisation(m):
     data = serialize_message(m)
     w = read_uav_state(data)
     ref = deserialize_message(data, UavState)
-    assert _same(w.state, _to_peer_state(ref))
-    assert _same(w.fires, _to_peer_fires(ref))
+    assert same(w.state, _to_peer_state(ref))
+    assert same(w.fires, _to_peer_fires(ref))
     assert (w.uav_id, w.step, w.final) == (ref.uav_id, ref.step, ref.final)
     assert w.sent_per_topic == tuple(ref.sent_per_topic)
     assert all(type(v) is int for v in w.sent_per_topic)
@@ -87,7 +83,7 @@ def test_a_signed_state_reads_as_its_message(m, sender, step):
     auth = Authenticator(bytes(range(32)))
     data = auth.sign_serialized(serialize_message(m), "/fleet/state", sender, step)
     assert data[-32:] != bytes(32)
-    assert _same(read_uav_state(data).state, _to_peer_state(m))
+    assert same(read_uav_state(data).state, _to_peer_state(m))
 
 
 def test_values_come_through_exactly():
