@@ -22,12 +22,9 @@ from fire_uav_common.lockstep import OfflineWindow, offline_uavs, parse_schedule
 from fire_uav_common.scenario import ScenarioError, load_scenario
 from fire_uav_common.stamps import NS_PER_S, stamp_to_ns, to_time_msg
 from fire_uav_msgs.msg import (
-    FireDetection,
     FireTruth,
-    GpsFix,
     MissionEvent,
     PayloadRequest,
-    SensorBundle,
     VehicleTruth,
     WorldTruth,
 )
@@ -40,11 +37,11 @@ from rclpy.node import Node
 from rclpy.serialization import deserialize_message
 from rclpy.task import Future
 from rosgraph_msgs.msg import Clock as ClockMsg
-from sensor_msgs.msg import Imu, Range
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
 from . import viz
+from .bundle_wire import write_sensor_bundle
 from .errors import ConfigError
 from .fires.raster import RasterFireModel
 from .world import Bundle, Command, Event, StepResult, World
@@ -123,7 +120,7 @@ class WorldNode(Node):
         self._waiting_payload: set[int] = set()  # ... whose payload request is not in yet
         self._lost: set[int] = set()  # agents whose process is gone (unscheduled, DDS discovery)
         self._told_crashed: set[int] = set()  # agents sent a bundle saying their vehicle crashed
-        self._sent: dict[int, SensorBundle] = {}  # this step's bundles, to re-send (_check_liveness)
+        self._sent: dict[int, bytes] = {}  # this step's bundles (serialised), to re-send (_check_liveness)
         self._sent_step = 0
         self._wait_since_ns = 0  # [steady ns] when this step's wait began
         self._resent_ns = 0  # [steady ns] when bundles were last re-sent
@@ -522,7 +519,7 @@ class WorldNode(Node):
         self._sent, self._sent_step = {}, r.step
         for uid, b in sorted(r.bundles.items()):
             if uid not in offline:  # an offline agent's computer reads no sensors
-                self._sent[uid] = self._bundle_msg(b)
+                self._sent[uid] = self._bundle_bytes(b)
                 self.pub_sensors[uid].publish(self._sent[uid])
                 if b.vehicle_status == VehicleStatus.CRASHED:
                     self._told_crashed.add(uid)
@@ -536,7 +533,7 @@ class WorldNode(Node):
             ):
                 last = Bundle(v.uav_id, r.step, r.stamp_ns, self.world.control_period_s)
                 last.water_kg, last.vehicle_status = v.water_kg, int(VehicleStatus.CRASHED)
-                self._sent[v.uav_id] = self._bundle_msg(last)
+                self._sent[v.uav_id] = self._bundle_bytes(last)
                 self.pub_sensors[v.uav_id].publish(self._sent[v.uav_id])
                 self._told_crashed.add(v.uav_id)
         self.pub_truth.publish(self._truth_msg(r))
@@ -551,62 +548,9 @@ class WorldNode(Node):
             if isinstance(self.world.fires, RasterFireModel):
                 self.pub_grid.publish(self._grid_msg(r.stamp_ns))
 
-    def _bundle_msg(self, b: Bundle) -> SensorBundle:
-        m = SensorBundle()
-        m.header.stamp = stamp(b.stamp_ns)
-        m.header.frame_id = FRAME
-        m.uav_id = b.uav_id
-        m.step = b.step
-        m.control_period_s = b.control_period_s
-        spec = self.world.scenario.sensors
-        for g in b.gyro:
-            imu = Imu()
-            imu.header.stamp = stamp(g.stamp_ns)
-            imu.header.frame_id = f"uav_{b.uav_id}"
-            imu.orientation_covariance[0] = -1.0
-            imu.linear_acceleration_covariance[0] = -1.0
-            imu.angular_velocity.z = float(g.omega_z_radps)
-            imu.angular_velocity_covariance[8] = spec.gyro.sigma_radps**2
-            m.gyro.append(imu)
-        for a in b.altimeter:
-            rg = Range()
-            rg.header.stamp = stamp(a.stamp_ns)
-            rg.header.frame_id = f"uav_{b.uav_id}"
-            rg.radiation_type = Range.ULTRASOUND
-            rg.field_of_view = 0.5
-            rg.min_range = 0.0
-            rg.max_range = float(a.max_range_m)
-            rg.range = float(a.range_m)
-            m.altimeter.append(rg)
-        for p in b.gps:
-            m.gps.append(
-                GpsFix(
-                    header=self._hdr(p.stamp_ns),
-                    x_m=float(p.x_m),
-                    y_m=float(p.y_m),
-                    variance_m2=float(p.variance_m2),
-                )
-            )
-        for f in b.fires:
-            m.fires.append(
-                FireDetection(
-                    header=self._hdr(f.stamp_ns),
-                    track_id=int(f.track_id),
-                    x_m=float(f.x_m),
-                    y_m=float(f.y_m),
-                    extent_m=float(f.extent_m),
-                    range_m=float(f.range_m),
-                )
-            )
-        m.cells.header = self._hdr(b.stamp_ns)
-        if b.cells is not None:
-            m.cells.cell_size_m = float(b.cells.cell_size_m)
-            m.cells.x_m = b.cells.x_m.astype(float).tolist()
-            m.cells.y_m = b.cells.y_m.astype(float).tolist()
-            m.cells.state = b.cells.state.tobytes()
-        m.water_kg = float(b.water_kg)
-        m.vehicle_status = int(b.vehicle_status)
-        return m
+    def _bundle_bytes(self, b: Bundle) -> bytes:
+        """``b`` as a serialised SensorBundle (``bundle_wire``), published as it is."""
+        return write_sensor_bundle(b, self.world.scenario.sensors.gyro.sigma_radps)
 
     @staticmethod
     def _hdr(ns: int):

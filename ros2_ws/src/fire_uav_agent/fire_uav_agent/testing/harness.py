@@ -57,7 +57,7 @@ def _f32(x: float) -> float:
     return float(np.float32(x))
 
 
-# --- conversions (the harness's counterpart of world_node._bundle_msg and agent_node._to_*) ---
+# --- conversions (the harness's counterpart of world_node._bundle_bytes and agent_node._to_*) ---
 def agent_bundle(b: wsim.Bundle) -> Bundle:
     """World bundle -> agent bundle, as ``SensorBundle`` carries it (stamps [ns] -> [s])."""
     gps = np.array([(ns_to_s(g.stamp_ns), g.x_m, g.y_m) for g in b.gps], dtype=float).reshape(-1, 3)
