@@ -461,6 +461,7 @@ class Supervisor:
         self.first_truth_wall: float | None = None
         self.first_step = 0
         self.cpu_at_first_step: dict[str, float] = {}
+        self.steps_at_sample: dict[str, int] = {}  # sup.steps when each process's CPU was last sampled
         self.pending = signal_plan(args, control_period_s)  # (clock, order, text, uav, signal)
         # the water on board where each fault's window starts (truth of that step: deterministic)
         self.water_watch = sorted(
@@ -719,8 +720,11 @@ def run(args: argparse.Namespace) -> int:
         result["steps_per_wall_s"] = round(stepped / (sup.last_truth_wall - sup.first_truth_wall), 2)
         result["steps_per_wall_s_note"] = "over the stepping phase (first to last truth message)"
         for name, p in result["processes"].items():
-            if name in sup.cpu_at_first_step and stepped > 0:
-                p["cpu_ms_per_step"] = round(1000 * (p["cpu_s"] - sup.cpu_at_first_step[name]) / stepped, 3)
+            # from the first step to the process's last CPU sample, over the steps between them
+            sampled = sup.steps_at_sample.get(name, sup.steps) - 1 - sup.first_step
+            if name in sup.cpu_at_first_step and sampled > 0:
+                cpu_s = summary.proc_stats[name].cpu_s
+                p["cpu_ms_per_step"] = round(1000 * (cpu_s - sup.cpu_at_first_step[name]) / sampled, 3)
     result.update(
         {
             "scenario": scenario.name,
@@ -780,21 +784,26 @@ def _supervise(
     wall0: float,
 ) -> str:
 
+    def sample_all() -> None:
+        for name, child in procs.children.items():
+            st = proc_sample(child.pid)
+            if st is not None:
+                summary.proc_stats[name] = st
+                sup.steps_at_sample[name] = sup.steps
+
     last_sample = 0.0
     while True:
         sup.executor.spin_once(timeout_sec=0.02 if sup.resume_at else 0.1)
         sup.resume_stalled()
         if time.monotonic() - last_sample > 1.0:
             last_sample = time.monotonic()
-            for name, child in procs.children.items():
-                st = proc_sample(child.pid)
-                if st is not None:
-                    summary.proc_stats[name] = st
+            sample_all()
         alive_agents = sum(1 for k in range(uav_count) if procs.children[f"agent_{k}"].alive())
         if sup.steps == 0 and alive_agents < uav_count:
             _fail_on_agent_error_before_start(procs, uav_count)
         progress.show(sup.t_s, summary, uav_count, alive_agents)
         if sup.done:
+            sample_all()  # the CPU at the last step (a fast mission can end between samples)
             return "complete" if summary.complete_success else "time_limit"
         world = procs.children["world"]
         if not world.alive():
