@@ -53,7 +53,16 @@ def _plots(results: dict, out: Path) -> dict[str, str]:
         fig, ax = plt.subplots(figsize=(6, 3.5))
         xs = [r["uavs"] for r in sc]
         ax.plot(xs, [r["steps_per_s"] for r in sc], "o-", label="fleet")
-        ax.plot(xs, [r["skeleton_steps_per_s"] for r in sc], "s--", label="messaging skeleton")
+        ax.plot(
+            xs, [r["skeleton_steps_per_s"] for r in sc], "s--", label="messaging skeleton (the fleet's wire)"
+        )
+        if any(r.get("skeleton_messages_steps_per_s") for r in sc):
+            ax.plot(
+                xs,
+                [r.get("skeleton_messages_steps_per_s") or float("nan") for r in sc],
+                "d-.",
+                label="skeleton, rclpy messages",
+            )
         if any(r.get("skeleton_2msg_steps_per_s") for r in sc):
             ax.plot(
                 xs,
@@ -205,8 +214,10 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
             *_ran_on(r),
             f"Command: `{r['command']}`; {r['mission_time_s']:g} s of mission time per run; the skeleton "
             "has the same processes and topics with no algorithms (`fire_bench.skeleton`) and, like the "
-            'fleet, one peer message per step; "2 peer msgs": the skeleton with the two peer messages per '
-            "step of the protocol before (a UavState and a FireEstimateArray).",
+            "fleet, one peer message per step, read and written as CDR bytes as the fleet's are (since "
+            'session 13); "messages": the same skeleton on rclpy messages (the reference until session '
+            '12); "2 peer msgs": the skeleton with the two peer messages per step of the protocol before '
+            "(a UavState and a FireEstimateArray), on messages.",
             "",
             _table(
                 r["rows"],
@@ -217,6 +228,9 @@ def write_markdown(results: dict, out: Path, md_path: Path) -> None:
                     ("ratio_to_skeleton", "ratio"),
                     ("agent_cpu_ms_per_step", "agent CPU ms/step"),
                     ("skeleton_agent_cpu_ms_per_step", "skeleton agent CPU ms/step"),
+                    ("skeleton_messages_steps_per_s", "skeleton, messages: steps/s"),
+                    ("ratio_to_message_skeleton", "ratio to it"),
+                    ("skeleton_messages_agent_cpu_ms_per_step", "skeleton, messages: agent CPU ms/step"),
                     ("skeleton_2msg_steps_per_s", "skeleton, 2 peer msgs: steps/s"),
                     ("skeleton_2msg_agent_cpu_ms_per_step", "skeleton, 2 peer msgs: agent CPU ms/step"),
                     ("agent_rss_mb", "agent RSS MiB"),

@@ -6,11 +6,17 @@ TwistStamped answering that step (lockstep), ``--steps`` times; prints steps per
 ``agent``: on each bundle publishes a UavState carrying two fires on /fleet/state (the fleet's
 one peer message per step), subscribes to every peer's, and answers with its command. No
 estimation, consensus or control: what is left is the cost of DDS + rclpy for this topology.
-``--peer-messages 2``: the protocol before issue [scale]: a UavState without fires and a
-FireEstimateArray (two fires) on /fleet/fires.
+``--wire bytes`` (the default): the messages travel as the fleet's do (session 13): the world
+writes each bundle as CDR bytes (``fire_world_sim.bundle_wire``) and publishes them raw, an agent
+reads its bundle and every peer state from their bytes (``fire_uav_agent.bundle_wire``,
+``state_wire``) and publishes its state as serialised bytes; signing is left out. ``--wire
+messages``: rclpy messages end to end (bundles of ``sensor_msgs/Imu`` objects, typed takes), the
+skeleton of sessions 9-12.
+``--peer-messages 2``: the protocol before issue [scale] (messages only): a UavState without fires
+and a FireEstimateArray (two fires) on /fleet/fires.
 
-usage: python -m fire_bench.skeleton world --uavs N --steps S
-       python -m fire_bench.skeleton agent --uav-id K --uavs N [--peer-messages 1|2]
+usage: python -m fire_bench.skeleton world --uavs N --steps S [--peer-messages 1|2] [--wire bytes|messages]
+       python -m fire_bench.skeleton agent --uav-id K --uavs N [--peer-messages 1|2] [--wire ...]
 """
 
 from __future__ import annotations
@@ -28,6 +34,7 @@ from fire_uav_common.stamps import s_to_ns, stamp_to_ns, step_to_ns, to_time_msg
 from fire_uav_msgs.msg import FireEstimate, FireEstimateArray, GpsFix, SensorBundle, UavState
 from geometry_msgs.msg import TwistStamped
 from rclpy.node import Node
+from rclpy.serialization import serialize_message
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, Range
 
@@ -36,9 +43,10 @@ PERIOD_NS = s_to_ns(CONTROL_PERIOD_S)
 
 
 class SkeletonWorld(Node):
-    def __init__(self, n: int, steps: int) -> None:
+    def __init__(self, n: int, steps: int, wire: str = "bytes") -> None:
         super().__init__("skeleton_world")
         self.n, self.steps, self.k = n, steps, 0
+        self.as_bytes = wire == "bytes"  # the fleet's wire (module docstring)
         self.clock_pub = topics.publisher(self, topics.CLOCK_SPEC)
         self.sensor_pubs = [topics.publisher(self, topics.SENSORS_SPEC, uav_id=i) for i in range(n)]
         self.answered: set[int] = set()
@@ -85,12 +93,27 @@ class SkeletonWorld(Node):
         for i, pub in enumerate(self.sensor_pubs):
             if only is not None and i not in only:
                 continue
-            b = SensorBundle(uav_id=i, step=self.k, control_period_s=CONTROL_PERIOD_S)
-            b.header.stamp = stamp
-            b.gyro = [Imu() for _ in range(10)]
-            b.altimeter = [Range() for _ in range(2 + self.k % 2)]
-            b.gps = [GpsFix()]
-            pub.publish(b)
+            pub.publish(self._bundle_bytes(i) if self.as_bytes else self._bundle_msg(i, stamp))
+
+    def _bundle_msg(self, i: int, stamp: Time) -> SensorBundle:
+        b = SensorBundle(uav_id=i, step=self.k, control_period_s=CONTROL_PERIOD_S)
+        b.header.stamp = stamp
+        b.gyro = [Imu() for _ in range(10)]
+        b.altimeter = [Range() for _ in range(2 + self.k % 2)]
+        b.gps = [GpsFix()]
+        return b
+
+    def _bundle_bytes(self, i: int) -> bytes:
+        from fire_world_sim.bundle_wire import write_sensor_bundle
+        from fire_world_sim.sensors import AltimeterSample, GpsSample, GyroSample
+        from fire_world_sim.world import Bundle
+
+        t = step_to_ns(self.k, PERIOD_NS)
+        b = Bundle(i, self.k, t, CONTROL_PERIOD_S)
+        b.gyro = [GyroSample(t, 0.0) for _ in range(10)]
+        b.altimeter = [AltimeterSample(t, 0.0, 40.0) for _ in range(2 + self.k % 2)]
+        b.gps = [GpsSample(t, 0.0, 0.0, 9.0)]
+        return write_sensor_bundle(b, 0.3)
 
     def on_cmd(self, i: int, msg: TwistStamped) -> None:
         if stamp_to_ns(msg.header.stamp) != step_to_ns(self.k, PERIOD_NS):
@@ -116,46 +139,60 @@ class SkeletonWorld(Node):
 
 
 class SkeletonAgent(Node):
-    def __init__(self, k: int, n: int, peer_messages: int = 2) -> None:
+    def __init__(self, k: int, n: int, peer_messages: int = 1, wire: str = "bytes") -> None:
         super().__init__("skeleton_agent", namespace=topics.uav_namespace(k))
         self.k, self.seq = k, 0
         self.peer_messages = peer_messages
         self.cmd_pub = topics.publisher(self, topics.CMD_SPEC)
         self.state_pub = topics.publisher(self, topics.FLEET_STATE_SPEC)
         self.fires_pub = topics.publisher(self, topics.FLEET_FIRES_SPEC)
-        topics.subscription(self, topics.SENSORS_SPEC, self.on_bundle)
+        self.as_bytes = wire == "bytes"  # the fleet's wire (module docstring)
+        if self.as_bytes:
+            from fire_uav_agent.bundle_wire import read_sensor_bundle
+            from fire_uav_agent.state_wire import read_uav_state
+
+            self._read_bundle, self._read_state = read_sensor_bundle, read_uav_state
+        topics.subscription(self, topics.SENSORS_SPEC, self.on_bundle, raw=self.as_bytes)
         self.heard = 0
         self.cpu0: float | None = None  # process CPU time at the first bundle [s]
         self.cpu_last = 0.0
         self.bundles = 0
-        topics.subscription(self, topics.FLEET_STATE_SPEC, self.on_peer, drain=True)
+        topics.subscription(self, topics.FLEET_STATE_SPEC, self.on_peer, drain=True, raw=self.as_bytes)
         topics.subscription(self, topics.FLEET_FIRES_SPEC, self.on_peer, drain=True)
 
     def on_peer(self, msg) -> None:
+        if self.as_bytes and isinstance(msg, bytes):
+            self._read_state(msg)  # as the fleet reads every peer state
         self.heard += 1
 
-    def on_bundle(self, b: SensorBundle) -> None:
+    def on_bundle(self, b) -> None:
         if self.cpu0 is None:
             self.cpu0 = time.process_time()
+        if self.as_bytes:
+            wb = self._read_bundle(b)
+            step, stamp = wb.bundle.step, Time(sec=wb.stamp_sec, nanosec=wb.stamp_nanosec)
+        else:
+            step, stamp = b.step, b.header.stamp
         self.bundles += 1
         self.seq += 1
-        s = UavState(uav_id=self.k, sequence=self.seq, step=b.step)
-        s.header.stamp = b.header.stamp
+        s = UavState(uav_id=self.k, sequence=self.seq, step=step)
+        s.header.stamp = stamp
         if self.peer_messages == 1:
             s.fires_sequence = self.seq
             s.fires = [FireEstimate(fire_id=j) for j in range(2)]
-        self.state_pub.publish(s)
-        if self.peer_messages == 2:
+            self.state_pub.publish(serialize_message(s) if self.as_bytes else s)  # the fleet: bytes
+        else:
+            self.state_pub.publish(s)
             f = FireEstimateArray(
                 uav_id=self.k,
                 sequence=self.seq,
-                step=b.step,
+                step=step,
                 fires=[FireEstimate(fire_id=j) for j in range(2)],
             )
-            f.header.stamp = b.header.stamp
+            f.header.stamp = stamp
             self.fires_pub.publish(f)
         c = TwistStamped()
-        c.header.stamp = b.header.stamp
+        c.header.stamp = stamp
         c.twist.linear.x = 50.0
         self.cmd_pub.publish(c)
         self.cpu_last = time.process_time()
@@ -178,14 +215,24 @@ def main(argv: list[str] | None = None) -> int:
         type=int,
         choices=[1, 2],
         default=1,
-        help="agent: peer messages per step (1: UavState with the fires, as the fleet; 2: UavState + FireEstimateArray)",
+        help="peer messages per step (1: UavState with the fires, as the fleet, on the fleet's byte wire; "
+        "2: UavState + FireEstimateArray, as messages)",
+    )
+    p.add_argument(
+        "--wire",
+        choices=["bytes", "messages"],
+        default="bytes",
+        help="bytes: bundles and states read and written as CDR bytes, as the fleet (default); "
+        "messages: rclpy messages end to end",
     )
     a = p.parse_args(argv)
+    if a.peer_messages == 2 and a.wire == "bytes":
+        p.error("--peer-messages 2 (the protocol before issue [scale]) runs on --wire messages only")
     rclpy.init()
     node = (
-        SkeletonWorld(a.uavs, a.steps)
+        SkeletonWorld(a.uavs, a.steps, a.wire)
         if a.role == "world"
-        else SkeletonAgent(a.uav_id, a.uavs, a.peer_messages)
+        else SkeletonAgent(a.uav_id, a.uavs, a.peer_messages, a.wire)
     )
     spin(node, node.report if isinstance(node, SkeletonAgent) else None)
     return 0
