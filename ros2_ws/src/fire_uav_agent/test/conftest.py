@@ -19,3 +19,29 @@ def ros_context():
             yield ctx
         finally:
             rclpy.try_shutdown(context=ctx)
+
+
+@pytest.fixture
+def node_pair(ros_context):
+    """Two nodes of this process on ``ros_context``, each on its own ``LeanExecutor`` as an agent's
+    is: yields ``(sender, receiver, spin)``, ``spin()`` turning both once."""
+    rclpy = pytest.importorskip("rclpy")
+    from fire_uav_common.ros_io import LeanExecutor
+
+    a = rclpy.create_node("sender", context=ros_context)
+    b = rclpy.create_node("receiver", context=ros_context)
+    ea, eb = LeanExecutor(context=ros_context), LeanExecutor(context=ros_context)
+    ea.add_node(a)
+    eb.add_node(b)
+
+    def spin() -> None:
+        ea.spin_once(timeout_sec=0.02)
+        eb.spin_once(timeout_sec=0.02)
+
+    try:
+        yield a, b, spin
+    finally:
+        ea.shutdown()
+        eb.shutdown()
+        a.destroy_node()
+        b.destroy_node()

@@ -16,7 +16,6 @@ rclpy = pytest.importorskip("rclpy")
 
 from fire_uav_common import topics  # noqa: E402
 from fire_uav_common.auth import Authenticator  # noqa: E402
-from fire_uav_common.ros_io import LeanExecutor  # noqa: E402
 from fire_uav_msgs.msg import FireEstimate, UavState  # noqa: E402
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
 
@@ -32,41 +31,26 @@ def _state(k: int) -> UavState:
     return m
 
 
-def test_signed_bytes_arrive_unchanged_and_check(ros_context):
+def test_signed_bytes_arrive_unchanged_and_check(node_pair):
+    a, b, spin = node_pair
     auth = Authenticator(KEY)
-    a = rclpy.create_node("signer", context=ros_context)
-    b = rclpy.create_node("checker", context=ros_context)
-    ea, eb = LeanExecutor(context=ros_context), LeanExecutor(context=ros_context)  # one node each
-    ea.add_node(a)
-    eb.add_node(b)
-
-    def spin() -> None:
-        ea.spin_once(timeout_sec=0.02)
-        eb.spin_once(timeout_sec=0.02)
-
     got: list[bytes] = []
-    try:
-        topics.subscription(b, topics.FLEET_STATE_SPEC, got.append, drain=True, raw=True)
-        pub = topics.publisher(a, topics.FLEET_STATE_SPEC)
-        end = time.monotonic() + 10
-        while pub.get_subscription_count() == 0 and time.monotonic() < end:
-            spin()
-        sent = [
-            auth.sign_serialized(serialize_message(_state(k)), topics.FLEET_STATE_SPEC.name, 2, k)
-            for k in range(40)
-        ]
-        for data in sent:
-            pub.publish(data)
-        end = time.monotonic() + 10
-        while len(got) < len(sent) and time.monotonic() < end:
-            spin()
-        assert got == sent  # byte for byte, in order
-        for k, data in enumerate(got):
-            assert auth.check_serialized(data, topics.FLEET_STATE_SPEC.name, 2, k)
-            m = deserialize_message(data, UavState)
-            assert (m.step, m.sequence, len(m.fires), m.header.frame_id) == (k, k + 1, k % 3, "map"[: k % 4])
-    finally:
-        ea.shutdown()
-        eb.shutdown()
-        a.destroy_node()
-        b.destroy_node()
+    topics.subscription(b, topics.FLEET_STATE_SPEC, got.append, drain=True, raw=True)
+    pub = topics.publisher(a, topics.FLEET_STATE_SPEC)
+    end = time.monotonic() + 10
+    while pub.get_subscription_count() == 0 and time.monotonic() < end:
+        spin()
+    sent = [
+        auth.sign_serialized(serialize_message(_state(k)), topics.FLEET_STATE_SPEC.name, 2, k)
+        for k in range(40)
+    ]
+    for data in sent:
+        pub.publish(data)
+    end = time.monotonic() + 10
+    while len(got) < len(sent) and time.monotonic() < end:
+        spin()
+    assert got == sent  # byte for byte, in order
+    for k, data in enumerate(got):
+        assert auth.check_serialized(data, topics.FLEET_STATE_SPEC.name, 2, k)
+        m = deserialize_message(data, UavState)
+        assert (m.step, m.sequence, len(m.fires), m.header.frame_id) == (k, k + 1, k % 3, "map"[: k % 4])

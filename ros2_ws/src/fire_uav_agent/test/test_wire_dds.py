@@ -1,6 +1,6 @@
 """The byte readers (``state_wire``, ``bundle_wire``) on what Fast DDS actually delivers.
 
-A message published as a message (the world's SensorBundle) reaches a raw subscription padded to
+A message published as a message (as the world published its SensorBundle) reaches a raw subscription padded to
 a multiple of 4 bytes, which ``serialize_message`` does not do: a reader tested only on
 ``serialize_message`` output refused every real bundle (found in a 20-UAV run). Here real rclpy
 and Fast DDS (two nodes of this process), the fleet's topic helpers and QoS, a private context
@@ -20,7 +20,6 @@ from fire_uav_agent.bundle_wire import read_sensor_bundle  # noqa: E402
 from fire_uav_agent.state_wire import read_uav_state  # noqa: E402
 from fire_uav_agent.testing.compare import same  # noqa: E402
 from fire_uav_common import topics  # noqa: E402
-from fire_uav_common.ros_io import LeanExecutor  # noqa: E402
 from fire_uav_msgs.msg import FireDetection, FireEstimate, GpsFix, SensorBundle, UavState  # noqa: E402
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
 from sensor_msgs.msg import Imu, Range  # noqa: E402
@@ -48,41 +47,26 @@ def _state(k: int) -> UavState:
     return m
 
 
-def _round_trip(ros_context, spec, make, count: int, uav_id: int | None) -> list[bytes]:
-    a = rclpy.create_node("sender", context=ros_context)
-    b = rclpy.create_node("receiver", context=ros_context)
-    ea, eb = LeanExecutor(context=ros_context), LeanExecutor(context=ros_context)
-    ea.add_node(a)
-    eb.add_node(b)
-
-    def spin() -> None:
-        ea.spin_once(timeout_sec=0.02)
-        eb.spin_once(timeout_sec=0.02)
-
+def _round_trip(node_pair, spec, make, count: int, uav_id: int | None) -> list[bytes]:
+    a, b, spin = node_pair
     got: list[bytes] = []
-    try:
-        topics.subscription(b, spec, got.append, uav_id=uav_id, raw=True)
-        pub = topics.publisher(a, spec, uav_id=uav_id)
-        end = time.monotonic() + 10
-        while pub.get_subscription_count() == 0 and time.monotonic() < end:
-            spin()
-        for k in range(count):
-            pub.publish(make(k))  # as a message, the way the world publishes its bundles
-            spin()
-        end = time.monotonic() + 10
-        while len(got) < count and time.monotonic() < end:
-            spin()
-    finally:
-        ea.shutdown()
-        eb.shutdown()
-        a.destroy_node()
-        b.destroy_node()
+    topics.subscription(b, spec, got.append, uav_id=uav_id, raw=True)
+    pub = topics.publisher(a, spec, uav_id=uav_id)
+    end = time.monotonic() + 10
+    while pub.get_subscription_count() == 0 and time.monotonic() < end:
+        spin()
+    for k in range(count):
+        pub.publish(make(k))  # as a message, the way the world published its bundles until session 13
+        spin()
+    end = time.monotonic() + 10
+    while len(got) < count and time.monotonic() < end:
+        spin()
     assert len(got) == count
     return got
 
 
-def test_bundles_published_as_messages_read_as_rclpy_reads_them(ros_context):
-    got = _round_trip(ros_context, topics.SENSORS_SPEC, _bundle, 24, uav_id=1)
+def test_bundles_published_as_messages_read_as_rclpy_reads_them(node_pair):
+    got = _round_trip(node_pair, topics.SENSORS_SPEC, _bundle, 24, uav_id=1)
     assert any(len(serialize_message(_bundle(k))) % 4 for k in range(24))  # some need the padding
     for k, data in enumerate(got):
         w = read_sensor_bundle(data)
@@ -90,9 +74,27 @@ def test_bundles_published_as_messages_read_as_rclpy_reads_them(ros_context):
         assert w.bundle.step == k
 
 
-def test_states_published_as_messages_read_as_rclpy_reads_them(ros_context):
-    got = _round_trip(ros_context, topics.FLEET_STATE_SPEC, _state, 12, uav_id=None)
+def test_states_published_as_messages_read_as_rclpy_reads_them(node_pair):
+    got = _round_trip(node_pair, topics.FLEET_STATE_SPEC, _state, 12, uav_id=None)
     for k, data in enumerate(got):
         w = read_uav_state(data)
         assert same(w.state, _to_peer_state(deserialize_message(data, UavState)))
         assert w.step == k
+
+
+def test_bundles_the_world_writes_as_bytes_arrive_as_written(node_pair):
+    """As the world publishes them since session 13: its writer's bytes, published raw."""
+    from fire_world_sim.bundle_wire import write_sensor_bundle
+    from fire_world_sim.sensors import AltimeterSample, GyroSample
+    from fire_world_sim.world import Bundle
+
+    def make(k: int) -> bytes:
+        b = Bundle(1, k, 100_000_000 * (k + 1), 0.1, water_kg=float(k), vehicle_status=1)
+        b.gyro = [GyroSample(10_000_000 * j, 0.01 * j) for j in range(k % 11)]
+        b.altimeter = [AltimeterSample(0, float(j), 40.0) for j in range(k % 3)]
+        return write_sensor_bundle(b, 0.3)
+
+    got = _round_trip(node_pair, topics.SENSORS_SPEC, make, 12, uav_id=1)
+    for k, data in enumerate(got):
+        assert same(read_sensor_bundle(data).bundle, read_sensor_bundle(make(k)).bundle)
+        assert same(read_sensor_bundle(data).bundle, _to_bundle(deserialize_message(data, SensorBundle)))
