@@ -127,6 +127,23 @@ def stage(module: str, tests: list[str], again: bool = False) -> Path:
     return d
 
 
+def built_message_paths() -> list[Path]:
+    """The generated Python of the workspace's message-only packages (no Python sources in src,
+    e.g. fire_uav_msgs), from ``ros2_ws/install`` when the workspace is built; empty otherwise.
+
+    Tests that compare a module with rclpy's (de)serialisation of these types (the byte codecs)
+    then run in the stage instead of skipping. Only message packages: an algorithm package's
+    installed copy would shadow the mutated one. Their C type support (``install/<pkg>/lib``) is
+    put on the tests' library path.
+    """
+    out = []
+    for src in PACKAGE_ROOTS:
+        if (src / src.name).is_dir() or not (src / "msg").is_dir():
+            continue
+        out += sorted((ROOT / "ros2_ws" / "install" / src.name / "lib").glob("python3*/site-packages"))
+    return out
+
+
 def statuses_of(d: Path, module: str, env: dict[str, str]) -> dict[str, str]:
     out = subprocess.run(
         [sys.executable, "-m", "mutmut", "results", "--all", "true"],
@@ -163,6 +180,10 @@ def run(
     pkg_root = package_dir(module).parent
     env = dict(os.environ)
     paths = [str(p) for p in PACKAGE_ROOTS if p != pkg_root] + [str(ROOT / "tests" / "system")]
+    built = built_message_paths()  # the .msg packages' generated Python, if built
+    paths += [str(p) for p in built]
+    libs = [str(p.parents[2]) for p in built]  # their install/<pkg>/lib: the C type support
+    env["LD_LIBRARY_PATH"] = os.pathsep.join([*libs, *filter(None, [env.get("LD_LIBRARY_PATH")])])
     env["PYTHONPATH"] = os.pathsep.join(paths)
     env.setdefault("PYTHONHASHSEED", "0")
     mutmut = [sys.executable, "-m", "mutmut"]

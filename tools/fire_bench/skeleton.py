@@ -47,6 +47,10 @@ class SkeletonWorld(Node):
         super().__init__("skeleton_world")
         self.n, self.steps, self.k = n, steps, 0
         self.as_bytes = wire == "bytes"  # the fleet's wire (module docstring)
+        if self.as_bytes:  # world role only: the world package is imported here, not per bundle
+            from fire_world_sim import bundle_wire, sensors, world
+
+            self._wire, self._sensors, self._world = bundle_wire, sensors, world
         self.clock_pub = topics.publisher(self, topics.CLOCK_SPEC)
         self.sensor_pubs = [topics.publisher(self, topics.SENSORS_SPEC, uav_id=i) for i in range(n)]
         self.answered: set[int] = set()
@@ -104,16 +108,12 @@ class SkeletonWorld(Node):
         return b
 
     def _bundle_bytes(self, i: int) -> bytes:
-        from fire_world_sim.bundle_wire import write_sensor_bundle
-        from fire_world_sim.sensors import AltimeterSample, GpsSample, GyroSample
-        from fire_world_sim.world import Bundle
-
-        t = step_to_ns(self.k, PERIOD_NS)
-        b = Bundle(i, self.k, t, CONTROL_PERIOD_S)
-        b.gyro = [GyroSample(t, 0.0) for _ in range(10)]
-        b.altimeter = [AltimeterSample(t, 0.0, 40.0) for _ in range(2 + self.k % 2)]
-        b.gps = [GpsSample(t, 0.0, 0.0, 9.0)]
-        return write_sensor_bundle(b, 0.3)
+        s, t = self._sensors, step_to_ns(self.k, PERIOD_NS)
+        b = self._world.Bundle(i, self.k, t, CONTROL_PERIOD_S)
+        b.gyro = [s.GyroSample(t, 0.0) for _ in range(10)]
+        b.altimeter = [s.AltimeterSample(t, 0.0, 40.0) for _ in range(2 + self.k % 2)]
+        b.gps = [s.GpsSample(t, 0.0, 0.0, 9.0)]
+        return self._wire.write_sensor_bundle(b, 0.3)
 
     def on_cmd(self, i: int, msg: TwistStamped) -> None:
         if stamp_to_ns(msg.header.stamp) != step_to_ns(self.k, PERIOD_NS):

@@ -87,6 +87,14 @@ def _stamp_s(sec: int, nanosec: int) -> float:
     return (sec * _NS_PER_S + nanosec) / _NS_PER_S  # as stamps.stamp_to_s
 
 
+def _sample_header(data: bytes | bytearray | memoryview, i: int, what: str) -> tuple[float, int]:
+    """A sample's std_msgs/Header starting at (unaligned) index ``i``: (its stamp [s], the index
+    after its frame_id)."""
+    i = align4(i)
+    sec, nanosec = _STAMP.unpack_from(data, i)
+    return _stamp_s(sec, nanosec), read_string_end(data, i + 8, what)
+
+
 def read_sensor_bundle(data: bytes | bytearray | memoryview) -> WireBundle:
     """A serialised ``fire_uav_msgs/SensorBundle`` (as received raw) -> :class:`WireBundle`.
 
@@ -115,40 +123,36 @@ def read_sensor_bundle(data: bytes | bytearray | memoryview) -> WireBundle:
         k, i = count(align4(i), "gyro", _MIN_SAMPLE_BYTES)
         gyro = []
         for _ in range(k):
-            i = align4(i)
-            t_sec, t_nsec = _STAMP.unpack_from(data, i)
-            i = align8(read_string_end(data, i + 8, "Imu header.frame_id"))
-            gyro.append((_stamp_s(t_sec, t_nsec), _F64.unpack_from(data, i + _IMU_OMEGA_Z)[0]))
+            t_s, i = _sample_header(data, i, "Imu header.frame_id")
+            i = align8(i)
+            gyro.append((t_s, _F64.unpack_from(data, i + _IMU_OMEGA_Z)[0]))
             i += 8 * _IMU_DOUBLES
         k, i = count(align4(i), "altimeter", _MIN_SAMPLE_BYTES)
         alt = []
         for _ in range(k):
-            i = align4(i)
-            t_sec, t_nsec = _STAMP.unpack_from(data, i)
-            i = align4(read_string_end(data, i + 8, "Range header.frame_id") + 1)  # after radiation_type
-            alt.append((_stamp_s(t_sec, t_nsec), _F32.unpack_from(data, i + _RANGE_RANGE)[0]))
+            t_s, i = _sample_header(data, i, "Range header.frame_id")
+            i = align4(i + 1)  # after radiation_type
+            alt.append((t_s, _F32.unpack_from(data, i + _RANGE_RANGE)[0]))
             i += 4 * 5
         k, i = count(align4(i), "gps", _MIN_SAMPLE_BYTES)
         gps, gps_var = [], []
         for _ in range(k):
-            i = align4(i)
-            t_sec, t_nsec = _STAMP.unpack_from(data, i)
-            i = align8(read_string_end(data, i + 8, "GpsFix header.frame_id"))
+            t_s, i = _sample_header(data, i, "GpsFix header.frame_id")
+            i = align8(i)
             x, y, var = _GPS.unpack_from(data, i)
-            gps.append((_stamp_s(t_sec, t_nsec), x, y))
+            gps.append((t_s, x, y))
             gps_var.append(var)
             i += _GPS.size
         k, i = count(align4(i), "fires", _MIN_SAMPLE_BYTES)
         fires = []
         for _ in range(k):
-            i = align4(i)
-            t_sec, t_nsec = _STAMP.unpack_from(data, i)
-            i = align4(read_string_end(data, i + 8, "FireDetection header.frame_id"))
-            i = align8(i + 4)  # after track_id
+            t_s, i = _sample_header(data, i, "FireDetection header.frame_id")
+            i = align8(align4(i) + 4)  # after track_id
             x, y, ext, _range = _DETECTION.unpack_from(data, i)
-            fires.append((_stamp_s(t_sec, t_nsec), x, y, ext))
+            fires.append((t_s, x, y, ext))
             i += _DETECTION.size
-        i = align4(read_string_end(data, align4(i) + 8, "FireCells header.frame_id"))
+        _t, i = _sample_header(data, i, "FireCells header.frame_id")
+        i = align4(i)
         (cell_size,) = _F32.unpack_from(data, i)
         k, i = count(i + 4, "cells.x_m", 4)
         cx = np.frombuffer(data, "<f4", k, i)

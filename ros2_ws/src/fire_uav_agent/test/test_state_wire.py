@@ -181,3 +181,65 @@ def test_a_flipped_byte_never_raises_anything_else(m, data):
         read_uav_state(bytes(raw))
     except ValueError:
         pass
+
+
+def _error(data: bytes) -> str:
+    with pytest.raises(ValueError) as e:
+        read_uav_state(data)
+    return str(e.value)
+
+
+def test_the_errors_name_the_type_and_the_field_exactly():
+    data = _sample()
+    assert _error(b"\x00\x00" + data[2:]) == "UavState: not XCDR1 little-endian CDR (encapsulation 0000)"
+    assert _error(data[:18]) == "UavState header.frame_id length 4 does not fit in 18 bytes"
+    n = len(data)
+    assert _error(data + bytes(4)) == (
+        f"UavState of {n + 4} bytes: expected its auth field to end at byte {n + 4}, not {n}"
+    )
+
+
+def _with_count(m: UavState, count_of: bytes, value: int) -> bytes:
+    """``m`` serialised, with the uint32 length just before ``count_of`` (its elements) set to ``value``."""
+    data = bytearray(serialize_message(m))
+    at = bytes(data).index(count_of) - 4
+    data[at : at + 4] = value.to_bytes(4, "little")
+    return bytes(data)
+
+
+def test_lengths_are_bounded_by_the_bytes_left_and_named():
+    m = UavState()
+    m.sent_per_topic = [4660, 22136]  # 0x1234, 0x5678
+    data = serialize_message(m)
+    values = (4660).to_bytes(2, "little") + (22136).to_bytes(2, "little")
+    left = len(data) - (data.index(values))  # bytes from the first value to the end
+    k = left // 2 + 1  # one uint16 more than there are bytes left
+    assert (
+        _error(_with_count(m, values, k))
+        == f"sent_per_topic length {k} runs past the end of {len(data)} bytes"
+    )
+    assert read_uav_state(_with_count(m, values, 2)).sent_per_topic == (4660, 22136)
+    m = UavState(fires_sequence=0x0BADF00D)
+    m.fires = [FireEstimate(fire_id=0x0C0FFEE0)]
+    fires_at = (0x0C0FFEE0).to_bytes(4, "little")
+    assert _error(_with_count(m, fires_at, 10)).startswith("fires length 10 runs past the end of ")
+    assert len(read_uav_state(_with_count(m, fires_at, 1)).fires.fires) == 1
+
+
+def test_a_long_sent_per_topic_reads():
+    m = UavState()
+    m.sent_per_topic = list(range(300))
+    assert read_uav_state(serialize_message(m)).sent_per_topic == tuple(range(300))
+
+
+def test_a_cut_right_after_a_sequence_is_a_truncation():
+    m = UavState()
+    m.sent_per_topic = [4660, 22136]
+    data = serialize_message(m)
+    end = data.index((22136).to_bytes(2, "little")) + 2  # just after the last value
+    assert _error(data[:end]) == f"UavState truncated: {end} bytes"
+    m = UavState()
+    m.fires = [FireEstimate(fire_id=0x0C0FFEE0)]
+    data = serialize_message(m)
+    end = data.index((0x0C0FFEE0).to_bytes(4, "little")) + 77  # the least a fire takes, no padding
+    assert _error(data[:end]) == f"UavState truncated: {end} bytes"

@@ -43,8 +43,9 @@ def pad(buf: bytearray, alignment: int) -> None:
 
 
 def check_encapsulation(data: bytes | bytearray | memoryview, what: str) -> None:
-    """ValueError unless ``data`` starts with the XCDR1 little-endian header."""
-    if len(data) < 4 or data[0:2] != ENCAPSULATION[0:2]:
+    """ValueError unless ``data`` starts with the XCDR1 little-endian identifier (shorter data, too:
+    its slice differs; a header without a payload then fails its reader as truncated)."""
+    if data[0:2] != ENCAPSULATION[0:2]:
         raise ValueError(
             f"{what}: not XCDR1 little-endian CDR (encapsulation {bytes(data[0:2]).hex() or 'missing'})"
         )

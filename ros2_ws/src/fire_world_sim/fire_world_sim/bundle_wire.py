@@ -68,15 +68,15 @@ def write_sensor_bundle(b: Bundle, gyro_sigma_radps: float) -> bytes:
     pad(buf, 8)
     buf += _F64.pack(b.control_period_s)
     own = f"uav_{b.uav_id}".encode() + b"\x00"
-    var_gyro = gyro_sigma_radps**2
-    lin_cov = (-1.0, *([0.0] * 8))
+    # angular_velocity_covariance (var at [8]), linear_acceleration (0), its covariance (-1: none)
+    imu_tail = _IMU_TAIL.pack(*([0.0] * 8), gyro_sigma_radps**2, 0.0, 0.0, 0.0, -1.0, *([0.0] * 8))
     _count(buf, len(b.gyro))
     for g in b.gyro:
         _header(buf, g.stamp_ns, own)
         pad(buf, 8)
         buf += _IMU_HEAD
         buf += _F64.pack(float(g.omega_z_radps))
-        buf += _IMU_TAIL.pack(*([0.0] * 8), var_gyro, 0.0, 0.0, 0.0, *lin_cov)
+        buf += imu_tail
     _count(buf, len(b.altimeter))
     for a in b.altimeter:
         _header(buf, a.stamp_ns, own)
@@ -103,10 +103,10 @@ def write_sensor_bundle(b: Bundle, gyro_sigma_radps: float) -> bytes:
     else:
         buf += _F32.pack(float(c.cell_size_m))
         for xs in (c.x_m, c.y_m):
-            v = np.asarray(xs, dtype=np.float64).astype("<f4")  # as rclpy: double -> float32
+            v = np.asarray(xs, dtype="<f4")  # as rclpy: any float -> float32, rounded to nearest
             buf += U32.pack(v.size) + v.tobytes()
-        s = np.asarray(c.state, dtype=np.uint8)
-        buf += U32.pack(s.size) + s.tobytes()
+        s = c.state.tobytes()  # uint8 (CellsSample), its bytes as they are
+        buf += U32.pack(len(s)) + s
     pad(buf, 4)
     buf += _F32.pack(float(b.water_kg))
     buf.append(int(b.vehicle_status))

@@ -162,3 +162,11 @@ def test_a_hand_built_bundle():
 def test_a_negative_stamp_is_refused_by_name():
     with pytest.raises(ValueError, match="stamp must be >= 0 ns, got -1"):
         write_sensor_bundle(Bundle(0, 0, -1, 0.1), 0.3)
+
+
+def test_float64_cell_centres_are_rounded_to_float32_as_the_message_type_does():
+    """As the reference's float32[] conversion in rclpy (the world's own are float32 already)."""
+    x = np.array([0.1, 1e-3, 12345.678])
+    c = CellsSample(5, 2.5, x, -x, np.array([0, 1, 2], dtype=np.uint8))
+    b = Bundle(0, 1, 5, 0.1, cells=c)
+    _same(deserialize_message(write_sensor_bundle(b, 0.3), SensorBundle), reference_bundle_msg(b, 0.3))
