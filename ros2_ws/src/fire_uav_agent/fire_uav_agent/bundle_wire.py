@@ -171,16 +171,17 @@ def read_sensor_bundle(data: bytes | bytearray | memoryview) -> WireBundle:
     cells = None
     if len(cx) > 0 and len(cx) == len(cy) == len(cs):
         cells = (cx.astype(float), cy.astype(float), cs.astype(np.int64))
+    # the rows are Python floats (struct), so float64 arrays; an empty list too, in its shape
     bundle = Bundle(
         step=step,
         stamp_s=_stamp_s(sec, nsec),
         samples=Samples(
-            np.array(gps, dtype=float).reshape(-1, 3),
+            np.array(gps).reshape(-1, 3),
             np.array(gps_var, dtype=float),
-            np.array(alt, dtype=float).reshape(-1, 2),
-            np.array(gyro, dtype=float).reshape(-1, 2),
+            np.array(alt).reshape(-1, 2),
+            np.array(gyro).reshape(-1, 2),
         ),
-        fires=np.array(fires, dtype=float).reshape(-1, 4),
+        fires=np.array(fires).reshape(-1, 4),
         water_kg=water,
         vehicle=vehicle,
         control_period_s=period,

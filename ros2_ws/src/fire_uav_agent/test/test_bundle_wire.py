@@ -178,3 +178,68 @@ def test_the_padding_dds_adds_is_accepted_and_nothing_more():
     assert same(read_sensor_bundle(data + bytes(3)).bundle, read_sensor_bundle(data).bundle)
     with pytest.raises(ValueError, match="4 bytes left after vehicle_status"):
         read_sensor_bundle(data + bytes(4))
+
+
+def _error(data: bytes) -> str:
+    with pytest.raises(ValueError) as e:
+        read_sensor_bundle(data)
+    return str(e.value)
+
+
+def _set_u32(data: bytes, at: int, value: int) -> bytes:
+    return data[:at] + value.to_bytes(4, "little") + data[at + 4 :]
+
+
+# an empty bundle with frame "map" (89 bytes): where its counts are (fire_uav_common.cdr's layout)
+_COUNTS = {
+    "gyro": 36,
+    "altimeter": 40,
+    "gps": 44,
+    "fires": 48,
+    "cells.x_m": 72,
+    "cells.y_m": 76,
+    "cells.state": 80,
+}
+
+
+@pytest.mark.parametrize("name", list(_COUNTS))
+def test_a_count_past_the_end_is_named_exactly(name):
+    m = SensorBundle()
+    m.header.frame_id = "map"
+    data = serialize_message(m)
+    assert len(data) == 89 and read_sensor_bundle(data).bundle.cells is None
+    got = _error(_set_u32(data, _COUNTS[name], 10**6))
+    assert got == f"SensorBundle {name} length 1000000 runs past the end of 89 bytes"
+
+
+@pytest.mark.parametrize("field", ["x_m", "y_m"])
+def test_cell_coordinates_near_the_end_read(field):
+    """20 float32 with the other cell arrays empty: the count's bound is 4 bytes an element."""
+    m = SensorBundle()
+    setattr(m.cells, field, [float(j) for j in range(20)])
+    data = serialize_message(m)
+    ref = deserialize_message(data, SensorBundle)
+    assert same(read_sensor_bundle(data).bundle, _to_bundle(ref))
+
+
+def test_a_cut_right_after_the_cell_centres_is_a_truncation():
+    m = SensorBundle()
+    m.cells.x_m = [1.0, 2.0]
+    data = serialize_message(m)
+    end = data.index(np.array([1.0, 2.0], "<f4").tobytes()) + 8
+    assert _error(data[:end]) == f"SensorBundle truncated: {end} bytes"
+
+
+@pytest.mark.parametrize("kind", ["SensorBundle", "Imu", "Range", "GpsFix", "FireDetection", "FireCells"])
+def test_a_frame_id_past_the_end_names_its_message(kind):
+    m = SensorBundle()
+    sample = {"Imu": Imu(), "Range": Range(), "GpsFix": GpsFix(), "FireDetection": FireDetection()}.get(kind)
+    header = {"SensorBundle": m.header, "FireCells": m.cells.header}.get(kind) or sample.header
+    header.frame_id = "frame_of_" + kind
+    if sample is not None:
+        {"Imu": m.gyro, "Range": m.altimeter, "GpsFix": m.gps, "FireDetection": m.fires}[kind].append(sample)
+    data = serialize_message(m)
+    text = ("frame_of_" + kind).encode() + b"\x00"
+    end = data.index(text) + len(text)  # the string's end
+    got = _error(data[: end - 1])
+    assert got == f"{kind} header.frame_id length {len(text)} does not fit in {end - 1} bytes"
