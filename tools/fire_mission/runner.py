@@ -704,7 +704,9 @@ def run(args: argparse.Namespace) -> int:
             print("\n[run_mission] Ctrl-C: ending every process", file=sys.stderr)
         finally:
             progress.close()
-            codes = procs.stop_all(first=[*agents, "world"])
+            # publishers first, so the recorder (and a Foxglove bridge) take their last messages;
+            # the perimeter viewer publishes the recorded /viz/perimeter
+            codes = procs.stop_all(first=[*agents, "world", "perimeter_viewer"])
             if sup is not None:
                 # drain what is still in flight (final states, events)
                 end = time.monotonic() + 0.5

@@ -10,6 +10,8 @@ Parameters (all read once at start-up):
 - ``discovery_period_wall_s`` (0.5): how often the graph is polled for new topics [s, wall].
 - ``flush_period_wall_s`` (1.0): how often the open MCAP chunk is written out [s, wall];
   a SIGKILL loses at most this much.
+- ``stop_drain_wall_s`` (2.0): at a stop, the longest the recorder goes on taking what is still
+  queued [s, wall], in [0, 60] (a bound for publishers that go on publishing).
 - ``compress`` (true): zstd-compressed MCAP chunks.
 - ``use_sim_time`` (true): bag timestamps are sim time (``/clock``) at receipt.
 - ``stamp_wall_epoch`` (false): add the wall-clock epoch of the recorder's start (whole
@@ -19,18 +21,38 @@ Parameters (all read once at start-up):
   time).
 
 Messages are stamped with the node clock at receipt (sim time by default). A topic of
-``fire_uav_common.topics`` is subscribed with its spec's QoS (depth at least 100, so a burst
-is not dropped while the bag is flushed); any other topic with the QoS its publishers offer
+``fire_uav_common.topics`` is subscribed with its spec's QoS (depth at least 1000,
+``ros_io.MIN_DEPTH``, so a burst is not dropped while the recorder is held up: its start-up
+discovery, a flush, a busy CPU); any other topic with the QoS its publishers offer
 (rosbag2's adaptive rule). Either way the subscription is made compatible with every offered
 profile: best effort if a publisher is, volatile unless every publisher is transient local.
+
+Keeping up: at 20 UAVs ``/fleet/state`` and ``/tf`` each get ~20 messages per step. The node
+spins on the project's :class:`fire_uav_common.ros_io.LeanExecutor` (wait set built once, not
+rebuilt in Python over ~90 subscriptions at every wake) and every subscription is drained (one
+callback takes the topic's whole queue, ``topics.drain_queue``); with rclpy's executor, one
+message per topic per wake, the recorder fell ever further behind (2026-12: 804 of 3000
+``/fleet/state`` messages of a 20-UAV, 150-step mission).
+
+Stopping: SIGINT/SIGTERM only count (rclpy's own signal handlers are not installed: they shut
+the context down at once and, for SIGINT, raise ``KeyboardInterrupt`` in whatever runs, a bag
+write included). The spin loop sees the signal within :data:`STOP_POLL_WALL_S`; then every
+message still queued in a subscription is taken and written
+(:meth:`~fire_uav_recording.ros_io.RawTopicFollower.take_queued`: until nothing has come for
+0.1 s, at most ``stop_drain_wall_s``; a second signal cuts it short), the count is logged
+(``stop: took N queued messages ...``), and the bag is closed. Over the memory budget at a
+stop the chunk is flushed rather than a message dropped. A SIGKILL loses what the last
+``flush_period_wall_s`` wrote, as before.
 """
 
 from __future__ import annotations
 
 import datetime as _dt
 import re
+import signal
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
 from importlib import metadata as _im
@@ -38,6 +60,7 @@ from pathlib import Path
 
 import rclpy
 from fire_uav_common import topics
+from fire_uav_common.ros_io import make_executor
 from fire_uav_common.stamps import NS_PER_S
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
@@ -45,6 +68,7 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
+from rclpy.signals import SignalHandlerOptions
 from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 
 import fire_uav_recording as rec
@@ -61,6 +85,7 @@ from fire_uav_recording.ros_io import (  # noqa: F401  (re-exported: the recorde
 
 DEFAULT_TOPICS = topics.recorded_patterns()
 _INF_SEC, _INF_NSEC = rec.INFINITE_DURATION  # rosbag2 Jazzy's spelling of an infinite duration
+STOP_POLL_WALL_S = 0.1  # [s, wall] longest wait between a stop signal and the spin loop seeing it
 
 
 class RecorderConfigError(ValueError):
@@ -78,6 +103,7 @@ class RecorderConfig:
     discovery_period_wall_s: float
     flush_period_wall_s: float
     compress: bool
+    stop_drain_wall_s: float
     stamp_wall_epoch: bool
     max_pending_bytes: int = 64 * 2**20  # [B] written since the last flush before messages are dropped
 
@@ -137,6 +163,7 @@ class RecorderNode(Node):
         )
         self._writer.open()
         self._closed = False
+        self._stopping = False  # taking what is queued at a stop: flush rather than drop
         self.messages_written = 0
         self.messages_dropped: dict[str, int] = {}  # per topic, over the memory budget (a flood)
         self._pending_bytes = 0  # [B] written since the last flush
@@ -162,6 +189,7 @@ class RecorderNode(Node):
         self.declare_parameter("exclude", [""], ro)
         self.declare_parameter("discovery_period_wall_s", 0.5, ro)
         self.declare_parameter("flush_period_wall_s", 1.0, ro)
+        self.declare_parameter("stop_drain_wall_s", 2.0, ro)
         self.declare_parameter("compress", True, ro)
         self.declare_parameter("stamp_wall_epoch", False, ro)
         self.declare_parameter("max_pending_mib", 64, nonneg)
@@ -176,6 +204,7 @@ class RecorderNode(Node):
                 "exclude",
                 "discovery_period_wall_s",
                 "flush_period_wall_s",
+                "stop_drain_wall_s",
                 "compress",
                 "stamp_wall_epoch",
                 "max_pending_mib",
@@ -193,6 +222,10 @@ class RecorderNode(Node):
         for name in ("discovery_period_wall_s", "flush_period_wall_s"):
             if not 0.01 <= float(p[name]) <= 60.0:
                 raise RecorderConfigError(f"parameter {name}: must be in [0.01, 60] s, got {p[name]}")
+        if not 0.0 <= float(p["stop_drain_wall_s"]) <= 60.0:
+            raise RecorderConfigError(
+                f"parameter stop_drain_wall_s: must be in [0, 60] s, got {p['stop_drain_wall_s']}"
+            )
         include = [t for t in p["topics"] if t]
         if not include:
             raise RecorderConfigError("parameter topics: empty; nothing would be recorded")
@@ -206,6 +239,7 @@ class RecorderNode(Node):
             discovery_period_wall_s=float(p["discovery_period_wall_s"]),
             flush_period_wall_s=float(p["flush_period_wall_s"]),
             compress=bool(p["compress"]),
+            stop_drain_wall_s=float(p["stop_drain_wall_s"]),
             stamp_wall_epoch=bool(p["stamp_wall_epoch"]),
             max_pending_bytes=int(p["max_pending_mib"]) * 2**20,
         )
@@ -240,7 +274,9 @@ class RecorderNode(Node):
     def _on_message(self, conn: object, data: bytes) -> None:
         if self._closed:
             return
-        if self._pending_bytes + len(data) > self.config.max_pending_bytes:
+        if self._pending_bytes + len(data) > self.config.max_pending_bytes and self._stopping:
+            self._flush()  # the last messages (take_queued): write the chunk out rather than drop
+        elif self._pending_bytes + len(data) > self.config.max_pending_bytes:
             # a flood: drop with a counted warning rather than let the chunk buffer grow
             topic = getattr(conn, "topic", "?")
             self.messages_dropped[topic] = self.messages_dropped.get(topic, 0) + 1
@@ -259,6 +295,23 @@ class RecorderNode(Node):
             self._writer.flush()
             self._pending_bytes = 0
 
+    def take_queued(self, cancelled: Callable[[], bool] = lambda: False) -> int:
+        """At a stop: write every message still queued in a subscription (at most
+        ``stop_drain_wall_s``, until ``cancelled()``), log how many; returns the count."""
+        if self._closed:
+            return 0
+        self._stopping = True
+        t0 = time.monotonic()
+        taken, empty = self._follower.take_queued(self.config.stop_drain_wall_s, cancelled)
+        n = sum(taken.values())
+        busiest = ", ".join(f"{t} {k}" for t, k in sorted(taken.items(), key=lambda tk: -tk[1])[:5])
+        why = "the queues are empty" if empty else "cut short (time cap or a second signal): more may be lost"
+        # not the node's logger: the context may be shut down already (an external shutdown)
+        rclpy.logging.get_logger("recorder").info(
+            f"stop: took {n} queued messages in {time.monotonic() - t0:.3f} s ({busiest or 'none'}); {why}"
+        )
+        return n
+
     def close_bag(self) -> None:
         """Write the MCAP summary/footer and the final metadata.yaml. Idempotent."""
         if self._closed:
@@ -272,24 +325,52 @@ class RecorderNode(Node):
         )
 
 
+class StopSignals:
+    """SIGINT/SIGTERM as a count: the handler only counts (it runs between two Python bytecodes,
+    so it must not raise in the middle of a bag write, as rclpy's handlers would)."""
+
+    def __init__(self) -> None:
+        self.count = 0
+
+    def __call__(self, signum: int, frame: object) -> None:
+        self.count += 1
+
+    def install(self) -> None:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, self)
+
+
 def main(args: list[str] | None = None) -> int:
     """Run the recorder until SIGINT/SIGTERM; 0 on a clean stop, 1 on a configuration or bag error."""
-    rclpy.init(args=args)
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    stop = StopSignals()
+    stop.install()
     node: RecorderNode | None = None
+    executor = None
     rc = 0
     try:
         node = RecorderNode()
-        rclpy.spin(node)
+        executor = make_executor()
+        executor.add_node(node)
+        while not stop.count:
+            executor.spin_once(timeout_sec=STOP_POLL_WALL_S)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except (RecorderConfigError, rec.BagError) as err:
         rclpy.logging.get_logger("recorder").error(str(err))
         rc = 1
-    except Exception:  # a signal may shut the context down in the middle of a wait: that is a stop too
+    except Exception:  # the context shut down (not by a signal) in the middle of a wait: a stop too
         if rclpy.ok():
             raise
     finally:
+        if executor is not None:
+            executor.shutdown()
         if node is not None:
+            try:
+                node.take_queued(cancelled=lambda: stop.count > 1)
+            except Exception as err:  # the bag is closed all the same
+                rclpy.logging.get_logger("recorder").error(f"taking the queued messages failed: {err}")
+                rc = 1
             try:
                 node.close_bag()
             except Exception as err:

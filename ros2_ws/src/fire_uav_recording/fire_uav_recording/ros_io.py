@@ -7,6 +7,9 @@ and the same ``ros2msg`` schema text, so they live here once.
 - :class:`RawTopicFollower` polls the graph; for each new topic that ``wants(topic)`` and that
   has a publisher (whose QoS it must match) it makes the type known to the rosbags typestore,
   calls ``on_topic(RawTopic)`` and subscribes with ``raw=True`` to the handler that returns.
+  Every subscription is drained (``topics.drain_queue``: one callback takes the topic's whole
+  queue, as ``/fleet/state`` and ``/tf`` get ~20 messages per step at 20 UAVs), and
+  :meth:`RawTopicFollower.take_queued` hands over what is still queued when the consumer stops.
 - :func:`subscription_qos` is the QoS rule: the spec's QoS for a fleet topic (depth at least
   :data:`MIN_DEPTH`), rosbag2's adaptive rule for any other, relaxed to match every publisher.
 - :func:`schema_text` is the ``ros2msg`` text of a type (the message definition and every
@@ -17,8 +20,10 @@ from __future__ import annotations
 
 import importlib
 import re
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from fire_uav_common import topics
 from rclpy.node import Node
@@ -29,6 +34,7 @@ import fire_uav_recording as rec
 
 __all__ = [
     "MIN_DEPTH",
+    "STOP_QUIET_WALL_S",
     "RawTopic",
     "RawTopicFollower",
     "message_class",
@@ -37,7 +43,12 @@ __all__ = [
     "subscription_qos",
 ]
 
-MIN_DEPTH = 100  # queue depth floor per topic [messages]
+# queue depth floor per topic [messages]: ~3 s of /tf at 20 UAVs (21 publishers, ~21 messages per
+# step at ~15 steps/s), which a recorder held up by its start-up discovery or by a flush on two
+# busy cores must not overflow (at 100, a 20-UAV mission lost the /tf of ~2 steps at each hold-up)
+MIN_DEPTH = 1000
+STOP_QUIET_WALL_S = 0.1  # [s, wall] RawTopicFollower.take_queued ends once nothing came for this long
+_QUIET_POLL_WALL_S = 0.005  # [s, wall] between its passes over the subscriptions while waiting so
 
 
 def compile_patterns(
@@ -127,7 +138,8 @@ class RawTopicFollower:
 
     ``on_topic(topic)`` returns the handler of the topic's CDR bytes, or ``None`` to skip it.
     Topics that cannot be subscribed (several types, no definition, not importable) are logged
-    once and skipped.
+    once and skipped. Each subscription's callback takes the handler's message and then the rest
+    of the topic's queue (``topics.drain_queue``), in arrival order.
     """
 
     def __init__(
@@ -141,7 +153,8 @@ class RawTopicFollower:
         self._wants = wants
         self._typestore = typestore
         self._on_topic = on_topic
-        self.subscriptions: dict[str, object] = {}
+        self.subscriptions: dict[str, Any] = {}
+        self._handlers: dict[str, Callable[[bytes], None]] = {}
         self._skipped: set[str] = set()
 
     def discover(self) -> None:
@@ -174,11 +187,50 @@ class RawTopicFollower:
             if handler is None:
                 self._skipped.add(topic)
                 continue
-            self.subscriptions[topic] = node.create_subscription(cls, topic, handler, qos, raw=True)
+            sub = node.create_subscription(cls, topic, handler, qos, raw=True)
+            self.subscriptions[topic] = topics.drain_queue(sub)
+            self._handlers[topic] = handler
             node.get_logger().info(
                 f"following {topic} [{ros_type}] ({qos.reliability.name.lower()}, "
                 f"{qos.durability.name.lower()})"
             )
+
+    def take_queued(
+        self,
+        cap_wall_s: float,
+        cancelled: Callable[[], bool] = lambda: False,
+        quiet_wall_s: float = STOP_QUIET_WALL_S,
+    ) -> tuple[dict[str, int], bool]:
+        """Hand every message still queued in a followed subscription to its handler (at a stop).
+
+        Passes over every subscription, taking each queue until it is empty, until no message
+        has come for ``quiet_wall_s`` [s, wall] (one a publisher sent just before it stopped may
+        still be on its way into the reader history), ``cap_wall_s`` [s, wall] has passed
+        (publishers that go on publishing) or ``cancelled()``. Needs no executor and works
+        after the context is shut down (the DDS reader histories live as long as the
+        subscriptions). Returns the messages taken per topic (topics with none left out) and
+        whether the queues were found empty and quiet (not cut short).
+        """
+        t0 = time.monotonic()
+        end, last = t0 + cap_wall_s, t0
+        taken: dict[str, int] = {}
+        while True:
+            for topic, sub in self.subscriptions.items():
+                handler = self._handlers[topic]
+                while True:
+                    now = time.monotonic()
+                    if now >= end or cancelled():
+                        return taken, False
+                    with sub.handle:
+                        got = sub.handle.take_message(sub.msg_type, sub.raw)
+                    if got is None:
+                        break
+                    handler(got[0])
+                    taken[topic] = taken.get(topic, 0) + 1
+                    last = now
+            if time.monotonic() - last >= quiet_wall_s:
+                return taken, True
+            time.sleep(_QUIET_POLL_WALL_S)
 
     def _skip(self, topic: str, why: str) -> None:
         self._skipped.add(topic)
