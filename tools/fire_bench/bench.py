@@ -339,7 +339,11 @@ def bench_faults(quick: bool) -> Sweep:
     return Sweep(specs, reduce)
 
 
-def _skeleton(n: int, steps: int, peer_messages: int = 1, wire: str = "bytes") -> dict:
+def _skeleton(
+    n: int, steps: int, peer_messages: int = 1, wire: str = "bytes", fidelity: str = "full"
+) -> dict:
+    """One run of the messaging skeleton (``fire_bench.skeleton``): its world's step rate, the agents'
+    CPU per step and RSS; ``fidelity`` full also starts the runner's stand-in (``supervisor``)."""
     from fire_mission.procs import ProcessGroup, claim_domain
     from fire_mission.procstat import sample
 
@@ -352,12 +356,16 @@ def _skeleton(n: int, steps: int, peer_messages: int = 1, wire: str = "bytes") -
             g.start(
                 f"agent_{k}",
                 [sys.executable, "-m", "fire_bench.skeleton", "agent", "--uav-id", str(k), "--uavs", str(n)]
-                + ["--peer-messages", str(peer_messages), "--wire", wire],
+                + ["--peer-messages", str(peer_messages), "--wire", wire, "--fidelity", fidelity],
+            )
+        if fidelity == "full":
+            g.start(
+                "supervisor", [sys.executable, "-m", "fire_bench.skeleton", "supervisor", "--uavs", str(n)]
             )
         w = g.start(
             "world",
             [sys.executable, "-m", "fire_bench.skeleton", "world", "--uavs", str(n), "--steps", str(steps)]
-            + ["--peer-messages", str(peer_messages), "--wire", wire],
+            + ["--peer-messages", str(peer_messages), "--wire", wire, "--fidelity", fidelity],
         )
         stats: dict = {}
         t_end = time.monotonic() + 600
@@ -392,48 +400,42 @@ SCALE_DURATION_S: float | None = None  # --scale-duration
 def bench_scale(quick: bool) -> dict:
     """Lockstep step rate, CPU and memory per process for N UAVs, against the messaging skeleton
     (the same sizes in the same run): 3-30 UAVs (full), 3/5/10 (quick) or ``--scale-sizes``. The
-    skeleton runs three times per size: with the fleet's one peer message per step on the fleet's
-    byte wire (the ratio's reference since session 13), the same as rclpy messages (the reference
-    of sessions 9-12), and with the two messages of the protocol before issue [scale]."""
+    skeleton runs twice per size: with the fleet's processes, topics and protocol (``--fidelity
+    full``, the ratio's reference since session 14; ``tests/system/test_skeleton_fidelity.py``
+    holds it to the fleet's traffic) and as the minimal skeleton of sessions 9-13 (bundles, one
+    unsigned state, the command; the ratio's reference then)."""
     sizes = SCALE_SIZES or ([3, 5, 10] if quick else [3, 5, 10, 14, 20, 30])
     duration = SCALE_DURATION_S or (15.0 if quick else 30.0)
     rows = []
     for n in sizes:
-        log(f"scale: skeleton with {n} UAVs")
+        log(f"scale: skeleton with {n} UAVs (the fleet's processes, topics and protocol)")
         sk = _skeleton(n, int(duration * 10))
-        log(f"scale: skeleton with {n} UAVs, as rclpy messages (the reference of sessions 9-12)")
-        skm = _skeleton(n, int(duration * 10), wire="messages")
-        log(f"scale: skeleton with {n} UAVs, two peer messages per step (the protocol before)")
-        sk2 = _skeleton(n, int(duration * 10), peer_messages=2, wire="messages")
+        log(f"scale: minimal skeleton with {n} UAVs (the reference of sessions 9-13)")
+        skm = _skeleton(n, int(duration * 10), fidelity="minimal")
         log(f"scale: fleet with {n} UAVs for {duration:g} s of mission time")
         probe = machine_probe()
         r = mission("ff_two_fires", "--uavs", str(n), "--seed", "1", "--max-duration", str(duration))
         procs = r.get("processes", {})
         agents = [v for k, v in procs.items() if k.startswith("agent")]
         rate = r.get("steps_per_wall_s")
+        world_ms = procs.get("world", {}).get("cpu_ms_per_step")
+        sk_rate = sk.get("steps_per_s")
         rows.append(
             {
                 "uavs": n,
                 "steps_per_s": rate,
-                "skeleton_steps_per_s": sk.get("steps_per_s"),
-                "slowdown_vs_skeleton": (sk["steps_per_s"] / rate)
-                if rate and sk.get("steps_per_s")
-                else None,
-                "ratio_to_skeleton": (rate / sk["steps_per_s"]) if rate and sk.get("steps_per_s") else None,
+                "skeleton_steps_per_s": sk_rate,
+                "ratio_to_skeleton": (rate / sk_rate) if rate and sk_rate else None,
                 "agent_cpu_ms_per_step": _mean([a.get("cpu_ms_per_step") for a in agents]),
                 "skeleton_agent_cpu_ms_per_step": sk.get("agent_cpu_ms_per_step"),
-                # the skeleton on rclpy messages, as the ratio's reference was until session 12
-                "skeleton_messages_steps_per_s": skm.get("steps_per_s"),
-                "ratio_to_message_skeleton": (rate / skm["steps_per_s"])
+                "skeleton_minimal_steps_per_s": skm.get("steps_per_s"),
+                "ratio_to_minimal_skeleton": (rate / skm["steps_per_s"])
                 if rate and skm.get("steps_per_s")
                 else None,
-                "skeleton_messages_agent_cpu_ms_per_step": skm.get("agent_cpu_ms_per_step"),
-                # the skeleton with the two peer messages per step of the protocol before [scale]
-                "skeleton_2msg_steps_per_s": sk2.get("steps_per_s"),
-                "skeleton_2msg_agent_cpu_ms_per_step": sk2.get("agent_cpu_ms_per_step"),
-                # bundles sent again (lost): bytes, messages, two messages
-                "skeleton_resends": [sk.get("resends"), skm.get("resends"), sk2.get("resends")],
-                "world_cpu_ms_per_step": procs.get("world", {}).get("cpu_ms_per_step"),
+                "skeleton_minimal_agent_cpu_ms_per_step": skm.get("agent_cpu_ms_per_step"),
+                # bundles sent again (lost): full, minimal
+                "skeleton_resends": [sk.get("resends"), skm.get("resends")],
+                "world_cpu_ms_per_step": world_ms,
                 "agent_rss_mb": _mean([a["rss_mb"] for a in agents]),
                 "skeleton_agent_rss_mb": sk.get("agent_rss_mb_mean"),
                 "world_cpu_s": procs.get("world", {}).get("cpu_s"),
