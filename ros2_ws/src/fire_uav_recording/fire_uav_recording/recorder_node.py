@@ -3,11 +3,14 @@
 Parameters (all read once at start-up):
 - ``output`` (string, required): bag directory to create; an existing path is an error.
 - ``scenario_file`` (string): scenario YAML, stored verbatim in the bag's metadata.
-- ``seed`` (int >= 0), ``uav_count`` (int >= 0): stored in the bag's metadata.
+- ``seed`` (int >= 0): stored in the bag's metadata.
+- ``uav_count`` (int in [0, 255]): stored in the bag's metadata; the per-vehicle topics of
+  vehicles ``0 .. uav_count - 1`` are subscribed up front (below).
 - ``topics`` (string[]): regular expressions; a topic is recorded if one matches it fully.
   Default: every recorded topic of ``fire_uav_common.topics`` (``recorded_patterns()``).
 - ``exclude`` (string[]): regular expressions of topics never recorded.
-- ``discovery_period_wall_s`` (0.5): how often the graph is polled for new topics [s, wall].
+- ``discovery_period_wall_s`` (0.5): how often the graph is polled for new topics and for the
+  publishers of the up-front ones [s, wall].
 - ``flush_period_wall_s`` (1.0): how often the open MCAP chunk is written out [s, wall];
   a SIGKILL loses at most this much.
 - ``stop_drain_wall_s`` (2.0): at a stop, the longest the recorder goes on taking what is still
@@ -22,10 +25,37 @@ Parameters (all read once at start-up):
 
 Messages are stamped with the node clock at receipt (sim time by default). A topic of
 ``fire_uav_common.topics`` is subscribed with its spec's QoS (depth at least 1000,
-``ros_io.MIN_DEPTH``, so a burst is not dropped while the recorder is held up: its start-up
-discovery, a flush, a busy CPU); any other topic with the QoS its publishers offer
-(rosbag2's adaptive rule). Either way the subscription is made compatible with every offered
-profile: best effort if a publisher is, volatile unless every publisher is transient local.
+``ros_io.MIN_DEPTH``, so a burst is not dropped while the recorder is held up: its start-up,
+a flush, a busy CPU); any other topic with the QoS its publishers offer (rosbag2's adaptive
+rule), made compatible with every profile offered when it was found: best effort if a
+publisher is, volatile unless every publisher is transient local.
+
+Start-up: the world starts stepping once ``/world/truth`` has ``wait_for_subscribers``
+subscribers (recorder and runner) and every agent said AGENT_READY. Nothing waits for the
+recorder's other subscriptions, and one made only when the graph poll finds its publisher misses
+what that publisher sent before (2026-12: a 20-UAV mission began while the recorder was still
+subscribing to ~90 topics; ~40 per-vehicle topics lost their first 1-7 steps). So before
+anything else the recorder subscribes to every fleet topic it can name (:func:`up_front_topics`:
+``fire_uav_common.topics.ALL_TOPICS``, the per-vehicle ones for vehicles ``0 .. uav_count - 1``,
+those ``topics``/``exclude`` want) with the spec's QoS, as
+:func:`~fire_uav_recording.ros_io.subscription_qos` gives it for the fleet's own publishers, and
+``/world/truth`` last: DDS announces a participant's endpoints in the order they are made, so a
+world that sees the recorder on ``/world/truth`` has matched its other subscriptions too (the
+agents, started after the recorder, match them while they wait for each other's AGENT_READY).
+Other topics (foreign names, vehicles beyond ``uav_count``) are subscribed when the poll finds a
+publisher, as before. Same 20-UAV mission, two runs: no step missing on any per-vehicle topic.
+
+An up-front topic gets its bag connection when the poll first shows a publisher of it or its
+first message comes, whichever is first; its ``offered_qos_profiles`` are those of the
+publishers the graph shows then (none yet: what a fleet publisher offers,
+``ros_io.fleet_offered_qos``). So, as before, a topic nobody publishes on has no connection and
+one with publishers but no message an empty one. The subscription keeps the fleet's QoS: a
+publisher it cannot match (best effort on a reliable topic, volatile on a transient local one,
+another type) is not recorded; the recorder names it in a warning when the topic gets its
+connection, rclpy's incompatible-QoS event names later ones (the adaptive rule, too, relaxes
+only for the publishers there when a topic is found). Re-subscribing with a laxer QoS would
+lose or duplicate the fleet publishers' messages during the switch, and the lean executor
+cannot have a subscription destroyed from a callback.
 
 Keeping up: at 20 UAVs ``/fleet/state`` and ``/tf`` each get ~20 messages per step. The node
 spins on the project's :class:`fire_uav_common.ros_io.LeanExecutor` (wait set built once, not
@@ -77,6 +107,7 @@ from fire_uav_recording.ros_io import (  # noqa: F401  (re-exported: the recorde
     RawTopic,
     RawTopicFollower,
     compile_patterns,
+    fleet_topic_names,
     message_class,
     spec_of,
     subscription_qos,
@@ -86,6 +117,7 @@ from fire_uav_recording.ros_io import (  # noqa: F401  (re-exported: the recorde
 DEFAULT_TOPICS = topics.recorded_patterns()
 _INF_SEC, _INF_NSEC = rec.INFINITE_DURATION  # rosbag2 Jazzy's spelling of an infinite duration
 STOP_POLL_WALL_S = 0.1  # [s, wall] longest wait between a stop signal and the spin loop seeing it
+MAX_UAV_COUNT = 255  # vehicle ids are uint8 (the scenario's uavs.count has the same bound)
 
 
 class RecorderConfigError(ValueError):
@@ -123,6 +155,16 @@ def software_version() -> str:
     return "; ".join(parts)
 
 
+def up_front_topics(uav_count: int) -> list[str]:
+    """The fleet topics the recorder subscribes to before anything else, in that order: every
+    name of ``fire_uav_common.topics`` in a fleet of ``uav_count`` vehicles, ``/world/truth``
+    last (the world starts stepping once it sees the recorder on ``/world/truth``; DDS announces
+    the recorder's subscriptions in the order they are made, so by then it has matched the others
+    too)."""
+    names = fleet_topic_names(uav_count)
+    return [t for t in names if t != topics.WORLD_TRUTH] + [t for t in names if t == topics.WORLD_TRUTH]
+
+
 def to_bag_qos(profile: QoSProfile) -> Qos:
     """rclpy QoS profile -> rosbags Qos (the enums share rmw's numbering)."""
 
@@ -146,7 +188,8 @@ def to_bag_qos(profile: QoSProfile) -> Qos:
 
 
 class RecorderNode(Node):
-    """Subscribes raw to every mission topic as it appears and writes it into one MCAP bag."""
+    """Subscribes raw to every mission topic (the fleet's at once, others as they appear) and
+    writes it into one MCAP bag."""
 
     def __init__(self) -> None:
         super().__init__(
@@ -157,7 +200,6 @@ class RecorderNode(Node):
         self.config = self._read_config()
         self._typestore = rec.fleet_typestore()
         self._offset_ns = (time.time_ns() // NS_PER_S) * NS_PER_S if self.config.stamp_wall_epoch else 0
-        self._follower = RawTopicFollower(self, self.config.wants, self._typestore, self._on_topic)
         self._writer = rec.BagWriter(
             self.config.output, custom_data=self._custom_data(), compress=self.config.compress
         )
@@ -167,6 +209,10 @@ class RecorderNode(Node):
         self.messages_written = 0
         self.messages_dropped: dict[str, int] = {}  # per topic, over the memory budget (a flood)
         self._pending_bytes = 0  # [B] written since the last flush
+        self._follower = RawTopicFollower(self, self.config.wants, self._typestore, self._on_topic)
+        # before anything else the world waits for: see up_front_topics
+        n = self._follower.follow(up_front_topics(self.config.uav_count))
+        self.get_logger().info(f"subscribed to {n} fleet topics up front ({self.config.uav_count} UAVs)")
         wall = Clock(clock_type=ClockType.STEADY_TIME)
         self._discovery_timer = self.create_timer(
             self.config.discovery_period_wall_s, self._discover, clock=wall
@@ -219,6 +265,10 @@ class RecorderNode(Node):
             )
         if p["scenario_file"] and not Path(str(p["scenario_file"])).is_file():
             raise RecorderConfigError(f"parameter scenario_file: {p['scenario_file']} is not a readable file")
+        if int(p["uav_count"]) > MAX_UAV_COUNT:
+            raise RecorderConfigError(
+                f"parameter uav_count: must be <= {MAX_UAV_COUNT} (uint8 ids), got {p['uav_count']}"
+            )
         for name in ("discovery_period_wall_s", "flush_period_wall_s"):
             if not 0.01 <= float(p[name]) <= 60.0:
                 raise RecorderConfigError(f"parameter {name}: must be in [0.01, 60] s, got {p[name]}")
@@ -259,7 +309,8 @@ class RecorderNode(Node):
 
     # --- discovery and recording ---------------------------------------------------------
     def _discover(self) -> None:
-        """Subscribe to every wanted topic that has publishers and is not yet recorded."""
+        """Subscribe to every wanted topic that has publishers and is not yet recorded; give the
+        up-front ones whose publishers appeared their connection."""
         self._follower.discover()
 
     def _on_topic(self, topic: RawTopic):
@@ -320,7 +371,7 @@ class RecorderNode(Node):
         self._writer.close()
         # not the node's logger: after a signal the context is gone and rosout would complain
         rclpy.logging.get_logger("recorder.bag").info(
-            f"closed {self.config.output}: {self.messages_written} messages on {len(self._follower.subscriptions)} topics"
+            f"closed {self.config.output}: {self.messages_written} messages on {len(self._follower.announced)} topics"
             f"; dropped over the memory budget: {self.messages_dropped or 'none'}"
         )
 

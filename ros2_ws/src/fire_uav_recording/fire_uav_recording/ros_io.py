@@ -7,6 +7,10 @@ and the same ``ros2msg`` schema text, so they live here once.
 - :class:`RawTopicFollower` polls the graph; for each new topic that ``wants(topic)`` and that
   has a publisher (whose QoS it must match) it makes the type known to the rosbags typestore,
   calls ``on_topic(RawTopic)`` and subscribes with ``raw=True`` to the handler that returns.
+  :meth:`RawTopicFollower.follow` subscribes at once to fleet topics named in advance (the
+  recorder's, from its ``uav_count``), so a publisher's first messages are not lost while the
+  graph is polled; such a topic is announced (``on_topic``) when the graph first shows a
+  publisher of it or its first message comes, whichever is first.
   Every subscription is drained (``topics.drain_queue``: one callback takes the topic's whole
   queue, as ``/fleet/state`` and ``/tf`` get ~20 messages per step at 20 UAVs), and
   :meth:`RawTopicFollower.take_queued` hands over what is still queued when the consumer stops.
@@ -21,13 +25,16 @@ from __future__ import annotations
 import importlib
 import re
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
+import rclpy
 from fire_uav_common import topics
+from rclpy.duration import Infinite
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSProfile, ReliabilityPolicy
 from rosbags.typesys.store import Typestore
 
 import fire_uav_recording as rec
@@ -37,6 +44,8 @@ __all__ = [
     "STOP_QUIET_WALL_S",
     "RawTopic",
     "RawTopicFollower",
+    "fleet_offered_qos",
+    "fleet_topic_names",
     "message_class",
     "schema_text",
     "spec_of",
@@ -67,6 +76,18 @@ def compile_patterns(
 def topic_wanted(topic: str, include: Sequence[re.Pattern[str]], exclude: Sequence[re.Pattern[str]]) -> bool:
     """Whether ``topic`` full-matches an include pattern and no exclude pattern (recorder, bridge)."""
     return any(p.fullmatch(topic) for p in include) and not any(p.fullmatch(topic) for p in exclude)
+
+
+def fleet_topic_names(uav_count: int) -> list[str]:
+    """Every absolute name of ``topics.ALL_TOPICS`` in a fleet of ``uav_count`` vehicles, in the
+    table's order (each per-vehicle spec expanded for vehicles ``0 .. uav_count - 1``)."""
+    out: list[str] = []
+    for spec in topics.ALL_TOPICS:
+        if spec.per_uav:
+            out.extend(spec.for_uav(k) for k in range(uav_count))
+        else:
+            out.append(spec.name)
+    return out
 
 
 def spec_of(topic: str) -> topics.TopicSpec | None:
@@ -103,6 +124,32 @@ def subscription_qos(offered: list[QoSProfile], spec: topics.TopicSpec | None = 
     )
 
 
+def _matches(sub: QoSProfile, pub: QoSProfile) -> bool:
+    """Whether a subscription of QoS ``sub`` matches a publisher offering ``pub`` (reliability
+    and durability: a reliable subscription needs a reliable publisher, a transient local one a
+    transient local publisher)."""
+    if sub.reliability == ReliabilityPolicy.RELIABLE and pub.reliability != ReliabilityPolicy.RELIABLE:
+        return False
+    transient = DurabilityPolicy.TRANSIENT_LOCAL
+    return sub.durability != transient or pub.durability == transient
+
+
+def fleet_offered_qos(spec: topics.TopicSpec) -> QoSProfile:
+    """The QoS a fleet publisher of ``spec`` offers, as the graph shows it (DDS announces no
+    history and depth: unknown, 0; infinite deadline, lifespan and lease, as rmw gives them)."""
+    want = spec.qos()
+    return QoSProfile(
+        history=HistoryPolicy.UNKNOWN,
+        depth=0,
+        reliability=want.reliability,
+        durability=want.durability,
+        deadline=Infinite,
+        lifespan=Infinite,
+        liveliness=LivelinessPolicy.AUTOMATIC,
+        liveliness_lease_duration=Infinite,
+    )
+
+
 def message_class(ros_type: str) -> type:
     """``pkg/msg/Name`` -> the generated Python class (ImportError/AttributeError if not installed).
 
@@ -133,10 +180,32 @@ class RawTopic:
     qos: QoSProfile  # the subscription's
 
 
-class RawTopicFollower:
-    """Subscribes raw to every wanted topic once it has a publisher (poll with :meth:`discover`).
+class _Relay:
+    """The callback of a subscription made before its topic was announced: ``target`` is first
+    the follower's announcement (which points it at the consumer's handler), then that handler."""
 
-    ``on_topic(topic)`` returns the handler of the topic's CDR bytes, or ``None`` to skip it.
+    __slots__ = ("target",)
+
+    def __init__(self, target: Callable[[bytes], None]) -> None:
+        self.target = target
+
+    def __call__(self, data: bytes) -> None:
+        self.target(data)
+
+
+def _ignore(data: bytes) -> None:
+    """A relay's target once its consumer declined the topic (the subscription stays: it cannot
+    be destroyed from a callback of the executor that may be about to take from it)."""
+
+
+class RawTopicFollower:
+    """Subscribes raw to every wanted topic once it has a publisher (poll with :meth:`discover`),
+    and at once to the fleet topics given to :meth:`follow`.
+
+    ``on_topic(topic)`` returns the handler of the topic's CDR bytes, or ``None`` to skip it; it
+    is called once per topic, when the topic is announced: when discovery finds it with a
+    publisher, or for a topic of :meth:`follow`, when the graph first shows a publisher of it or
+    its first message comes, whichever is first (a topic nobody publishes is never announced).
     Topics that cannot be subscribed (several types, no definition, not importable) are logged
     once and skipped. Each subscription's callback takes the handler's message and then the rest
     of the topic's queue (``topics.drain_queue``), in arrival order.
@@ -150,17 +219,56 @@ class RawTopicFollower:
         on_topic: Callable[[RawTopic], Callable[[bytes], None] | None],
     ) -> None:
         self._node = node
+        self._name = node.get_name()
         self._wants = wants
         self._typestore = typestore
         self._on_topic = on_topic
         self.subscriptions: dict[str, Any] = {}
         self._handlers: dict[str, Callable[[bytes], None]] = {}
         self._skipped: set[str] = set()
+        self._pending: dict[str, tuple[_Relay, topics.TopicSpec]] = {}  # by follow(), not announced yet
+        self._other_types: set[str] = set()  # topics of follow() with publishers of another type (warned)
+        self.announced: dict[str, RawTopic] = {}  # what on_topic was given (and took)
+
+    def follow(self, names: Iterable[str]) -> int:
+        """Subscribe now, in the order given, to each topic of ``names`` that has a spec in
+        ``fire_uav_common.topics`` and that ``wants``; returns how many subscriptions were made.
+
+        Each gets the spec's type and QoS, as :func:`subscription_qos` gives it for publishers
+        that offer the spec's own QoS (every fleet publisher: ``topics.publisher``), so a
+        publisher's first messages are in its history even before the graph shows that
+        publisher (DDS announces a participant's endpoints in the order they are made: a node
+        that sees the last of them has matched the others too). The subscription keeps that QoS:
+        a publisher it cannot match (best effort on a reliable topic, volatile on a transient
+        local one) is named in a warning when the topic is announced, and later ones by rclpy's
+        incompatible-QoS event, as for any subscription. Names already followed, foreign names
+        and unwanted ones are passed over (discovery finds foreign topics as before).
+        """
+        made = 0
+        for topic in names:
+            if topic in self.subscriptions or topic in self._skipped or not self._wants(topic):
+                continue
+            spec = spec_of(topic)
+            if spec is None:
+                continue  # a foreign name: discovery finds it
+            cls = self._message_class(topic, spec.type, spec)
+            if cls is None:
+                continue
+            qos = subscription_qos([spec.qos()], spec)
+            relay = _Relay(partial(self._first_message, topic))
+            self._subscribe(topic, cls, relay, qos)
+            self._pending[topic] = (relay, spec)
+            made += 1
+        return made
 
     def discover(self) -> None:
-        """Subscribe to every wanted topic that has publishers and is not yet followed."""
+        """Subscribe to every wanted topic that has publishers and is not yet followed; announce
+        the topics of :meth:`follow` whose publishers have appeared."""
         node = self._node
         for topic, types in node.get_topic_names_and_types():
+            if topic in self._pending:
+                self._discover_pending(topic)
+                continue
             if topic in self.subscriptions or topic in self._skipped or not self._wants(topic):
                 continue
             pubs = node.get_publishers_info_by_topic(topic)
@@ -173,27 +281,104 @@ class RawTopicFollower:
             spec = spec_of(topic)
             if spec is not None and spec.type != ros_type:
                 spec = None  # someone publishes another type under a fleet name: take it as it is
-            if not rec.ensure_type(self._typestore, ros_type):
-                self._skip(topic, f"type {ros_type} has no .msg definition in AMENT_PREFIX_PATH")
-                continue
-            try:
-                cls = spec.msg_class() if spec is not None else message_class(ros_type)
-            except (ImportError, AttributeError, ValueError) as err:
-                self._skip(topic, f"type {ros_type} not importable: {err}")
+            cls = self._message_class(topic, ros_type, spec)
+            if cls is None:
                 continue
             offered = tuple(p.qos_profile for p in pubs)
             qos = subscription_qos(list(offered), spec)
-            handler = self._on_topic(RawTopic(topic, ros_type, spec, offered, qos))
+            raw = RawTopic(topic, ros_type, spec, offered, qos)
+            handler = self._on_topic(raw)
             if handler is None:
                 self._skipped.add(topic)
                 continue
-            sub = node.create_subscription(cls, topic, handler, qos, raw=True)
-            self.subscriptions[topic] = topics.drain_queue(sub)
-            self._handlers[topic] = handler
-            node.get_logger().info(
-                f"following {topic} [{ros_type}] ({qos.reliability.name.lower()}, "
-                f"{qos.durability.name.lower()})"
+            self._subscribe(topic, cls, handler, qos)
+            self.announced[topic] = raw
+            self._log_following(raw)
+
+    def _message_class(self, topic: str, ros_type: str, spec: topics.TopicSpec | None) -> type | None:
+        """The class to subscribe ``topic`` with, its type known to the typestore; ``None``
+        (logged once, the topic skipped) if it has no definition or cannot be imported."""
+        if not rec.ensure_type(self._typestore, ros_type):
+            self._skip(topic, f"type {ros_type} has no .msg definition in AMENT_PREFIX_PATH")
+            return None
+        try:
+            return spec.msg_class() if spec is not None else message_class(ros_type)
+        except (ImportError, AttributeError, ValueError) as err:
+            self._skip(topic, f"type {ros_type} not importable: {err}")
+            return None
+
+    def _subscribe(self, topic: str, cls: type, handler: Callable[[bytes], None], qos: QoSProfile) -> None:
+        sub = self._node.create_subscription(cls, topic, handler, qos, raw=True)
+        self.subscriptions[topic] = topics.drain_queue(sub)
+        self._handlers[topic] = handler
+
+    def _discover_pending(self, topic: str) -> None:
+        """Announce a topic of :meth:`follow` once the graph shows a publisher of its type."""
+        pubs = self._node.get_publishers_info_by_topic(topic)
+        ros_type = self._pending[topic][1].type
+        if any(p.topic_type == ros_type for p in pubs):
+            self._announce(topic, pubs)
+        elif pubs and topic not in self._other_types:
+            self._other_types.add(topic)
+            types = sorted({p.topic_type for p in pubs})
+            self._logger().warning(
+                f"not recording the publishers of {topic}: they publish {types}; it was subscribed "
+                f"before they appeared, with the fleet's type {ros_type}"
             )
+
+    def _first_message(self, topic: str, data: bytes) -> None:
+        """A topic of :meth:`follow` got its first message before discovery saw a publisher:
+        announce it with the publishers the graph shows now, then hand the message over."""
+        try:
+            pubs = self._node.get_publishers_info_by_topic(topic)
+        except Exception:  # the context is shut down (take_queued at a stop): the spec's QoS is assumed
+            pubs = []
+        handler = self._announce(topic, pubs)
+        if handler is not None:
+            handler(data)
+
+    def _announce(self, topic: str, pubs: Sequence[Any]) -> Callable[[bytes], None] | None:
+        """Hand a topic of :meth:`follow` to ``on_topic``: ``offered`` is the QoS of the
+        publishers of its type in ``pubs`` (if there are none yet, what every fleet publisher
+        offers: :func:`fleet_offered_qos`); warn of those publishers the subscription cannot match."""
+        relay, spec = self._pending.pop(topic)
+        sub = self.subscriptions[topic]
+        ours = [p for p in pubs if p.topic_type == spec.type]
+        unmatched = [
+            f"{p.node_namespace.rstrip('/')}/{p.node_name} ({p.topic_type}, "
+            f"{p.qos_profile.reliability.name.lower()}, {p.qos_profile.durability.name.lower()})"
+            for p in pubs
+            if p.topic_type != spec.type or not _matches(sub.qos_profile, p.qos_profile)
+        ]
+        if unmatched:
+            self._logger().warning(
+                f"not recording the publishers of {topic} {unmatched}: it was subscribed before they "
+                f"appeared, with the fleet's type {spec.type} and QoS "
+                f"({sub.qos_profile.reliability.name.lower()}, {sub.qos_profile.durability.name.lower()}), "
+                "which they do not offer"
+            )
+        offered = tuple(p.qos_profile for p in ours) or (fleet_offered_qos(spec),)
+        raw = RawTopic(topic, spec.type, spec, offered, sub.qos_profile)
+        handler = self._on_topic(raw)
+        if handler is None:
+            relay.target = _ignore
+            self._skipped.add(topic)
+            return None
+        relay.target = handler
+        self.announced[topic] = raw
+        self._log_following(raw, "" if ours else "; no publisher on the graph yet: the fleet's QoS assumed")
+        return handler
+
+    def _log_following(self, topic: RawTopic, note: str = "") -> None:
+        self._logger().info(
+            f"following {topic.name} [{topic.ros_type}] ({topic.qos.reliability.name.lower()}, "
+            f"{topic.qos.durability.name.lower()}){note}"
+        )
+
+    def _logger(self) -> Any:
+        """The node's logger; rclpy's of the same name once the context is shut down (a stop),
+        whose rosout would complain."""
+        return self._node.get_logger() if self._node.context.ok() else rclpy.logging.get_logger(self._name)
 
     def take_queued(
         self,
