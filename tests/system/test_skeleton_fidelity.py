@@ -61,7 +61,10 @@ def _run_skeleton(procs, ros_env: dict[str, str]) -> None:
     for k in range(UAVS):
         procs.start(f"sk_agent_{k}", [*base, "agent", "--uav-id", str(k), "--uavs", str(UAVS)])
     procs.start("sk_supervisor", [*base, "supervisor", "--uavs", str(UAVS)])
-    w = procs.start("sk_world", [*base, "world", "--uavs", str(UAVS), "--steps", str(STEPS)])
+    # the world starts once the supervisor and the probe hear /world/truth (the probe subscribes to it
+    # last), else the probe can miss the first steps of a skeleton that starts faster than the fleet
+    world = [*base, "world", "--uavs", str(UAVS), "--steps", str(STEPS), "--wait-for-subscribers", "2"]
+    w = procs.start("sk_world", world)
     t_end = time.monotonic() + 120
     while w.alive() and time.monotonic() < t_end:
         time.sleep(0.2)

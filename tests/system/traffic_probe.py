@@ -31,7 +31,10 @@ class Probe(Node):
         self.bytes: dict[str, int] = defaultdict(int)
         self.senders: dict[str, set[str]] = defaultdict(set)
         self.names: dict[str, str] = {}  # topic name -> its spec's pattern
-        for spec in topics.ALL_TOPICS:
+        # /world/truth last: DDS announces a participant's endpoints in the order they are made, so a
+        # world that waits for this subscriber on /world/truth starts once all the others are known
+        last = [topics.WORLD_TRUTH_SPEC]
+        for spec in [t for t in topics.ALL_TOPICS if t not in last] + last:
             q = spec.qos()
             qos = QoSProfile(
                 depth=max(q.depth, 1000), reliability=q.reliability, durability=DurabilityPolicy.VOLATILE

@@ -103,9 +103,12 @@ def _markers(stamp: Time, specs: list[tuple[str, int, int, int]]) -> MarkerArray
 
 
 class SkeletonWorld(Node):
-    def __init__(self, n: int, steps: int, wire: str = "bytes", full: bool = False) -> None:
+    def __init__(
+        self, n: int, steps: int, wire: str = "bytes", full: bool = False, truth_subscribers: int = 1
+    ) -> None:
         super().__init__("skeleton_world")
         self.n, self.steps, self.k = n, steps, 0
+        self.truth_subscribers = truth_subscribers  # as the world's wait_for_subscribers (the runner: 1)
         self.full = full
         self.as_bytes = wire == "bytes"  # the fleet's wire (module docstring)
         if self.as_bytes:  # world role only: the world package is imported here, not per bundle
@@ -147,7 +150,7 @@ class SkeletonWorld(Node):
         if (
             all(p.get_subscription_count() > 0 for p in self.sensor_pubs)
             and all(self.count_publishers(answer.for_uav(i)) > 0 for i in range(self.n))
-            and (not self.full or self.truth_pub.get_subscription_count() > 0)  # the runner's
+            and (not self.full or self.truth_pub.get_subscription_count() >= self.truth_subscribers)
         ):
             self.started = True
             self.t0 = time.monotonic()
@@ -493,16 +496,25 @@ def main(argv: list[str] | None = None) -> int:
         help="bytes: bundles and states read and written as CDR bytes, as the fleet (default); "
         "messages: rclpy messages end to end",
     )
+    p.add_argument(
+        "--wait-for-subscribers",
+        type=int,
+        default=1,
+        help="world, full fidelity: start once /world/truth has this many subscribers (the runner's: 1; "
+        "a test's probe that subscribes to /world/truth last makes 2)",
+    )
     a = p.parse_args(argv)
     if a.peer_messages == 2 and a.wire == "bytes":
         p.error("--peer-messages 2 (the protocol before issue [scale]) runs on --wire messages only")
+    if a.wait_for_subscribers < 1:
+        p.error(f"--wait-for-subscribers must be >= 1, got {a.wait_for_subscribers}")
     full = a.fidelity == "full"
     if full and (a.wire != "bytes" or a.peer_messages != 1):
         p.error("--fidelity full is the fleet's protocol: --wire bytes and --peer-messages 1 only")
     rclpy.init()
     node: Node
     if a.role == "world":
-        node = SkeletonWorld(a.uavs, a.steps, a.wire, full)
+        node = SkeletonWorld(a.uavs, a.steps, a.wire, full, a.wait_for_subscribers)
     elif a.role == "agent":
         node = SkeletonAgent(a.uav_id, a.uavs, a.peer_messages, a.wire, full)
     else:
