@@ -16,7 +16,7 @@ import pytest
 from fire_mission.inprocess import main, run_inprocess
 
 ROOT = Path(__file__).resolve().parents[1]
-SHORT = {"timing.max_duration_s": 20.0}  # 200 steps of the raster fire
+SHORT = {"timing.max_duration_s": 8.0}  # 80 steps of the raster fire
 
 
 def _world_alone(scenario: str, seed: int | None, overrides: dict) -> float:
@@ -32,13 +32,20 @@ def _world_alone(scenario: str, seed: int | None, overrides: dict) -> float:
     return area
 
 
-def test_zero_uavs_burns_the_fire_alone() -> None:
-    d = run_inprocess("grass_running", uavs=0, seed=1, overrides=SHORT)
+@pytest.mark.parametrize(
+    "scenario",
+    [
+        "monitor_grass",  # a raster fire that grows from its ignition: cheap to set up
+        pytest.param("grass_running", marks=pytest.mark.slow),  # pre-burnt: ~3 s to set up each time
+    ],
+)
+def test_zero_uavs_burns_the_fire_alone(scenario: str) -> None:
+    d = run_inprocess(scenario, uavs=0, seed=1, overrides=SHORT)
     assert d["uav_count"] == 0
     assert d["drops_total"] == 0 and d["landed"] == [] and d["packets_received"] == 0
-    assert d["burned_area_m2"] == pytest.approx(_world_alone("grass_running", 1, SHORT), abs=0.0)
+    assert d["burned_area_m2"] == pytest.approx(_world_alone(scenario, 1, SHORT), abs=0.0)
     assert d["burned_area_m2"] > 0
-    assert d["mission_time_s"] == pytest.approx(20.0)
+    assert d["mission_time_s"] == pytest.approx(8.0)
 
 
 def test_no_uavs_argument_flies_the_scenarios_fleet() -> None:
@@ -53,7 +60,7 @@ def test_command_line_zero_uavs(tmp_path: Path) -> None:
     out = tmp_path / "s.json"
     code = main(
         [
-            "grass_running",
+            "monitor_grass",
             "--uavs",
             "0",
             "--seed",
@@ -83,7 +90,7 @@ def test_process_runner_burns_the_same_area(tmp_path: Path, ros_env: dict[str, s
     """scripts/run_mission grass_running --uavs 0 over DDS: the in-process run's burned area."""
     r = subprocess.run(
         [sys.executable, "-m", "fire_mission.runner", "grass_running", "--uavs", "0", "--seed", "1"]
-        + ["--max-duration", "20", "--out", str(tmp_path / "run"), "--quiet", "--no-record", "--no-report"],
+        + ["--max-duration", "8", "--out", str(tmp_path / "run"), "--quiet", "--no-record", "--no-report"],
         env=ros_env,
         capture_output=True,
         text=True,
