@@ -9,7 +9,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from fire_bench import bench
+from fire_bench import bench, markdown
 from fire_bench.markdown import render
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -45,8 +45,8 @@ def docs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     d = tmp_path / "docs"
     shutil.copytree(DOCS / "bench", d / "bench")
     shutil.copyfile(DOCS / "benchmarks.md", d / "benchmarks.md")
-    monkeypatch.setattr(bench, "DOCS", d)
-    monkeypatch.setattr(bench, "RUNS", tmp_path / "runs")
+    monkeypatch.setattr(markdown, "DOCS", d)
+    monkeypatch.setattr(markdown, "RUNS", tmp_path / "runs")
     monkeypatch.setitem(bench.BENCHES, "dummy", (lambda quick: {"figure": 3.5}, 0.1, 0.1, "a stand-in"))
     return d
 

@@ -35,6 +35,7 @@ from pathlib import Path
 import yaml
 from fire_mission.cli import OneLineParser
 
+from fire_bench import markdown as page
 from fire_bench.sweep import (
     DaskExecutor,
     Executor,
@@ -49,8 +50,6 @@ from fire_bench.sweep import (
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout: tools/<package>/<module>.py
 SCEN_DIR = ROOT / "ros2_ws/src/fire_world_sim/scenarios"
-DOCS = ROOT / "docs"  # the committed page (benchmarks.md), its results and notes (bench/)
-RUNS = ROOT / "runs"  # where a benchmark writes unless told otherwise (not committed)
 
 # FF Table I: fleet size -> (mean drop interval [steps of the paper's sim], drops)
 FF_TABLE_I = {
@@ -578,20 +577,6 @@ def run_command(a: argparse.Namespace, name: str, sweep: bool = False) -> str:
     return " ".join(shlex.quote(x) for x in parts)
 
 
-def render_docs() -> Path:
-    """Rewrite docs/benchmarks.md from docs/bench/results.json and docs/bench/notes; runs nothing."""
-    from fire_bench.markdown import render
-
-    results_path = DOCS / "bench/results.json"
-    try:
-        results = json.loads(results_path.read_text())
-    except (OSError, json.JSONDecodeError) as e:
-        raise SystemExit(f"bench: error: cannot read {results_path}: {e}") from None
-    page = DOCS / "benchmarks.md"
-    page.write_text(render(results, DOCS / "bench/notes", plot_dir=DOCS / "bench"))
-    return page
-
-
 def main(argv: list[str] | None = None) -> int:
     p = OneLineParser(prog="bench", description=__doc__.split("\n\n")[0])
     p.add_argument(
@@ -635,7 +620,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.render:
         if a.quick or a.only or a.out or a.update_docs or a.list:
             p.error("--render runs nothing: it takes no other option")
-        log(f"page: {render_docs()}")
+        log(f"page: {page.render_docs()}")
         return 0
     if a.update_docs and a.out is not None:
         p.error("--update-docs writes into docs/bench; leave out --out")
@@ -657,7 +642,7 @@ def main(argv: list[str] | None = None) -> int:
         SCALE_DURATION_S = a.scale_duration
     names = a.only or list(BENCHES)
     try:
-        measured = json.loads((DOCS / "bench/results.json").read_text())
+        measured = json.loads((page.DOCS / "bench/results.json").read_text())
     except (OSError, json.JSONDecodeError):
         measured = {}
     if a.list:
@@ -676,9 +661,9 @@ def main(argv: list[str] | None = None) -> int:
         + (f" (last measured runs; guessed for {', '.join(guessed)})" if guessed else " (last measured runs)")
     )
     if a.update_docs:
-        a.out = DOCS / "bench"
+        a.out = page.DOCS / "bench"
     elif a.out is None:
-        a.out = RUNS / f"bench-{time.strftime('%Y%m%d-%H%M%S')}"
+        a.out = page.RUNS / f"bench-{time.strftime('%Y%m%d-%H%M%S')}"
     OUT = a.out
     try:
         executor = make_executor(a.scheduler, a.jobs)
@@ -726,17 +711,13 @@ def _run(a: argparse.Namespace, names: list[str], executor: Executor) -> int:
     if a.no_page:
         log(f"results: {results_path}")
         return 0
-    from fire_bench.markdown import draw_plots
-
-    draw_plots({n: results[n] for n in names if n in results}, a.out)  # only the sections that ran
+    page.draw_plots({n: results[n] for n in names if n in results}, a.out)  # only the sections that ran
     if getattr(a, "update_docs", False):
-        page = render_docs()
+        md = page.render_docs()
     else:  # a run folder's page: its own plots beside it, no notes (they read the committed figures)
-        from fire_bench.markdown import render
-
-        page = a.out / "benchmarks.md"
-        page.write_text(render(results, None, plot_dir=a.out, plot_prefix=""))
-    log(f"results: {results_path}; page: {page}")
+        md = a.out / "benchmarks.md"
+        md.write_text(page.render(results, None, plot_dir=a.out, plot_prefix=""))
+    log(f"results: {results_path}; page: {md}")
     return 0
 
 

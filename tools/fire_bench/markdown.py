@@ -11,7 +11,12 @@ is that render byte for byte.
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]  # the checkout: tools/<package>/<module>.py
+DOCS = ROOT / "docs"  # the committed page (benchmarks.md), its results and notes (bench/)
+RUNS = ROOT / "runs"  # where a benchmark writes unless told otherwise (not committed)
 
 #: the page's sections in order: the sweep and scale benchmarks, then the library scripts'
 SCRIPT_SECTIONS = [
@@ -114,6 +119,18 @@ def draw_plots(results: dict, out: Path) -> dict[str, str]:
         plt.close(fig)
         made["scale"] = "scale.png"
     return made
+
+
+def render_docs() -> Path:
+    """Rewrite docs/benchmarks.md from docs/bench/results.json and docs/bench/notes; runs nothing."""
+    results_path = DOCS / "bench/results.json"
+    try:
+        results = json.loads(results_path.read_text())
+    except (OSError, json.JSONDecodeError) as e:
+        raise SystemExit(f"bench: error: cannot read {results_path}: {e}") from None
+    page = DOCS / "benchmarks.md"
+    page.write_text(render(results, DOCS / "bench/notes", plot_dir=DOCS / "bench"))
+    return page
 
 
 def write_markdown(

@@ -302,17 +302,17 @@ def update_docs(summary: dict, out: Path) -> Path:
     ``suppression``), copy its plots from ``out`` beside them and render the page again."""
     import shutil
 
-    from fire_bench import bench
+    from fire_bench import markdown
 
-    docs_bench = bench.DOCS / "bench"
+    docs_bench = markdown.DOCS / "bench"
     results_path = docs_bench / "results.json"
     results = json.loads(results_path.read_text()) if results_path.is_file() else {}
-    results["suppression"] = dict(summary, quick=summary.get("quick", False), machine=bench.machine())
+    results["suppression"] = dict(summary, quick=summary.get("quick", False))
     for name in summary.get("plots", []):
         if (out / name).resolve() != (docs_bench / name).resolve():
             shutil.copyfile(out / name, docs_bench / name)
     results_path.write_text(json.dumps(results, indent=2, default=str) + "\n")
-    return bench.render_docs()
+    return markdown.render_docs()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -345,7 +345,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     a = p.parse_args(argv)
     if a.out is None:
-        from fire_bench.bench import RUNS
+        from fire_bench.markdown import RUNS
 
         a.out = RUNS / f"suppression-{time.strftime('%Y%m%d-%H%M%S')}"
     try:

@@ -201,8 +201,8 @@ def shipped_scenarios() -> dict[str, str]:
             text = str(yaml.safe_load(path.read_text()).get("description", ""))
         except (OSError, yaml.YAMLError, AttributeError):
             text = ""
-        first = re.split(r"(?<=[.:;])\s", " ".join(text.split()), maxsplit=1)[0].rstrip(".:;")
-        out[path.stem] = first if len(first) <= 70 else first[:67] + "..."
+        text = " ".join(text.split())
+        out[path.stem] = text if len(text) <= 70 else text[:67].rsplit(" ", 1)[0] + " ..."
     return out
 
 
