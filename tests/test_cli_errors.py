@@ -78,15 +78,24 @@ def test_report_without_a_bag_is_one_line() -> None:
     one_line(r, "report: error: ", "bag", "see report --help")
 
 
-def test_inprocess_bad_set_is_one_line() -> None:
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (("tiny_test", "--set", "nonsense"), ["expected FIELD=VALUE"]),
+        (("no_such_scenario",), ["no scenario 'no_such_scenario'"]),
+        (("tiny_test", "--set", "fires.model=bogus"), ["tiny_test.yaml", "fires.model", "'bogus'"]),
+        (("tiny_test", "--uavs", "999"), ["uav_count must be in 0..255, got 999"]),
+    ],
+)
+def test_inprocess_errors(args: tuple[str, ...], words: list[str]) -> None:
     r = subprocess.run(
-        [sys.executable, "-m", "fire_mission.inprocess", "tiny_test", "--set", "nonsense"],
+        [sys.executable, "-m", "fire_mission.inprocess", *args],
         capture_output=True,
         text=True,
         timeout=60,
         check=False,
     )
-    one_line(r, "fire_mission.inprocess: error: ", "expected FIELD=VALUE")
+    one_line(r, "fire_mission.inprocess: error: ", *words)
 
 
 def test_bench_bad_option_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:

@@ -134,7 +134,13 @@ def main(argv: list[str] | None = None) -> int:
             p.error(f"--set {kv!r}: expected FIELD=VALUE")
         k, v = kv.split("=", 1)
         ov[k] = yaml.safe_load(v)
-    d = run_inprocess(a.scenario, uavs=a.uavs, seed=a.seed, overrides=ov)
+    from fire_uav_common.scenario import ScenarioError
+    from fire_world_sim.errors import ConfigError
+
+    try:
+        d = run_inprocess(a.scenario, uavs=a.uavs, seed=a.seed, overrides=ov)
+    except (FileNotFoundError, ScenarioError, ConfigError) as e:  # the scenario or fleet asked for
+        p.error(str(e))
     if a.json:
         a.json.write_text(json.dumps(d, indent=2) + "\n")
     print(table(d), file=sys.stderr)
