@@ -1,24 +1,14 @@
-"""fire_bench.suppression --from-runs / --write-section: only the raster section of the page changes."""
+"""fire_bench.suppression --from-runs: the summary of finished cases and the page's raster section."""
 
 import json
 
 import pytest
-from fire_bench.suppression import main, parse_case, read_runs, write_section
+from fire_bench.markdown import _suppression_section
+from fire_bench.suppression import main, parse_case, read_runs
 
-PAGE = """# Benchmarks
 
-## FF Table I: drop interval vs fleet size
-
-FF engineer's text, edited by hand.
-
-## Raster suppression: burned area, head vs flank, fleet size
-
-old table
-
-## Scale: lockstep step rate, CPU and memory
-
-other text
-"""
+def _section(out) -> str:
+    return "\n".join(_suppression_section(json.loads((out / "suppression.json").read_text())))
 
 
 def _run(sc: str, uavs: int, seed: int, tactic: str, burned: float) -> dict:
@@ -40,9 +30,7 @@ def _run(sc: str, uavs: int, seed: int, tactic: str, burned: float) -> dict:
     }
 
 
-def test_write_section_replaces_only_the_raster_section(tmp_path):
-    md = tmp_path / "benchmarks.md"
-    md.write_text(PAGE)
+def test_from_runs_summarises_into_the_raster_section(tmp_path):
     runs = tmp_path / "suppression_runs.jsonl"
     rows = [
         _run("grass_brush_hill", 0, 1, "none", 235600.0),
@@ -50,21 +38,11 @@ def test_write_section_replaces_only_the_raster_section(tmp_path):
         _run("grass_running", 0, 1, "none", 531600.0),
     ]
     runs.write_text("".join(json.dumps(r) + "\n" for r in rows))
-    assert main(["--from-runs", str(runs), "--out", str(tmp_path / "bench"), "--write-section", str(md)]) == 0
-    text = md.read_text()
-    before, after = PAGE.split("## Raster suppression")[0], PAGE.split("## Scale")[1]
-    assert text.startswith(before) and text.endswith("## Scale" + after)  # the rest byte for byte
-    assert "old table" not in text
+    assert main(["--from-runs", str(runs), "--out", str(tmp_path / "bench")]) == 0
+    text = _section(tmp_path / "bench")
     assert "| grass_brush_hill | head | 1 | 23.56 | 2.74 | 0.12 |" in text  # 27400 / 235600 = 0.116
     assert "| 0 | 53.16 |" in text  # the fleet-size table (grass_running, no fleet)
     assert (tmp_path / "bench" / "suppression_area.png").is_file()
-
-
-def test_a_page_without_the_section_is_refused(tmp_path):
-    md = tmp_path / "benchmarks.md"
-    md.write_text("# Benchmarks\n\n## Scale\n")
-    with pytest.raises(SystemExit, match="no line starting with '## Raster suppression'"):
-        write_section(md, {"scenarios": {}, "fleet_size": []})
 
 
 def test_a_broken_runs_file_names_the_line(tmp_path):
@@ -74,9 +52,12 @@ def test_a_broken_runs_file_names_the_line(tmp_path):
         read_runs(p)
 
 
-def test_from_runs_needs_the_file(tmp_path):
-    with pytest.raises(SystemExit, match="--from-runs: no file"):
+def test_from_runs_needs_the_file(tmp_path, capsys):
+    with pytest.raises(SystemExit) as e:
         main(["--from-runs", str(tmp_path / "missing.jsonl"), "--out", str(tmp_path)])
+    assert e.value.code == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()  # one line, no usage block
+    assert "--from-runs: no file" in line
 
 
 def test_case_spec():
@@ -95,8 +76,6 @@ def test_case_spec():
 def test_the_fleet_size_table_has_a_column_per_tactic(tmp_path):
     """grass_running seed 1: the no-fleet area under both tactics, each fleet size's head and flank
     runs on one row with their containment times; other scenarios and seeds stay out of it."""
-    md = tmp_path / "benchmarks.md"
-    md.write_text(PAGE)
     runs = tmp_path / "suppression_runs.jsonl"
     flank3 = dict(_run("grass_running", 3, 1, "flank", 250000.0), contained_at_s=700.0)
     head3 = dict(_run("grass_running", 3, 1, "head", 450000.0), contained_at_s=None)
@@ -108,8 +87,8 @@ def test_the_fleet_size_table_has_a_column_per_tactic(tmp_path):
         _run("grass_brush_hill", 3, 1, "head", 99900.0),  # another scenario: neither
     ]
     runs.write_text("".join(json.dumps(r) + "\n" for r in rows))
-    assert main(["--from-runs", str(runs), "--out", str(tmp_path / "bench"), "--write-section", str(md)]) == 0
-    text = md.read_text()
+    assert main(["--from-runs", str(runs), "--out", str(tmp_path / "bench")]) == 0
+    text = _section(tmp_path / "bench")
     assert "| 0 | 53.16 | - | 53.16 | - |" in text
     assert "| 3 | 45.00 | - | 25.00 | 700.00 |" in text
     assert "11.11" not in text.split("Burned area at 900 s vs fleet size")[1] and "9.99" not in text

@@ -1,10 +1,15 @@
 """scripts/bench: benchmarks that reproduce the papers' results and measure scale.
 
-usage: scripts/bench [--quick] [--only NAME ...] [--out DIR] [--list] [--scheduler tcp://HOST:PORT | --jobs N]
+usage: scripts/bench [--quick] [--only NAME ...] [--out DIR | --update-docs] [--list]
+                     [--scheduler tcp://HOST:PORT | --jobs N]
+       scripts/bench --render
 
 Each sub-benchmark prints its figures and returns a JSON-able dict; everything lands in
-``<out>/results.json`` (default ``docs/bench/``), plots beside it, and ``docs/benchmarks.md``
-is regenerated from the results with the command and the machine they came from. Figures are
+``<out>/results.json`` (default: a new run folder, ``runs/bench-<time>/``), plots and a page
+(``benchmarks.md``) beside it. The committed results change only with ``--update-docs``: then
+``docs/bench/results.json`` takes the new sections and ``docs/benchmarks.md`` is rendered again.
+``--render`` runs nothing: it rewrites ``docs/benchmarks.md`` from ``docs/bench/results.json``
+and the hand-written notes in ``docs/bench/notes/`` (``fire_bench.markdown``). Figures are
 measured, never asserted: machines are shared and noisy.
 
 The sweep-shaped sub-benchmarks (independent missions + a reducer, :class:`fire_bench.sweep.Sweep`)
@@ -19,6 +24,7 @@ import argparse
 import json
 import os
 import platform
+import shlex
 import subprocess
 import sys
 import tempfile
@@ -27,7 +33,9 @@ from collections.abc import Callable
 from pathlib import Path
 
 import yaml
+from fire_mission.cli import OneLineParser
 
+from fire_bench import markdown as page
 from fire_bench.sweep import (
     DaskExecutor,
     Executor,
@@ -395,6 +403,7 @@ def _skeleton(
 SCALE_TARGETS = {"ratio_to_skeleton": 0.8, "agent_rss_mb": 100.0, "steps_per_s_at_20": 10.0}
 SCALE_SIZES: list[int] | None = None  # --scale-sizes
 SCALE_DURATION_S: float | None = None  # --scale-duration
+OUT: Path | None = None  # the results directory of the current run (benchmarks that write files)
 
 
 def bench_scale(quick: bool) -> dict:
@@ -536,16 +545,62 @@ BENCHES: dict[str, tuple[Callable[[bool], dict | Sweep], float, float, str]] = {
 def _suppression(quick: bool) -> dict:
     from fire_bench.suppression import bench_suppression
 
-    return bench_suppression(quick, jobs=2, out=ROOT / "docs/bench")
+    return bench_suppression(quick, jobs=2, out=OUT)
+
+
+def estimate_minutes(names: list[str], quick: bool, measured: dict) -> tuple[float, list[str]]:
+    """Expected minutes of ``names``: each benchmark's last measured wall time of the same kind
+    (quick or full) in ``measured`` (a results.json), else the guess of :data:`BENCHES`; and the
+    names that had only the guess."""
+    total, guessed = 0.0, []
+    for n in names:
+        r = measured.get(n)
+        if isinstance(r, dict) and r.get("quick") == quick and isinstance(r.get("wall_s"), int | float):
+            total += r["wall_s"] / 60
+        else:
+            total += BENCHES[n][1 if quick else 2]
+            guessed.append(n)
+    return total, guessed
+
+
+def run_command(a: argparse.Namespace, name: str, sweep: bool = False) -> str:
+    """The command line that reproduces section ``name``'s figures (output options left out;
+    a sweep's executor kept, as it changes the wall time)."""
+    parts = ["scripts/bench"] + (["--quick"] if a.quick else []) + ["--only", name]
+    if name == "scale":
+        parts += ["--scale-sizes", a.scale_sizes] if getattr(a, "scale_sizes", None) else []
+        parts += ["--scale-duration", f"{a.scale_duration:g}"] if getattr(a, "scale_duration", None) else []
+    if sweep and getattr(a, "scheduler", None):
+        parts += ["--scheduler", a.scheduler]
+    elif sweep and getattr(a, "jobs", 1) != 1:
+        parts += ["--jobs", str(a.jobs)]
+    return " ".join(shlex.quote(x) for x in parts)
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="bench", description=__doc__.split("\n\n")[0])
+    p = OneLineParser(prog="bench", description=__doc__.split("\n\n")[0])
     p.add_argument(
         "--quick", action="store_true", help="small version of each benchmark (< 10 minutes in all)"
     )
     p.add_argument("--only", nargs="+", choices=list(BENCHES), help="run only these")
-    p.add_argument("--out", type=Path, default=ROOT / "docs/bench", help="results directory")
+    p.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="results directory (default: a new runs/bench-<time>/; the committed docs change only "
+        "with --update-docs)",
+    )
+    p.add_argument(
+        "--update-docs",
+        action="store_true",
+        help="write the results into docs/bench/results.json (the sections run replace theirs) and "
+        "render docs/benchmarks.md again",
+    )
+    p.add_argument(
+        "--render",
+        action="store_true",
+        help="run nothing: rewrite docs/benchmarks.md from docs/bench/results.json and docs/bench/notes",
+    )
     p.add_argument("--list", action="store_true", help="list the benchmarks and their expected durations")
     p.add_argument("--scale-sizes", default=None, metavar="N,N,...", help="scale: these fleet sizes")
     p.add_argument(
@@ -560,13 +615,20 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument(
         "--jobs", type=int, default=1, metavar="N", help="without --scheduler: N missions at a time here"
     )
-    p.add_argument("--no-page", action="store_true", help="do not regenerate docs/benchmarks.md")
+    p.add_argument("--no-page", action="store_true", help="write results.json only, no page")
     a = p.parse_args(argv)
+    if a.render:
+        if a.quick or a.only or a.out or a.update_docs or a.list:
+            p.error("--render runs nothing: it takes no other option")
+        log(f"page: {page.render_docs()}")
+        return 0
+    if a.update_docs and a.out is not None:
+        p.error("--update-docs writes into docs/bench; leave out --out")
     if a.jobs < 1:
         p.error(f"--jobs must be >= 1, got {a.jobs}")
     if a.scheduler and a.jobs != 1:
         p.error("--jobs applies to local runs only; the cluster's workers set the parallelism")
-    global SCALE_SIZES, SCALE_DURATION_S
+    global SCALE_SIZES, SCALE_DURATION_S, OUT
     if a.scale_sizes:
         try:
             SCALE_SIZES = [int(x) for x in a.scale_sizes.split(",")]
@@ -579,13 +641,30 @@ def main(argv: list[str] | None = None) -> int:
             p.error(f"--scale-duration must be > 0, got {a.scale_duration}")
         SCALE_DURATION_S = a.scale_duration
     names = a.only or list(BENCHES)
+    try:
+        measured = json.loads((page.DOCS / "bench/results.json").read_text())
+    except (OSError, json.JSONDecodeError):
+        measured = {}
     if a.list:
+        print("minutes from the committed results' wall times (~: a guess, not measured yet)")
         for n in BENCHES:
-            f, q, full, what = BENCHES[n]
-            print(f"{n:12s} quick ~{q:g} min, full ~{full:g} min  {what}")
+            q, q_guess = estimate_minutes([n], True, measured)
+            full, full_guess = estimate_minutes([n], False, measured)
+            print(
+                f"{n:12s} quick {'~' if q_guess else ''}{q:.1f} min, full {'~' if full_guess else ''}"
+                f"{full:.1f} min  {BENCHES[n][3]}"
+            )
         return 0
-    est = sum(BENCHES[n][1 if a.quick else 2] for n in names)
-    log(f"running {', '.join(names)} ({'quick' if a.quick else 'full'}): expect about {est:.0f} minutes")
+    est, guessed = estimate_minutes(names, a.quick, measured)
+    log(
+        f"running {', '.join(names)} ({'quick' if a.quick else 'full'}): expect about {est:.0f} minutes"
+        + (f" (last measured runs; guessed for {', '.join(guessed)})" if guessed else " (last measured runs)")
+    )
+    if a.update_docs:
+        a.out = page.DOCS / "bench"
+    elif a.out is None:
+        a.out = page.RUNS / f"bench-{time.strftime('%Y%m%d-%H%M%S')}"
+    OUT = a.out
     try:
         executor = make_executor(a.scheduler, a.jobs)
     except SweepError as e:
@@ -622,12 +701,7 @@ def _run(a: argparse.Namespace, names: list[str], executor: Executor) -> int:
             r = made
         r["wall_s"] = round(time.monotonic() - t0, 1)
         r["quick"] = a.quick
-        extra = ""
-        if n == "scale" and (a.scale_sizes or a.scale_duration):
-            extra = (f" --scale-sizes {a.scale_sizes}" if a.scale_sizes else "") + (
-                f" --scale-duration {a.scale_duration:g}" if a.scale_duration else ""
-            )
-        r["command"] = r.get("command") or f"scripts/bench {'--quick ' if a.quick else ''}--only {n}{extra}"
+        r["command"] = r.get("command") or run_command(a, n, sweep=isinstance(made, Sweep))
         # each section names the machine, commit and date it ran on: an --only run on another
         # day (sessions here run on AMD EPYC or Intel Xeon hosts) must not relabel the others
         r["machine"] = here
@@ -637,10 +711,13 @@ def _run(a: argparse.Namespace, names: list[str], executor: Executor) -> int:
     if a.no_page:
         log(f"results: {results_path}")
         return 0
-    from fire_bench.markdown import write_markdown
-
-    write_markdown(results, a.out, ROOT / "docs/benchmarks.md")
-    log(f"results: {results_path}; page: {ROOT / 'docs/benchmarks.md'}")
+    page.draw_plots({n: results[n] for n in names if n in results}, a.out)  # only the sections that ran
+    if getattr(a, "update_docs", False):
+        md = page.render_docs()
+    else:  # a run folder's page: its own plots beside it, no notes (they read the committed figures)
+        md = a.out / "benchmarks.md"
+        md.write_text(page.render(results, None, plot_dir=a.out, plot_prefix=""))
+    log(f"results: {results_path}; page: {md}")
     return 0
 
 

@@ -1,8 +1,12 @@
 """Suppression benchmark (issue [suppression]): burned area against the no-fleet baseline.
 
 usage: python -m fire_bench.suppression [--quick] [--jobs N] [--out DIR] [--case SC:UAVS:SEED:TACTIC ...]
-       python -m fire_bench.suppression --from-runs JSONL [--from-runs JSONL ...] --out DIR [--write-section MD]
+       python -m fire_bench.suppression --from-runs JSONL [--from-runs JSONL ...] [--out DIR] [--update-docs]
        (or scripts/bench --only suppression)
+
+Output goes to ``--out`` (default: a new ``runs/suppression-<time>/``); ``--update-docs`` also
+puts the summary into ``docs/bench/results.json`` (its ``suppression`` section, plots beside it)
+and renders ``docs/benchmarks.md`` again (``scripts/bench --render``).
 
 Runs in-process (``fire_uav_agent.testing.harness``: the real World and the real Agents, no
 DDS; deterministic for a scenario and seed), so every figure here comes from the harness, not
@@ -28,13 +32,14 @@ two UAVs per fire monitor instead, and costs about 4x the run time.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import json
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
+
+from fire_mission.cli import OneLineParser
 
 SCENARIOS = ("grass_running", "grass_brush_hill")
 _LOG: Path | None = None  # suppression_runs.jsonl of the current benchmark
@@ -137,12 +142,18 @@ def _star(args: tuple) -> dict:
             f.write(json.dumps(r) + "\n")
     print(
         f"[suppression] {r['scenario']} uavs={r['uavs']} seed={r['seed']} {r['tactic']}: "
-        f"burned {r['burned_area_m2'] / 1e4:.2f} ha, hit rate {r['hit_rate']}, contained {r['contained_at_s']}, "
+        f"burned {r['burned_area_m2'] / 1e4:.2f} ha, hit rate {_num(r['hit_rate'], 2)}, "
+        f"contained at {_num(r['contained_at_s'], 1)} s, "
         f"crashes {r['crashes']} ({r['wall_s']} s wall)",
         file=sys.stderr,
         flush=True,
     )
     return r
+
+
+def _num(v: float | None, digits: int) -> str:
+    """A figure for a printed line: rounded (``137.10000000000002`` -> ``137.1``), ``-`` for None."""
+    return "-" if v is None else f"{v:.{digits}f}"
 
 
 def summarise(results: list[dict]) -> dict:
@@ -273,9 +284,6 @@ def bench_suppression(
     return summary
 
 
-SECTION = "## Raster suppression"
-
-
 def read_runs(path: Path) -> list[dict]:
     """The cases of a ``suppression_runs.jsonl`` (one JSON object a line), in the order finished."""
     runs = []
@@ -289,25 +297,31 @@ def read_runs(path: Path) -> list[dict]:
     return runs
 
 
-def write_section(md: Path, summary: dict) -> None:
-    """Replace only the ``## Raster suppression`` section of ``md`` (up to the next ``## ``
-    heading) with :func:`fire_bench.markdown._suppression_section`; the rest of the page is left
-    byte for byte (other sections are edited by hand or other benchmarks at the same time)."""
-    from fire_bench.markdown import _suppression_section
+def update_docs(summary: dict, out: Path) -> Path:
+    """Put ``summary`` into the committed results (``docs/bench/results.json``, section
+    ``suppression``), copy its plots from ``out`` beside them and render the page again."""
+    import shutil
 
-    lines = md.read_text().split("\n")
-    start = next((i for i, x in enumerate(lines) if x.startswith(SECTION)), None)
-    if start is None:
-        raise SystemExit(f"{md}: no line starting with {SECTION!r} to replace")
-    end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("## ")), len(lines))
-    md.write_text("\n".join(lines[:start] + _suppression_section(summary) + lines[end:]))
+    from fire_bench import markdown
+
+    docs_bench = markdown.DOCS / "bench"
+    results_path = docs_bench / "results.json"
+    results = json.loads(results_path.read_text()) if results_path.is_file() else {}
+    results["suppression"] = dict(summary, quick=summary.get("quick", False))
+    for name in summary.get("plots", []):
+        if (out / name).resolve() != (docs_bench / name).resolve():
+            shutil.copyfile(out / name, docs_bench / name)
+    results_path.write_text(json.dumps(results, indent=2, default=str) + "\n")
+    return markdown.render_docs()
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m fire_bench.suppression", description=__doc__.split("\n")[0])
+    p = OneLineParser(prog="python -m fire_bench.suppression", description=__doc__.split("\n")[0])
     p.add_argument("--quick", action="store_true", help="grass_brush_hill, seed 1, 300 s (3 missions)")
     p.add_argument("--jobs", type=int, default=2, help="parallel missions (default 2)")
-    p.add_argument("--out", type=Path, default=Path("docs/bench"), help="results directory")
+    p.add_argument(
+        "--out", type=Path, default=None, help="results directory (default: a new runs/suppression-<time>/)"
+    )
     p.add_argument(
         "--from-runs",
         type=Path,
@@ -318,11 +332,9 @@ def main(argv: list[str] | None = None) -> int:
         "(repeatable: a benchmark run in parts) into --out",
     )
     p.add_argument(
-        "--write-section",
-        type=Path,
-        default=None,
-        metavar="MD",
-        help="also replace the Raster suppression section of this page (e.g. docs/benchmarks.md), only it",
+        "--update-docs",
+        action="store_true",
+        help="also put the summary into docs/bench/results.json and render docs/benchmarks.md again",
     )
     p.add_argument(
         "--case",
@@ -332,12 +344,19 @@ def main(argv: list[str] | None = None) -> int:
         help="run only these cases, in this order (repeatable; 900 s each), e.g. grass_running:6:1:head",
     )
     a = p.parse_args(argv)
-    todo = [parse_case(c) for c in a.case] or None
+    if a.out is None:
+        from fire_bench.markdown import RUNS
+
+        a.out = RUNS / f"suppression-{time.strftime('%Y%m%d-%H%M%S')}"
+    try:
+        todo = [parse_case(c) for c in a.case] or None
+    except SystemExit as e:
+        p.error(str(e.code))
     if a.from_runs is not None:
         results = []
         for path in a.from_runs:
             if not path.is_file():
-                raise SystemExit(f"--from-runs: no file {path}")
+                p.error(f"--from-runs: no file {path}")
             results += read_runs(path)
         a.out.mkdir(parents=True, exist_ok=True)
         (a.out / "suppression_runs.json").write_text(json.dumps(results) + "\n")
@@ -349,9 +368,10 @@ def main(argv: list[str] | None = None) -> int:
         s["wall_s"] = round(sum(r["wall_s"] for r in results), 1)
     else:
         s = bench_suppression(a.quick, a.jobs, a.out, todo)
+        s["quick"] = a.quick
     (a.out / "suppression.json").write_text(json.dumps(s, indent=2) + "\n")
-    if a.write_section is not None:
-        write_section(a.write_section, s)
+    if a.update_docs:
+        print(f"[suppression] page: {update_docs(s, a.out)}", file=sys.stderr)
     print(json.dumps(s, indent=2))
     return 0
 

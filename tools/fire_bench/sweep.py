@@ -68,13 +68,14 @@ class MissionSpec:
     """One independent mission of a sweep. Plain data: it is pickled to the worker.
 
     ``overrides`` are dotted scenario fields (``(("timing.max_duration_s", 20.0),)``, the
-    runner's ``--set``); ``args`` are extra ``fire_mission.runner`` arguments (processes mode
+    runner's ``--set``); ``uavs`` None flies the scenario's fleet and 0 none (the fire alone, as
+    in every runner); ``args`` are extra ``fire_mission.runner`` arguments (processes mode
     only, e.g. ``("--kill", "1@30")``); ``label`` is the reducer's name for the case.
     """
 
     bench: str
     scenario: str
-    uavs: int = 0
+    uavs: int | None = None
     seed: int | None = None
     overrides: tuple[tuple[str, Any], ...] = ()
     mode: str = "harness"
@@ -92,7 +93,7 @@ class MissionSpec:
             raise SweepError(f"mission spec mode 'call' needs call='module:function', got '{self.call}'")
         if self.args and self.mode != "processes":
             raise SweepError(f"mission spec args {list(self.args)} only apply to mode 'processes'")
-        if self.uavs < 0:
+        if self.uavs is not None and self.uavs < 0:
             raise SweepError(f"mission spec uavs must be >= 0, got {self.uavs}")
 
     def sort_key(self) -> str:
@@ -116,7 +117,8 @@ class MissionSpec:
         )
 
     def describe(self) -> str:
-        parts = [self.bench, self.label or self.scenario, f"uavs={self.uavs}", f"seed={self.seed}", self.mode]
+        fleet = "" if self.uavs is None else f"uavs={self.uavs}"  # None: the scenario's
+        parts = [self.bench, self.label or self.scenario, fleet, f"seed={self.seed}", self.mode]
         return " ".join(p for p in parts if p)
 
 
@@ -159,7 +161,7 @@ def _run_processes(spec: MissionSpec, scenario: str, tmp: Path) -> dict:
     with claim_domain(hint) as domain:
         env = dict(os.environ, FIRE_UAV_DOMAIN_ID=str(domain), ROS_DOMAIN_ID=str(domain))
         argv = [sys.executable, "-m", "fire_mission.runner", scenario]
-        if spec.uavs:
+        if spec.uavs is not None:
             argv += ["--uavs", str(spec.uavs)]
         if spec.seed is not None:
             argv += ["--seed", str(spec.seed)]

@@ -8,11 +8,13 @@ a scenario and seed, and about 10x faster than the process fleet: the benchmarks
 and Figs. 14-15 use it.
 
     python -m fire_mission.inprocess ff_two_fires --uavs 8 --seed 2 [--set mission.prior_fires=known]
+
+``--uavs 0`` flies no fleet: the fire burns alone (``World(no_fleet=True)``), as with
+``scripts/run_mission SCENARIO --uavs 0``; without ``--uavs`` the scenario's fleet flies.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -23,6 +25,7 @@ from typing import Any
 from fire_uav_common.constants import FireStatus, VehicleStatus
 from fire_uav_common.scenario import Scenario, load_scenario
 
+from .cli import OneLineParser
 from .summary import Event, LiveSummary, table
 
 __all__ = ["run_inprocess", "main"]
@@ -40,34 +43,54 @@ def _resolve(scenario: str | Path) -> Path:
 def run_inprocess(
     scenario: str | Path | Scenario,
     *,
-    uavs: int = 0,
+    uavs: int | None = None,
     seed: int | None = None,
     overrides: Mapping[str, Any] | None = None,
     max_steps: int | None = None,
 ) -> dict:
-    """Run one mission on the harness; returns its summary dict (``outcome`` complete / time_limit)."""
-    from fire_uav_agent.testing.harness import Harness
+    """Run one mission on the harness; returns its summary dict (``outcome`` complete / time_limit).
 
+    ``uavs`` None: the scenario's fleet; 0: no fleet, the fire burns alone (the world with
+    ``no_fleet``, as the process runner starts it for ``--uavs 0``)."""
+    from fire_uav_agent.testing.harness import Harness
+    from fire_world_sim.world import World
+
+    if uavs is not None and uavs < 0:
+        raise ValueError(f"uavs must be >= 0 (0: the fire alone), got {uavs}")
     sc = (
         scenario if isinstance(scenario, Scenario) else load_scenario(_resolve(scenario), overrides=overrides)
     )
     wall0 = time.monotonic()
-    h = Harness(sc, seed, uavs)
-    n = h.world.uav_count
+    h: Harness | None = None
+    world: World
+    if uavs == 0:
+        world = World(sc, seed, no_fleet=True)
+    else:
+        h = Harness(sc, seed, uavs or 0)  # the harness reads 0 as the scenario's fleet
+        world = h.world
+    n = world.uav_count
     summary = LiveSummary(uav_count=n, raster=sc.fires.model == "raster")
     summary.home_xy = {i: (p[0], p[1]) for i, p in enumerate(sc.uav_start_poses(n))}
+    if n >= 2:  # the agents apply the scenario's link outages themselves
+        summary.outages = [(o.from_, o.to, o.start_s, o.end_s) for o in sc.comms.outages]
     steps = 0
     seen = 0
-    while not h.world.complete and (max_steps is None or steps < max_steps):
-        r = h.step()
+    events: list = []
+    while not world.complete and (max_steps is None or steps < max_steps):
+        if h is not None:
+            r = h.step()
+            events = h.events
+        else:
+            r = world.step({})
+            events += r.events
         steps += 1
-        for e in h.events[seen:]:
+        for e in events[seen:]:
             summary.add(
                 Event(
                     e.stamp_ns * 1e-9, int(e.type), e.uav_id, -1, e.fire_id, e.value, e.detail, e.x_m, e.y_m
                 )
             )
-        seen = len(h.events)
+        seen = len(events)
         summary.observe_truth(r.min_separation_m, r.collisions)
         summary.mission_time_s = r.stamp_ns * 1e-9
         summary.fires_total = len(r.fires)
@@ -77,7 +100,7 @@ def run_inprocess(
         summary.add_truth(  # as the runner does from every /world/truth (burned area, containment)
             summary.mission_time_s, [(float(f.area_m2), f.status == FireStatus.ACTIVE) for f in r.fires]
         )
-    for uid, out in enumerate(h.outputs):
+    for uid, out in enumerate(h.outputs if h is not None else []):
         if out is not None:
             st = out.state
             summary.packets[uid] = (st.packets_received, st.packets_lost, st.packets_rejected)
@@ -85,20 +108,24 @@ def run_inprocess(
             summary.alive_view[uid] = list(st.alive_peers)
     outcome = "complete" if summary.complete_success else "time_limit"
     d = summary.as_dict(outcome=outcome, wall_s=time.monotonic() - wall0, steps=steps)
-    d["seed"] = h.world.seed
+    d["seed"] = world.seed
     d["scenario"] = sc.name
     d["runner"] = "inprocess"
     return d
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="fire_mission.inprocess", description=__doc__.split("\n\n")[0])
+    p = OneLineParser(prog="fire_mission.inprocess", description=__doc__.split("\n\n")[0])
     p.add_argument("scenario", help="scenario name (under fire_world_sim/scenarios) or YAML path")
-    p.add_argument("--uavs", type=int, default=0, help="fleet size (default: the scenario's)")
+    p.add_argument(
+        "--uavs", type=int, default=None, help="fleet size (default: the scenario's; 0: the fire burns alone)"
+    )
     p.add_argument("--seed", type=int, default=None)
     p.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE", help="scenario override")
     p.add_argument("--json", type=Path, help="write summary.json here")
     a = p.parse_args(argv)
+    if a.uavs is not None and a.uavs < 0:
+        p.error(f"--uavs must be >= 0 (0: the fire alone), got {a.uavs}")
     import yaml
 
     ov = {}
@@ -107,7 +134,13 @@ def main(argv: list[str] | None = None) -> int:
             p.error(f"--set {kv!r}: expected FIELD=VALUE")
         k, v = kv.split("=", 1)
         ov[k] = yaml.safe_load(v)
-    d = run_inprocess(a.scenario, uavs=a.uavs, seed=a.seed, overrides=ov)
+    from fire_uav_common.scenario import ScenarioError
+    from fire_world_sim.errors import ConfigError
+
+    try:
+        d = run_inprocess(a.scenario, uavs=a.uavs, seed=a.seed, overrides=ov)
+    except (FileNotFoundError, ScenarioError, ConfigError) as e:  # the scenario or fleet asked for
+        p.error(str(e))
     if a.json:
         a.json.write_text(json.dumps(d, indent=2) + "\n")
     print(table(d), file=sys.stderr)

@@ -23,13 +23,18 @@ import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from fire_uav_common.constants import EventType, FireStatus, VehicleStatus
 from fire_uav_common.stamps import stamp_to_s
 
+from fire_mission.cli import OneLineParser
 from fire_mission.procs import MissionError, ProcessGroup, claim_domain, ros_run_argv
 from fire_mission.procstat import sample as proc_sample
 from fire_mission.summary import Event, LiveSummary, table
+
+if TYPE_CHECKING:
+    from fire_uav_common.scenario import Scenario
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout: tools/<package>/<module>.py
 _HELD_DOMAINS = contextlib.ExitStack()  # the ROS domains this runner claimed (released at exit)
@@ -155,6 +160,18 @@ def _parse_outage(text: str) -> Outage:
     return Outage(int(m[1]), int(m[2]), float(m[3]), float(m[4]))
 
 
+def applied_outages(
+    args: argparse.Namespace, scenario: Scenario, uav_count: int
+) -> list[tuple[int, int, float, float]]:
+    """The link outages the agents apply: ``--outage`` when given (it replaces the scenario's,
+    see ``write_params``), else the scenario's ``comms.outages``; none without a fleet."""
+    if uav_count < 2:
+        return []
+    if args.outage:
+        return [(o.src, o.dst, o.start_s, o.end_s) for o in args.outage]
+    return [(o.from_, o.to, o.start_s, o.end_s) for o in scenario.comms.outages]
+
+
 def _probability(text: str) -> float:
     try:
         p = float(text)
@@ -165,14 +182,49 @@ def _probability(text: str) -> float:
     return p
 
 
+#: the --help examples, each cheap enough to paste and watch (tests/test_examples.py runs them)
+EXAMPLES = [
+    ("scripts/run_mission", "the default mission (FF two fires, 5 UAVs) + report"),
+    ("scripts/run_mission tiny_test --uavs 3 --kill 2@10 --loss 0.2", "UAV 2 crashes mid-mission, 20 % loss"),
+    ("scripts/run_mission tiny_test --freeze 1@5:6.5 --outage '0>1@3:9'", "quote A>B: the shell reads > itself"),
+    ("scripts/run_mission grass_running --uavs 0 --max-duration 60", "the fire alone (suppression baseline)"),
+]
+
+
+def shipped_scenarios() -> dict[str, str]:
+    """Scenario name -> the first sentence of its description, for every shipped scenario."""
+    import yaml
+
+    out = {}
+    for path in sorted((ROOT / "ros2_ws/src/fire_world_sim/scenarios").glob("*.yaml")):
+        try:
+            text = str(yaml.safe_load(path.read_text()).get("description", ""))
+        except (OSError, yaml.YAMLError, AttributeError):
+            text = ""
+        text = " ".join(text.split())
+        out[path.stem] = text if len(text) <= 70 else text[:67].rsplit(" ", 1)[0] + " ..."
+    return out
+
+
+def _epilog() -> str:
+    w = max(len(c) for c, _ in EXAMPLES)
+    lines = ["examples (runs land in runs/<scenario>-<time>-s<seed>/, the last one also in runs/latest):"]
+    lines += [f"  {c.ljust(w)}  # {why}" for c, why in EXAMPLES]
+    scenarios = shipped_scenarios()
+    if scenarios:
+        n = max(len(k) for k in scenarios)
+        lines += ["", "scenarios (shipped in fire_world_sim/scenarios; or give a YAML path):"]
+        lines += [f"  {k.ljust(n)}  {v}" for k, v in scenarios.items()]
+    return "\n".join(lines)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = OneLineParser(
         prog="run_mission",
-        description="Run a fleet mission: world + recorder + N agent processes, with fault injection.",
-        epilog="examples:\n"
-        "  scripts/run_mission                               # the default mission (FF two fires, 5 UAVs)\n"
-        "  scripts/run_mission ff_two_fires --uavs 7 --seed 3 --kill 2@40 --loss 0.2\n"
-        "  scripts/run_mission tiny_test --freeze 1@5:6.5 --outage 0>1@3:9 --out /tmp/run1",
+        description="Run a fleet mission: world + recorder + N agent processes, with fault injection. "
+        "Exit status: 0 complete (a run with --uavs 0 also at its time limit), 1 not complete, "
+        "2 a usage or configuration error.",
+        epilog=_epilog(),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument(
@@ -181,7 +233,9 @@ def build_parser() -> argparse.ArgumentParser:
         default="ff_two_fires",
         help="scenario name (shipped in fire_world_sim/scenarios) or path to a YAML file",
     )
-    p.add_argument("--uavs", type=int, default=None, help="fleet size (default: the scenario's)")
+    p.add_argument(
+        "--uavs", type=int, default=None, help="fleet size (default: the scenario's; 0: the fire burns alone)"
+    )
     p.add_argument(
         "--set",
         action="append",
@@ -211,8 +265,8 @@ def build_parser() -> argparse.ArgumentParser:
         (
             "--outage",
             _parse_outage,
-            "A>B@T1:T2",
-            "drop every message on the link A -> B between T1 and T2 [s]",
+            "'A>B@T1:T2'",
+            "drop every message on the link A -> B between T1 and T2 [s] (quote it: the shell reads >)",
         ),
     ):
         p.add_argument(
@@ -623,6 +677,7 @@ def run(args: argparse.Namespace) -> int:
             f"{out / 'bag'} already exists: choose another --out (recordings are never overwritten)"
         )
     out.mkdir(parents=True, exist_ok=True)
+    _point_latest_at(out)
     if overrides:
         scenario_path = write_scenario(scenario_path, overrides, out / "scenario.yaml")
     params = write_params(out, args, scenario_path, uav_count, seed, args.max_duration)
@@ -636,6 +691,7 @@ def run(args: argparse.Namespace) -> int:
     env = dict(os.environ, PYTHONUNBUFFERED="1", PYTHONHASHSEED="0", ROS_LOG_DIR=str(out / "ros_log"))
     summary = LiveSummary(uav_count=uav_count, raster=scenario.fires.model == "raster")
     summary.home_xy = {i: (p[0], p[1]) for i, p in enumerate(scenario.uav_start_poses(uav_count))}
+    summary.outages = applied_outages(args, scenario, uav_count)
     print(
         f"[run_mission] scenario {scenario.name} ({scenario_path}), {uav_count} UAVs, seed {seed}, "
         f"mode {args.mode}, ROS_DOMAIN_ID {domain}, output {out}",
@@ -752,7 +808,22 @@ def run(args: argparse.Namespace) -> int:
             print(
                 f"  report failed (exit {rep.returncode}); the bag is kept at {out / 'bag'}", file=sys.stderr
             )
-    return 0 if outcome == "complete" else 1
+    if outcome == "complete" or (uav_count == 0 and outcome == "time_limit"):
+        return 0  # with no fleet the fire burns until the time limit: that is the run's purpose
+    return 1
+
+
+def _point_latest_at(out: Path) -> None:
+    """``runs/latest`` -> the run folder just made, when it is one of ``runs/`` (the README's
+    replay and report examples name it); other ``--out`` places leave it alone."""
+    runs = (ROOT / "runs").resolve()
+    if out.parent != runs:
+        return
+    tmp = runs / f".latest-{os.getpid()}"
+    with contextlib.suppress(FileNotFoundError):
+        tmp.unlink()
+    tmp.symlink_to(out.name)
+    os.replace(tmp, runs / "latest")  # atomic: a concurrent run's link is replaced, never half-made
 
 
 def _wait_for_node(sup: Supervisor, name: str, timeout_s: float, procs: ProcessGroup) -> None:

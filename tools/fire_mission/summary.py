@@ -51,7 +51,9 @@ class LiveSummary:
     packets: dict[int, tuple[int, int, int]] = field(default_factory=dict)  # uav -> (recv, lost, rejected)
     complete_detail: str | None = None
     complete_success: bool | None = None
-    faults: list[str] = field(default_factory=list)
+    faults: list[str] = field(default_factory=list)  # what the supervisor did (signals), as it did it
+    # the link outages the agents apply themselves (src, dst, start [s], end [s]): scheduled, no signal
+    outages: list[tuple[int, int, float, float]] = field(default_factory=list)
     last_state_t: dict[int, float] = field(default_factory=dict)  # uav -> stamp of its newest UavState
     alive_view: dict[int, list[int]] = field(default_factory=dict)  # uav -> its newest alive_peers
     objective: dict[int, int] = field(default_factory=dict)  # uav -> its newest objective
@@ -182,6 +184,14 @@ class LiveSummary:
             n += sum(any(a < t <= b for t in passes) for a, b in zip(bounds, bounds[1:], strict=False))
         return n
 
+    def faults_injected(self) -> list[str]:
+        """Every fault of the mission: the supervisor's signals as applied, then each link outage
+        that began before the mission ended (the agents drop the link themselves)."""
+        applied = [o for o in sorted(self.outages, key=lambda o: (o[2], o[0], o[1])) if o[2] < self.mission_time_s]
+        return self.faults + [
+            f"outage {a}>{b} from {t0:g} s to {t1:g} s (link dropped by the agents)" for a, b, t0, t1 in applied
+        ]
+
     def drop_intervals_s(self) -> list[float]:
         """Intervals between consecutive drops of the whole fleet (FF Table I)."""
         ts = sorted(e.t_s for e in self.drops())
@@ -238,7 +248,7 @@ class LiveSummary:
             "packets_lost": sum(p[1] for p in self.packets.values()),
             "packets_rejected": sum(p[2] for p in self.packets.values()),
             **self.suppression(),
-            "faults_injected": self.faults,
+            "faults_injected": self.faults_injected(),
             "water_at_fault_kg": self.water_at_fault,
             "last_state_t_s": {str(k): round(v, 3) for k, v in sorted(self.last_state_t.items())},
             "alive_view": {str(k): v for k, v in sorted(self.alive_view.items())},

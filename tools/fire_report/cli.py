@@ -7,12 +7,20 @@ import os
 import sys
 import traceback
 from pathlib import Path
+from typing import NoReturn
 
 from fire_report.errors import ReportError
 
 
+class _OneLineParser(argparse.ArgumentParser):
+    """Usage errors in one line (argparse prints its usage block first), exit status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
+    parser = _OneLineParser(
         prog="report",
         description="Metrics, figures and index.html for a recorded mission bag (no ROS needed).",
     )
