@@ -207,7 +207,8 @@ def fire_behavior(
     ros, direction, _ = head_spread_cells(params, midflame, wind_to, slope_tan, upslope, wind_limit=wind_limit)
     spread_dir = (90.0 - np.degrees(direction)) % 360.0
 
-    residence_min = np.where(params.sigma_per_ft > 0, 384.0 / params.sigma_per_ft, 0.0)
+    sigma = np.asarray(params.sigma_per_ft, dtype=float)
+    residence_min = np.where(sigma > 0, 384.0 / np.where(sigma > 0, sigma, 1.0), 0.0)
     heat_per_area = params.reaction_intensity_btu_ft2_min * residence_min * BTU_FT2_TO_KJ_M2
     intensity = heat_per_area * ros
     flame = 0.45 * np.power(intensity / BTU_FT_S_TO_KW_M, 0.46) * 0.3048

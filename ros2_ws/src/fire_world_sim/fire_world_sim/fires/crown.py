@@ -72,8 +72,8 @@ def crown_fraction_burned(
     surface_rate_mps: np.ndarray, initiation_rate_mps: np.ndarray, critical_active_mps: np.ndarray
 ) -> np.ndarray:
     """Scott & Reinhardt (2001) Eqs. 26-28, clipped to [0, 1]."""
-    span = 0.9 * (critical_active_mps - initiation_rate_mps)
     with np.errstate(divide="ignore", invalid="ignore"):
+        span = 0.9 * (critical_active_mps - initiation_rate_mps)
         a_c = np.where(span > 0, -math.log(0.1) / np.where(span > 0, span, 1.0), np.inf)
         cfb = 1.0 - np.exp(-a_c * np.maximum(surface_rate_mps - initiation_rate_mps, 0.0))
     return np.clip(np.nan_to_num(cfb, nan=1.0), 0.0, 1.0)
