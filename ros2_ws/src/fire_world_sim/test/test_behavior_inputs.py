@@ -1,16 +1,26 @@
 """Inputs of the per-cell fire behaviour: fuel codes, moisture scenarios and FMS files, wind
-adjustment edge cases; each bad input gets one line naming what is wrong."""
+adjustment edge cases (each bad input gets one line naming what is wrong), and the per-cell
+Rothermel kernel against the scalar one (property test)."""
 
 from __future__ import annotations
 
+from dataclasses import astuple
 from pathlib import Path
 
 import numpy as np
 import pytest
 from fire_world_sim.fires.behavior import FuelMoistures, Moisture, fire_behavior, parse_moisture, read_fms
-from fire_world_sim.fires.fuel_models import NONBURNABLE, fuel_model, is_burnable
-from fire_world_sim.fires.rothermel import herb_cured_fraction
+from fire_world_sim.fires.fuel_models import FUEL_MODELS, NONBURNABLE, fuel_model, is_burnable
+from fire_world_sim.fires.rothermel import (
+    SpreadParams,
+    head_spread,
+    head_spread_cells,
+    herb_cured_fraction,
+    spread_params,
+)
 from fire_world_sim.fires.wind_adjustment import wind_adjustment_factor
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 DRY = FuelMoistures(Moisture(0.06, 0.08, 0.10, 0.75, 0.60))
 
@@ -97,3 +107,26 @@ def test_wind_adjustment_factor_properties() -> None:
     dense, light = wind_adjustment_factor(1.0, [0.9, 0.3], 20.0, 0.6)
     assert dense < light < float(wind_adjustment_factor(1.0))
     assert float(wind_adjustment_factor(1.0, 0.1, 20.0, 0.6)) == float(wind_adjustment_factor(1.0))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    fm=st.sampled_from(sorted(FUEL_MODELS)),
+    m1=st.floats(0.02, 0.4),
+    herb=st.floats(0.3, 2.0),
+    wind=st.floats(0.0, 15.0),
+    wind_dir=st.floats(-np.pi, np.pi),
+    slope=st.floats(0.0, 1.5),
+    up=st.floats(-np.pi, np.pi),
+    limit=st.sampled_from(["behave", "andrews2013", "none"]),
+)
+def test_the_cell_kernel_equals_the_scalar_one(
+    fm: int, m1: float, herb: float, wind: float, wind_dir: float, slope: float, up: float, limit: str
+) -> None:
+    p = spread_params(FUEL_MODELS[fm], m1, m1 + 0.01, m1 + 0.02, herb, 1.0)
+    r, d, u = head_spread(p, wind, wind_dir, slope, up, wind_limit=limit)
+    cells = SpreadParams(*(np.full((1, 3), v) for v in astuple(p)))
+    rc, dc, uc = head_spread_cells(cells, np.full((1, 3), wind), wind_dir, np.full((1, 3), slope), up, wind_limit=limit)
+    assert rc[0, 1] == pytest.approx(r, rel=1e-12, abs=1e-15) and uc[0, 2] == pytest.approx(u, rel=1e-9, abs=1e-12)
+    if r > 0 and (wind > 0 or slope > 0):
+        assert abs((dc[0, 0] - d + np.pi) % (2 * np.pi) - np.pi) < 1e-9
