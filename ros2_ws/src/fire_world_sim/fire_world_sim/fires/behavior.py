@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .crown import CROWN_RATE_FACTOR, CROWN_WAF, FireType, crown_fire
+from .crown import CROWN_RATE_FACTOR, CROWN_WAF, FireType, crown_fire, crown_flame_length_m
 from .fuel_models import FUEL_MODELS, NONBURNABLE
 from .rothermel import DEFAULT_WIND_LIMIT, SpreadParams, head_spread_cells, spread_params
 from .wind_adjustment import wind_adjustment_factor
@@ -149,6 +149,37 @@ def _param_grid(codes: np.ndarray, moistures: FuelMoistures, fuel_index: np.ndar
     return SpreadParams(**cells), depth[fuel_index]
 
 
+def _surface_rate_at_active(
+    cell: SpreadParams,
+    fm10: SpreadParams,
+    cbd: np.ndarray,
+    waf: np.ndarray,
+    wind_to: np.ndarray | float,
+    slope_tan: np.ndarray,
+    upslope: np.ndarray,
+    wind_limit: str,
+) -> np.ndarray:
+    """R'_SA [m/s]: each cell's surface head rate at the crowning-index wind (S&R 2001 Eqs. 20, 28).
+
+    O'_active is the 20-ft wind at which ``3.34 R_10 = R'_active = 3 / CBD``: with fuel model 10's
+    ``R_10 = R0 (1 + phi_w + phi_s)`` (slope added as a scalar, as S&R's Eq. 20 and Behave's
+    crowning index do) ``phi_w = R'_active / (3.34 R0) - 1 - phi_s`` and
+    ``U_mid = (phi_w (beta/beta_op)^E / C)^(1/B)``, ``O'_active = U_mid / 0.4``.
+    """
+    from .rothermel import FT_PER_MIN_TO_MPS
+
+    r0 = np.asarray(fm10.r0_mps, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r_active = np.where(cbd > 0, 3.0 / np.where(cbd > 0, cbd, 1.0) / 60.0, np.inf)
+        phi_s = np.asarray(fm10.slope_k, dtype=float) * slope_tan**2
+        phi_w = np.maximum(r_active / (CROWN_RATE_FACTOR * r0) - 1.0 - phi_s, 0.0)
+        ratio_e = np.asarray(fm10.beta_ratio, dtype=float) ** np.asarray(fm10.e, dtype=float)
+        u_mid_ft = np.power(phi_w * ratio_e / np.asarray(fm10.c), 1.0 / np.asarray(fm10.b))
+    u20 = np.where(np.isfinite(u_mid_ft), u_mid_ft * FT_PER_MIN_TO_MPS / CROWN_WAF, 0.0)
+    r_sa, _, _ = head_spread_cells(cell, waf * u20, wind_to, slope_tan, upslope, wind_limit=wind_limit)
+    return np.where(np.isfinite(r_active), r_sa, np.inf)
+
+
 def _compass_to_math_rad(deg: np.ndarray | float) -> np.ndarray:
     return np.radians(90.0 - np.asarray(deg, dtype=float))
 
@@ -221,12 +252,15 @@ def fire_behavior(
         r10, _, _ = head_spread_cells(
             p10, np.full(fuel.shape, CROWN_WAF * wind_20ft_mps), wind_to, slope_tan, upslope, wind_limit=wind_limit
         )
-        c = crown_fire(ros, intensity, heat_per_area, CROWN_RATE_FACTOR * r10, cbh, cbd, ch, foliar_moisture)
+        r_sa = _surface_rate_at_active(params, p10, cbd, waf, wind_to, slope_tan, upslope, wind_limit)
+        c = crown_fire(
+            ros, intensity, heat_per_area, CROWN_RATE_FACTOR * r10, cbh, cbd, ch, foliar_moisture, r_sa
+        )
         fire_type = c["fire_type"]
         crowning = fire_type >= FireType.PASSIVE
         final_ros = c["rate_mps"]
         final_intensity = c["intensity_kwpm"]
-        final_flame = np.where(crowning, 0.2 * np.power(final_intensity, 2.0 / 3.0), flame)
+        final_flame = np.where(crowning, crown_flame_length_m(final_intensity), flame)
     return FireBehavior(
         ros_mps=final_ros,
         spread_dir_deg=np.where(ros > 0, spread_dir, 0.0),

@@ -11,24 +11,23 @@
 - Fire type, FlamMap's "Finney" method (Finney 1998, RMRS-RP-4; Scott & Reinhardt 2001 p. 10):
   surface if ``I_B < I_0``; else active if ``R_cactive >= R'_active``, else passive. Unlike Scott &
   Reinhardt's own method no "conditional" class: a fire that does not initiate stays surface.
-- Crown fraction burned (after Scott & Reinhardt 2001 Eqs. 26-28): ``CFB = 1 - exp(-a_c (R_s - R'_init))``
-  with ``R'_init = 60 I_0 / H_A`` and ``a_c = -ln(0.1) / (0.9 (R'_active - R'_init))``; 1 for active.
-  Simplification: S&R put the surface rate at the crowning-index wind (R'_SA) where we put R'_active;
-  passive rates therefore differ from Behave's (both lie between the surface and the crown rate);
-  fire types and active rates do not.
+- Crown fraction burned (Scott & Reinhardt 2001 Eq. 28, linear, as Behave applies it; not Van
+  Wagner's 1993 exponential form FARSITE used): ``CFB = (R_s - R'_init) / (R'_SA - R'_init)`` with
+  ``R'_init = 60 I_0 / H_A`` (Eq. 12) and R'_SA the surface rate at the crowning-index wind
+  O'_active (Eq. 20; computed in :mod:`.behavior`); 1 for active.
 - Final rate (Scott & Reinhardt 2001 Eq. 23): passive ``R_s + CFB (R_cactive - R_s)``; active
   ``R_cactive``, also where a fast surface fire (SH5 in wind) outruns it, as Behave does.
 - Intensity (Scott & Reinhardt 2001 Eq. 22): ``I = R (H_A + CFB CBD (CH - CBH) H_c) / 60`` with the
   canopy fuel's heat content H_c = 8000 Btu/lb = 18,608 kJ/kg as Behave takes it (S&R print 18,000;
-  with 18,000 an active fire's intensity is 2 % below Behave's); flame length of a crown fire from Thomas (1963),
-  ``L = 0.2 I^(2/3)`` [m, kW/m], as Behave reports it.
+  with 18,000 an active fire's intensity is 2 % below Behave's); flame length of a crown fire
+  (passive or active) from Thomas (1963), ``L = 0.2 I^(2/3)`` in feet and Btu/ft/s as Rothermel
+  (1991) and Behave use it (``0.0266 I^(2/3)`` in m and kW/m).
 
 All inputs in SI: rates [m/s] at the interface, [m/min] inside the published formulas.
 """
 
 from __future__ import annotations
 
-import math
 from enum import IntEnum
 
 import numpy as np
@@ -44,6 +43,7 @@ __all__ = [
 ]
 
 CANOPY_HEAT_KJ_PER_KG = 8000.0 * 2.326  # [kJ/kg]
+_BTU_FT_S_TO_KW_M = 1.055056 / 0.3048
 CROWN_WAF = 0.4
 CROWN_RATE_FACTOR = 3.34
 
@@ -69,19 +69,19 @@ def critical_active_rate_mps(cbd_kgpm3: np.ndarray | float) -> np.ndarray:
 
 
 def crown_fraction_burned(
-    surface_rate_mps: np.ndarray, initiation_rate_mps: np.ndarray, critical_active_mps: np.ndarray
+    surface_rate_mps: np.ndarray, initiation_rate_mps: np.ndarray, active_surface_rate_mps: np.ndarray
 ) -> np.ndarray:
-    """Scott & Reinhardt (2001) Eqs. 26-28, clipped to [0, 1]."""
+    """Scott & Reinhardt (2001) Eq. 28: ``CFB = (R_s - R'_init) / (R'_SA - R'_init)``, clipped to [0, 1]."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        span = 0.9 * (critical_active_mps - initiation_rate_mps)
-        a_c = np.where(span > 0, -math.log(0.1) / np.where(span > 0, span, 1.0), np.inf)
-        cfb = 1.0 - np.exp(-a_c * np.maximum(surface_rate_mps - initiation_rate_mps, 0.0))
-    return np.clip(np.nan_to_num(cfb, nan=1.0), 0.0, 1.0)
+        span = active_surface_rate_mps - initiation_rate_mps
+        cfb = np.where(span > 0, (surface_rate_mps - initiation_rate_mps) / np.where(span > 0, span, 1.0), 1.0)
+    return np.clip(np.nan_to_num(cfb, nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
 
 
 def crown_flame_length_m(intensity_kwpm: np.ndarray) -> np.ndarray:
-    """Thomas (1963): ``L = 0.2 I^(2/3)`` [m]."""
-    return 0.2 * np.power(np.maximum(intensity_kwpm, 0.0), 2.0 / 3.0)
+    """Thomas (1963) in Rothermel's (1991) units: ``L = 0.2 I^(2/3)`` [ft, Btu/ft/s] -> [m]."""
+    i_btu = np.maximum(np.asarray(intensity_kwpm, dtype=float), 0.0) / _BTU_FT_S_TO_KW_M
+    return 0.2 * np.power(i_btu, 2.0 / 3.0) * 0.3048
 
 
 def crown_fire(
@@ -93,12 +93,15 @@ def crown_fire(
     cbd_kgpm3: np.ndarray,
     canopy_height_m: np.ndarray,
     foliar_moisture: float,
+    surface_rate_at_active_mps: np.ndarray | None = None,
 ) -> dict[str, np.ndarray]:
     """Fire type and final behaviour per cell by FlamMap's Finney method (module docstring).
 
     Returns ``fire_type`` (:class:`FireType` codes; 0 where the surface rate is 0),
     ``rate_mps``, ``intensity_kwpm``, ``cfb``, ``transition_ratio`` (I_B / I_0) and ``active_ratio``
     (R_cactive / R'_active). Cells without canopy (CBD or canopy height 0) stay surface fires.
+    ``surface_rate_at_active_mps``: R'_SA, the surface rate at the wind that makes the crown fire
+    active (S&R 2001 Eq. 28), the upper end of the crown fraction burned; R'_active if omitted.
     """
     i0 = critical_surface_intensity_kwpm(cbh_m, foliar_moisture)
     r_crit = critical_active_rate_mps(cbd_kgpm3)
@@ -115,7 +118,8 @@ def crown_fire(
     fire_type = np.where(burns, FireType.SURFACE, FireType.UNBURNABLE).astype(np.uint8)
     fire_type[passive] = FireType.PASSIVE
     fire_type[active] = FireType.ACTIVE
-    cfb = np.where(passive, crown_fraction_burned(surface_rate_mps, r_init, r_crit), 0.0)
+    r_sa = r_crit if surface_rate_at_active_mps is None else surface_rate_at_active_mps
+    cfb = np.where(passive, crown_fraction_burned(surface_rate_mps, r_init, r_sa), 0.0)
     cfb = np.where(active, 1.0, cfb)
     rate = np.where(passive, surface_rate_mps + cfb * (crown_active_rate_mps - surface_rate_mps), surface_rate_mps)
     rate = np.where(active, crown_active_rate_mps, rate)
