@@ -237,6 +237,18 @@ class Landscape:
             raise LandscapeError(f"point ({x_m:.1f}, {y_m:.1f}) m lies outside the landscape {self.bounds}")
         return row, col
 
+    def require_burnable(self, x_m: float, y_m: float, what: str = "ignition") -> tuple[int, int]:
+        """(row, col) of a point that must burn (an ignition); LandscapeError naming ``what`` if not."""
+        try:
+            row, col = self.cell_of(x_m, y_m)
+        except LandscapeError as e:
+            raise LandscapeError(f"{what}: {e}") from None
+        if not self.burnable[row, col]:
+            code = int(self.fuel[row, col])
+            kind = "outside the data" if code == OUTSIDE else f"non-burnable fuel code {code}"
+            raise LandscapeError(f"{what} at ({x_m:.1f}, {y_m:.1f}) m: cell (row {row}, col {col}) is {kind}")
+        return row, col
+
     def lonlat(self, x_m: Any, y_m: Any) -> tuple[Any, Any]:
         """WGS84 (longitude, latitude) [deg] of map points (pyproj)."""
         from pyproj import CRS, Transformer

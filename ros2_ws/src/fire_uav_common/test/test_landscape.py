@@ -158,10 +158,19 @@ def test_missing_and_unreadable_files(tmp_path: Path) -> None:
         read_landscape_spec(path)
 
 
-def test_points_outside_the_grid_are_named(tmp_path: Path) -> None:
-    land = load_landscape(toy(tmp_path))
+def test_points_outside_the_grid_and_unburnable_ignitions_are_named(tmp_path: Path) -> None:
+    fuel = np.full((6, 8), 102)
+    fuel[0, 0], fuel[5, 7] = 98, NODATA
+    land = load_landscape(toy(tmp_path, fuel=fuel))
     with pytest.raises(LandscapeError, match=r"point \(0.0, 0.0\) m lies outside the landscape"):
         land.cell_of(0.0, 0.0)
+    with pytest.raises(LandscapeError, match=r"^ignition: point \(0.0, 0.0\) m lies outside"):
+        land.require_burnable(0.0, 0.0)
+    with pytest.raises(LandscapeError, match=r"ignition at \(500015.0, 3999985.0\) m: cell \(row 0, col 0\) is non-burnable fuel code 98"):
+        land.require_burnable(*land.cell_center(0, 0))
+    with pytest.raises(LandscapeError, match=r"fire 2 at .*: cell \(row 5, col 7\) is outside the data"):
+        land.require_burnable(*land.cell_center(5, 7), what="fire 2")
+    assert land.require_burnable(*land.cell_center(2, 3)) == (2, 3)
 
 
 def test_the_fuel_code_sets_match_the_fire_models() -> None:

@@ -103,6 +103,7 @@ def test_bad_input_exits_2_with_one_line(
     assert __import__("re").search(match, err), err
 
 
+@pytest.mark.slow  # starts a process
 def test_the_command_line_wrapper_exits_2_on_a_bad_option(tmp_path: Path) -> None:
     p = subprocess.run(
         [str(ROOT / "scripts" / "fire_behavior"), "worcester_vt", "--out", str(tmp_path), "--crown", "scott"],
