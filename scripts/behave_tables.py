@@ -8,9 +8,10 @@ Offline only, not part of the tests or CI (the tests read the committed CSVs). R
     python scripts/behave_tables.py landscape > ros2_ws/src/fire_world_sim/test/data/behave_53.csv
     python scripts/behave_tables.py crown > ros2_ws/src/fire_world_sim/test/data/behave_crown.csv
 
-and the agreement table in the docs (needs no Behave: it reads the CSVs and runs our model):
+and the agreement table in the docs (needs no Behave: it reads the CSVs and runs our model, so it
+runs in the project's environment):
 
-    python scripts/behave_tables.py agreement > docs/behave_agreement.md
+    source scripts/env.sh && python scripts/behave_tables.py agreement > docs/behave_agreement.md
 
 ``landscape`` (all 53 standard models, per cell as the landscape command computes them): five
 moisture scenarios (1-h, 10-h, 100-h, live herbaceous, live woody; herbaceous 30-150 % so that the
@@ -193,8 +194,6 @@ def read_csv(name: str) -> list[dict[str, str]]:
 
 def agreement() -> None:
     """Markdown: per fuel model, our per-cell results against Behave's (behave_53.csv)."""
-    root = Path(__file__).resolve().parents[1] / "ros2_ws/src"
-    sys.path[:0] = [str(root / "fire_world_sim"), str(root / "fire_uav_common")]
     import numpy as np
     from fire_world_sim.fires.behavior import FuelMoistures, Moisture, fire_behavior
     from fire_world_sim.fires.fuel_models import FUEL_MODELS

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Per-cell fire behaviour over a whole landscape: our numpy kernel against pyretechnics.
 
-Usage:
-    .venv/bin/python scripts/bench_landscape.py [--reps N] [--wind-20ft-mps U] \
+Usage (in the project's environment: ``source scripts/env.sh``):
+    python scripts/bench_landscape.py [--reps N] [--wind-20ft-mps U] \
         [--pyretechnics-python /path/to/other/venv/bin/python]
 
 Both sides compute FlamMap's basic run (head rate, direction, intensity, flame length, fire type
@@ -24,7 +24,6 @@ from __future__ import annotations
 import argparse
 import json
 import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -97,7 +96,6 @@ def run_pyretechnics(reps: int, wind_20ft_mps: float, out: Path) -> None:
 
 
 def run_ours(reps: int, wind_20ft_mps: float) -> tuple[float, dict[str, np.ndarray]]:
-    sys.path[:0] = [str(ROOT / "ros2_ws/src/fire_world_sim"), str(ROOT / "ros2_ws/src/fire_uav_common")]
     from fire_world_sim.fires.behavior import FuelMoistures, Moisture, fire_behavior
 
     layers = read_layers()
