@@ -48,8 +48,10 @@ __all__ = [
     "MPS_TO_FT_PER_MIN",
     "WIND_LIMITS",
     "SpreadParams",
+    "herb_cured_fraction",
     "ellipse_eccentricity",
     "head_spread",
+    "head_spread_cells",
     "length_to_breadth",
     "rate_of_spread",
     "spread_params",
@@ -86,6 +88,36 @@ def _eta_m(m: float, mx: float) -> float:
     return max(0.0, 1.0 - 2.59 * r + 5.11 * r**2 - 3.52 * r**3)
 
 
+def herb_cured_fraction(m_live_herb: float) -> float:
+    """Fraction of a dynamic model's herbaceous load transferred to dead (Scott & Burgan 2005 p. 8).
+
+    All of it at live herbaceous moisture <= 30 %, none from 120 %, linear between. The line is
+    Behave's rounded form ``1.333 - 1.11 M`` (Behave's ``SurfaceFuelbedIntermediates``; FlamMap
+    the same), not the exact ``(1.2 - M) / 0.9``: with the exact line GR6 at M = 119 % spreads 5 %
+    slower than Behave; with the rounded one all 53 models agree.
+    """
+    return min(1.0, max(0.0, 1.333 - 1.11 * m_live_herb))
+
+
+# SAV bin edges [1/ft] of the size-sorted net-load weights (Albini 1976; Behave's six classes)
+_SAV_BINS = (1200.0, 192.0, 96.0, 48.0, 16.0)
+
+
+def _sav_bin(sav: float) -> int:
+    for i, edge in enumerate(_SAV_BINS):
+        if sav >= edge:
+            return i
+    return len(_SAV_BINS)
+
+
+def _size_sorted(f: list[float], cls: list[tuple[float, float, float]]) -> list[float]:
+    """g_ij: each particle's weight is the summed f of the particles in its SAV bin."""
+    summed: dict[int, float] = {}
+    for fi, (_, s, _) in zip(f, cls, strict=True):
+        summed[_sav_bin(s)] = summed.get(_sav_bin(s), 0.0) + fi
+    return [summed[_sav_bin(s)] for _, s, _ in cls]
+
+
 def spread_params(
     fuel: FuelModel,
     m_1h: float,
@@ -101,13 +133,19 @@ def spread_params(
     m_10h = m_1h + 0.01 if m_10h is None else m_10h
     m_100h = m_1h + 0.02 if m_100h is None else m_100h
     k = TONS_PER_ACRE_TO_LB_PER_FT2
+    herb_live, herb_dead = fuel.load_live_herb_tpa, 0.0
+    if fuel.dynamic:
+        cured = herb_cured_fraction(m_live_herb)
+        herb_live, herb_dead = fuel.load_live_herb_tpa * (1.0 - cured), fuel.load_live_herb_tpa * cured
     dead = [
         (fuel.load_1h_tpa * k, fuel.sav_1h_per_ft, m_1h),
         (fuel.load_10h_tpa * k, fuel.sav_10h_per_ft, m_10h),
         (fuel.load_100h_tpa * k, fuel.sav_100h_per_ft, m_100h),
+        # cured herbaceous: a dead class with the herb's SAV at the 1-h moisture (S&B 2005 p. 8)
+        (herb_dead * k, fuel.sav_live_herb_per_ft, m_1h),
     ]
     live = [
-        (fuel.load_live_herb_tpa * k, fuel.sav_live_herb_per_ft, m_live_herb),
+        (herb_live * k, fuel.sav_live_herb_per_ft, m_live_herb),
         (fuel.load_live_woody_tpa * k, fuel.sav_live_woody_per_ft, m_live_woody),
     ]
     dead = [c for c in dead if c[0] > 0]
@@ -141,9 +179,9 @@ def spread_params(
     ratio = beta / beta_op
     gamma = gamma_max * ratio**a_exp * math.exp(a_exp * (1.0 - ratio))
 
-    # net loads per category (Albini 1976: weighted by f_ij)
-    wn_dead = sum(f * w * (1 - S_T) for f, (w, _, _) in zip(f_dead, dead, strict=True))
-    wn_live = sum(f * w * (1 - S_T) for f, (w, _, _) in zip(f_live, live, strict=True))
+    # net loads per category, weighted by the size-sorted factors g_ij (Albini 1976 as Behave)
+    wn_dead = sum(g * w * (1 - S_T) for g, (w, _, _) in zip(_size_sorted(f_dead, dead), dead, strict=True))
+    wn_live = sum(g * w * (1 - S_T) for g, (w, _, _) in zip(_size_sorted(f_live, live), live, strict=True))
     mf_dead = sum(f * m for f, (_, _, m) in zip(f_dead, dead, strict=True))
     mf_live = sum(f * m for f, (_, _, m) in zip(f_live, live, strict=True))
     eta_s = min(1.0, 0.174 * S_E**-0.19)
@@ -256,3 +294,44 @@ def ellipse_eccentricity(lb: float | np.ndarray) -> float | np.ndarray:
     lb = np.asarray(lb, dtype=float)
     e = np.sqrt(np.maximum(lb**2 - 1.0, 0.0)) / lb
     return float(e) if e.ndim == 0 else e
+
+
+def head_spread_cells(
+    p: SpreadParams,
+    wind_mps: np.ndarray,
+    wind_dir_rad: np.ndarray | float,
+    slope_tan: np.ndarray,
+    upslope_dir_rad: np.ndarray | float,
+    *,
+    wind_limit: str = DEFAULT_WIND_LIMIT,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`head_spread` over cells: every field of ``p`` is an array of the cells' shape.
+
+    Cells whose ``r0_mps`` is 0 (non-burnable, too wet) get rate 0 and effective wind 0.
+    """
+    if wind_limit not in WIND_LIMITS:
+        raise ValueError(f"wind_limit must be one of {WIND_LIMITS}, got {wind_limit!r}")
+    burns = np.asarray(p.r0_mps) > 0
+    c = np.where(burns, p.c, 1.0)
+    b = np.where(burns, p.b, 1.0)
+    ratio_e = np.where(burns, np.asarray(p.beta_ratio, dtype=float) ** np.asarray(p.e, dtype=float), 1.0)
+    u_ft = np.maximum(np.asarray(wind_mps, dtype=float), 0.0) * MPS_TO_FT_PER_MIN
+    phi_w = c * np.power(u_ft, b) / ratio_e
+    phi_s = np.asarray(p.slope_k, dtype=float) * np.asarray(slope_tan, dtype=float) ** 2
+    vx = phi_w * np.cos(wind_dir_rad) + phi_s * np.cos(upslope_dir_rad)
+    vy = phi_w * np.sin(wind_dir_rad) + phi_s * np.sin(upslope_dir_rad)
+    phi = np.hypot(vx, vy)
+    direction = np.arctan2(vy, vx)
+    u_eff_ft = np.power(phi * ratio_e / c, 1.0 / b)
+    r0_ft = np.asarray(p.r0_mps, dtype=float) * MPS_TO_FT_PER_MIN
+    if wind_limit == "behave":
+        lim = 0.9 * np.asarray(p.reaction_intensity_btu_ft2_min, dtype=float)
+        over = u_eff_ft > lim
+        phi = np.where(over, c * np.power(lim, b) / ratio_e, phi)
+        u_eff_ft = np.where(over, lim, u_eff_ft)
+    r_ft = r0_ft * (1.0 + phi)
+    if wind_limit == "andrews2013":
+        r_ft = np.where(u_eff_ft > 0, np.minimum(r_ft, np.maximum(u_eff_ft, r0_ft)), r_ft)
+    r = np.where(burns, r_ft * FT_PER_MIN_TO_MPS, 0.0)
+    u_eff = np.where(burns, u_eff_ft * FT_PER_MIN_TO_MPS, 0.0)
+    return r, direction, u_eff
