@@ -43,8 +43,8 @@ from visualization_msgs.msg import Marker, MarkerArray
 from . import viz
 from .bundle_wire import write_sensor_bundle
 from .errors import ConfigError
-from .fires.raster import RasterFireModel
-from .world import Bundle, Command, Event, StepResult, World
+from .fires import CellGrid
+from .world import Bundle, Command, MissionEventRecord, SensorBundleRecord, StepResult, World
 
 FRAME = "map"
 #: [s wall] lockstep: re-send a bundle to an agent whose answer is not in after this long
@@ -531,7 +531,7 @@ class WorldNode(Node):
                 and v.uav_id not in self._told_crashed
                 and v.uav_id not in offline
             ):
-                last = Bundle(v.uav_id, r.step, r.stamp_ns, self.world.control_period_s)
+                last = SensorBundleRecord(v.uav_id, r.step, r.stamp_ns, self.world.control_period_s)
                 last.water_kg, last.vehicle_status = v.water_kg, int(VehicleStatus.CRASHED)
                 self._sent[v.uav_id] = self._bundle_bytes(last)
                 self.pub_sensors[v.uav_id].publish(self._sent[v.uav_id])
@@ -545,8 +545,9 @@ class WorldNode(Node):
             self._last_viz_ns = r.stamp_ns
             self.pub_viz.publish(self._markers(r))
             self.pub_tf.publish(self._tf_msg(r))
-            if isinstance(self.world.fires, RasterFireModel):
-                self.pub_grid.publish(self._grid_msg(r.stamp_ns))
+            grid = self.world.fires.cell_grid()
+            if grid is not None:
+                self.pub_grid.publish(self._grid_msg(grid, r.stamp_ns))
 
     def _bundle_bytes(self, b: Bundle) -> bytes:
         """``b`` as a serialised SensorBundle (``bundle_wire``), published as it is."""
@@ -596,7 +597,7 @@ class WorldNode(Node):
             )
         return m
 
-    def _event_msg(self, e: Event) -> MissionEvent:
+    def _event_msg(self, e: MissionEventRecord) -> MissionEvent:
         return MissionEvent(
             header=self._hdr(e.stamp_ns),
             type=int(e.type),
@@ -616,7 +617,7 @@ class WorldNode(Node):
             r.vehicles,
             r.fires,
             self.world.scenario.lakes,
-            draw_fires=not isinstance(self.world.fires, RasterFireModel),
+            draw_fires=not self.world.fires.has_cells,
             legend_xy_m=(area.x_min_m, area.y_max_m),
         )
         hdr = self._hdr(r.stamp_ns)
@@ -654,21 +655,19 @@ class WorldNode(Node):
             msg.transforms.append(t)
         return msg
 
-    def _grid_msg(self, ns: int) -> OccupancyGrid:
-        fm = self.world.fires
-        assert isinstance(fm, RasterFireModel)
+    def _grid_msg(self, grid: CellGrid, ns: int) -> OccupancyGrid:
         g = OccupancyGrid(header=self._hdr(ns))
         g.info.map_load_time = stamp(ns)
-        g.info.resolution = float(fm.cs)
-        g.info.width, g.info.height = fm.nx, fm.ny
-        g.info.origin.position.x = fm.spec.origin.x_m
-        g.info.origin.position.y = fm.spec.origin.y_m
+        g.info.resolution = grid.cell_size_m
+        g.info.width, g.info.height = grid.nx, grid.ny
+        g.info.origin.position.x = grid.origin_x_m
+        g.info.origin.position.y = grid.origin_y_m
         g.info.origin.orientation.w = 1.0
-        state = fm.state_grid()
+        state = grid.state
         import numpy as np
 
         occ = np.zeros(state.shape, dtype=np.int8)  # unburned 0, wet 20, burnt 60, burning 100
-        occ[fm.wet_grid()] = 20
+        occ[grid.wet] = 20
         occ[state == CellState.BURNED] = 60
         occ[state == CellState.BURNING] = 100
         g.data = occ.ravel().tolist()
