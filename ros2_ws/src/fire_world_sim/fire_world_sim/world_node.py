@@ -391,11 +391,11 @@ class WorldNode(Node):
 def _spin_until_done(node: WorldNode) -> None:
     """``rclpy.spin_until_future_complete(node, node.done)``, except that a message rclpy cannot
     convert to Python is dropped (counted as rejected "undecodable", warned) instead of ending
-    the world. It fails inside rclpy's ``take_message``, before any callback of ours; the agents
-    have the same guard (``agent_node._spin_through_bad_messages``, issue "hardening"). Seen
-    without any fuzzing too: agents now and then drop one near a mission's end, and on
-    2026-12-02 the world got one in the 1 s after "mission complete" of a 10-UAV run beside a CPU
-    hog and exited 1 (cause not found)."""
+    the world. It fails inside rclpy's ``take_message``, before any callback of ours, so no
+    callback can guard against it; the agents have the same guard. A rogue participant can send
+    such bytes, and it was seen without one too (cause not found): agents now and then drop one
+    near a mission's end, and the world once got one just after "mission complete" of a 10-UAV
+    run on a loaded machine, which ended the world with exit code 1 before this guard."""
     from fire_uav_common.ros_io import make_executor
 
     executor = make_executor()
