@@ -57,3 +57,14 @@ def test_the_fleet_key() -> None:
         authenticator_from(True, "")
     with pytest.raises(ConfigError, match=r"^parameter fleet_key: fleet key must be 64 hex digits, got 3"):
         authenticator_from(True, "abc")
+
+
+def test_the_table_is_the_default_yaml() -> None:
+    """Every parameter of the table is in config/world.yaml with the same default, and back."""
+    from pathlib import Path
+
+    import yaml
+
+    path = Path(__file__).resolve().parents[1] / "config" / "world.yaml"
+    conf = yaml.safe_load(path.read_text())["/**"]["ros__parameters"]
+    assert {p.name: p.default for p in PARAMETERS} == conf
