@@ -4,7 +4,7 @@ which answers are taken, and when bundles are sent again. Pure: no rclpy, no clo
 The node publishes step k's bundles, then :meth:`AnswerGate.await_answers` names the agents it
 waits for; each command and payload request that arrives goes through
 :meth:`AnswerGate.admit_command` / :meth:`AnswerGate.admit_payload`, which return a
-:class:`Verdict` (take it, drop it quietly, or reject it with a reason to count). The step runs
+:class:`AnswerVerdict` (take it, drop it quietly, or reject it with a reason to count). The step runs
 once :attr:`AnswerGate.complete`; :meth:`AnswerGate.take_inputs` hands over what was taken.
 
 An agent whose process is gone is dropped from the wait (:meth:`AnswerGate.mark_lost`); an
@@ -22,14 +22,14 @@ from fire_uav_common.stamps import NS_PER_S
 
 from .vehicle import Command
 
-__all__ = ["IGNORE", "TAKE", "AnswerGate", "Verdict"]
+__all__ = ["IGNORE", "TAKE", "AnswerGate", "AnswerVerdict"]
 
 STAMP_OUT_OF_RANGE = "stamp out of range"
 DUPLICATE = "duplicate"
 
 
 @dataclass(frozen=True)
-class Verdict:
+class AnswerVerdict:
     """What to do with one answer: ``take`` it, or drop it; ``rejection`` names why a dropped
     answer counts as rejected (None: dropped quietly, e.g. a copy the world asked for)."""
 
@@ -37,8 +37,8 @@ class Verdict:
     rejection: str | None = None
 
 
-TAKE = Verdict(True)
-IGNORE = Verdict(False)
+TAKE = AnswerVerdict(True)
+IGNORE = AnswerVerdict(False)
 
 
 @dataclass
@@ -108,20 +108,22 @@ class AnswerGate:
         """True for the spare copy of an answer the world asked for again (not a rejection)."""
         return problem in (STAMP_OUT_OF_RANGE, DUPLICATE) and self.asked_again.get(uid) == ns
 
-    def _refused(self, uid: int, ns: int, problem: str) -> Verdict:
+    def _refused(self, uid: int, ns: int, problem: str) -> AnswerVerdict:
         # before step 0 nothing is awaited yet, so nothing is a rejection
         if self.started and not self.second_answer(uid, ns, problem):
-            return Verdict(False, problem)
+            return AnswerVerdict(False, problem)
         return IGNORE
 
-    def admit_command(self, uid: int, ns: int, crashed: bool, world_t_ns: int) -> Verdict:
+    def admit_command(self, uid: int, ns: int, crashed: bool, world_t_ns: int) -> AnswerVerdict:
         """An unsigned command of vehicle ``uid`` stamped ``ns``."""
         if self.finished:
             return IGNORE  # the agents answer the mission's last bundle too: nothing waits for that
         problem = self.stamp_problem(crashed, ns, world_t_ns)
         return TAKE if problem is None else self._refused(uid, ns, problem)
 
-    def admit_payload(self, uid: int, ns: int, crashed: bool, world_t_ns: int, tag: bytes | None) -> Verdict:
+    def admit_payload(
+        self, uid: int, ns: int, crashed: bool, world_t_ns: int, tag: bytes | None
+    ) -> AnswerVerdict:
         """A payload request of vehicle ``uid`` stamped ``ns`` that decoded and, if signed, carries
         the valid ``tag`` (None when unsigned)."""
         if self.finished:
@@ -133,7 +135,7 @@ class AnswerGate:
             return IGNORE  # a copy of requests already taken (the agent re-sends its step's answer)
         if tag is not None:
             if tag in self.seen_tags:
-                return IGNORE if self.second_answer(uid, ns, DUPLICATE) else Verdict(False, DUPLICATE)
+                return IGNORE if self.second_answer(uid, ns, DUPLICATE) else AnswerVerdict(False, DUPLICATE)
             self.seen_tags.add(tag)
         return TAKE
 

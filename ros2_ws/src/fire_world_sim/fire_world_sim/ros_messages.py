@@ -22,7 +22,7 @@ from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
 from . import viz
-from .fires import CellGrid
+from .fires import FireGrid
 from .world import MissionEventRecord, StepResult
 
 __all__ = [
@@ -157,7 +157,7 @@ def tf_msg(r: StepResult) -> TFMessage:
     return msg
 
 
-def grid_msg(grid: CellGrid, ns: int) -> OccupancyGrid:
+def grid_msg(grid: FireGrid, ns: int) -> OccupancyGrid:
     """``/viz/fire_grid``: unburned 0, wet 20, burnt 60, burning 100."""
     g = OccupancyGrid(header=header(ns))
     g.info.map_load_time = stamp(ns)

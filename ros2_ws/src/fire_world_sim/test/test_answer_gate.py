@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 from fire_uav_common.constants import PayloadAction
-from fire_world_sim.answer_gate import IGNORE, TAKE, AnswerGate, Verdict
+from fire_world_sim.answer_gate import IGNORE, TAKE, AnswerGate, AnswerVerdict
 from fire_world_sim.vehicle import Command
 
 T1 = 100_000_000  # [ns] stamp of the answers to step 0
@@ -22,7 +22,9 @@ def started(lockstep: bool = True, uids: tuple[int, ...] = (0, 1, 2)) -> AnswerG
     return g
 
 
-def answer(g: AnswerGate, uid: int, ns: int = T1, tag: bytes | None = None) -> tuple[Verdict, Verdict]:
+def answer(
+    g: AnswerGate, uid: int, ns: int = T1, tag: bytes | None = None
+) -> tuple[AnswerVerdict, AnswerVerdict]:
     """An unsigned command and a payload request of ``uid``, taken if admitted."""
     vc = g.admit_command(uid, ns, crashed=False, world_t_ns=0)
     if vc.take:
@@ -51,8 +53,10 @@ def test_the_step_completes_once_every_command_and_payload_request_is_in() -> No
 
 def test_a_wrong_stamp_or_a_crashed_vehicle_is_rejected_with_its_reason() -> None:
     g = started()
-    assert g.admit_command(0, T1 + 1, crashed=False, world_t_ns=0) == Verdict(False, "stamp out of range")
-    assert g.admit_command(0, T1, crashed=True, world_t_ns=0) == Verdict(False, "crashed vehicle")
+    assert g.admit_command(0, T1 + 1, crashed=False, world_t_ns=0) == AnswerVerdict(
+        False, "stamp out of range"
+    )
+    assert g.admit_command(0, T1, crashed=True, world_t_ns=0) == AnswerVerdict(False, "crashed vehicle")
     assert g.waiting == {0, 1, 2}  # nothing taken
 
 
@@ -66,7 +70,7 @@ def test_a_replayed_tag_is_a_duplicate_and_tags_reset_each_step() -> None:
     g = started(uids=(0, 1))
     assert answer(g, 0, tag=b"t0")[1] == TAKE
     # a second request with the same tag (a replay by someone else) is rejected
-    assert g.admit_payload(0, T1, crashed=False, world_t_ns=0, tag=b"t0") == Verdict(False, "duplicate")
+    assert g.admit_payload(0, T1, crashed=False, world_t_ns=0, tag=b"t0") == AnswerVerdict(False, "duplicate")
     g.take_inputs()
     g.await_answers(2 * T1, {0, 1}, now_ns=0)
     assert g.admit_payload(0, 2 * T1, crashed=False, world_t_ns=0, tag=b"t0") == TAKE
@@ -86,7 +90,7 @@ def test_a_resend_names_the_late_agents_and_their_second_answer_is_dropped_quiet
     g.take_inputs()
     g.await_answers(2 * T1, {0, 1, 2}, now_ns=6 * S)
     assert g.admit_command(1, T1, crashed=False, world_t_ns=0) == IGNORE
-    assert g.admit_command(0, T1, crashed=False, world_t_ns=0) == Verdict(False, "stamp out of range")
+    assert g.admit_command(0, T1, crashed=False, world_t_ns=0) == AnswerVerdict(False, "stamp out of range")
 
 
 def test_a_lost_agent_is_not_waited_for_now_or_later() -> None:

@@ -2,12 +2,12 @@
 
 from ..errors import ConfigError
 from .analytic import AnalyticFireModel
-from .base import CellGrid, FireModel, FireTruthRecord
+from .base import FireGrid, FireModel, FireTruthRecord
 from .raster import RasterFireModel
 
 __all__ = [
     "AnalyticFireModel",
-    "CellGrid",
+    "FireGrid",
     "FireModel",
     "FireTruthRecord",
     "RasterFireModel",

@@ -16,7 +16,7 @@ from fire_uav_common.constants import FireStatus
 from fire_uav_common.scenario import AnalyticFire
 
 from ..sensors import CellsSample
-from .base import CellGrid, FireTruthRecord
+from .base import FireGrid, FireTruthRecord
 
 __all__ = ["AnalyticFireModel"]
 
@@ -119,7 +119,7 @@ class AnalyticFireModel:
     def has_cells(self) -> bool:
         return False
 
-    def cell_grid(self) -> CellGrid | None:
+    def cell_grid(self) -> FireGrid | None:
         return None
 
     @property

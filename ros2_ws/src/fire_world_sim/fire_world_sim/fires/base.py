@@ -15,7 +15,7 @@ import numpy as np
 
 from ..sensors import CellsSample
 
-__all__ = ["CellGrid", "FireModel", "FireTruthRecord"]
+__all__ = ["FireGrid", "FireModel", "FireTruthRecord"]
 
 
 @dataclass(frozen=True)
@@ -33,7 +33,7 @@ class FireTruthRecord:
 
 
 @dataclass(frozen=True)
-class CellGrid:
+class FireGrid:
     """The cells of a fire model at its current time, row 0 the southern row (map frame).
 
     ``state``: (ny, nx) uint8 of ``CellState``; ``wet``: (ny, nx) bool, unburned cells
@@ -103,7 +103,7 @@ class FireModel(Protocol):
         shown by their grid, the others as discs."""
         ...
 
-    def cell_grid(self) -> CellGrid | None:
+    def cell_grid(self) -> FireGrid | None:
         """The whole grid now (for ``/viz/fire_grid``), or None for a model without cells."""
         ...
 

@@ -55,7 +55,7 @@ from fire_uav_common.scenario import Raster
 from fire_uav_common.terrain import Terrain
 
 from ..sensors import CellsSample
-from .base import CellGrid, FireTruthRecord
+from .base import FireGrid, FireTruthRecord
 from .fuel_models import fuel_model
 from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spread_params
 
@@ -460,8 +460,8 @@ class RasterFireModel:
     def has_cells(self) -> bool:
         return True
 
-    def cell_grid(self) -> CellGrid:
-        return CellGrid(
+    def cell_grid(self) -> FireGrid:
+        return FireGrid(
             self.spec.origin.x_m, self.spec.origin.y_m, float(self.cs), self.state_grid(), self.wet_grid()
         )
 
