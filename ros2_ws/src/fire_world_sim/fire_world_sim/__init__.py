@@ -7,5 +7,5 @@ Public, ROS-free API: :class:`fire_world_sim.world.World` (one control step at a
 (the :class:`~fire_world_sim.fires.FireModel` protocol), :mod:`fire_world_sim.errors`.
 The ROS node is :mod:`fire_world_sim.world_node`; its parameters are
 :mod:`fire_world_sim.world_config`, its lockstep bookkeeping
-:mod:`fire_world_sim.answer_gate` (both ROS-free), its messages :mod:`fire_world_sim.ros_messages`.
+:mod:`fire_world_sim.step_answers` (both ROS-free), its messages :mod:`fire_world_sim.ros_messages`.
 """

@@ -8,7 +8,7 @@ lockstep waiting is a steady-clock timer reset at each step, never a sleep.
 
 The node is the thin part: parameters come from one table into a frozen config
 (:mod:`.world_config`), which answers a step waits for and which are taken is decided by the
-pure :class:`~.answer_gate.AnswerGate`, and the messages are built by :mod:`.ros_messages`.
+pure :class:`~.step_answers.AnswerGate`, and the messages are built by :mod:`.ros_messages`.
 """
 
 from __future__ import annotations
@@ -35,10 +35,10 @@ from visualization_msgs.msg import MarkerArray
 
 from . import ros_messages as msgs
 from . import viz
-from .answer_gate import AnswerGate
 from .bundle_wire import write_sensor_bundle
 from .errors import ConfigError
 from .ros_messages import FRAME, stamp  # noqa: F401  (the SensorBundle writer's tests take them from here)
+from .step_answers import AnswerGate
 from .world import Bundle, Command, SensorBundleRecord, StepResult, World
 from .world_config import (
     PARAMETERS,
@@ -237,7 +237,7 @@ class WorldNode(Node):
         as if a bundle or an answer was lost between matched endpoints. The copy is harmless: an
         agent that has not run the step yet ignores it (it answers only a newer bundle), and one
         that has answered already sends its answer again; the world takes one answer per step
-        (:meth:`~.answer_gate.AnswerGate.second_answer`). It changes no step's inputs, so a
+        (:meth:`~.step_answers.AnswerGate.second_answer`). It changes no step's inputs, so a
         lockstep run stays reproducible; the warning names who was waited for.
         """
         now = self._steady.now().nanoseconds

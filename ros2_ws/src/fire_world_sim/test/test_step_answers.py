@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 from fire_uav_common.constants import PayloadAction
-from fire_world_sim.answer_gate import IGNORE, TAKE, AnswerGate, AnswerVerdict
+from fire_world_sim.step_answers import IGNORE, TAKE, AnswerGate, AnswerVerdict
 from fire_world_sim.vehicle import Command
 
 T1 = 100_000_000  # [ns] stamp of the answers to step 0
