@@ -1,4 +1,4 @@
-"""scripts/bench --only scale: each row carries one core's speed of its moment (issue [scale])."""
+"""scripts/bench --only scale: each row carries one core's speed of its moment."""
 
 import math
 

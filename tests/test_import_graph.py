@@ -1,8 +1,14 @@
-"""No import cycle among the project's modules, counting imports inside functions too.
+"""No import cycle among the project's modules or its packages, counting imports inside
+functions too.
 
 A lazy import (``def f(): from .x import y``) hides a cycle from Python but not from a reader:
 this test builds the graph of every project module's imports, top level or not, and fails on
-any strongly connected component with more than one module, naming the modules.
+any strongly connected component with more than one module, naming the modules. A module that
+imports a name from its own package (``from fire_report.sections import Section`` inside
+``fire_report.sections.cp``) depends on the package's ``__init__``, so that edge counts too; an
+import of a submodule does not count as one of its package (else every package that re-exports
+its submodules would be a cycle). The same graph folded onto the top-level packages
+(fire_uav_common, fire_world_sim, ..., fire_report) must be acyclic as well.
 """
 
 from __future__ import annotations
@@ -57,7 +63,7 @@ def _imports(name: str, path: Path, mods: dict[str, Path]) -> set[str]:
             # the longest project module that the target names
             while t and t not in mods:
                 t = t.rpartition(".")[0]
-            if t and t != name and not name.startswith(t + "."):
+            if t and t != name:
                 out.add(t)
     return out
 
@@ -104,9 +110,48 @@ def test_cycle_finder_finds_a_cycle() -> None:
     assert _cycles({"a": {"b"}, "b": set()}) == []
 
 
-def test_no_import_cycles() -> None:
+#: Cycles being removed on another branch. Each must still be a cycle here
+#: (test_known_cycles_are_still_cycles), so the entry is deleted when its fix lands.
+KNOWN_CYCLES: list[list[str]] = [
+    # the report's sections package imports its pm/cp modules, which import Section from it
+    ["fire_report.sections", "fire_report.sections.cp", "fire_report.sections.pm"],
+]
+
+
+def _graph() -> dict[str, set[str]]:
     mods = _modules()
     assert len(mods) > 40, sorted(mods)
-    graph = {name: _imports(name, path, mods) for name, path in mods.items()}
-    cycles = _cycles(graph)
+    return {name: _imports(name, path, mods) for name, path in mods.items()}
+
+
+def _packages(graph: dict[str, set[str]]) -> dict[str, set[str]]:
+    """The module graph folded onto top-level packages (no self-edges)."""
+    out: dict[str, set[str]] = {}
+    for name, deps in graph.items():
+        top = name.split(".")[0]
+        out.setdefault(top, set()).update(d.split(".")[0] for d in deps if d.split(".")[0] != top)
+    return out
+
+
+def test_an_import_of_the_own_package_is_an_edge() -> None:
+    mods = _modules()
+    cp = "fire_report.sections.cp"
+    assert "fire_report.sections" in _imports(cp, mods[cp], mods)
+
+
+def test_no_import_cycles() -> None:
+    cycles = [c for c in _cycles(_graph()) if c not in KNOWN_CYCLES]
     assert not cycles, "import cycles:\n" + "\n".join(" <-> ".join(c) for c in cycles)
+
+
+def test_known_cycles_are_still_cycles() -> None:
+    fixed = [c for c in KNOWN_CYCLES if c not in _cycles(_graph())]
+    assert not fixed, f"no longer a cycle, delete from KNOWN_CYCLES: {fixed}"
+
+
+def test_no_cycle_among_packages() -> None:
+    packages = _packages(_graph())
+    assert {"fire_uav_common", "fire_world_sim", "fire_uav_agent", "fire_mission"} <= set(packages)
+    assert packages["fire_uav_common"] == set()  # the bottom layer imports no other project package
+    cycles = _cycles(packages)
+    assert not cycles, "package import cycles:\n" + "\n".join(" <-> ".join(c) for c in cycles)

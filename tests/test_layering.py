@@ -1,5 +1,5 @@
-"""Layering: algorithm modules stay free of ROS (only node modules ``*_node.py`` and the adapters
-``ros_io.py``/``search_io.py`` may import rclpy); the report is ROS-free; the tools import ROS
+"""Layering: algorithm modules stay free of ROS (only node modules ``*_node.py`` and the
+adapters in ``ROS_ADAPTERS`` may import rclpy); the report is ROS-free; the tools import ROS
 only in the modules that run nodes; nothing edits ``sys.path`` outside the tests."""
 
 from __future__ import annotations
@@ -18,6 +18,9 @@ PACKAGES = [
 ]
 # tools/<package>: the modules that may import ROS (they run or talk to nodes); all others are ROS-free
 TOOLS_ROS_MODULES = {"fire_mission": {"runner.py"}, "fire_bench": {"skeleton.py"}, "fire_report": set()}
+# ROS adapter modules besides the nodes: the spin loop, the agent's search adapter, the recording's
+# raw subscriptions, the world's message builders
+ROS_ADAPTERS = {"ros_io.py", "search_io.py", "raw_topics.py", "ros_messages.py"}
 ROS_MODULES = (
     "rclpy",
     "fire_uav_msgs",
@@ -51,7 +54,7 @@ def _algorithm_modules() -> list[Path]:
     out = []
     for pkg in PACKAGES:
         for path in (ROOT / "ros2_ws/src" / pkg / pkg).rglob("*.py"):
-            if not path.name.endswith("_node.py") and path.name not in ("ros_io.py", "search_io.py"):
+            if not path.name.endswith("_node.py") and path.name not in ROS_ADAPTERS:
                 out.append(path)
     return out
 

@@ -1,4 +1,4 @@
-"""The runner's end-of-mission summary does not load matplotlib (issue [scale]).
+"""The runner's end-of-mission summary does not load matplotlib.
 
 ``LiveSummary.suppression`` takes its figures from ``fire_report.metrics``; matplotlib came in
 through the package's ``write_report`` and cost every mission ~0.3 s (1.4 s CPU on a loaded

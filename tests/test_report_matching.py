@@ -1,4 +1,4 @@
-"""The report matches fleet fire tracks to true fires by position, not by id (issue 16)."""
+"""The report matches fleet fire tracks to true fires by position, not by id."""
 
 import numpy as np
 import pytest

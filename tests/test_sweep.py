@@ -1,4 +1,4 @@
-"""Sweeps of ``scripts/bench`` locally and on a Dask cluster (issue [scale], sweeps beyond one machine).
+"""Sweeps of ``scripts/bench`` locally and on a Dask cluster (sweeps beyond one machine).
 
 The fast tests check the sweep machinery's contracts: spec errors, the host-wide ROS domain
 claim, results in sorted-spec order whatever the completion order, the one-line errors for an

@@ -18,13 +18,14 @@ from marker_replay import replay, stale_fire_markers
 
 rclpy_msgs = pytest.importorskip("visualization_msgs.msg")
 world_node = pytest.importorskip("fire_world_sim.world_node")
+ros_messages = pytest.importorskip("fire_world_sim.ros_messages")
 from rclpy.serialization import serialize_message  # noqa: E402
 
 
 def _record(tmp_path, scenario: str, max_steps: int, **overrides):
     sc = load_scenario(scenario_path(scenario), overrides=overrides or None)
     h = Harness(sc)
-    fake = SimpleNamespace(world=h.world, _marker_book=viz.MarkerBook(), _hdr=world_node.WorldNode._hdr)
+    fake = SimpleNamespace(world=h.world, _marker_book=viz.MarkerBook())
     ts = bag_io.fleet_typestore()
     bag = tmp_path / "bag"
     with bag_io.BagWriter(bag) as w:
@@ -41,12 +42,12 @@ def _record(tmp_path, scenario: str, max_steps: int, **overrides):
                     serialize_message(world_node.WorldNode._markers(fake, r)),
                 )
                 w.write(
-                    conns[topics.TF], r.stamp_ns, serialize_message(world_node.WorldNode._tf_msg(fake, r))
+                    conns[topics.TF], r.stamp_ns, serialize_message(ros_messages.tf_msg(r))
                 )
             w.write(
                 conns[topics.WORLD_TRUTH],
                 r.stamp_ns,
-                serialize_message(world_node.WorldNode._truth_msg(fake, r)),
+                serialize_message(ros_messages.truth_msg(r)),
             )
             if r.complete:
                 break

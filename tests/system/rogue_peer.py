@@ -1,7 +1,7 @@
 """A rogue ROS participant on a mission's domain (tests/system/test_hardening.py).
 
 usage: rogue_peer.py MODE OUT.json [SECONDS] [RATE_HZ]
-- ``spoof``: the issue's replay: one UavState for UAV 1 with sequence 2**32-1 and one with NaN
+- ``spoof``: the replay of a poisoning attempt: one UavState for UAV 1 with sequence 2**32-1 and one with NaN
   coordinates for UAV 2, then for SECONDS valid-looking forgeries: copies of genuine fleet
   messages (right step and sequence, other position, the genuine tag), PayloadRequests asking
   UAV 1 to drop, wild TwistStamped commands on /uav_1/cmd.

@@ -1,4 +1,4 @@
-"""Lockstep missions repeat exactly (issue [determinism]): same scenario and seed, same mission.
+"""Lockstep missions repeat exactly: same scenario and seed, same mission.
 
 Each pair of runs goes through the real runner (world, recorder and agent processes over DDS)
 and is compared with :func:`fire_mission.determinism.compare_runs`: every summary.json field but
@@ -80,9 +80,9 @@ def _hog(stop) -> None:  # pragma: no cover - runs in a child process
 
 
 def test_ten_uavs_beside_a_cpu_hog_identical(ros_env, tmp_path):
-    """A non-strict xfail from 2026-12-02 to 12-04 ("the recorder stops receiving every topic after
-    58-166 steps of a 10-UAV run"), XPASSing in every fresh-clone CI since 12-03. The symptom is
-    the one fixed in 3df410c: the recorder fell behind (one message per topic per wake on rclpy's
+    """Once a non-strict xfail ("the recorder stops receiving every topic after 58-166 steps of a
+    10-UAV run") that then XPASSed in every fresh-clone CI. The symptom is the one fixed in
+    3df410c: the recorder fell behind (one message per topic per wake on rclpy's
     executor, ~90 subscriptions) and lost its backlog at SIGINT, so its bag ended early. A plain
     test again; not reproduced on the old code, so the attribution is the symptom's, not proven."""
     args = ("ff_two_fires", "--seed", "3", "--max-duration", "25", "--uavs", "10")

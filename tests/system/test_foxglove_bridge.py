@@ -131,7 +131,7 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
     assert abs(t[-1] - (stamp.sec * 10**9 + stamp.nanosec)) < 2 * 10**9
     # the bag of the same run reads as rosbag2's own, every message through rclpy's deserializer
     from fire_uav_recording.conformance import check_bag
-    from fire_uav_recording.ros_io import message_class
+    from fire_uav_recording.raw_topics import message_class
     from rclpy.serialization import deserialize_message
 
     classes: dict[str, type] = {}

@@ -1,6 +1,6 @@
-"""A rogue participant on the mission's domain (issue "hardening"; docs/security.md).
+"""A rogue participant on the mission's domain (docs/security.md).
 
-The issue's replay: one UavState for UAV 1 with sequence 2**32-1 and one with NaN coordinates for
+A replay of a poisoning attempt: one UavState for UAV 1 with sequence 2**32-1 and one with NaN coordinates for
 UAV 2, then valid-looking forgeries (copies of genuine messages with the genuine tag, forged
 drops and commands). With authentication on (the default) every forgery is rejected: no UAV is
 declared crashed, every UAV lands, and the fleet counts the rejections.

@@ -1,5 +1,5 @@
 """A recorded mission: the report computed from the bag agrees with what the runner saw live,
-and replaying the bag republishes it on ROS topics (issue 6)."""
+and replaying the bag republishes it on ROS topics."""
 
 from __future__ import annotations
 

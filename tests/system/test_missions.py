@@ -1,4 +1,4 @@
-"""End-to-end missions through the real runner: world + recorder + agent processes (issue 5).
+"""End-to-end missions through the real runner: world + recorder + agent processes.
 
 Each test runs a whole mission in lockstep mode on a private ROS_DOMAIN_ID and checks the
 outcome the runner saw live (summary.json). They are slow (tens of seconds each).

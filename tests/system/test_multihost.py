@@ -86,7 +86,7 @@ def _finish(p: subprocess.Popen, out: Path, timeout_s: float) -> tuple[dict, str
     return json.loads(path.read_text()), err
 
 
-# It timed out (> 600 s) in two fresh-clone runs of 2026-12-02 with the same mission completing
+# It once timed out (> 600 s) in two fresh-clone runs with the same mission completing
 # in process in 54.6 s: a lockstep wait that never ended. The world now re-sends a bundle whose
 # answer is not in after 5 s (world_node._resend_if_stuck); look for that warning in world.log.
 def test_lockstep_mission_across_namespaces_with_20_percent_real_loss(ros_env, tmp_path, fleet):

@@ -126,7 +126,7 @@ def test_record_sigint_then_replay(tmp_path, env):
         time.sleep(2.0)
         rep = subprocess.Popen(
             # --delay: the subscriber must be matched before the first message (volatile
-                # publishers); the fresh-clone CI of 2026-12-03 lost 21 of 169 to a 5 ms start
+                # publishers); a fresh-clone CI lost 21 of 169 to a 5 ms start
                 [str(ROOT / "scripts/replay"), str(bag), "--rate", "4", "--delay", "3", "--no-progress"],
             env=env,
             stderr=subprocess.PIPE,

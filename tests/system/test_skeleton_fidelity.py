@@ -1,11 +1,11 @@
-"""The messaging skeleton of the scale benchmark has the fleet's processes and topics (issue [scale]).
+"""The messaging skeleton of the scale benchmark has the fleet's processes and topics.
 
 The scale target is a ratio to "the messaging-only skeleton (the same processes and topics, no
 algorithms)". Here a 3-UAV FF mission without a recorder (as the benchmark runs it) and the
 full-fidelity skeleton (``fire_bench.skeleton --fidelity full``) run one after the other on one
 private domain, each under a probe that counts every message on every fleet topic; the skeleton
 must publish on the same topics, from as many nodes, at the same rate per step, with messages of
-comparable size. The minimal skeleton of sessions 9-13 fails this test (no payload, truth, /tf,
+comparable size. The minimal skeleton (``--fidelity minimal``) fails this test (no payload, truth, /tf,
 markers, runner).
 """
 

@@ -1,4 +1,4 @@
-"""World node + stub agents in lockstep: the same scenario and seed give identical truth (issue 3)."""
+"""World node + stub agents in lockstep: the same scenario and seed give identical truth."""
 
 from __future__ import annotations
 

@@ -100,8 +100,8 @@ def machine_probe(repeats: int = 5) -> dict:
     """This (shared) machine's single-thread Python speed just before a scale row.
 
     ``probe_ms``: the median wall time of a fixed pure-Python loop (integer arithmetic, like the
-    agents' bookkeeping). Measured on 2026-12-03 it stayed at 21.4-23.2 ms all afternoon while
-    the 20-UAV fleet's rate moved between 8.7 and 11.5 steps/s: the variation is not the speed of
+    agents' bookkeeping). Over one afternoon it stayed at 21.4-23.2 ms while the 20-UAV
+    fleet's rate moved between 8.7 and 11.5 steps/s: the variation is not the speed of
     one core but the 22-process setting (context switches, caches, the other vCPU), which only
     the messaging skeleton run beside each row measures. So read the ratio to the skeleton, not a
     rate alone, across days; the probe rules out the simplest explanation. A figure, not a
@@ -399,7 +399,7 @@ def _skeleton(
     return result
 
 
-#: issue [scale] targets (benchmark figures, not tests): fleet/skeleton step-rate ratio, agent RSS, 20-UAV rate
+#: the scale targets (benchmark figures, not tests): fleet/skeleton step-rate ratio, agent RSS, 20-UAV rate
 SCALE_TARGETS = {"ratio_to_skeleton": 0.8, "agent_rss_mb": 100.0, "steps_per_s_at_20": 10.0}
 SCALE_SIZES: list[int] | None = None  # --scale-sizes
 SCALE_DURATION_S: float | None = None  # --scale-duration
@@ -410,9 +410,10 @@ def bench_scale(quick: bool) -> dict:
     """Lockstep step rate, CPU and memory per process for N UAVs, against the messaging skeleton
     (the same sizes in the same run): 3-30 UAVs (full), 3/5/10 (quick) or ``--scale-sizes``. The
     skeleton runs twice per size: with the fleet's processes, topics and protocol (``--fidelity
-    full``, the ratio's reference since session 14; ``tests/system/test_skeleton_fidelity.py``
-    holds it to the fleet's traffic) and as the minimal skeleton of sessions 9-13 (bundles, one
-    unsigned state, the command; the ratio's reference then)."""
+    full``, the ratio's reference, as it carries the fleet's whole traffic;
+    ``tests/system/test_skeleton_fidelity.py`` holds it to the fleet's) and as the minimal
+    skeleton (bundles, one unsigned state, the command), kept to compare with the older rows
+    that were measured against it."""
     sizes = SCALE_SIZES or ([3, 5, 10] if quick else [3, 5, 10, 14, 20, 30])
     duration = SCALE_DURATION_S or (15.0 if quick else 30.0)
     rows = []

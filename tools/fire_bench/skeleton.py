@@ -6,16 +6,16 @@ TwistStamped answering that step (lockstep), ``--steps`` times; prints steps per
 ``agent``: on each bundle publishes a UavState carrying two fires on /fleet/state (the fleet's
 one peer message per step), subscribes to every peer's, and answers with its command. No
 estimation, consensus or control: what is left is the cost of DDS + rclpy for this topology.
-``--wire bytes`` (the default): the messages travel as the fleet's do (session 13): the world
+``--wire bytes`` (the default): the messages travel as the fleet's do: the world
 writes each bundle as CDR bytes (``fire_world_sim.bundle_wire``) and publishes them raw, an agent
 reads its bundle and every peer state from their bytes (``fire_uav_agent.bundle_wire``,
 ``state_wire``) and publishes its state as serialised bytes; signing is left out. ``--wire
-messages``: rclpy messages end to end (bundles of ``sensor_msgs/Imu`` objects, typed takes), the
-skeleton of sessions 9-12.
-``--peer-messages 2``: the protocol before issue [scale] (messages only): a UavState without fires
+messages``: rclpy messages end to end (bundles of ``sensor_msgs/Imu`` objects, typed takes), as
+the fleet sent them before it wrote bundles and states as bytes.
+``--peer-messages 2``: the older protocol with two peer messages per step (messages only): a UavState without fires
 and a FireEstimateArray (two fires) on /fleet/fires.
 
-``--fidelity full`` (the scale benchmark's reference since session 14): every process and every topic
+``--fidelity full`` (the scale benchmark's reference): every process and every topic
 of a fleet mission without a recorder (``fire_mission.runner --no-record``), each message of the size
 and at the rate the fleet sends it, and the fleet's protocol, still without algorithms:
 - ``world``: /clock, the bundles, /world/truth (every vehicle, two fires) every step, and at the
@@ -29,8 +29,9 @@ and at the rate the fleet sends it, and the fleet's protocol, still without algo
   an FF mission as in the fleet.
 - ``supervisor``: the runner's subscriptions (/clock, /world/truth, both event topics, /fleet/state
   drained, as messages), reading the fields the runner reads.
-``--fidelity minimal`` (sessions 9-13): the world publishes /clock and bundles and waits for the
-commands; agents publish an unsigned state and the command as soon as a bundle arrives; no runner.
+``--fidelity minimal`` (the older reference, for the rows measured against it): the world
+publishes /clock and bundles and waits for the commands; agents publish an unsigned state and
+the command as soon as a bundle arrives; no runner.
 
 usage: python -m fire_bench.skeleton world --uavs N --steps S [--fidelity full|minimal] [--wire bytes|messages]
        python -m fire_bench.skeleton agent --uav-id K --uavs N [--fidelity ...] [--peer-messages 1|2] [--wire ...]
@@ -80,7 +81,7 @@ VIZ_EVERY_STEPS = 5  # the world's viz_rate_hz (2 Hz) and the agents' marker_eve
 # a bundle; 0-1 fires a state (none known before ~7 s); 88-107 points on a cell outline; N + 7
 # markers on /viz/world (an arrow a vehicle, the lake, the legend, the fires).
 FIRES = 2  # fires in /world/truth (ff_two_fires)
-STATE_FIRES = 1  # fires in a state (the full skeleton; the minimal one of sessions 9-13 sent 2)
+STATE_FIRES = 1  # fires in a state (the full skeleton; the minimal one sends 2)
 GYRO, ALTIMETER = 7, 2
 CELL_POINTS = 90  # points of an agent's Voronoi cell outline marker
 WORLD_MARKERS_BEYOND_VEHICLES = 7

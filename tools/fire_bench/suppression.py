@@ -1,4 +1,4 @@
-"""Suppression benchmark (issue [suppression]): burned area against the no-fleet baseline.
+"""Suppression benchmark: burned area against the no-fleet baseline.
 
 usage: python -m fire_bench.suppression [--quick] [--jobs N] [--out DIR] [--case SC:UAVS:SEED:TACTIC ...]
        python -m fire_bench.suppression --from-runs JSONL [--from-runs JSONL ...] [--out DIR] [--update-docs]
@@ -74,7 +74,7 @@ def run_case(scenario: str, uavs: int, seed: int, tactic: str, duration_s: float
             for e in h.events[seen:]:
                 if (
                     e.type == EventType.CRASH
-                ):  # the phase it happened in (issue: collisions over a raster fire)
+                ):  # the phase it happened in: where over a raster fire vehicles collide
                     crash_log.append(_crash_context(h, e))
             seen = len(h.events)
         world = h.world

@@ -42,6 +42,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
 
+from fire_bench.errors import SweepError
+
 __all__ = [
     "DaskExecutor",
     "Executor",
@@ -57,10 +59,6 @@ __all__ = [
 MODES = ("harness", "processes", "call")
 #: the Dask pins of requirements/py.txt (named in the "not installed" error)
 DASK_PINS = "dask==2026.8.0 distributed==2026.8.0"
-
-
-class SweepError(RuntimeError):
-    """A sweep cannot run (bad spec, no scheduler, no dask); the message is one line."""
 
 
 @dataclass(frozen=True)

@@ -3,9 +3,9 @@
 Public API: :class:`ProcessGroup`, :func:`executable`, :func:`claim_domain`.
 """
 
+from fire_mission.errors import MissionError
 from fire_mission.procs import (
     DOMAIN_RANGE,
-    MissionError,
     ProcessGroup,
     claim_domain,
     executable,

@@ -135,7 +135,7 @@ def compare_runs(run_a: Path, run_b: Path, ignore: tuple[str, ...] = ()) -> RunD
 
 def check_twice(args: argparse.Namespace, run: Callable[[argparse.Namespace], int]) -> int:
     """``--check-determinism``: run ``args`` twice into OUT/run1 and OUT/run2 and compare."""
-    from fire_mission.procs import MissionError
+    from fire_mission.errors import MissionError
 
     if args.mode != "lockstep":
         raise MissionError(

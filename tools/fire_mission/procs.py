@@ -22,11 +22,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from fire_mission.errors import MissionError
+
 __all__ = ["DOMAIN_RANGE", "MissionError", "ProcessGroup", "claim_domain", "executable", "ros_run_argv"]
-
-
-class MissionError(RuntimeError):
-    """A mission could not be started or supervised (message says what and why)."""
 
 
 def _ament_prefixes() -> list[Path]:

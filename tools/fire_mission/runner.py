@@ -29,7 +29,8 @@ from fire_uav_common.constants import EventType, FireStatus, VehicleStatus
 from fire_uav_common.stamps import stamp_to_s
 
 from fire_mission.cli import OneLineParser
-from fire_mission.procs import MissionError, ProcessGroup, claim_domain, ros_run_argv
+from fire_mission.errors import MissionError
+from fire_mission.procs import ProcessGroup, claim_domain, ros_run_argv
 from fire_mission.procstat import sample as proc_sample
 from fire_mission.summary import Event, LiveSummary, table
 

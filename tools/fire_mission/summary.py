@@ -72,7 +72,7 @@ class LiveSummary:
         self.area_active.append(any(on for _, on in fires))
 
     def suppression(self) -> dict:
-        """hit_rate, burned_area_m2, contained_at_s, water (issue [suppression]), as the report
+        """hit_rate, burned_area_m2, contained_at_s, water, as the report
         computes them from the bag (``fire_report.metrics``), from what the supervisor saw."""
         from fire_report.metrics import containment_from_area, drop_outcomes
 

@@ -28,6 +28,8 @@ import hmac
 import secrets
 import struct
 
+from .errors import FleetKeyError
+
 __all__ = ["KEY_BYTES", "TAG_BYTES", "Authenticator", "new_key_hex", "parse_key"]
 
 KEY_BYTES = 32  # [B] key length: the SHA-256 block is 64 B; 32 B of entropy is the usual choice
@@ -45,11 +47,11 @@ def parse_key(text: str) -> bytes:
     """64 hex digits -> the 32-byte key; a one-line ValueError (never echoing the key) if not."""
     t = text.strip()
     if len(t) != 2 * KEY_BYTES:
-        raise ValueError(f"fleet key must be {2 * KEY_BYTES} hex digits, got {len(t)} characters")
+        raise FleetKeyError(f"fleet key must be {2 * KEY_BYTES} hex digits, got {len(t)} characters")
     try:
         return bytes.fromhex(t)
     except ValueError:
-        raise ValueError("fleet key must be hex digits only (0-9, a-f)") from None
+        raise FleetKeyError("fleet key must be hex digits only (0-9, a-f)") from None
 
 
 class Authenticator:
@@ -57,7 +59,7 @@ class Authenticator:
 
     def __init__(self, key: bytes) -> None:
         if len(key) != KEY_BYTES:
-            raise ValueError(f"fleet key must be {KEY_BYTES} bytes, got {len(key)}")
+            raise FleetKeyError(f"fleet key must be {KEY_BYTES} bytes, got {len(key)}")
         self._key = key
 
     def __repr__(self) -> str:  # never show the key
@@ -81,10 +83,10 @@ class Authenticator:
         its last field, or a message signed twice).
         """
         if not isinstance(data, bytes) or len(data) < 4 + TAG_BYTES:
-            raise ValueError(f"sign_serialized: expected the CDR bytes of a message, got {type(data).__name__} "
+            raise FleetKeyError(f"sign_serialized: expected the CDR bytes of a message, got {type(data).__name__} "
                              f"of length {len(data) if hasattr(data, '__len__') else '?'}")  # fmt: skip
         if data[-TAG_BYTES:] != _ZERO_TAG:
-            raise ValueError(
+            raise FleetKeyError(
                 "sign_serialized: the last 32 bytes are not a zero auth field: the message type's auth must be "
                 "its last field, and the message must be serialised before it is signed (auth all zeros)"
             )

@@ -22,6 +22,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .errors import ScheduleError
+
 __all__ = ["OfflineWindow", "first_step_at", "format_schedule", "offline_uavs", "parse_schedule"]
 
 
@@ -47,7 +49,7 @@ class OfflineWindow:
 def first_step_at(t_s: float, period_s: float) -> int:
     """The first step ``k`` whose start time ``k * period_s`` is at or after ``t_s``."""
     if not period_s > 0:
-        raise ValueError(f"control period must be > 0 s, got {period_s}")
+        raise ScheduleError(f"control period must be > 0 s, got {period_s}")
     return max(0, math.ceil(t_s / period_s - 1e-9))
 
 
@@ -69,9 +71,9 @@ def parse_schedule(text: str) -> tuple[OfflineWindow, ...]:
             else:
                 t1, t2 = float(times), math.inf
         except ValueError:
-            raise ValueError(f"offline schedule entry {raw!r}: expected K@T1:T2 or K@T1") from None
+            raise ScheduleError(f"offline schedule entry {raw!r}: expected K@T1:T2 or K@T1") from None
         if uid < 0 or not math.isfinite(t1) or t1 < 0 or not t2 > t1 or math.isnan(t2):
-            raise ValueError(f"offline schedule entry {raw!r}: need K >= 0, 0 <= T1 < T2 (finite T1)")
+            raise ScheduleError(f"offline schedule entry {raw!r}: need K >= 0, 0 <= T1 < T2 (finite T1)")
         out.append(OfflineWindow(uid, t1, t2))
     return tuple(sorted(out, key=lambda w: (w.start_s, w.uav_id, w.end_s)))
 

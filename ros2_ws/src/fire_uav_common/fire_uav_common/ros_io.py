@@ -10,6 +10,8 @@ import inspect
 from collections.abc import Callable
 from typing import Any
 
+from .errors import ExecutorAwaitError, ExecutorError
+
 __all__ = ["LeanExecutor", "make_executor", "spin"]
 
 EXECUTOR_ENV = "FIRE_UAV_EXECUTOR"  # "lean" (the default) or "rclpy": which executor make_executor gives
@@ -25,16 +27,16 @@ def _run(result: Any, what: str) -> Any:
     except StopIteration as done:
         return done.value
     result.close()
-    raise RuntimeError(f"LeanExecutor: the coroutine of {what} awaited something; use rclpy's executor")
+    raise ExecutorAwaitError(f"LeanExecutor: the coroutine of {what} awaited something; use rclpy's executor")
 
 
 def _refuse_clients(node: Any) -> None:
     if list(node.clients):
-        raise ValueError(f"LeanExecutor: node {node.get_name()} has service clients; use rclpy's executor")
+        raise ExecutorError(f"LeanExecutor: node {node.get_name()} has service clients; use rclpy's executor")
 
 
 class LeanExecutor:
-    """A single-threaded executor for one node, with a wait set built once (issue [scale]).
+    """A single-threaded executor for one node, with a wait set built once (it pays at fleet scale).
 
     rclpy's ``SingleThreadedExecutor`` rebuilds its wait set in Python at every wait: it
     re-collects every entity of the node, enters each handle's context, makes a new wait set,
@@ -76,7 +78,7 @@ class LeanExecutor:
 
     def add_node(self, node: Any) -> bool:
         if self._node is not None and self._node is not node:
-            raise ValueError("LeanExecutor spins one node; use rclpy's executor for several")
+            raise ExecutorError("LeanExecutor spins one node; use rclpy's executor for several")
         _refuse_clients(node)
         self._node = node
         self._key = None
@@ -217,7 +219,7 @@ def make_executor(context: Any = None) -> Any:
         from rclpy.executors import SingleThreadedExecutor
 
         return SingleThreadedExecutor(context=context)
-    raise ValueError(f"{EXECUTOR_ENV}={kind!r}: expected 'lean' or 'rclpy'")
+    raise ExecutorError(f"{EXECUTOR_ENV}={kind!r}: expected 'lean' or 'rclpy'")
 
 
 def spin(node: Any, on_exit: Callable[[], None] | None = None) -> None:

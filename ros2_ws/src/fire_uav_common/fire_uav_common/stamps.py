@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from typing import Any, Protocol, TypeVar
 
+from .errors import ArgumentError
+
 __all__ = [
     "NS_PER_S",
     "ns_to_s",
@@ -61,7 +63,7 @@ def to_time_msg(t_ns: int, time_cls: type[T]) -> T:
     """
     t_ns = int(t_ns)
     if t_ns < 0:
-        raise ValueError(f"stamp must be >= 0 ns, got {t_ns}")
+        raise ArgumentError(f"stamp must be >= 0 ns, got {t_ns}")
     sec, nanosec = divmod(t_ns, NS_PER_S)
     return time_cls(sec=sec, nanosec=nanosec)  # type: ignore[call-arg]
 
@@ -78,5 +80,5 @@ def stamp_to_step(stamp_ns: int, period_ns: int) -> int:
     to its step. Raises ``ValueError`` for a period that is not positive.
     """
     if period_ns <= 0:
-        raise ValueError(f"control period must be > 0 ns, got {period_ns}")
+        raise ArgumentError(f"control period must be > 0 ns, got {period_ns}")
     return int(round(stamp_ns / period_ns)) - 1

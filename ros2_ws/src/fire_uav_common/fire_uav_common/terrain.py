@@ -9,6 +9,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import ArgumentError
+
 __all__ = ["Hill", "Lake", "Terrain"]
 
 
@@ -23,7 +25,7 @@ class Hill:
 
     def __post_init__(self) -> None:
         if not self.sigma_m > 0:
-            raise ValueError(f"hill sigma_m must be > 0, got {self.sigma_m}")
+            raise ArgumentError(f"hill sigma_m must be > 0, got {self.sigma_m}")
 
 
 @dataclass(frozen=True)
@@ -36,7 +38,7 @@ class Lake:
 
     def __post_init__(self) -> None:
         if not self.diameter_m > 0:
-            raise ValueError(f"lake diameter_m must be > 0, got {self.diameter_m}")
+            raise ArgumentError(f"lake diameter_m must be > 0, got {self.diameter_m}")
 
     def contains(self, x_m: float, y_m: float) -> bool:
         return (x_m - self.x_m) ** 2 + (y_m - self.y_m) ** 2 <= (self.diameter_m / 2) ** 2

@@ -1,6 +1,6 @@
 """Every topic of the fleet, paired with its type, QoS and loss-draw index, in one place.
 
-One :class:`TopicSpec` per topic (DESIGN "Processes and topics"). Every node, the runner and the
+One :class:`TopicSpec` per topic, so a topic's name, type and QoS change in one place. Every node, the runner and the
 recorder take names, types and QoS from here: ``create_publisher(spec.msg_class(), spec.name,
 spec.qos())``, or the helpers :func:`publisher` / :func:`subscription`. Per-vehicle topics are
 relative names under the ``uav_<k>`` namespace; :meth:`TopicSpec.for_uav` gives the absolute
@@ -20,6 +20,8 @@ import importlib
 import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
+
+from .errors import TopicError, UnknownTopicError
 
 if TYPE_CHECKING:  # pragma: no cover
     from rclpy.qos import QoSProfile
@@ -58,7 +60,7 @@ def qos(kind: str) -> QoSProfile:
     - ``"lockstep"``: sensors, commands, payload: reliable, depth 100 (the world waits for them).
     - ``"clock"``: ``/clock``: reliable, depth 10.
     - ``"fleet"``: peer-to-peer state: reliable, depth 5000. The injected loss is applied on
-      receipt (DESIGN "Faults"), and the lockstep wait counts every message a peer announced,
+      receipt (per directed link, seeded, so runs repeat), and the lockstep wait counts every message a peer announced,
       so the transport must never drop one: a depth-100 history dropped the oldest samples of
       a burst (the CP MST phase sends ~100 messages in one step) and the fleet waited for them
       for ever. KEEP_ALL is no answer either: Fast DDS then blocks and fails ``publish`` once
@@ -70,7 +72,7 @@ def qos(kind: str) -> QoSProfile:
     - ``"tf"``: ``/tf``: reliable, volatile, depth 100 (tf2's broadcaster default).
     """
     if kind not in QOS_KINDS:
-        raise ValueError(f"unknown QoS kind {kind!r}; expected one of {sorted(QOS_KINDS)}")
+        raise TopicError(f"unknown QoS kind {kind!r}; expected one of {sorted(QOS_KINDS)}")
     from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
     reliable, transient, depth = QOS_KINDS[kind]
@@ -85,7 +87,7 @@ def qos(kind: str) -> QoSProfile:
 def uav_namespace(uav_id: int) -> str:
     """Namespace of vehicle ``uav_id``, e.g. ``/uav_3``."""
     if uav_id < 0:
-        raise ValueError(f"uav_id must be >= 0, got {uav_id}")
+        raise TopicError(f"uav_id must be >= 0, got {uav_id}")
     return "/" + UAV_NAMESPACE.format(k=uav_id)
 
 
@@ -112,15 +114,15 @@ class TopicSpec:
 
     def __post_init__(self) -> None:
         if self.qos_kind not in QOS_KINDS:
-            raise ValueError(f"topic {self.name}: unknown QoS kind {self.qos_kind!r}")
+            raise TopicError(f"topic {self.name}: unknown QoS kind {self.qos_kind!r}")
         if self.per_uav == self.name.startswith("/"):
-            raise ValueError(f"topic {self.name}: per-vehicle names are relative, others absolute")
+            raise TopicError(f"topic {self.name}: per-vehicle names are relative, others absolute")
 
     @property
     def draw_index(self) -> int:
         """The loss index of a peer topic (ValueError for a topic that has none)."""
         if self.loss_index is None:
-            raise ValueError(f"topic {self.name} is not a peer topic: it has no loss index")
+            raise TopicError(f"topic {self.name} is not a peer topic: it has no loss index")
         return self.loss_index
 
     def qos(self) -> QoSProfile:
@@ -135,7 +137,7 @@ class TopicSpec:
     def for_uav(self, uav_id: int) -> str:
         """Absolute name for vehicle ``uav_id`` (per-vehicle topics only)."""
         if not self.per_uav:
-            raise ValueError(f"topic {self.name} is not a per-vehicle topic")
+            raise TopicError(f"topic {self.name} is not a per-vehicle topic")
         return uav_topic(uav_id, self.name)
 
     def pattern(self) -> str:
@@ -159,8 +161,8 @@ VIZ_AGENT_SPEC = TopicSpec("viz", "visualization_msgs/msg/MarkerArray", "viz", p
                            doc="agent k -> RViz/Foxglove")  # fmt: skip
 # fleet (peer-to-peer), absolute; loss_index: the topic's index in the peer link's loss draw
 FLEET_STATE_SPEC = TopicSpec("/fleet/state", "fire_uav_msgs/msg/UavState", "fleet", loss_index=0)
-# /fleet/fires: the fleet's fire picture now rides in UavState (one peer message per step, issue
-# [scale]); loss_index 1 is that part's own loss draw and lockstep count. Nothing of the fleet
+# /fleet/fires: the fleet's fire picture rides in UavState (one peer message per step instead of
+# two, which halves the messages a 20-UAV fleet exchanges); loss_index 1 is that part's own loss draw and lockstep count. Nothing of the fleet
 # publishes on the topic any more; it stays for bags recorded before and for tools.
 FLEET_FIRES_SPEC = TopicSpec("/fleet/fires", "fire_uav_msgs/msg/FireEstimateArray", "fleet", loss_index=1)
 FLEET_PERIMETER_SPEC = TopicSpec("/fleet/perimeter", "fire_uav_msgs/msg/PerimeterMap", "fleet", loss_index=2)
@@ -172,7 +174,7 @@ COVERAGE_CANDIDATES_SPEC = TopicSpec("/fleet/coverage/candidates", "fire_uav_msg
                                      "fleet", loss_index=4)  # fmt: skip
 COVERAGE_MST_SPEC = TopicSpec("/fleet/coverage/mst", "fire_uav_msgs/msg/MstFragment", "fleet", loss_index=5)
 FLEET_FRONT_SPEC = TopicSpec("/fleet/front", "fire_uav_msgs/msg/FireFront", "fleet", loss_index=6,
-                             doc="raster fire front pictures (issue [suppression])")  # fmt: skip
+                             doc="raster fire front pictures")  # fmt: skip
 # world, absolute (agents never subscribe to these)
 WORLD_TRUTH_SPEC = TopicSpec("/world/truth", "fire_uav_msgs/msg/WorldTruth", "truth", doc="world -> recorder")
 WORLD_EVENTS_SPEC = TopicSpec("/world/events", "fire_uav_msgs/msg/MissionEvent", "events")
@@ -221,7 +223,7 @@ def topic_by_name(name: str) -> TopicSpec:
     for spec in ALL_TOPICS:
         if re.fullmatch(spec.pattern(), name):
             return spec
-    raise KeyError(f"no topic {name!r} in fire_uav_common.topics")
+    raise UnknownTopicError(f"no topic {name!r} in fire_uav_common.topics")
 
 
 def recorded_patterns() -> tuple[str, ...]:
@@ -233,7 +235,7 @@ def recorded_patterns() -> tuple[str, ...]:
 # handlers. rclpy gives every publisher and subscription two (incompatible QoS, incompatible type), each a
 # waitable that the executor adds to, and checks in, every wait set in Python: ~140 of them in a
 # 20-UAV world node, for events that cannot happen between endpoints that all take their QoS and
-# type from this table (issue [scale], docs/profile.md). A tool that subscribes with an
+# type from this table (docs/profile.md). A tool that subscribes with an
 # incompatible QoS still gets the warning from its own subscription's default handler.
 
 
@@ -271,14 +273,14 @@ def drain_queue(sub: Any, limit: int = DRAIN_LIMIT) -> Any:
 
     rclpy's executor takes one message per ready subscription per wait, and rebuilds the wait set
     (Python bookkeeping over every entity of the node) for the next: an agent of a 20-UAV fleet
-    got ~40 peer messages per step on two topics, so ~20 waits per step (issue [scale],
-    docs/profile.md). A drained subscription handles its whole queue in the one callback, in
+    got ~40 peer messages per step on two topics, so ~20 waits per step
+    (docs/profile.md). A drained subscription handles its whole queue in the one callback, in
     arrival order, as the executor would have, through the same ``take_message``; a message rclpy
     cannot convert raises from there as it would from the executor's own take. Only for a
     callback of the message alone (no ``MessageInfo``). Returns ``sub``.
     """
     if sub._callback_type is not type(sub).CallbackType.MessageOnly:
-        raise ValueError(f"drain_queue: the callback of {sub.topic_name} must take the message alone")
+        raise TopicError(f"drain_queue: the callback of {sub.topic_name} must take the message alone")
     inner = sub.callback
 
     def drained(msg: Any) -> None:

@@ -1,12 +1,22 @@
-"""The one exception of the recording package."""
+"""The recording package's error family: every error it raises itself is a
+:class:`RecordingError`, with a one-line message naming the path or the parameter."""
 
 from __future__ import annotations
 
-__all__ = ["BagError"]
+__all__ = ["BagError", "ConfigError", "RecordingError"]
 
 
-class BagError(Exception):
+class RecordingError(Exception):
+    """Base of the recording package's own errors."""
+
+
+class BagError(RecordingError):
     """A bag cannot be written or read; the message names the path and the problem (one line)."""
+
+
+class ConfigError(RecordingError, ValueError):
+    """A parameter of the recorder, the replay or the Foxglove bridge is invalid (the message
+    names the parameter)."""
 
 
 def one_line(text: object) -> str:

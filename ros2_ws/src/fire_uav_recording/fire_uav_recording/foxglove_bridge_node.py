@@ -12,7 +12,7 @@ Parameters (all read once at start-up):
   timeline is the mission's.
 
 Discovery, the QoS rule and the schema text are the recorder's
-(:mod:`fire_uav_recording.ros_io`): a Foxglove channel is announced with
+(:mod:`fire_uav_recording.raw_topics`): a Foxglove channel is announced with
 ``message_encoding="cdr"`` and ``Schema(name="pkg/msg/Type", encoding="ros2msg", data=...)``,
 the same text the bag's schema record holds, and receives the subscription's bytes unchanged.
 """
@@ -33,13 +33,17 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 import fire_uav_recording as rec
-from fire_uav_recording.ros_io import RawTopic, RawTopicFollower, compile_patterns, schema_text, topic_wanted
+from fire_uav_recording.errors import ConfigError
+from fire_uav_recording.raw_topics import (
+    RawTopic,
+    RawTopicFollower,
+    compile_patterns,
+    schema_text,
+    topic_wanted,
+)
 
 DEFAULT_TOPICS = topics.recorded_patterns()  # what the recorder records, /tf and /tf_static included
 
-
-class BridgeConfigError(ValueError):
-    """A bridge parameter is invalid (message names the parameter)."""
 
 
 @dataclass(frozen=True)
@@ -76,7 +80,7 @@ class FoxgloveBridgeNode(Node):
                 supported_encodings=["cdr"],
             )
         except Exception as err:  # the SDK raises its own error type for a port in use
-            raise BridgeConfigError(
+            raise ConfigError(
                 f"parameters host/port: cannot listen on {self.config.host}:{self.config.port}: {err}"
             ) from None
         self._follower = RawTopicFollower(self, self.config.wants, self._typestore, self._on_topic)
@@ -101,20 +105,20 @@ class FoxgloveBridgeNode(Node):
         g = self.get_parameter
         period = float(g("discovery_period_wall_s").value)
         if not 0.01 <= period <= 60.0:
-            raise BridgeConfigError(
+            raise ConfigError(
                 f"parameter discovery_period_wall_s: must be in [0.01, 60] s, got {period}"
             )
         host = str(g("host").value)
         if not host:
-            raise BridgeConfigError("parameter host: empty (e.g. 127.0.0.1)")
+            raise ConfigError("parameter host: empty (e.g. 127.0.0.1)")
         include = [t for t in g("topics").value if t]
         if not include:
-            raise BridgeConfigError("parameter topics: empty; nothing would be served")
+            raise ConfigError("parameter topics: empty; nothing would be served")
         return BridgeConfig(
             host=host,
             port=int(g("port").value),
-            include=compile_patterns("topics", include, BridgeConfigError),
-            exclude=compile_patterns("exclude", [t for t in g("exclude").value if t], BridgeConfigError),
+            include=compile_patterns("topics", include, ConfigError),
+            exclude=compile_patterns("exclude", [t for t in g("exclude").value if t], ConfigError),
             discovery_period_wall_s=period,
         )
 
@@ -159,7 +163,7 @@ def main(args: list[str] | None = None) -> int:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except BridgeConfigError as err:
+    except ConfigError as err:
         rclpy.logging.get_logger("foxglove_bridge").error(str(err))
         rc = 1
     except Exception:  # a signal may shut the context down in the middle of a wait: that is a stop too

@@ -25,7 +25,7 @@ Parameters (all read once at start-up):
 
 Messages are stamped with the node clock at receipt (sim time by default). A topic of
 ``fire_uav_common.topics`` is subscribed with its spec's QoS (depth at least 1000,
-``ros_io.MIN_DEPTH``, so a burst is not dropped while the recorder is held up: its start-up,
+``raw_topics.MIN_DEPTH``, so a burst is not dropped while the recorder is held up: its start-up,
 a flush, a busy CPU); any other topic with the QoS its publishers offer (rosbag2's adaptive
 rule), made compatible with every profile offered when it was found: best effort if a
 publisher is, volatile unless every publisher is transient local.
@@ -38,7 +38,7 @@ subscribing to ~90 topics; ~40 per-vehicle topics lost their first 1-7 steps). S
 anything else the recorder subscribes to every fleet topic it can name (:func:`up_front_topics`:
 ``fire_uav_common.topics.ALL_TOPICS``, the per-vehicle ones for vehicles ``0 .. uav_count - 1``,
 those ``topics``/``exclude`` want) with the spec's QoS, as
-:func:`~fire_uav_recording.ros_io.subscription_qos` gives it for the fleet's own publishers, and
+:func:`~fire_uav_recording.raw_topics.subscription_qos` gives it for the fleet's own publishers, and
 ``/world/truth`` last: DDS announces a participant's endpoints in the order they are made, so a
 world that sees the recorder on ``/world/truth`` has matched its other subscriptions too (the
 agents, started after the recorder, match them while they wait for each other's AGENT_READY).
@@ -48,7 +48,7 @@ publisher, as before. Same 20-UAV mission, two runs: no step missing on any per-
 An up-front topic gets its bag connection when the poll first shows a publisher of it or its
 first message comes, whichever is first; its ``offered_qos_profiles`` are those of the
 publishers the graph shows then (none yet: what a fleet publisher offers,
-``ros_io.fleet_offered_qos``). So, as before, a topic nobody publishes on has no connection and
+``raw_topics.fleet_offered_qos``). So, as before, a topic nobody publishes on has no connection and
 one with publishers but no message an empty one. The subscription keeps the fleet's QoS: a
 publisher it cannot match (best effort on a reliable topic, volatile on a transient local one,
 another type) is not recorded; the recorder names it in a warning when the topic gets its
@@ -68,7 +68,7 @@ Stopping: SIGINT/SIGTERM only count (rclpy's own signal handlers are not install
 the context down at once and, for SIGINT, raise ``KeyboardInterrupt`` in whatever runs, a bag
 write included). The spin loop sees the signal within :data:`STOP_POLL_WALL_S`; then every
 message still queued in a subscription is taken and written
-(:meth:`~fire_uav_recording.ros_io.RawTopicFollower.take_queued`: until nothing has come for
+(:meth:`~fire_uav_recording.raw_topics.RawTopicFollower.take_queued`: until nothing has come for
 0.1 s, at most ``stop_drain_wall_s``; a second signal cuts it short), the count is logged
 (``stop: took N queued messages ...``), and the bag is closed. Over the memory budget at a
 stop the chunk is flushed rather than a message dropped. A SIGKILL loses what the last
@@ -102,7 +102,8 @@ from rclpy.signals import SignalHandlerOptions
 from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 
 import fire_uav_recording as rec
-from fire_uav_recording.ros_io import (  # noqa: F401  (re-exported: the recorder's QoS rule)
+from fire_uav_recording.errors import ConfigError
+from fire_uav_recording.raw_topics import (  # noqa: F401  (re-exported: the recorder's QoS rule)
     MIN_DEPTH,
     RawTopic,
     RawTopicFollower,
@@ -119,9 +120,6 @@ _INF_SEC, _INF_NSEC = rec.INFINITE_DURATION  # rosbag2 Jazzy's spelling of an in
 STOP_POLL_WALL_S = 0.1  # [s, wall] longest wait between a stop signal and the spin loop seeing it
 MAX_UAV_COUNT = 255  # vehicle ids are uint8 (the scenario's uavs.count has the same bound)
 
-
-class RecorderConfigError(ValueError):
-    """A recorder parameter is invalid (message names the parameter)."""
 
 
 @dataclass(frozen=True)
@@ -257,35 +255,35 @@ class RecorderNode(Node):
             )
         }
         if not p["output"]:
-            raise RecorderConfigError("parameter output: required (the bag directory to create)")
+            raise ConfigError("parameter output: required (the bag directory to create)")
         output = Path(str(p["output"])).expanduser()
         if output.exists():
-            raise RecorderConfigError(
+            raise ConfigError(
                 f"parameter output: {output} exists already; refusing to overwrite a bag"
             )
         if p["scenario_file"] and not Path(str(p["scenario_file"])).is_file():
-            raise RecorderConfigError(f"parameter scenario_file: {p['scenario_file']} is not a readable file")
+            raise ConfigError(f"parameter scenario_file: {p['scenario_file']} is not a readable file")
         if int(p["uav_count"]) > MAX_UAV_COUNT:
-            raise RecorderConfigError(
+            raise ConfigError(
                 f"parameter uav_count: must be <= {MAX_UAV_COUNT} (uint8 ids), got {p['uav_count']}"
             )
         for name in ("discovery_period_wall_s", "flush_period_wall_s"):
             if not 0.01 <= float(p[name]) <= 60.0:
-                raise RecorderConfigError(f"parameter {name}: must be in [0.01, 60] s, got {p[name]}")
+                raise ConfigError(f"parameter {name}: must be in [0.01, 60] s, got {p[name]}")
         if not 0.0 <= float(p["stop_drain_wall_s"]) <= 60.0:
-            raise RecorderConfigError(
+            raise ConfigError(
                 f"parameter stop_drain_wall_s: must be in [0, 60] s, got {p['stop_drain_wall_s']}"
             )
         include = [t for t in p["topics"] if t]
         if not include:
-            raise RecorderConfigError("parameter topics: empty; nothing would be recorded")
+            raise ConfigError("parameter topics: empty; nothing would be recorded")
         return RecorderConfig(
             output=output,
             scenario_file=str(p["scenario_file"]),
             seed=int(p["seed"]),
             uav_count=int(p["uav_count"]),
-            include=compile_patterns("topics", include, RecorderConfigError),
-            exclude=compile_patterns("exclude", [t for t in p["exclude"] if t], RecorderConfigError),
+            include=compile_patterns("topics", include, ConfigError),
+            exclude=compile_patterns("exclude", [t for t in p["exclude"] if t], ConfigError),
             discovery_period_wall_s=float(p["discovery_period_wall_s"]),
             flush_period_wall_s=float(p["flush_period_wall_s"]),
             compress=bool(p["compress"]),
@@ -407,7 +405,7 @@ def main(args: list[str] | None = None) -> int:
             executor.spin_once(timeout_sec=STOP_POLL_WALL_S)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except (RecorderConfigError, rec.BagError) as err:
+    except (ConfigError, rec.BagError) as err:
         rclpy.logging.get_logger("recorder").error(str(err))
         rc = 1
     except Exception:  # the context shut down (not by a signal) in the middle of a wait: a stop too

@@ -39,13 +39,11 @@ from rclpy.task import Future
 from rosbags.interfaces import QosDurability, QosReliability
 
 import fire_uav_recording as rec
-from fire_uav_recording.ros_io import message_class, spec_of
+from fire_uav_recording.errors import ConfigError
+from fire_uav_recording.raw_topics import message_class, spec_of
 
 CLOCK_TOPIC = CLOCK_SPEC.name
 
-
-class ReplayConfigError(ValueError):
-    """A replay parameter is invalid (message names the parameter)."""
 
 
 @dataclass(frozen=True)
@@ -137,16 +135,16 @@ class ReplayNode(Node):
         g = self.get_parameter
         bag = str(g("bag").value)
         if not bag:
-            raise ReplayConfigError("parameter bag: required (a bag directory or .mcap file)")
+            raise ConfigError("parameter bag: required (a bag directory or .mcap file)")
         start_s = float(g("start_s").value)
         if start_s < 0:
-            raise ReplayConfigError(f"parameter start_s: must be >= 0, got {start_s}")
+            raise ConfigError(f"parameter start_s: must be >= 0, got {start_s}")
         delay_s = float(g("delay_s").value)
         if not 0.0 <= delay_s <= 3600.0:
-            raise ReplayConfigError(f"parameter delay_s: must be in [0, 3600] s, got {delay_s}")
+            raise ConfigError(f"parameter delay_s: must be in [0, 3600] s, got {delay_s}")
         tick = float(g("tick_period_wall_s").value)
         if not 0.0005 <= tick <= 1.0:
-            raise ReplayConfigError(f"parameter tick_period_wall_s: must be in [0.0005, 1] s, got {tick}")
+            raise ConfigError(f"parameter tick_period_wall_s: must be in [0.0005, 1] s, got {tick}")
         return ReplayConfig(
             bag=bag,
             rate=float(g("rate").value),
@@ -163,7 +161,7 @@ class ReplayNode(Node):
         if self.config.topics:
             missing = [t for t in self.config.topics if t not in have]
             if missing:
-                raise ReplayConfigError(f"parameter topics: {missing} not in the bag; it has {sorted(have)}")
+                raise ConfigError(f"parameter topics: {missing} not in the bag; it has {sorted(have)}")
             wanted = set(self.config.topics) | ({CLOCK_TOPIC} & set(have))
         else:
             wanted = set(have)
@@ -194,7 +192,7 @@ class ReplayNode(Node):
         self.bag_end_ns = max(reader.end_time - off, self.bag_start_ns)
         self.first_ns = self.bag_start_ns + s_to_ns(self.config.start_s)
         if self.first_ns >= self.bag_end_ns and reader.message_count:
-            raise ReplayConfigError(
+            raise ConfigError(
                 f"parameter start_s: {self.config.start_s} s is past the bag's end "
                 f"({ns_to_s(self.bag_end_ns - self.bag_start_ns):.1f} s)"
             )
@@ -278,7 +276,7 @@ def main(args: list[str] | None = None) -> int:
     except (KeyboardInterrupt, ExternalShutdownException):
         if node is not None:
             node._bar.finish()
-    except (ReplayConfigError, rec.BagError) as err:
+    except (ConfigError, rec.BagError) as err:
         rclpy.logging.get_logger("replay").error(str(err))
         rc = 1
     except Exception:  # a signal may shut the context down in the middle of a wait: that is a stop too

@@ -87,10 +87,11 @@ def test_the_recorder_subscribes_to_the_fleet_up_front_world_truth_last(tmp_path
 
 def test_uav_count_above_the_uint8_ids_is_a_parameter_error(tmp_path, own_domain):
     import rclpy
-    from fire_uav_recording.recorder_node import RecorderConfigError, RecorderNode
+    from fire_uav_recording.errors import ConfigError
+    from fire_uav_recording.recorder_node import RecorderNode
 
     args = ["-p", f"output:={tmp_path / 'bag'}", "-p", "uav_count:=256"]
     rclpy.init(args=["--ros-args", *args], domain_id=own_domain)
-    with pytest.raises(RecorderConfigError, match=r"uav_count: must be <= 255 \(uint8 ids\), got 256"):
+    with pytest.raises(ConfigError, match=r"uav_count: must be <= 255 \(uint8 ids\), got 256"):
         RecorderNode()
     assert not (tmp_path / "bag").exists()

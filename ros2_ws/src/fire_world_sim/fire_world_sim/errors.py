@@ -1,13 +1,23 @@
-"""Domain exceptions of the world simulation (raised early, with a message naming what is wrong)."""
+"""The world simulation's error family: every error the package raises itself is a
+:class:`WorldError`, raised early with a one-line message naming what is wrong.
+
+Each subclass also derives from the builtin its callers have always caught (``ValueError``),
+so an ``except ValueError`` written before the family existed still catches it.
+"""
 
 from __future__ import annotations
 
-__all__ = ["ConfigError", "WorldError"]
+__all__ = ["ConfigError", "SequenceError", "WorldError"]
 
 
-class WorldError(RuntimeError):
-    """The world cannot continue (an internal invariant broke)."""
+class WorldError(Exception):
+    """Base of the world simulation's own errors."""
 
 
-class ConfigError(ValueError):
+class ConfigError(WorldError, ValueError):
     """A world parameter or argument is invalid (bad uav_count, unknown fire model, ...)."""
+
+
+class SequenceError(WorldError, ValueError):
+    """A call out of order or repeated where it must be unique (time going back, two markers with
+    one id): a bug in the caller, caught before it corrupts what the world reports."""

@@ -1,4 +1,4 @@
-"""Measures of suppression success, computed by the world from its own truth (issue [suppression]).
+"""Measures of suppression success, computed by the world from its own truth.
 
 Fire-service question: with N UAVs and this tactic, how much ground burns? The world keeps:
 
@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+
+from .errors import ConfigError, SequenceError
 
 __all__ = ["CONTAINMENT_WINDOW_S", "Containment", "SuppressionMeasures"]
 
@@ -44,7 +46,7 @@ class Containment:
 
     def __post_init__(self) -> None:
         if not self.window_s > 0:
-            raise ValueError(f"containment window_s must be > 0, got {self.window_s}")
+            raise ConfigError(f"containment window_s must be > 0, got {self.window_s}")
 
     def update(self, t_s: float, last_ignition_s: float, burning: bool) -> float | None:
         """Account the fire's state at ``t_s`` [s]; returns ``contained_at_s`` [s] or None.
@@ -53,7 +55,7 @@ class Containment:
         ``burning``: whether any cell is burning at ``t_s``.
         """
         if t_s < self._last_t_s:
-            raise ValueError(f"containment updates must not go back in time ({t_s} < {self._last_t_s})")
+            raise SequenceError(f"containment updates must not go back in time ({t_s} < {self._last_t_s})")
         self._last_t_s = t_s
         quiet = (not burning) or (t_s - last_ignition_s >= self.window_s - 1e-9)
         if not quiet:

@@ -21,6 +21,8 @@ from dataclasses import dataclass
 
 from fire_uav_common.constants import FireStatus, VehicleStatus
 
+from .errors import SequenceError
+
 __all__ = ["COLOURS", "LEGEND", "MarkerBook", "MarkerSpec", "world_markers"]
 
 RGBA = tuple[float, float, float, float]
@@ -113,7 +115,7 @@ class MarkerBook:
         keys = [m.key for m in wanted]
         if len(set(keys)) != len(keys):
             dup = sorted({k for k in keys if keys.count(k) > 1})
-            raise ValueError(f"marker ids not unique: {dup}")
+            raise SequenceError(f"marker ids not unique: {dup}")
         gone = sorted(self.shown - set(keys))
         self.shown = set(keys)
         return wanted + [MarkerSpec(ns, i, action="delete") for ns, i in gone]

@@ -5,7 +5,7 @@
 commands (at the vehicles' true positions at t_k), apply each vehicle's command (clamped),
 integrate FF Eq. 4 at the physics period from t_k to t_{k+1} while sampling gyro, altimeter,
 GPS and fire sensors at their own rates, advance the fires to t_{k+1}, and return one
-:class:`Bundle` per vehicle not crashed, the truth and the events. Times are integers in
+:class:`SensorBundleRecord` per vehicle not crashed, the truth and the events. Times are integers in
 nanoseconds of sim time (``stamp_ns``) so that stamps compare exactly.
 """
 
@@ -40,6 +40,8 @@ __all__ = [
     "Command",
     "Event",
     "EventType",
+    "MissionEventRecord",
+    "SensorBundleRecord",
     "Status",
     "StepResult",
     "VehicleTruthRecord",
@@ -48,7 +50,10 @@ __all__ = [
 
 
 @dataclass(frozen=True)
-class Event:
+class MissionEventRecord:
+    """One event of the step (mirrors fire_uav_msgs/MissionEvent; -1 / NaN where it names no
+    vehicle, fire or place)."""
+
     type: EventType
     stamp_ns: int
     uav_id: int = -1
@@ -60,8 +65,8 @@ class Event:
 
 
 @dataclass
-class Bundle:
-    """All samples one UAV took during step ``step`` (mirrors SensorBundle)."""
+class SensorBundleRecord:
+    """All samples one UAV took during step ``step`` (mirrors fire_uav_msgs/SensorBundle)."""
 
     uav_id: int
     step: int
@@ -96,15 +101,20 @@ class VehicleTruthRecord:
 class StepResult:
     step: int
     stamp_ns: int  # t_{k+1}
-    bundles: dict[int, Bundle]
+    bundles: dict[int, SensorBundleRecord]
     vehicles: list[VehicleTruthRecord]
     fires: list[FireTruthRecord]
-    events: list[Event]
+    events: list[MissionEventRecord]
     complete: bool = False
     complete_reason: str = ""
     min_separation_m: float = math.inf  # closest airborne pair so far [m] (physics rate)
     collisions: int = 0  # colliding pairs so far
 
+
+# The former names, still imported by the SensorBundle writer and the in-process harness of the
+# agent package; they go once those import the names above.
+Bundle = SensorBundleRecord
+Event = MissionEventRecord
 
 CLAMP_EVENT_PERIOD_S = 5.0  # throttle of COMMAND_CLAMPED events per vehicle [s sim]
 MISS_EVENT_EVERY = 10  # a COMMAND_MISSED event at the first miss and every N-th after
@@ -190,7 +200,7 @@ class World:
         k = self.step_index
         t0_ns = k * self.period_ns
         t0_s = t0_ns * 1e-9
-        events: list[Event] = []
+        events: list[MissionEventRecord] = []
         # 1. payload requests stamped t_k (sent with the commands answering bundle k-1)
         for uid, actions in sorted((payload or {}).items()):
             if 0 <= uid < self.uav_count:
@@ -205,7 +215,7 @@ class World:
             out = v.accept_command(cmd, self.control_period_s)
             events += self._command_events(v, was, out, t0_ns)
         bundles = {
-            v.uav_id: Bundle(v.uav_id, k, self.stamp_ns(k), self.control_period_s)
+            v.uav_id: SensorBundleRecord(v.uav_id, k, self.stamp_ns(k), self.control_period_s)
             for v in self.vehicles
             if v.status != Status.CRASHED
         }
@@ -220,7 +230,7 @@ class World:
                 taken = v.refill_tick(self.dt_s)
                 if taken > 0:
                     events.append(
-                        Event(
+                        MissionEventRecord(
                             EventType.REFILL,
                             now_ns,
                             v.uav_id,
@@ -241,7 +251,7 @@ class World:
             fires = self.fires.truth()
             f = fires[fid]
             et = EventType.IGNITION if what == "ignition" else EventType.EXTINGUISHED
-            events.append(Event(et, t1_ns, -1, fid, f.x_m, f.y_m, 0.0, what))
+            events.append(MissionEventRecord(et, t1_ns, -1, fid, f.x_m, f.y_m, 0.0, what))
         # 5. fire sensor (rate-limited, against the fire state at t_{k+1})
         spec = self.scenario.sensors.fire
         for v in self.vehicles:
@@ -275,7 +285,7 @@ class World:
             if self.complete:
                 events.append(
                     # value 1 = success, 0 = time limit (docs/protocol.md, Events)
-                    Event(
+                    MissionEventRecord(
                         EventType.MISSION_COMPLETE,
                         t1_ns,
                         value=1.0 if success else 0.0,
@@ -296,11 +306,12 @@ class World:
         )
 
     # --- helpers -----------------------------------------------------------------------------
-    def _collisions(self, t_ns: int) -> list[Event]:
+    def _collisions(self, t_ns: int) -> list[MissionEventRecord]:
         """Track the closest airborne pair; crash both vehicles of every pair closer than the radius.
 
-        Checked at every physics substep in 3-D (DESIGN "Faults": separation is measured, never
-        assumed). Only airborne vehicles collide: on the ground they stand at their start poses.
+        Checked at every physics substep in 3-D, so that separation is measured, never assumed (a
+        check per control step would miss two vehicles passing through each other between
+        steps). Only airborne vehicles collide: on the ground they stand at their start poses.
         """
         air = [v for v in self.vehicles if v.status == Status.AIRBORNE]
         if len(air) < 2:
@@ -312,7 +323,7 @@ class World:
         radius = self.scenario.vehicle.collision_radius_m
         if radius <= 0:
             return []
-        events: list[Event] = []
+        events: list[MissionEventRecord] = []
         hit = [(a, b) for a, b in zip(*iu, strict=True) if d[a, b] < radius]
         for a, b in hit:
             self.collisions += 1
@@ -321,11 +332,11 @@ class World:
                     continue
                 me.crash(f"collision with uav {other.uav_id} ({d[a, b]:.1f} m apart)")
                 events.append(
-                    Event(EventType.CRASH, t_ns, me.uav_id, -1, me.x_m, me.y_m, 0.0, me.crash_reason)
+                    MissionEventRecord(EventType.CRASH, t_ns, me.uav_id, -1, me.x_m, me.y_m, 0.0, me.crash_reason)
                 )
         return events
 
-    def _sample(self, v: VehicleSim, b: Bundle, prev_ns: int, now_ns: int) -> None:
+    def _sample(self, v: VehicleSim, b: SensorBundleRecord, prev_ns: int, now_ns: int) -> None:
         s = self.scenario.sensors
         suite = self.sensors[v.uav_id]
         if samples_due(prev_ns, now_ns, s.gyro.rate_hz):
@@ -341,19 +352,19 @@ class World:
             if p is not None:
                 b.gps.append(p)
 
-    def _command_events(self, v: VehicleSim, was: Status, out, t_ns: int) -> list[Event]:
+    def _command_events(self, v: VehicleSim, was: Status, out, t_ns: int) -> list[MissionEventRecord]:
         ev = []
         uid = v.uav_id
         if out.took_off:
-            ev.append(Event(EventType.TAKEOFF, t_ns, uid, -1, v.x_m, v.y_m, 0.0, "takeoff"))
+            ev.append(MissionEventRecord(EventType.TAKEOFF, t_ns, uid, -1, v.x_m, v.y_m, 0.0, "takeoff"))
         if out.landed:
-            ev.append(Event(EventType.LANDED, t_ns, uid, -1, v.x_m, v.y_m, 0.0, "landed"))
+            ev.append(MissionEventRecord(EventType.LANDED, t_ns, uid, -1, v.x_m, v.y_m, 0.0, "landed"))
         if out.crashed:
-            ev.append(Event(EventType.CRASH, t_ns, uid, -1, v.x_m, v.y_m, 0.0, v.crash_reason))
+            ev.append(MissionEventRecord(EventType.CRASH, t_ns, uid, -1, v.x_m, v.y_m, 0.0, v.crash_reason))
         if out.clamped and t_ns - self._last_clamp_event_ns[uid] >= CLAMP_EVENT_PERIOD_S * 1e9:
             self._last_clamp_event_ns[uid] = t_ns
             ev.append(
-                Event(
+                MissionEventRecord(
                     EventType.COMMAND_CLAMPED,
                     t_ns,
                     uid,
@@ -366,7 +377,7 @@ class World:
             )
         if out.missed and was != Status.CRASHED and (v.commands_missed - 1) % MISS_EVENT_EVERY == 0:
             ev.append(
-                Event(
+                MissionEventRecord(
                     EventType.COMMAND_MISSED,
                     t_ns,
                     uid,
@@ -379,7 +390,7 @@ class World:
             )
         return ev
 
-    def _apply_payload(self, uid: int, action: int, t_ns: int) -> list[Event]:
+    def _apply_payload(self, uid: int, action: int, t_ns: int) -> list[MissionEventRecord]:
         v = self.vehicles[uid]
         if v.status == Status.CRASHED:
             return []
@@ -388,12 +399,12 @@ class World:
             if v.status != Status.AIRBORNE:
                 return []
             hit = self.fires.apply_drop(v.x_m, v.y_m, None) if kg > 0 else []
-            cells = getattr(self.fires, "last_drop_cells", None) if kg > 0 else None
+            cells = self.fires.last_drop_cells if kg > 0 else None
             burning_cells, footprint_cells = cells if cells is not None else (0, 0)
             self.measures.add_drop(kg, burning_cells, footprint_cells, hit=bool(hit))
             cell_text = f", {cells[0]} of {cells[1]} cells burning" if cells is not None else ""
             ev = [
-                Event(
+                MissionEventRecord(
                     EventType.DROP,
                     t_ns,
                     uid,
@@ -405,13 +416,10 @@ class World:
                 )
             ]
             truth = self.fires.truth()
-            for fid in hit:
-                if truth[fid].status == 1 and self.scenario.fires.model == "analytic":
-                    ev.append(
-                        Event(
-                            EventType.EXTINGUISHED, t_ns, -1, fid, truth[fid].x_m, truth[fid].y_m, 0.0, "drop"
-                        )
-                    )
+            for fid in self.fires.drop_extinctions(hit):
+                ev.append(
+                    MissionEventRecord(EventType.EXTINGUISHED, t_ns, -1, fid, truth[fid].x_m, truth[fid].y_m, 0.0, "drop")
+                )
             return ev
         if action == Action.REFILL:
             v.request_refill()
@@ -424,7 +432,7 @@ class World:
         spread cell by cell, so they count as contained only once all are out.
         """
         area = float(sum(f.area_m2 for f in fires if f.started))
-        last = float(getattr(self.fires, "last_ignition_s", math.inf))
+        last = float(self.fires.last_ignition_s)
         self.measures.update(t_s, area, last, burning=not self.fires.all_out)
 
     @staticmethod

@@ -138,3 +138,39 @@ def test_analytic_extinction_is_strictly_below_the_threshold_and_all_out_counts_
     assert not m.all_out and m.detections_near(900.0, 70.0, 70.0) == [(1, 900.0, 0.0, 4.0)]
     m.apply_drop(900.0, 0.0)
     assert m.apply_drop(900.0, 0.0) == [1] and m.all_out
+
+
+# --- the protocol: what the world and its node ask of any fire model -----------------------------
+def _protocol_members() -> set[str]:
+    from fire_world_sim.fires.base import FireModel
+
+    return {n for n in vars(FireModel) if not n.startswith("_")}
+
+
+@pytest.mark.parametrize(
+    "make", [lambda: AnalyticFireModel((AnalyticFire(0.0, 0.0, 10.0),), 2.0), lambda: run_raster(0.0, 1.0)]
+)
+def test_both_models_have_every_member_of_the_protocol(make) -> None:
+    m = make()
+    missing = sorted(n for n in _protocol_members() if not hasattr(m, n))
+    assert _protocol_members() >= {"last_ignition_s", "last_drop_cells", "drop_extinctions", "cell_grid"}
+    assert missing == [], f"{type(m).__name__} lacks {missing}"
+
+
+def test_analytic_protocol_answers_a_drop_and_has_no_cells() -> None:
+    m = AnalyticFireModel((AnalyticFire(0.0, 0.0, 3.0), AnalyticFire(500.0, 0.0, 40.0)), 2.0)
+    assert m.last_ignition_s == math.inf and not m.has_cells and m.cell_grid() is None
+    hit = m.apply_drop(0.0, 0.0, 600.0)  # both hit: sigma 3 -> 1.5 (out), 40 -> 20
+    assert hit == [0, 1] and m.drop_extinctions(hit) == [0] and m.last_drop_cells is None
+
+
+def test_raster_protocol_reports_extinctions_from_step_and_shows_its_grid() -> None:
+    m = run_raster(0.0, 20.0)
+    g = m.cell_grid()
+    assert m.has_cells and g is not None and (g.nx, g.ny) == (m.nx, m.ny) and g.cell_size_m == m.cs
+    assert np.array_equal(g.state, m.state_grid()) and np.array_equal(g.wet, m.wet_grid())
+    assert (g.origin_x_m, g.origin_y_m) == (m.spec.origin.x_m, m.spec.origin.y_m)
+    assert 0.0 <= m.last_ignition_s <= 20.0
+    hit = m.apply_drop(202.5, 202.5, 200.0)
+    assert hit == [0] and m.all_out and m.drop_extinctions(hit) == []  # step() reports it
+    assert m.last_drop_cells is not None and m.last_drop_cells[0] > 0

@@ -1,4 +1,4 @@
-"""Suppression measures (issue [suppression]): containment on constructed cases, drop accounting,
+"""Suppression measures: containment on constructed cases, drop accounting,
 the no-fleet baseline world."""
 
 from __future__ import annotations

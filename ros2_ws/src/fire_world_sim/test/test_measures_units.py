@@ -54,7 +54,7 @@ def test_containment_matches_its_definition_on_any_history(steps) -> None:
 
 
 def test_default_window_is_sixty_seconds_and_exactly_a_window_is_enough() -> None:
-    c = Containment()  # issue [suppression]: "no front cell advancing for 60 s"
+    c = Containment()  # contained: "no front cell advancing for 60 s"
     assert c.update(0.0, 0.0, True) is None
     assert c.update(59.5, 0.0, True) is None
     assert c.update(60.0, 0.0, True) == 60.0

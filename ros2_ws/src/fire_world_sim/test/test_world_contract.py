@@ -238,7 +238,7 @@ def test_stamps_are_whole_periods_for_a_one_second_control_period() -> None:
 def test_vehicle_events_in_full() -> None:
     """docs/protocol.md "Events": vehicle events carry fire_id -1, the vehicle's position, their
     value (counts / kg / 0) and their detail text."""
-    from fire_world_sim.world import Event
+    from fire_world_sim.world import MissionEventRecord as Event
 
     w = World(scenario(count=1, x=300.0, y=300.0, lakes=[]), seed=0)
     r0 = w.step({0: Command(150.0, 1.0, 0.0)})  # takeoff, clamped

@@ -33,6 +33,7 @@ from typing import Any
 
 import yaml
 
+from ..errors import ScenarioError
 from .fields import _Ctx, _int, _mapping, _str
 from .fires import _fires
 from .sections import (
@@ -63,13 +64,12 @@ from .types import (
     GpsSpec,
     GyroSpec,
     Ignition,
+    LinkOutage,
     Mission,
     Origin,
-    Outage,
     Pose,
     Raster,
     Scenario,
-    ScenarioError,
     Sensors,
     Spacing,
     Timing,
@@ -91,7 +91,7 @@ __all__ = [
     "Ignition",
     "Mission",
     "Origin",
-    "Outage",
+    "LinkOutage",
     "Pose",
     "Raster",
     "Scenario",

@@ -13,7 +13,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any, TypeVar
 
-from .types import ScenarioError
+from ..errors import ScenarioError
 
 T = TypeVar("T")
 

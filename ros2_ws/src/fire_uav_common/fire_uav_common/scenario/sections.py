@@ -21,8 +21,8 @@ from .types import (
     FireSensorSpec,
     GpsSpec,
     GyroSpec,
+    LinkOutage,
     Mission,
-    Outage,
     Pose,
     Sensors,
     Spacing,
@@ -144,7 +144,7 @@ def _comms(ctx: _Ctx, raw: Any, uav_count: int) -> Comms:
         op = f"comms.outages[{i}]"
         keys = {"from", "to", "start_s", "end_s"}
         od = _mapping(ctx, item, op, keys, keys)
-        o = Outage(
+        o = LinkOutage(
             from_=_int(ctx, od, "from", op, ge=0),
             to=_int(ctx, od, "to", op, ge=0),
             start_s=_num(ctx, od, "start_s", op, ge=0),
@@ -161,7 +161,7 @@ def _comms(ctx: _Ctx, raw: Any, uav_count: int) -> Comms:
     )
 
 
-def _check_outage_ids(ctx: _Ctx, i: int, o: Outage, uav_count: int) -> None:
+def _check_outage_ids(ctx: _Ctx, i: int, o: LinkOutage, uav_count: int) -> None:
     """Both ends of outage ``i`` must be UAVs of a fleet of ``uav_count`` (ids 0..uav_count-1)."""
     for key, uid in (("from", o.from_), ("to", o.to)):
         if uid >= uav_count:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from fire_uav_common.errors import ArgumentError
 from fire_uav_common.terrain import Lake, Terrain
 
 #: Anderson (1982) / Albini (1976) standard fuel model numbers the raster fire supports.
@@ -21,10 +22,6 @@ FIRE_MODELS = ("analytic", "raster")
 TACTICS = ("head", "flank")
 #: ``mission.prior_fires`` values
 PRIOR_FIRES_MODES = ("unknown", "known")
-
-
-class ScenarioError(ValueError):
-    """A scenario file is missing, unreadable or invalid; the message names file and field."""
 
 
 @dataclass(frozen=True)
@@ -211,7 +208,7 @@ class Fires:
 
 
 @dataclass(frozen=True)
-class Outage:
+class LinkOutage:
     """Directed link outage ``from_ -> to`` between start_s and end_s [s] (YAML key ``from``)."""
 
     from_: int
@@ -223,7 +220,7 @@ class Outage:
 @dataclass(frozen=True)
 class Comms:
     loss_probability: float = 0.05
-    outages: tuple[Outage, ...] = ()
+    outages: tuple[LinkOutage, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -265,7 +262,7 @@ class Scenario:
         """Start poses (x_m, y_m, z_m, yaw_rad) of UAVs 0..count-1 (default ``uavs.count``)."""
         n = self.uavs.count if count is None else count
         if n < 0:
-            raise ValueError(f"count must be >= 0, got {n}")
+            raise ArgumentError(f"count must be >= 0, got {n}")
         f, s = self.uavs.first, self.uavs.spacing
         return [(f.x_m + i * s.dx_m, f.y_m + i * s.dy_m, f.z_m, f.yaw_rad) for i in range(n)]
 

@@ -1,11 +1,13 @@
 """Fire models behind one interface (:class:`FireModel`): analytic Gaussian (FF) and raster (PM VI)."""
 
+from ..errors import ConfigError
 from .analytic import AnalyticFireModel
-from .base import FireModel, FireTruthRecord
+from .base import FireGrid, FireModel, FireTruthRecord
 from .raster import RasterFireModel
 
 __all__ = [
     "AnalyticFireModel",
+    "FireGrid",
     "FireModel",
     "FireTruthRecord",
     "RasterFireModel",
@@ -21,4 +23,4 @@ def make_fire_model(fires_spec, terrain, lakes=()) -> FireModel:
         return RasterFireModel(
             fires_spec.raster, terrain, lakes=lakes, drop_radius_m=fires_spec.drop_radius_m
         )
-    raise ValueError(f"unknown fire model {fires_spec.model!r}")
+    raise ConfigError(f"unknown fire model {fires_spec.model!r}")

@@ -16,7 +16,7 @@ from fire_uav_common.constants import FireStatus
 from fire_uav_common.scenario import AnalyticFire
 
 from ..sensors import CellsSample
-from .base import FireTruthRecord
+from .base import FireGrid, FireTruthRecord
 
 __all__ = ["AnalyticFireModel"]
 
@@ -34,6 +34,10 @@ class _Fire:
 
 class AnalyticFireModel:
     """FF Gaussian fires. ``drop_radius_m`` None = a drop hits a fire within its own sigma."""
+
+    #: Gaussian fires do not spread cell by cell: they count as contained only once all are out
+    last_ignition_s = math.inf
+    last_drop_cells: tuple[int, int] | None = None  # no cells
 
     def __init__(
         self, fires: tuple[AnalyticFire, ...], extinction_sigma_m: float, drop_radius_m: float | None = None
@@ -79,6 +83,11 @@ class AnalyticFireModel:
                 hit.append(i)
         return hit
 
+    def drop_extinctions(self, hit: list[int]) -> list[int]:
+        """A drop that brings sigma under ``extinction_sigma_m`` puts the fire out at once (FF V-B);
+        :meth:`step` never reports it, so the drop does."""
+        return [i for i in hit if self._fires[i].out]
+
     def truth(self) -> list[FireTruthRecord]:
         return [
             FireTruthRecord(
@@ -104,6 +113,13 @@ class AnalyticFireModel:
         ]
 
     def cells_near(self, x_m: float, y_m: float, range_m: float, stamp_ns: int) -> CellsSample | None:
+        return None
+
+    @property
+    def has_cells(self) -> bool:
+        return False
+
+    def cell_grid(self) -> FireGrid | None:
         return None
 
     @property

@@ -55,7 +55,7 @@ from fire_uav_common.scenario import Raster
 from fire_uav_common.terrain import Terrain
 
 from ..sensors import CellsSample
-from .base import FireTruthRecord
+from .base import FireGrid, FireTruthRecord
 from .fuel_models import fuel_model
 from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spread_params
 
@@ -450,6 +450,20 @@ class RasterFireModel:
     def wet_grid(self) -> np.ndarray:
         """(ny, nx) bool: unburned cells currently wet."""
         return self.wet_until[self._inner] > self.t_s
+
+    def drop_extinctions(self, hit: list[int]) -> list[int]:
+        """A drop wets burning cells; a fire goes out in :meth:`step` once none of its cells burn,
+        and is reported there."""
+        return []
+
+    @property
+    def has_cells(self) -> bool:
+        return True
+
+    def cell_grid(self) -> FireGrid:
+        return FireGrid(
+            self.spec.origin.x_m, self.spec.origin.y_m, float(self.cs), self.state_grid(), self.wet_grid()
+        )
 
     def truth(self) -> list[FireTruthRecord]:
         if self._truth_cache is not None:

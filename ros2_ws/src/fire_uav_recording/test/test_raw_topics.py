@@ -37,7 +37,7 @@ def follower(ros_context):
     import fire_uav_recording as rec
     from fire_uav_common import topics
     from fire_uav_msgs.msg import UavState
-    from fire_uav_recording.ros_io import RawTopicFollower
+    from fire_uav_recording.raw_topics import RawTopicFollower
     from rclpy.duration import Duration
     from rclpy.serialization import serialize_message
 
@@ -77,7 +77,7 @@ def sequences(got: list[bytes]) -> list[int]:
 def test_tf_is_followed_deep_enough_for_a_20_uav_hold_up():
     pytest.importorskip("rclpy")
     from fire_uav_common import topics
-    from fire_uav_recording.ros_io import MIN_DEPTH, spec_of, subscription_qos
+    from fire_uav_recording.raw_topics import MIN_DEPTH, spec_of, subscription_qos
     from rclpy.qos import HistoryPolicy
 
     qos = subscription_qos([topics.TF_SPEC.qos()], spec_of("/tf"))
@@ -142,7 +142,7 @@ def upfront(ros_context):
     ``on_topic`` was given, in order; ``follower.got[topic]`` is the bytes each handler took."""
     rclpy = pytest.importorskip("rclpy")
     import fire_uav_recording as rec
-    from fire_uav_recording.ros_io import RawTopicFollower, spec_of
+    from fire_uav_recording.raw_topics import RawTopicFollower, spec_of
 
     sender = rclpy.create_node("sender", context=ros_context)
     recorder = rclpy.create_node("recorder", context=ros_context)
@@ -174,7 +174,7 @@ def _until(what, timeout_s: float = 20.0) -> None:
 
 def test_follow_subscribes_wanted_fleet_names_only_with_the_spec_qos(upfront):
     from fire_uav_common import topics
-    from fire_uav_recording.ros_io import MIN_DEPTH, fleet_topic_names
+    from fire_uav_recording.raw_topics import MIN_DEPTH, fleet_topic_names
     from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 
     f, _, announced = upfront
@@ -280,7 +280,7 @@ def test_take_queued_announces_a_followed_topic_after_the_context_is_shut_down(u
     import rclpy
     from fire_uav_common import topics
     from fire_uav_msgs.msg import UavState
-    from fire_uav_recording.ros_io import fleet_offered_qos
+    from fire_uav_recording.raw_topics import fleet_offered_qos
     from rclpy.duration import Duration
     from rclpy.serialization import serialize_message
 
