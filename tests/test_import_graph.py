@@ -42,9 +42,9 @@ def _imports(name: str, path: Path, mods: dict[str, Path]) -> set[str]:
     package = name if is_pkg else name.rpartition(".")[0]
     out: set[str] = set()
     for node in ast.walk(ast.parse(path.read_text(), str(path))):
-        targets: list[str] = []
+        targets: list[tuple[str, bool]] = []  # (dotted name, a name taken from a package's __init__)
         if isinstance(node, ast.Import):
-            targets = [a.name for a in node.names]
+            targets = [(a.name, False) for a in node.names]
         elif isinstance(node, ast.ImportFrom):
             if node.level:
                 base = package.split(".")
@@ -52,12 +52,14 @@ def _imports(name: str, path: Path, mods: dict[str, Path]) -> set[str]:
                 mod = ".".join(base + ([node.module] if node.module else []))
             else:
                 mod = node.module or ""
-            targets = [mod] + [f"{mod}.{a.name}" for a in node.names]
-        for t in targets:
+            targets = [(mod, False)] + [(f"{mod}.{a.name}", f"{mod}.{a.name}" not in mods) for a in node.names]
+        for t, from_init in targets:
             # the longest project module that the target names
             while t and t not in mods:
                 t = t.rpartition(".")[0]
-            if t and t != name and not name.startswith(t + "."):
+            # a module's own packages are imported before it, which is no dependency; a name it takes
+            # from one of them (``from pkg import Thing`` inside ``pkg.sub``) is
+            if t and t != name and (from_init or not name.startswith(t + ".")):
                 out.add(t)
     return out
 
@@ -97,6 +99,22 @@ def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
         if v not in index:
             visit(v)
     return out
+
+
+def test_a_name_taken_from_the_own_package_is_an_edge(tmp_path) -> None:
+    """``pkg/__init__.py`` importing ``pkg.sub`` (even lazily) while ``pkg.sub`` takes a class
+    from ``pkg`` is a cycle; ``pkg.sub`` importing its sibling ``pkg.other`` through ``pkg`` is not."""
+    (tmp_path / "pkg").mkdir()
+    init = tmp_path / "pkg" / "__init__.py"
+    init.write_text("def f():\n    from pkg import sub\n\nclass Thing: ...\n")
+    sub = tmp_path / "pkg" / "sub.py"
+    sub.write_text("from pkg import Thing, other\n")
+    other = tmp_path / "pkg" / "other.py"
+    other.write_text("")
+    mods = {"pkg": init, "pkg.sub": sub, "pkg.other": other}
+    graph = {n: _imports(n, p, mods) for n, p in mods.items()}
+    assert graph == {"pkg": {"pkg.sub"}, "pkg.sub": {"pkg", "pkg.other"}, "pkg.other": set()}
+    assert _cycles(graph) == [["pkg", "pkg.sub"]]
 
 
 def test_cycle_finder_finds_a_cycle() -> None:
