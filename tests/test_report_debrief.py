@@ -143,6 +143,14 @@ def test_a_crash_that_was_not_injected_is_named_so():
     assert "UAV 2 is lost (not injected): no valid command for 3.0 s." in [e.text for e in entries]
     rows = uav_rows(m, compute_metrics(m), [])
     assert rows[2]["end"] == "lost at 23.0 s (not injected)"
+    # a bag read outside its run directory: the command line's faults are not known
+    unknown = [e.text for e in timeline(m, compute_metrics(m), [], known=False) if e.kind == "loss"]
+    assert unknown == [
+        "UAV 2 is lost (injected or not: unknown without the run's summary): no valid command for 3.0 s."
+    ]
+    assert uav_rows(m, compute_metrics(m), [], known=False)[2]["end"].endswith(
+        "(injected or not: unknown without the run's summary)"
+    )
 
 
 def test_safety_metrics_landing_error_from_the_scenarios_start_poses():

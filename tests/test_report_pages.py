@@ -36,3 +36,37 @@ def test_report_writes_every_figure_and_page(synthetic, tmp_path):
     for name in names:
         assert (out / name).stat().st_size > 1000
         assert f'src="{name}"' in html
+
+
+def test_no_label_on_a_figure_covers_a_title_or_an_axis_label(synthetic, tmp_path, monkeypatch):
+    """Labels written on a plot (annotations) stay clear of the titles and axis labels: a crash
+    label drawn at 90 % of the height once ran over the title of the faults figure."""
+    from fire_report import figures
+    from matplotlib.text import Text
+
+    checked: list[str] = []
+    real_save = figures._save
+
+    def save(fig, out, name, caption):
+        fig.tight_layout()
+        renderer = fig.canvas.get_renderer()
+        for ax in fig.axes:
+            fixed = [t for t in (ax.title, ax._left_title, ax._right_title, ax.xaxis.label, ax.yaxis.label)
+                     if t.get_text()]  # fmt: skip
+            for note in ax.texts:
+                if not isinstance(note, Text) or not note.get_visible() or not note.get_text():
+                    continue
+                nb = note.get_window_extent(renderer)
+                for t in fixed:
+                    assert not nb.overlaps(t.get_window_extent(renderer)), (
+                        f"{name}: '{note.get_text()}' covers '{t.get_text()}'"
+                    )
+        checked.append(name)
+        return real_save(fig, out, name, caption)
+
+    monkeypatch.setattr(figures, "_save", save)
+    path, _ = synthetic
+    from fire_report.data import load_mission
+
+    figures.make_figures(load_mission(path), tmp_path)
+    assert {"voronoi_phases.png", "faults.png", "drops.png"} <= set(checked)

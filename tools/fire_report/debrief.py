@@ -107,6 +107,12 @@ def scenario_outages(scenario: dict[str, Any]) -> list[Fault]:
     return out
 
 
+def run_summary_found(bag_path: str | Path) -> bool:
+    """Whether the runner's ``summary.json`` (its list of injected faults) is beside the bag: without
+    it the report cannot tell an injected loss from another."""
+    return (Path(bag_path).parent / "summary.json").is_file()
+
+
 def run_faults(bag_path: str | Path) -> list[Fault]:
     """Faults injected from the command line, from the run directory holding the bag (none when
     the bag is not in one): kills, freezes, stalls from ``summary.json``, link outages from the
@@ -233,8 +239,17 @@ def _drops(mission: Mission) -> list[Event]:
     return [e for e in mission.world_events if e.type == EventType.DROP and e.value > 0]
 
 
-def timeline(mission: Mission, metrics: dict[str, Any], faults: list[Fault]) -> list[Entry]:
-    """What happened, in time order, in sentences."""
+def _lost_why(uav: int, injected: set[int], known: bool) -> str:
+    if uav in injected:
+        return "injected"
+    return "not injected" if known else "injected or not: unknown without the run's summary"
+
+
+def timeline(
+    mission: Mission, metrics: dict[str, Any], faults: list[Fault], *, known: bool = True
+) -> list[Entry]:
+    """What happened, in time order, in sentences. ``known``: the run's command-line faults are
+    known (:func:`run_summary_found`), so a loss that none explains was not injected."""
     out: list[Entry] = []
     ev = mission.world_events
     injected = {f.uav for f in faults if f.kind in ("kill", "freeze")}
@@ -275,7 +290,7 @@ def timeline(mission: Mission, metrics: dict[str, Any], faults: list[Fault]) -> 
             n = sum(1 for d in drops if d.fire_id == e.fire_id and d.t_s <= e.t_s + 1e-6)
             out.append(Entry(e.t_s, f"Fire {e.fire_id} is out, after {n} drop{'s' * (n != 1)}.", "fire"))
         elif e.type == EventType.CRASH:
-            why = "injected fault" if e.uav_id in injected else "not injected"
+            why = "injected fault" if e.uav_id in injected else _lost_why(e.uav_id, injected, known)
             out.append(
                 Entry(e.t_s, f"UAV {e.uav_id} is lost ({why}): {e.detail or 'no reason given'}.", "loss")
             )
@@ -367,7 +382,9 @@ def fire_rows(mission: Mission, metrics: dict[str, Any], raster: bool) -> list[d
     return rows
 
 
-def uav_rows(mission: Mission, metrics: dict[str, Any], faults: list[Fault]) -> list[dict[str, Any]]:
+def uav_rows(
+    mission: Mission, metrics: dict[str, Any], faults: list[Fault], *, known: bool = True
+) -> list[dict[str, Any]]:
     """One row per UAV: takeoff, drops, water dropped [kg], how it ended, landing error [m],
     messages received and lost, its own position error (95th percentile, horizontal) [m]."""
     ev = mission.world_events
@@ -380,7 +397,7 @@ def uav_rows(mission: Mission, metrics: dict[str, Any], faults: list[Fault]) -> 
         land = [e.t_s for e in ev if e.type == EventType.LANDED and e.uav_id == u]
         d = [e for e in _drops(mission) if e.uav_id == u]
         if crash:
-            end = f"lost at {crash[0].t_s:.1f} s ({'injected' if u in injected else 'not injected'})"
+            end = f"lost at {crash[0].t_s:.1f} s ({_lost_why(u, injected, known)})"
         elif land:
             end = f"landed at {land[0]:.1f} s"
         else:

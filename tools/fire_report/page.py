@@ -260,8 +260,13 @@ def faults_html(faults: list[Fault], m: dict[str, Any], figures: list[Figure]) -
             f"<li><strong>{e(f.title)}</strong> ({e(f.source)}): {e(f.response)}</li>" for f in faults
         )
         parts.append(f'<ul class="faults">{items}</ul>')
-    else:
+    elif m.get("injected_faults_known", True):
         parts.append("<p>No fault was injected (no kill, freeze, stall or link outage).</p>")
+    if not m.get("injected_faults_known", True):
+        parts.append(
+            "<p>The run's summary (summary.json, beside the bag when the mission runner recorded it) "
+            "is not there: faults injected from the command line are not known, only the scenario's.</p>"
+        )
     if loss is not None:
         parts.append(
             f"<p>Every peer message was also dropped at random with probability {loss:g} on receipt.</p>"

@@ -102,6 +102,8 @@ def write_report(
     if base is not None:
         metrics["baseline_burned_area_m2"] = suppression_metrics(base)["burned_area_m2"]
     metrics["loss_probability"] = loss_probability(mission)
+    known = debrief.run_summary_found(mission.path)
+    metrics["injected_faults_known"] = known
     faults = debrief.with_responses(
         debrief.scenario_outages(mission.scenario) + debrief.run_faults(mission.path), mission
     )
@@ -121,9 +123,9 @@ def write_report(
     page = render_page(
         metrics,
         mission.custom_data,
-        entries=debrief.timeline(mission, metrics, faults),
+        entries=debrief.timeline(mission, metrics, faults, known=known),
         fires=debrief.fire_rows(mission, metrics, raster),
-        uavs=debrief.uav_rows(mission, metrics, faults),
+        uavs=debrief.uav_rows(mission, metrics, faults, known=known),
         faults=faults,
         figures=place_figures(figures),
         sections=sections,
