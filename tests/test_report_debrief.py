@@ -15,6 +15,7 @@ from fire_report.data import Event, Mission
 from fire_report.debrief import (
     Fault,
     fire_rows,
+    flare_ups,
     parse_fault_texts,
     run_faults,
     scenario_outages,
@@ -295,3 +296,26 @@ def test_numbers_are_rounded_for_people_and_figures_placed():
     assert placed == {"maps": [("voronoi_phases.png", "a")], "faults": [("faults.png", "b")],
                       "diagnostics": [("fire_0_estimates.png", "c"), ("ekf_error.png", "e")],
                       "fires": [("drops.png", "d")]}  # fmt: skip
+
+
+def test_a_fire_that_flares_up_after_going_out_is_told_so():
+    """A raster fire the world declared out at 13.1 s burns again from 20 s (wet cells that had
+    not been put out) and goes out for good at 26.1 s after a third drop."""
+    W = EventType
+    world = [
+        _ev(11.0, W.DROP, uav=0, fire=0, value=2000.0), _ev(12.9, W.DROP, uav=1, fire=0, value=2000.0),
+        _ev(13.1, W.EXTINGUISHED, fire=0),
+        _ev(25.7, W.DROP, uav=0, fire=0, value=1960.0), _ev(26.1, W.EXTINGUISHED, fire=0),
+    ]  # fmt: skip
+    f = _fire(300.0, 300.0, 13.1)
+    f["status"][(f["t"] >= 20.0) & (f["t"] < 26.1)] = FireStatus.ACTIVE
+    m = _mission(world, [], truth_fires={0: f})
+    assert flare_ups(m) == [(0, 20.0)]
+    metrics = compute_metrics(m)
+    texts = [e.text for e in timeline(m, metrics, [])]
+    i = texts.index("Fire 0 is out, after 2 drops.")
+    j = texts.index("Fire 0 flares up again (cells the water had not put out).")
+    k = texts.index("Fire 0 is out again, after 3 drops.")
+    assert i < j < k
+    (row,) = fire_rows(m, metrics, raster=True)
+    assert row["out_s"] == 26.1 and not row["burning_at_end"] and row["drops"] == 3

@@ -235,6 +235,25 @@ def _ignitions(mission: Mission) -> dict[int, float]:
     return out
 
 
+def flare_ups(mission: Mission) -> list[tuple[int, float]]:
+    """(fire, time [s]) at which a fire the world had declared out burned again: its first
+    ``/world/truth`` sample back in ACTIVE after an EXTINGUISHED event."""
+    out = []
+    for fid, f in mission.truth_fires.items():
+        outs = sorted(
+            e.t_s for e in mission.world_events if e.type == EventType.EXTINGUISHED and e.fire_id == fid
+        )
+        if not f or not outs:
+            continue
+        active = f["status"] == FireStatus.ACTIVE
+        for t_out in outs:
+            back = np.flatnonzero(active & (f["t"] > t_out + 1e-6))
+            later = [t for t in outs if t > t_out]
+            if back.size and (not later or f["t"][back[0]] < later[0]):
+                out.append((fid, float(f["t"][back[0]])))
+    return sorted(out, key=lambda x: (x[1], x[0]))
+
+
 def _drops(mission: Mission) -> list[Event]:
     return [e for e in mission.world_events if e.type == EventType.DROP and e.value > 0]
 
@@ -285,10 +304,15 @@ def timeline(
             out.append(
                 Entry(d[0].t_s, f"{len(d)} drops {what}, from {d[0].t_s:.1f} to {d[-1].t_s:.1f} s.", "drop")
             )
+    went_out: set[int] = set()
     for e in ev:
         if e.type == EventType.EXTINGUISHED:
             n = sum(1 for d in drops if d.fire_id == e.fire_id and d.t_s <= e.t_s + 1e-6)
-            out.append(Entry(e.t_s, f"Fire {e.fire_id} is out, after {n} drop{'s' * (n != 1)}.", "fire"))
+            again = " again" if e.fire_id in went_out else ""
+            went_out.add(e.fire_id)
+            out.append(
+                Entry(e.t_s, f"Fire {e.fire_id} is out{again}, after {n} drop{'s' * (n != 1)}.", "fire")
+            )
         elif e.type == EventType.CRASH:
             why = "injected fault" if e.uav_id in injected else _lost_why(e.uav_id, injected, known)
             out.append(
@@ -309,6 +333,8 @@ def timeline(
             if f.kind == "freeze" and f.end_s is not None:
                 out.append(Entry(f.end_s, f"UAV {f.uav}'s process resumed.", "fault"))
     out += _declarations(mission)
+    for fid, t in flare_ups(mission):
+        out.append(Entry(t, f"Fire {fid} flares up again (cells the water had not put out).", "fire"))
     for e in ev:
         if e.type == EventType.LANDED:
             err = metrics.get("landing_error_m", {}).get(str(e.uav_id))
@@ -359,11 +385,15 @@ def fire_rows(mission: Mission, metrics: dict[str, Any], raster: bool) -> list[d
     detected = first_detections(mission)
     drops = _drops(mission)
     starts = _ignitions(mission)
-    out_at = {int(k): v for k, v in metrics.get("extinction_times_s", {}).items() if k != "missed"}
+    out_at: dict[int, float] = {}  # the last time each fire went out (a fire may flare up again)
+    for e in mission.world_events:
+        if e.type == EventType.EXTINGUISHED and e.fire_id >= 0:
+            out_at[e.fire_id] = e.t_s
     rows = []
     for fid in sorted(set(mission.truth_fires) | set(out_at)):
         f = mission.truth_fires.get(fid)
         d = [e for e in drops if e.fire_id == fid]
+        burning = bool(f and f["status"][-1] == FireStatus.ACTIVE)
         row = {
             "fire": fid,
             "x_m": float(f["x"][0]) if f else None,
@@ -373,8 +403,8 @@ def fire_rows(mission: Mission, metrics: dict[str, Any], raster: bool) -> list[d
             "detected_by": detected[fid][1] if fid in detected else None,
             "drops": len(d),
             "first_drop_s": d[0].t_s if d else None,
-            "out_s": out_at.get(fid),
-            "burning_at_end": bool(f and f["status"][-1] == FireStatus.ACTIVE),
+            "out_s": None if burning else out_at.get(fid),
+            "burning_at_end": burning,
         }
         if raster and f:
             row["burned_ha"] = float(f["area"][-1]) / 1e4

@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from fire_uav_common.constants import EventType, Objective
 from matplotlib.colors import ListedColormap
+from matplotlib.ticker import MaxNLocator
 
 from fire_report.data import (
     Mission,
@@ -347,14 +348,19 @@ def fig_perimeter(mission: Mission, out: Path) -> list[Figure]:
     fig = plt.figure(figsize=(10, 4.2))
     axp = fig.add_subplot(1, 2, 1, projection="polar")
     axe = fig.add_subplot(1, 2, 2)
+    match = match_tracks_to_fires(mission.fire_estimates, mission.truth_fires) if mission.fire_estimates else {}
     for (u, fid), p in sorted(mission.perimeters.items()):
         outer = p["outer"][-1]
         ang = (np.arange(outer.size) + 0.5) * 2 * np.pi / max(outer.size, 1)
-        axp.plot(np.append(ang, ang[:1]), np.append(outer, outer[:1]), label=f"UAV {u} / fire {fid}")
+        # the fleet's track ids are not the world's fire ids: name the true fire it follows
+        label = f"UAV {u}, fire {match[fid]}" if fid in match else f"UAV {u}"
+        axp.plot(np.append(ang, ang[:1]), np.append(outer, outer[:1]), label=label)
         fn = perimeter_distance_error_raster if mission.fire_grids else perimeter_distance_error
         e = fn(mission, u, fid)
         if e["t"].size:
-            axe.plot(e["t"], e["error_m"], label=f"UAV {u} / fire {fid}")
+            axe.plot(e["t"], e["error_m"], label=label)
+    axp.yaxis.set_major_locator(MaxNLocator(4))
+    axp.tick_params(labelsize=7)
     axp.set_title("last perimeter map: distance of the edge [m]", fontsize=10)
     axp.legend(fontsize=7, loc="lower left")
     axe.set_xlabel("sim time [s]")
@@ -474,7 +480,12 @@ def fig_burned_area(mission: Mission, out: Path, baseline: Mission | None = None
     ax.set_ylabel("burned area [ha]")
     ax.grid(alpha=0.3)
     ax.legend()
-    return _save(fig, out, "burned_area.png", "Burned area over time, with the fleet and with no fleet.")
+    cap = "Burned area over time, with the fleet" + (
+        " and with no fleet (the same scenario and seed run with --uavs 0)."
+        if base is not None
+        else "; a run of the same scenario and seed with --uavs 0, given as --baseline, adds the fire alone."
+    )
+    return _save(fig, out, "burned_area.png", cap)
 
 
 ALL_FIGURES = (
