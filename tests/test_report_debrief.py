@@ -319,3 +319,33 @@ def test_a_fire_that_flares_up_after_going_out_is_told_so():
     assert i < j < k
     (row,) = fire_rows(m, metrics, raster=True)
     assert row["out_s"] == 26.1 and not row["burning_at_end"] and row["drops"] == 3
+
+
+def test_map_panels_are_in_time_order_and_a_lost_uav_stays_marked():
+    """UAV 0 drops at 5 s before UAV 1 is up (at 12 s): the firefighting panel still comes after
+    takeoff; UAV 1, lost at 30 s, is left out of the partition but drawn where it fell."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from fire_report.figures import _draw_crashes, _positions_at, phase_times
+    from fire_uav_common.constants import Objective
+
+    t = np.arange(0.0, 60.0, 1.0)
+    obj0 = np.where(t < 1.0, Objective.GROUNDED, np.where(t < 50.0, Objective.SUPPRESS, Objective.LAND))
+    obj1 = np.where(t < 12.0, Objective.GROUNDED, Objective.SUPPRESS)
+    states = {u: {"t": t, "x": t + 10 * u, "y": t, "objective": o} for u, o in ((0, obj0), (1, obj1))}
+    world = [_ev(5.0, EventType.DROP, uav=0, fire=0, value=100.0), _ev(8.0, EventType.DROP, uav=0, fire=0, value=100.0),
+             _ev(30.0, EventType.CRASH, uav=1, x=250.0, y=260.0)]  # fmt: skip
+    m = _mission(world, [], states=states)
+    phases = phase_times(m)
+    assert [p[1] for p in phases] == sorted(p[1] for p in phases)
+    assert phases[0] == ("takeoff", 12.0) and phases[1][0] == "firefighting" and phases[1][1] >= 12.0
+    assert set(_positions_at(m, 40.0)) == {0}
+    fig, ax = plt.subplots()
+    _draw_crashes(ax, m, 20.0)
+    assert not ax.lines
+    _draw_crashes(ax, m, 40.0)
+    assert [tuple(line.get_xydata()[0]) for line in ax.lines] == [(250.0, 260.0)]
+    assert [x.get_text() for x in ax.texts] == ["UAV 1 lost"]
+    plt.close(fig)
