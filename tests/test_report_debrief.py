@@ -246,7 +246,8 @@ def test_the_no_fleet_run_does_not_claim_containment_while_fires_burn():
     assert metrics["contained_at_s"] is None
     assert (metrics["fires_total"], metrics["fires_active_at_end"]) == (2, 2)
     page = _page(m, metrics, [])
-    assert "contained" not in page.lower()
+    assert "contained" not in page.lower() and "max_duration_s" not in page
+    assert "The mission reached its time limit at 60.1 s, 2 of 2 fires still burning." in page
     cards = dict((k, v) for k, v, _ in summary_cards(metrics, [], [], raster=False))
     assert cards["fires put out"] == "0 of 2"
 

@@ -341,8 +341,12 @@ def timeline(
             at = f", {err:.1f} m from its takeoff point" if err is not None else ""
             out.append(Entry(e.t_s, f"UAV {e.uav_id} lands{at}.", "fleet"))
         elif e.type == EventType.MISSION_COMPLETE:
-            what = "Mission complete" if e.value >= 1.0 else "Time limit reached"
-            out.append(Entry(e.t_s, f"{what}: {e.detail}." if e.detail else f"{what}.", "end"))
+            if e.value >= 1.0:
+                out.append(
+                    Entry(e.t_s, f"Mission complete: {e.detail}." if e.detail else "Mission complete.", "end")
+                )
+            else:  # the world's detail names its parameter (max_duration_s): say it in words
+                out.append(Entry(e.t_s, "The mission reached its time limit.", "end"))
     # at one instant: the cause before its effect (a fault, then the drop, then the fire out)
     order = {"fault": 0, "drop": 1, "fire": 2, "loss": 3, "fleet": 4, "end": 5}
     return sorted(out, key=lambda x: (round(x.t_s, 6), order.get(x.kind, 9)))

@@ -99,8 +99,13 @@ def outcome_banner(m: dict[str, Any]) -> str:
     result, detail = m.get("outcome"), m.get("outcome_detail") or ""
     if result == "complete":
         return f'<div class="banner ok">Mission complete at {fmt(m.get("mission_duration_s"), 1, "s")}: {e(detail)}.</div>'
-    if result == "time_limit":
-        return f'<div class="banner warn">Time limit reached at {fmt(m.get("mission_duration_s"), 1, "s")}: {e(detail)}.</div>'
+    if result == "time_limit":  # the world's detail names its parameter: say it in words
+        total, active = m.get("fires_total"), m.get("fires_active_at_end")
+        left = f", {active} of {total} fires still burning" if total else ""
+        return (
+            f'<div class="banner warn">The mission reached its time limit at '
+            f"{fmt(m.get('mission_duration_s'), 1, 's')}{left}.</div>"
+        )
     return (
         '<div class="banner bad">The recording ended before the mission did '
         f"(last message at {fmt(m.get('mission_duration_s'), 1, 's')}).</div>"
