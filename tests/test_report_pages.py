@@ -15,32 +15,11 @@ def synthetic(tmp_path_factory):
     return path, spec
 
 
-def test_report_writes_every_figure_and_page(synthetic, tmp_path):
-    path, _ = synthetic
-    metrics = write_report(path, tmp_path / "out")
-    out = tmp_path / "out"
-    html = (out / "index.html").read_text()
-    assert (out / "metrics.json").is_file()
-    names = set(metrics["figures"])
-    assert {
-        "voronoi_phases.png",
-        "ekf_error.png",
-        "covariance_trace.png",
-        "tracks.png",
-        "drops.png",
-        "fire_0_estimates.png",
-        "fire_1_estimates.png",
-        "perimeter.png",
-        "faults.png",
-    } <= names
-    for name in names:
-        assert (out / name).stat().st_size > 1000
-        assert f'src="{name}"' in html
-
-
-def test_no_label_on_a_figure_covers_a_title_or_an_axis_label(synthetic, tmp_path, monkeypatch):
-    """Labels written on a plot (annotations) stay clear of the titles and axis labels: a crash
-    label drawn at 90 % of the height once ran over the title of the faults figure."""
+@pytest.fixture
+def label_check(monkeypatch) -> list[str]:
+    """Every figure drawn meanwhile is checked before it is saved: no label written on a plot
+    (annotation) covers a title or an axis label (a crash label drawn at 90 % of the height once
+    ran over the title of the faults figure). Returns the names of the figures checked."""
     from fire_report import figures
     from matplotlib.text import Text
 
@@ -65,8 +44,29 @@ def test_no_label_on_a_figure_covers_a_title_or_an_axis_label(synthetic, tmp_pat
         return real_save(fig, out, name, caption)
 
     monkeypatch.setattr(figures, "_save", save)
-    path, _ = synthetic
-    from fire_report.data import load_mission
+    return checked
 
-    figures.make_figures(load_mission(path), tmp_path)
-    assert {"voronoi_phases.png", "faults.png", "drops.png"} <= set(checked)
+
+def test_report_writes_every_figure_and_page(synthetic, tmp_path, label_check):
+    path, _ = synthetic
+    metrics = write_report(path, tmp_path / "out")
+    assert {"voronoi_phases.png", "faults.png", "drops.png"} <= set(label_check)
+    out = tmp_path / "out"
+    html = (out / "index.html").read_text()
+    assert (out / "metrics.json").is_file()
+    names = set(metrics["figures"])
+    assert {
+        "voronoi_phases.png",
+        "ekf_error.png",
+        "covariance_trace.png",
+        "tracks.png",
+        "drops.png",
+        "fire_0_estimates.png",
+        "fire_1_estimates.png",
+        "perimeter.png",
+        "faults.png",
+    } <= names
+    for name in names:
+        assert (out / name).stat().st_size > 1000
+        assert f'src="{name}"' in html
+
