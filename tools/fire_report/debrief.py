@@ -63,10 +63,10 @@ class Entry:
     kind: str
 
 
-_KILL = re.compile(r"kill uav (\d+) at ([0-9.eE+-]+) s")
-_FREEZE = re.compile(r"freeze uav (\d+) at ([0-9.eE+-]+) s")
-_RESUME = re.compile(r"resume uav (\d+) at ([0-9.eE+-]+) s")
-_STALL = re.compile(r"stall uav (\d+) at ([0-9.eE+-]+) s")
+_KILL = re.compile(r"kill uav (\d+) at ([0-9.eE+-]+) s", re.I)
+_FREEZE = re.compile(r"freeze uav (\d+) at ([0-9.eE+-]+) s", re.I)
+_RESUME = re.compile(r"resume uav (\d+) at ([0-9.eE+-]+) s", re.I)
+_STALL = re.compile(r"stall uav (\d+) at ([0-9.eE+-]+) s", re.I)
 
 
 def parse_fault_texts(texts: list[str]) -> list[Fault]:
@@ -296,7 +296,7 @@ def timeline(
     if len(drops) <= MAX_DROP_LINES:
         for e in drops:
             where = f"on fire {e.fire_id}" if e.fire_id >= 0 else "and misses every fire"
-            out.append(Entry(e.t_s, f"UAV {e.uav_id} drops {e.value:.0f} kg of water {where}.", "drop"))
+            out.append(Entry(e.t_s, f"UAV {e.uav_id} drops {e.value:,.0f} kg of water {where}.", "drop"))
     else:
         for fid in sorted({e.fire_id for e in drops}):
             d = [e for e in drops if e.fire_id == fid]
