@@ -208,6 +208,15 @@ def test_fault_texts_of_the_runner_and_the_run_directory(tmp_path):
         Fault("outage", 40.0, 3, 2, 45.5),
     ]
     assert run_faults(tmp_path / "elsewhere" / "bag") == []  # a bag outside a run directory
+    # the loss rate: the runner's --loss from the agents' parameters, else the scenario's
+    from fire_report.report import loss_probability
+
+    m = _mission([], [], states={0: {}})
+    m.path = str(run / "bag")
+    assert loss_probability(m) == 0.05  # not given on the command line: the scenario's default
+    with (run / "params" / "agent_0.yaml").open("a") as f:
+        f.write("    loss_probability: 0.2\n")
+    assert loss_probability(m) == 0.2
     sc = {"comms": {"outages": [{"from": 1, "to": 0, "start_s": 2, "end_s": 3}]}}
     assert scenario_outages(sc) == [Fault("outage", 2.0, 1, 0, 3.0, "scenario")]
 

@@ -107,6 +107,17 @@ def scenario_outages(scenario: dict[str, Any]) -> list[Fault]:
     return out
 
 
+def agent_params(bag_path: str | Path) -> dict[str, Any]:
+    """The parameters the runner gave the agents (``params/agent_0.yaml`` beside the bag; the
+    fault and loss settings are the same for every agent), {} when there is none."""
+    try:
+        doc = yaml.safe_load((Path(bag_path).parent / "params" / "agent_0.yaml").read_text(encoding="utf8"))
+        params = next(iter(doc.values()))["ros__parameters"]
+    except (OSError, yaml.YAMLError, AttributeError, KeyError, TypeError, StopIteration):
+        return {}
+    return params if isinstance(params, dict) else {}
+
+
 def run_summary_found(bag_path: str | Path) -> bool:
     """Whether the runner's ``summary.json`` (its list of injected faults) is beside the bag: without
     it the report cannot tell an injected loss from another."""
@@ -124,15 +135,14 @@ def run_faults(bag_path: str | Path) -> list[Fault]:
         faults += parse_fault_texts([str(t) for t in summary.get("faults_injected") or []])
     except (OSError, ValueError, AttributeError):
         pass
+    p = agent_params(bag_path)
     try:
-        doc = yaml.safe_load((run / "params" / "agent_0.yaml").read_text(encoding="utf8"))
-        p = next(iter(doc.values()))["ros__parameters"]
         for a, b, t0, t1 in zip(
             p.get("outage_from") or [], p.get("outage_to") or [],
             p.get("outage_start_s") or [], p.get("outage_end_s") or [], strict=False,
         ):  # fmt: skip
             faults.append(Fault("outage", float(t0), int(a), int(b), float(t1)))
-    except (OSError, yaml.YAMLError, AttributeError, KeyError, TypeError, ValueError, StopIteration):
+    except (TypeError, ValueError):
         pass
     return faults
 
@@ -180,7 +190,8 @@ def with_responses(faults: list[Fault], mission: Mission) -> list[Fault]:
             if d:
                 said.append(
                     f"{_uavs([e.uav_id for e in d])} declared it lost between {d[0].t_s:.1f} and "
-                    f"{d[-1].t_s:.1f} s (first {d[0].t_s - f.t_s:.1f} s after the fault) and shared its work"
+                    f"{d[-1].t_s:.1f} s (first {d[0].t_s - f.t_s:.1f} s after the fault), leaving it out of their "
+                    "partition of the area and their fire consensus"
                 )
             elif f.kind == "kill":
                 said.append("no peer declared it lost")

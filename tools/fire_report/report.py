@@ -6,8 +6,6 @@ import json
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from fire_report import debrief
 from fire_report.data import Mission, load_mission
 from fire_report.errors import ReportError
@@ -56,13 +54,8 @@ def loss_probability(mission: Mission) -> float | None:
     """The random loss rate the agents applied: the runner's ``--loss`` (the agents' parameters
     beside the bag) if given, else the scenario's ``comms.loss_probability`` (default 0.05)."""
     try:
-        doc = yaml.safe_load(
-            (Path(mission.path).parent / "params" / "agent_0.yaml").read_text(encoding="utf8")
-        )
-        p = next(iter(doc.values()))["ros__parameters"]
-        if "loss_probability" in p:
-            return float(p["loss_probability"])
-    except (OSError, yaml.YAMLError, AttributeError, KeyError, TypeError, ValueError, StopIteration):
+        return float(debrief.agent_params(mission.path)["loss_probability"])
+    except (KeyError, TypeError, ValueError):
         pass
     if not mission.uav_ids:
         return None
