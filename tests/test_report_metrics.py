@@ -164,24 +164,36 @@ def test_containment_from_area_is_sixty_quiet_seconds_after_the_last_growth():
     t = np.arange(0.0, 201.0, 1.0)
     grows_to_100 = np.minimum(t, 100.0)
     on = np.ones(t.size, bool)
-    assert containment_from_area(t, grows_to_100, on) == 160.0  # last growth at 100 s
-    assert containment_from_area(t[:160], grows_to_100[:160], on[:160]) is None  # 59 s quiet at the end
-    assert containment_from_area(t[:161], grows_to_100[:161], on[:161]) == 160.0  # exactly 60 s
+    assert containment_from_area(t, grows_to_100, on, raster=True) == 160.0  # last growth at 100 s
+    assert containment_from_area(t[:160], grows_to_100[:160], on[:160], raster=True) is None  # 59 s quiet at the end
+    assert containment_from_area(t[:161], grows_to_100[:161], on[:161], raster=True) == 160.0  # exactly 60 s
     # a breach at 180 s: quiet again 60 s after it
     t3 = np.arange(0.0, 301.0, 1.0)
     breach = np.minimum(t3, 100.0) + np.where(t3 >= 180.0, 5.0, 0.0)
-    assert containment_from_area(t3, breach, np.ones(t3.size, bool)) == 240.0
+    assert containment_from_area(t3, breach, np.ones(t3.size, bool), raster=True) == 240.0
     # the first sample counts as growth: a flat history is contained 60 s after it starts
     flat = np.full(t.size, 7.0)
-    assert containment_from_area(t + 10.0, flat, on) == 70.0
+    assert containment_from_area(t + 10.0, flat, on, raster=True) == 70.0
     # no fire active: contained at once, growing or not
-    assert containment_from_area(t, t.copy(), np.zeros(t.size, bool)) == 0.0
+    assert containment_from_area(t, t.copy(), np.zeros(t.size, bool), raster=True) == 0.0
     out_at_50 = t < 50.0
-    assert containment_from_area(t, np.minimum(t, 50.0), out_at_50) == 50.0
-    assert containment_from_area(np.zeros(0), np.zeros(0), np.zeros(0, bool)) is None
+    assert containment_from_area(t, np.minimum(t, 50.0), out_at_50, raster=True) == 50.0
+    assert containment_from_area(np.zeros(0), np.zeros(0), np.zeros(0, bool), raster=True) is None
     # a shrinking area (a drop) is no growth
     down = np.maximum(100.0 - t, 0.0)
-    assert containment_from_area(t, down, on) == 60.0
+    assert containment_from_area(t, down, on, raster=True) == 60.0
+
+
+def test_analytic_fires_are_contained_only_once_all_are_out():
+    """An analytic fire does not spread cell by cell: a flat area while it burns is no containment
+    (the no-fleet run of a two-fire mission said "contained at 60.1 s" with both fires burning)."""
+    t = np.arange(0.0, 201.0, 1.0)
+    flat = np.full(t.size, 7.0)
+    assert containment_from_area(t, flat, np.ones(t.size, bool), raster=False) is None
+    assert containment_from_area(t, flat, t < 120.0, raster=False) == 120.0
+    assert containment_from_area(t, flat, np.zeros(t.size, bool), raster=False) == 0.0
+    # the same flat history of a raster fire is contained after its 60 quiet seconds
+    assert containment_from_area(t, flat, np.ones(t.size, bool), raster=True) == 60.0
 
 
 def test_drop_outcomes_raster_and_analytic():

@@ -302,6 +302,13 @@ def test_metrics_keys_and_the_fleet_event_lists():
         "event_counts",
         "recorder_closed_cleanly",
         "warnings",
+        "min_separation_m",
+        "collisions",
+        "landed",
+        "landing_error_m",
+        "touchdown_spacing_m",
+        "fires_total",
+        "fires_active_at_end",
     }
     assert m["bag"] == "mem" and m["scenario"] == "s" and m["link_outages_scheduled"] == outages
     assert list(m["drops_per_uav"]) == ["9", "10"]

@@ -15,9 +15,42 @@ def synthetic(tmp_path_factory):
     return path, spec
 
 
-def test_report_writes_every_figure_and_page(synthetic, tmp_path):
+@pytest.fixture
+def label_check(monkeypatch) -> list[str]:
+    """Every figure drawn meanwhile is checked before it is saved: no label written on a plot
+    (annotation) covers a title or an axis label (a crash label drawn at 90 % of the height once
+    ran over the title of the faults figure). Returns the names of the figures checked."""
+    from fire_report import figures
+    from matplotlib.text import Text
+
+    checked: list[str] = []
+    real_save = figures._save
+
+    def save(fig, out, name, caption):
+        fig.tight_layout()
+        renderer = fig.canvas.get_renderer()
+        for ax in fig.axes:
+            fixed = [t for t in (ax.title, ax._left_title, ax._right_title, ax.xaxis.label, ax.yaxis.label)
+                     if t.get_text()]  # fmt: skip
+            for note in ax.texts:
+                if not isinstance(note, Text) or not note.get_visible() or not note.get_text():
+                    continue
+                nb = note.get_window_extent(renderer)
+                for t in fixed:
+                    assert not nb.overlaps(t.get_window_extent(renderer)), (
+                        f"{name}: '{note.get_text()}' covers '{t.get_text()}'"
+                    )
+        checked.append(name)
+        return real_save(fig, out, name, caption)
+
+    monkeypatch.setattr(figures, "_save", save)
+    return checked
+
+
+def test_report_writes_every_figure_and_page(synthetic, tmp_path, label_check):
     path, _ = synthetic
     metrics = write_report(path, tmp_path / "out")
+    assert {"voronoi_phases.png", "faults.png", "drops.png"} <= set(label_check)
     out = tmp_path / "out"
     html = (out / "index.html").read_text()
     assert (out / "metrics.json").is_file()
@@ -36,3 +69,4 @@ def test_report_writes_every_figure_and_page(synthetic, tmp_path):
     for name in names:
         assert (out / name).stat().st_size > 1000
         assert f'src="{name}"' in html
+

@@ -42,7 +42,7 @@ def test_containment_from_the_area_history_matches_the_worlds() -> None:
     assert (
         world is not None and 60.0 < world < 600.0
     )  # the plot burns to its edges (backing: ~7 min), then is quiet
-    got = containment_from_area(np.array(t), np.array(area), np.array(active))
+    got = containment_from_area(np.array(t), np.array(area), np.array(active), raster=True)
     assert got == pytest.approx(world, abs=0.6)
     assert area[-1] == pytest.approx(w.measures.burned_area_m2) == pytest.approx(600 * 25.0)
 
@@ -50,10 +50,10 @@ def test_containment_from_the_area_history_matches_the_worlds() -> None:
 def test_containment_from_area_is_none_while_growing_and_resets_on_a_breach() -> None:
     t = np.arange(0.0, 200.0, 1.0)
     grow = np.minimum(t, 50.0)  # grows until 50 s
-    assert containment_from_area(t, grow, np.ones(t.size, bool)) == 110.0
+    assert containment_from_area(t, grow, np.ones(t.size, bool), raster=True) == 110.0
     breach = grow + (t >= 150.0)  # grows again at 150 s
-    assert containment_from_area(t, breach, np.ones(t.size, bool)) is None
-    assert containment_from_area(t, t, np.zeros(t.size, bool)) == 0.0  # nothing active: contained
+    assert containment_from_area(t, breach, np.ones(t.size, bool), raster=True) is None
+    assert containment_from_area(t, t, np.zeros(t.size, bool), raster=True) == 0.0  # nothing active: contained
 
 
 def test_hit_rate_and_water_on_burning_cells_from_drop_events() -> None:

@@ -54,10 +54,21 @@ def test_recorded_mission_report_matches_live_and_replays(procs, ros_env, tmp_pa
     assert metrics["mean_inter_drop_interval_s"] == pytest.approx(
         live["mean_inter_drop_interval_s"], abs=1e-3
     )
+    html = (out / "report" / "index.html").read_text()
     text = json.dumps(metrics)
     for c in live["crashes"]:
         assert str(c["uav_id"]) in text
-    html = (out / "report" / "index.html").read_text()
+    # the debrief's numbers are the console's: one computation each (packets, safety, containment)
+    assert metrics["packets_lost_total"] == live["packets_lost"]
+    assert sum(p["received"] for p in metrics["packets"].values()) == live["packets_received"]
+    assert metrics["min_separation_m"] == pytest.approx(live["min_separation_m"], abs=1e-3)
+    assert metrics["collisions"] == live["collisions"] and metrics["landed"] == live["landed"]
+    assert metrics["landing_error_m"] == pytest.approx(live["landing_error_m"], abs=1e-3)
+    assert metrics["contained_at_s"] == live["contained_at_s"]
+    assert metrics["fires_active_at_end"] == live["fires_active_at_end"]
+    # the kill is stated as an injected fault, with what the fleet did
+    assert [(f["kind"], f["uav_id"]) for f in metrics["faults"]] == [("kill", 2)]
+    assert "lost at" in html and "(injected)" in html and "its vehicle fell at" in html
     pngs = sorted(p.name for p in (out / "report").glob("*.png"))
     assert len(pngs) >= 5 and all(p in html for p in pngs)
 

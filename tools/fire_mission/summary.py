@@ -81,7 +81,10 @@ class LiveSummary:
             "hit_rate": round(out["hit_rate"], 4) if out["hit_rate"] is not None else None,
             "burned_area_m2": self.area_m2[-1] if self.area_m2 else None,
             "contained_at_s": containment_from_area(
-                np.asarray(self.area_t_s), np.asarray(self.area_m2), np.asarray(self.area_active, dtype=bool)
+                np.asarray(self.area_t_s),
+                np.asarray(self.area_m2),
+                np.asarray(self.area_active, dtype=bool),
+                raster=self.raster,
             ),
             "water_released_kg": round(out["water_released_kg"], 1),
             "water_on_burning_kg": round(out["water_on_burning_kg"], 1),
@@ -115,12 +118,13 @@ class LiveSummary:
         end = round(self.mission_time_s, 6)
         # the agents' own events answering the last step race the stop in the same way
         self.events = [e for e in self.events if not (e.type in AGENT_EVENTS and e.t_s >= end - 1e-6)]
+        from fire_report.metrics import settled_index
+
         for uav, kept in self._states.items():
-            before = [t for t in kept if t < end - 1e-6]
-            if before:
-                t = max(before)
-                self.last_state_t[uav] = t
-                self.packets[uav], self.alive_view[uav], self.objective[uav] = kept[t]
+            stamps = sorted(kept)
+            t = stamps[settled_index(np.asarray(stamps), end)]
+            self.last_state_t[uav] = t
+            self.packets[uav], self.alive_view[uav], self.objective[uav] = kept[t]
 
     def add(self, ev: Event) -> None:
         self.events.append(ev)

@@ -85,6 +85,8 @@ class Mission:
     fire_grids: list[dict[str, Any]] = field(default_factory=list)
     # per UAV (/fleet/front): list of {t, x (n,), y (n,), state (n,)} -- its shared front picture
     fronts: dict[int, list[dict[str, Any]]] = field(default_factory=dict)
+    # WorldTruth's running safety figures: t [s], min_separation_m [m] (inf until two fly), collisions [-]
+    separation: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def uav_ids(self) -> list[int]:
@@ -157,6 +159,7 @@ def _load(bag: bag_io.MissionBag, path: str) -> Mission:
     tfire: dict[int, list[dict[str, Any]]] = defaultdict(list)
     fest: dict[tuple[int, int], list[dict[str, Any]]] = defaultdict(list)
     perim: dict[tuple[int, int], list[dict[str, Any]]] = defaultdict(list)
+    sep: list[dict[str, Any]] = []
     wanted = [CLOCK, FLEET_STATE, FLEET_FIRES, FLEET_PERIMETER, FLEET_EVENTS, WORLD_TRUTH, WORLD_EVENTS]
     wanted += [VIZ_FIRE_GRID, FLEET_FRONT]
     t_min, t_max = math.inf, -math.inf
@@ -187,6 +190,9 @@ def _load(bag: bag_io.MissionBag, path: str) -> Mission:
                 )
         elif topic == WORLD_TRUTH:
             t = _stamp_s(msg)
+            sep.append(
+                {"t": t, "min_separation_m": float(msg.min_separation_m), "collisions": int(msg.collisions)}
+            )
             for v in msg.vehicles:
                 tveh[int(v.uav_id)].append(
                     {
@@ -260,6 +266,7 @@ def _load(bag: bag_io.MissionBag, path: str) -> Mission:
     mission.truth_vehicles = {k: _arrays(v) for k, v in tveh.items()}
     mission.truth_fires = {k: _arrays(v) for k, v in tfire.items()}
     mission.fire_estimates = {k: _arrays(v) for k, v in fest.items()}
+    mission.separation = _arrays(sep)
     perimeters = {}
     for key, rows in perim.items():
         rows.sort(key=lambda r: r["t"])

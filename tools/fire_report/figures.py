@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from fire_uav_common.constants import EventType, Objective
 from matplotlib.colors import ListedColormap
+from matplotlib.ticker import MaxNLocator
 
 from fire_report.data import (
     Mission,
@@ -70,7 +71,11 @@ def _positions_at(mission: Mission, t: float) -> dict[int, tuple[float, float]]:
 
 
 def phase_times(mission: Mission) -> list[tuple[str, float]]:
-    """Takeoff, firefighting and landing instants for FF Fig. 11."""
+    """Takeoff, firefighting and landing instants for the map panels (FF Fig. 11), in time order.
+
+    takeoff: when the last UAV left the ground; firefighting: the median drop after that (else
+    halfway to landing); landing: when the last UAV began to land (else the last state). A UAV
+    may drop before the last one is up, so the firefighting instant is taken after takeoff."""
     all_t = np.concatenate([s["t"] for s in mission.states.values() if s]) if mission.states else np.zeros(0)
     if all_t.size == 0:
         return []
@@ -81,15 +86,30 @@ def phase_times(mission: Mission) -> list[tuple[str, float]]:
         if s and np.any(s["objective"] != Objective.GROUNDED)
     ]
     t_take = max(airborne) if airborne else t0
-    drops = [e.t_s for e in mission.world_events if e.type == EventType.DROP]
-    t_fight = float(np.median(drops)) if drops else 0.5 * (t0 + t1)
     landing = [
         float(s["t"][np.argmax(np.isin(s["objective"], (Objective.LAND, Objective.LANDED)))])
         for s in mission.states.values()
         if s and np.any(np.isin(s["objective"], (Objective.LAND, Objective.LANDED)))
     ]
-    t_land = max(landing) if landing else t1
-    return [("takeoff", t_take), ("firefighting", t_fight), ("landing", t_land)]
+    t_land = max(max(landing) if landing else t1, t_take)
+    drops = [e.t_s for e in mission.world_events if e.type == EventType.DROP and t_take <= e.t_s <= t_land]
+    t_fight = float(np.median(drops)) if drops else 0.5 * (t_take + t_land)
+    return sorted([("takeoff", t_take), ("firefighting", t_fight), ("landing", t_land)], key=lambda p: p[1])
+
+
+def _draw_crashes(ax: plt.Axes, mission: Mission, t: float) -> None:
+    """A crashed UAV stays on the map: a black cross where its vehicle fell, labelled."""
+    for e in mission.world_events:
+        if e.type != EventType.CRASH or e.t_s > t:
+            continue
+        x, y = e.x_m, e.y_m
+        v = mission.truth_vehicles.get(e.uav_id)
+        if not (np.isfinite(x) and np.isfinite(y)) and v:
+            i = max(0, int(np.searchsorted(v["t"], e.t_s, side="right")) - 1)
+            x, y = float(v["x"][i]), float(v["y"][i])
+        if np.isfinite(x) and np.isfinite(y):
+            ax.plot(x, y, "X", color="k", markersize=10, markeredgecolor="w", zorder=5)
+            ax.annotate(f"UAV {e.uav_id} lost", (x, y), fontsize=7, xytext=(5, -10), textcoords="offset points")
 
 
 def _draw_world(ax: plt.Axes, mission: Mission, t: float) -> None:
@@ -119,7 +139,7 @@ def fig_voronoi(mission: Mission, out: Path) -> list[Figure]:
     res = max((x1 - x0) / 200.0, (y1 - y0) / 200.0, 1.0)
     ids = sorted(mission.states)
     colors = _colors(len(ids))
-    fig, axes = plt.subplots(1, len(phases), figsize=(5 * len(phases), 4.6))
+    fig, axes = plt.subplots(1, len(phases), figsize=(3.6 * len(phases), 3.9))
     for ax, (name, t) in zip(np.atleast_1d(axes), phases, strict=False):
         pos = _positions_at(mission, t)
         sites = np.asarray([pos[u] for u in ids if u in pos])
@@ -135,11 +155,12 @@ def fig_voronoi(mission: Mission, out: Path) -> list[Figure]:
             vmax=max(len(ids) - 1, 1),
         )
         _draw_world(ax, mission, t)
+        _draw_crashes(ax, mission, t)
         for k, u in enumerate(ids):
             if u in pos:
                 ax.plot(*pos[u], "^", color=colors[k], markeredgecolor="k", markersize=8)
                 ax.annotate(str(u), pos[u], fontsize=7, xytext=(3, 3), textcoords="offset points")
-        ax.set_title(f"{name}, t = {t:.1f} s")
+        ax.set_title(f"{name}, t = {t:.1f} s", fontsize=10)
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
@@ -149,8 +170,9 @@ def fig_voronoi(mission: Mission, out: Path) -> list[Figure]:
         fig,
         out,
         "voronoi_phases.png",
-        "Fleet over the map with its Voronoi cells (nearest UAV estimate on a grid) at takeoff, "
-        "firefighting and landing (FF Fig. 11); red: fires (truth), blue: lakes.",
+        "The fleet at takeoff, while fighting the fires and at landing: each UAV (triangle, its own "
+        "position estimate) and the area it covers (the part of the map nearest to it); red: the fires, "
+        "blue: lakes, black cross: a UAV lost (as in FF Fig. 11).",
     )
 
 
@@ -159,7 +181,7 @@ def fig_ekf(mission: Mission, out: Path) -> list[Figure]:
     errs = {u: e for u, e in errs.items() if e["t"].size}
     res: list[Figure] = []
     if errs:
-        fig, axes = plt.subplots(4, 1, figsize=(9, 9), sharex=True)
+        fig, axes = plt.subplots(4, 1, figsize=(9, 7.5), sharex=True)
         colors = _colors(len(errs))
         for k, (u, e) in enumerate(sorted(errs.items())):
             for ax, axis in zip(axes, ("x", "y", "z", "yaw"), strict=False):
@@ -171,10 +193,16 @@ def fig_ekf(mission: Mission, out: Path) -> list[Figure]:
             ax.grid(alpha=0.3)
         axes[0].legend(fontsize=7, ncol=min(len(errs), 7))
         axes[-1].set_xlabel("sim time [s]")
-        res += _save(fig, out, "ekf_error.png", "EKF estimate minus truth per axis and UAV (FF Fig. 4).")
+        res += _save(
+            fig,
+            out,
+            "ekf_error.png",
+            "Each UAV's own position estimate minus the truth, per axis, while it flew: small errors "
+            "centred on zero mean the filter follows the vehicle (FF Fig. 4).",
+        )
     traces = {u: (s["t"], np.trace(s["P"], axis1=1, axis2=2)) for u, s in mission.states.items() if s}
     if traces:
-        fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
         colors = _colors(len(traces))
         t_end = min(float(t[0]) for t, _ in traces.values()) + 5.0
         for k, (u, (t, tr)) in enumerate(sorted(traces.items())):
@@ -182,18 +210,20 @@ def fig_ekf(mission: Mission, out: Path) -> list[Figure]:
             m = t <= t_end
             axes[1].plot(t[m], tr[m], ".-", lw=0.8, color=colors[k])
         axes[0].set_yscale("log")
-        axes[0].set_title("Tr(P) (FF Fig. 6)")
-        axes[1].set_title("first 5 s (FF Fig. 7, per control step)")
+        axes[0].set_title("whole mission", fontsize=10)
+        axes[1].set_title("first 5 s, one point per control step", fontsize=10)
         for ax in axes:
             ax.set_xlabel("sim time [s]")
-            ax.set_ylabel("Tr(P) [m^2 + rad^2]")
+            ax.set_ylabel("filter uncertainty [m² + rad²]")
             ax.grid(alpha=0.3)
         axes[0].legend(fontsize=7, ncol=2)
         res += _save(
             fig,
             out,
             "covariance_trace.png",
-            "Trace of the EKF covariance broadcast in UavState (FF Figs. 6, 7).",
+            "The uncertainty each UAV's filter reports about its own position and heading (the trace of "
+            "its covariance, shared with its peers): it should fall within seconds of the start and stay "
+            "low (FF Figs. 6, 7).",
         )
     return res
 
@@ -202,7 +232,7 @@ def fig_tracks(mission: Mission, out: Path) -> list[Figure]:
     ids = [u for u in mission.uav_ids if u in mission.states and u in mission.truth_vehicles]
     if not ids:
         return []
-    fig, axes = plt.subplots(1, 2, figsize=(11, 5))
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
     colors = _colors(len(ids))
     for k, u in enumerate(ids):
         s, v = mission.states[u], mission.truth_vehicles[u]
@@ -220,7 +250,10 @@ def fig_tracks(mission: Mission, out: Path) -> list[Figure]:
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
         ax.grid(alpha=0.3)
-    return _save(fig, out, "tracks.png", "True vs estimated flight paths (FF Fig. 5).")
+    return _save(
+        fig, out, "tracks.png",
+        "True (solid) and estimated (dashed) flight paths; where they part, the estimate was off (FF Fig. 5).",
+    )  # fmt: skip
 
 
 def fig_fire_estimates(mission: Mission, out: Path) -> list[Figure]:
@@ -236,7 +269,7 @@ def fig_fire_estimates(mission: Mission, out: Path) -> list[Figure]:
     ]
     groups += [(None, [t]) for t in tracks if t not in match]
     for fid, tids in groups:
-        fig, axes = plt.subplots(3, 1, figsize=(9, 7.5), sharex=True)
+        fig, axes = plt.subplots(3, 1, figsize=(9, 6.5), sharex=True)
         labelled: set[int] = set()
         for tid in tids:
             for u in uavs:
@@ -252,19 +285,29 @@ def fig_fire_estimates(mission: Mission, out: Path) -> list[Figure]:
         if tru:
             for ax, key in zip(axes, ("x", "y", "extent"), strict=False):
                 ax.plot(tru["t"], tru[key], "k--", lw=1.2, label="truth")
-        for ax, lab in zip(axes, ("x [m]", "y [m]", "size sigma [m]"), strict=False):
+        for ax, lab in zip(axes, ("x [m]", "y [m]", "size (spread \u03c3) [m]"), strict=False):
             ax.set_ylabel(lab)
             ax.grid(alpha=0.3)
         axes[0].legend(fontsize=7, ncol=4)
         ids = ", ".join(str(t) for t in tids)
+        n = len(tids)
         if fid is not None:
-            axes[0].set_title(f"Fire {fid}: each agent's estimate (tracks {ids}, matched by position)")
-            name, cap = f"fire_{fid}_estimates.png", f"Fire {fid}: estimated position and size per agent"
+            axes[0].set_title(f"Fire {fid}: each UAV's estimate of its position and size", fontsize=10)
+            name = f"fire_{fid}_estimates.png"
+            cap = (
+                f"Fire {fid}: where each UAV believed it was and how large, over time, against the truth "
+                f"(dashed); the fleet shares and averages these estimates, so the lines should come together "
+                f"on the truth (FF Figs. 8-10; fleet track{'s' * (n > 1)} {ids}, matched by position)."
+            )
         else:
-            axes[0].set_title(f"Track {ids}: no true fire within the matching gate")
-            name, cap = f"track_{tids[0]}_estimates.png", f"Track {ids} (unmatched): estimate per agent"
+            axes[0].set_title("A fire the fleet reported that matches no real fire", fontsize=10)
+            name = f"track_{tids[0]}_estimates.png"
+            cap = (
+                "A fire the fleet believed in that lies farther than the matching distance from every real "
+                f"fire: each UAV's estimate over time (fleet track {ids})."
+            )
         axes[-1].set_xlabel("sim time [s]")
-        res += _save(fig, out, name, cap + " over time, truth dashed (FF Figs. 8-10).")
+        res += _save(fig, out, name, cap)
     return res
 
 
@@ -272,14 +315,14 @@ def fig_drops(mission: Mission, out: Path) -> list[Figure]:
     drops = [e for e in mission.world_events if e.type == EventType.DROP]
     if not drops:
         return []
-    fig, axes = plt.subplots(1, 3, figsize=(14, 3.8))
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.4))
     fires = sorted({e.fire_id for e in drops})
     for row, fid in enumerate(fires):
         t = [e.t_s for e in drops if e.fire_id == fid]
         axes[0].plot(t, [row] * len(t), "v", markersize=7)
     axes[0].set_yticks(range(len(fires)), [f"fire {f}" if f >= 0 else "missed" for f in fires])
     axes[0].set_xlabel("sim time [s]")
-    axes[0].set_title("drop timeline")
+    axes[0].set_title("when each drop fell", fontsize=10)
     times = np.sort([e.t_s for e in drops])
     if times.size > 1:
         axes[1].hist(np.diff(times), bins=min(20, times.size - 1), color="tab:blue")
@@ -288,69 +331,84 @@ def fig_drops(mission: Mission, out: Path) -> list[Figure]:
         )
         axes[1].legend()
     axes[1].set_xlabel("interval between consecutive drops [s]")
-    axes[1].set_title("inter-drop intervals (FF Table I)")
+    axes[1].set_title("time between drops", fontsize=10)
     counts = [sum(1 for e in drops if e.fire_id == f) for f in fires]
     axes[2].bar([f"fire {f}" if f >= 0 else "missed" for f in fires], counts, color="tab:red")
-    axes[2].set_title("drops per fire (FF Fig. 14)")
-    return _save(fig, out, "drops.png", "Water drops: timeline, inter-drop intervals, drops per fire.")
+    axes[2].set_title("drops per fire", fontsize=10)
+    return _save(
+        fig, out, "drops.png",
+        "Water drops: when each fell and on which fire, the time between consecutive drops of the fleet "
+        "(FF Table I) and the drops per fire (FF Fig. 14).",
+    )  # fmt: skip
 
 
 def fig_perimeter(mission: Mission, out: Path) -> list[Figure]:
     if not mission.perimeters:
         return []
-    fig = plt.figure(figsize=(11, 4.5))
+    fig = plt.figure(figsize=(10, 4.2))
     axp = fig.add_subplot(1, 2, 1, projection="polar")
     axe = fig.add_subplot(1, 2, 2)
+    match = match_tracks_to_fires(mission.fire_estimates, mission.truth_fires) if mission.fire_estimates else {}
     for (u, fid), p in sorted(mission.perimeters.items()):
         outer = p["outer"][-1]
         ang = (np.arange(outer.size) + 0.5) * 2 * np.pi / max(outer.size, 1)
-        axp.plot(np.append(ang, ang[:1]), np.append(outer, outer[:1]), label=f"UAV {u} / fire {fid}")
+        # the fleet's track ids are not the world's fire ids: name the true fire it follows
+        label = f"UAV {u}, fire {match[fid]}" if fid in match else f"UAV {u}"
+        axp.plot(np.append(ang, ang[:1]), np.append(outer, outer[:1]), label=label)
         fn = perimeter_distance_error_raster if mission.fire_grids else perimeter_distance_error
         e = fn(mission, u, fid)
         if e["t"].size:
-            axe.plot(e["t"], e["error_m"], label=f"UAV {u} / fire {fid}")
-    axp.set_title("last perimeter map: outer distance per bin [m]")
+            axe.plot(e["t"], e["error_m"], label=label)
+    axp.yaxis.set_major_locator(MaxNLocator(4))
+    axp.tick_params(labelsize=7)
+    axp.set_title("last perimeter map: distance of the edge [m]", fontsize=10)
     axp.legend(fontsize=7, loc="lower left")
     axe.set_xlabel("sim time [s]")
     axe.set_ylabel("mean |distance - true radius| [m]")
-    axe.set_title("perimeter distance error (PM)")
+    axe.set_title("perimeter distance error", fontsize=10)
     axe.grid(alpha=0.3)
-    return _save(fig, out, "perimeter.png", "Monitored fires: perimeter map and distance error (PM).")
+    return _save(
+        fig, out, "perimeter.png",
+        "Monitored fires: each monitor's last map of the fire's edge, and how far it was from the true edge "
+        "over time (the perimeter-monitoring paper's distance error).",
+    )  # fmt: skip
 
 
-def fig_faults(mission: Mission, out: Path) -> list[Figure]:
+def fig_faults(mission: Mission, out: Path, outages: list[tuple[float, float]] | None = None) -> list[Figure]:
+    """Lost peer messages over time with the faults marked; ``outages``: (start, end) [s] of every
+    link outage, scheduled or injected (default: the scenario's)."""
+    if outages is None:
+        outages = []
+        for o in (mission.scenario.get("comms") or {}).get("outages") or [] if isinstance(mission.scenario, dict) else []:
+            try:
+                outages.append((float(o["start_s"]), float(o["end_s"])))
+            except (KeyError, TypeError, ValueError):
+                continue
     states = {u: s for u, s in mission.states.items() if s}
     crashes = [e for e in mission.world_events if e.type == EventType.CRASH]
     peer = [e for e in mission.fleet_events if e.type == EventType.PEER_CRASHED]
     if not states and not crashes and not peer:
         return []
-    fig, ax = plt.subplots(figsize=(10, 4))
+    fig, ax = plt.subplots(figsize=(10, 3.8))
     colors = _colors(len(states))
     for k, (u, s) in enumerate(sorted(states.items())):
-        ax.step(s["t"], s["lost"], where="post", color=colors[k], lw=0.9, label=f"UAV {u} lost")
-    for e in crashes:
-        ax.axvline(e.t_s, color="k", lw=1.5)
-        ax.annotate(f"crash UAV {e.uav_id}", (e.t_s, ax.get_ylim()[1] * 0.9), rotation=90, fontsize=7)
-    for e in peer:
-        ax.axvline(e.t_s, color="tab:orange", ls=":", lw=1)
-    for o in (
-        (mission.scenario.get("comms") or {}).get("outages") or []
-        if isinstance(mission.scenario, dict)
-        else []
-    ):
-        try:
-            ax.axvspan(float(o["start_s"]), float(o["end_s"]), color="grey", alpha=0.15)
-        except (KeyError, TypeError, ValueError):
-            continue
+        ax.step(s["t"], s["lost"], where="post", color=colors[k], lw=0.9, label=f"UAV {u}")
+    for i, e in enumerate(crashes):  # labelled in the legend: a label on the plot may cover the curves
+        ax.axvline(e.t_s, color="k", lw=1.5, label="UAV lost" if i == 0 else None)
+    for i, e in enumerate(peer):
+        ax.axvline(e.t_s, color="tab:orange", ls=":", lw=1, label="peer declared lost" if i == 0 else None)
+    for i, (t0, t1) in enumerate(outages or []):
+        ax.axvspan(t0, t1, color="grey", alpha=0.15, label="link outage" if i == 0 else None)
     ax.set_xlabel("sim time [s]")
-    ax.set_ylabel("peer messages lost (cumulative)")
-    ax.set_title("faults: packet loss, link outages (grey), crashes (black), peers declared crashed (orange)")
+    ax.set_ylabel("peer messages lost, total")
     ax.grid(alpha=0.3)
-    if states:
-        ax.legend(fontsize=7, ncol=4)
+    if states or crashes or peer:
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     return _save(
-        fig, out, "faults.png", "Packet loss per UAV, scheduled link outages, crashes and crash declarations."
-    )
+        fig, out, "faults.png",
+        "Peer messages each UAV has lost so far (random loss, outages and silent peers), with the UAVs "
+        "lost (black), the moments a peer was declared lost (orange, dotted) and the link outages (grey).",
+    )  # fmt: skip
 
 
 # --- raster suppression (issue [suppression]) -------------------------------------------------------
@@ -368,7 +426,7 @@ def fig_raster_front(mission: Mission, out: Path) -> list[Figure]:
     if not grids:
         return []
     picks = sorted({int(round(k)) for k in np.linspace(0, len(grids) - 1, 4)})
-    fig, axes = plt.subplots(1, len(picks), figsize=(4.2 * len(picks), 4.4), squeeze=False)
+    fig, axes = plt.subplots(1, len(picks), figsize=(2.8 * len(picks), 3.2), squeeze=False)
     (x0, x1), (y0, y1) = _area(mission)
     drops = [e for e in mission.world_events if e.type == EventType.DROP and e.value > 0]
     for ax, k in zip(axes[0], picks, strict=True):
@@ -395,6 +453,7 @@ def fig_raster_front(mission: Mission, out: Path) -> list[Figure]:
             if e.t_s <= t:
                 hit = e.fire_id >= 0
                 ax.plot(e.x_m, e.y_m, "o", ms=4, mfc="tab:blue" if hit else "none", mec="tab:blue", alpha=0.8)
+        _draw_crashes(ax, mission, t)
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
@@ -412,7 +471,7 @@ def fig_burned_area(mission: Mission, out: Path, baseline: Mission | None = None
     fires = mission.scenario.get("fires") if isinstance(mission.scenario, dict) else None
     if t.size == 0 or not (isinstance(fires, dict) and fires.get("model") == "raster"):
         return []
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(7, 3.6))
     ax.plot(t, area / 1e4, color="tab:red", label=f"fleet ({len(mission.uav_ids)} UAVs)")
     base = baseline_area(baseline)
     if base is not None:
@@ -421,7 +480,12 @@ def fig_burned_area(mission: Mission, out: Path, baseline: Mission | None = None
     ax.set_ylabel("burned area [ha]")
     ax.grid(alpha=0.3)
     ax.legend()
-    return _save(fig, out, "burned_area.png", "Burned area over time, with the fleet and with no fleet.")
+    cap = "Burned area over time, with the fleet" + (
+        " and with no fleet (the same scenario and seed run with --uavs 0)."
+        if base is not None
+        else "; a run of the same scenario and seed with --uavs 0, given as --baseline, adds the fire alone."
+    )
+    return _save(fig, out, "burned_area.png", cap)
 
 
 ALL_FIGURES = (
@@ -430,9 +494,20 @@ ALL_FIGURES = (
 )  # fmt: skip
 
 
-def make_figures(mission: Mission, out: Path, baseline: Mission | None = None) -> list[Figure]:
-    """Write every figure the bag has data for into ``out``; return [(file, caption)]."""
+def make_figures(
+    mission: Mission,
+    out: Path,
+    baseline: Mission | None = None,
+    outages: list[tuple[float, float]] | None = None,
+) -> list[Figure]:
+    """Write every figure the bag has data for into ``out``; return [(file, caption)].
+    ``outages``: every link outage's (start, end) [s] for the faults figure (default: the scenario's)."""
     figs: list[Figure] = []
     for fn in ALL_FIGURES:
-        figs += fn(mission, out, baseline) if fn is fig_burned_area else fn(mission, out)
+        if fn is fig_burned_area:
+            figs += fig_burned_area(mission, out, baseline)
+        elif fn is fig_faults:
+            figs += fig_faults(mission, out, outages)
+        else:
+            figs += fn(mission, out)
     return figs

@@ -63,6 +63,20 @@ def _percentiles(values: np.ndarray) -> dict[str, float] | None:
     return out
 
 
+def settled_index(stamps_s: np.ndarray, end_s: float) -> int:
+    """Index of a UAV's state that counts as its final one: the newest stamped before the
+    mission's last step ``end_s`` [s], else the newest of all.
+
+    The world ends the mission at the step it finds it complete; whether the agents' answers to
+    that step reach a subscriber before they are stopped depends on wall time (the supervisor
+    may miss them, the recorder may hold them), so neither side counts them: the console summary
+    and the report then give the same packet counts on every run.
+    """
+    t = np.asarray(stamps_s, dtype=float)
+    before = np.flatnonzero(t < end_s - 1e-6)
+    return int(before[np.argmax(t[before])]) if before.size else int(np.argmax(t))
+
+
 def _fire_key(fire_id: int) -> str:
     return str(fire_id) if fire_id >= 0 else "missed"
 
@@ -105,10 +119,12 @@ def compute_metrics(mission: Mission) -> dict[str, Any]:
         if e.type == EventType.EXTINGUISHED and _fire_key(e.fire_id) not in extinction:
             extinction[_fire_key(e.fire_id)] = e.t_s
 
+    end_s = mission_duration_s(mission)
     packets: dict[str, dict[str, int]] = {}
     for uav, s in sorted(mission.states.items()):
         if s:
-            packets[str(uav)] = {k: int(s[k][-1]) for k in ("received", "lost", "rejected")}
+            i = settled_index(s["t"], end_s)
+            packets[str(uav)] = {k: int(s[k][i]) for k in ("received", "lost", "rejected")}
 
     errs = {uav: ekf_errors(mission, uav) for uav in mission.uav_ids}
     ekf: dict[str, Any] = {"samples": int(sum(e["t"].size for e in errs.values()))}
@@ -117,7 +133,12 @@ def compute_metrics(mission: Mission) -> dict[str, Any]:
     horiz = [np.hypot(e["x"], e["y"]) for e in errs.values()]
     ekf["horizontal"] = _percentiles(np.concatenate(horiz) if horiz else np.zeros(0))
     ekf["per_uav"] = {
-        str(uav): {ax: _percentiles(e[ax]) for ax in AXES} for uav, e in errs.items() if e["t"].size
+        str(uav): {
+            **{ax: _percentiles(e[ax]) for ax in AXES},
+            "horizontal": _percentiles(np.hypot(e["x"], e["y"])),
+        }
+        for uav, e in errs.items()
+        if e["t"].size
     }
     ekf["units"] = {"x": "m", "y": "m", "z": "m", "yaw": "rad", "horizontal": "m"}
 
@@ -161,12 +182,67 @@ def compute_metrics(mission: Mission) -> dict[str, Any]:
         "packets_lost_total": int(sum(p["lost"] for p in packets.values())),
         "packets_rejected_total": int(sum(p["rejected"] for p in packets.values())),
         "link_outages_scheduled": outages,
+        **safety_metrics(mission),
+        **fire_counts(mission),
         "ekf_error": ekf,
         "perimeter_distance_error_m": perimeter_errors(mission),
         **suppression_metrics(mission),
         "event_counts": dict(sorted(event_counts.items())),
         "recorder_closed_cleanly": mission.custom_data.get("fire_uav.closed_cleanly") == "true",
         "warnings": list(mission.warnings),
+    }
+
+
+def home_xy(mission: Mission) -> dict[int, tuple[float, float]]:
+    """Takeoff point (x, y) [m; map] of every UAV: the scenario's start poses (as the runner's
+    summary takes them), else, for a bag without a readable scenario, the first true position."""
+    from fire_uav_common.scenario import ScenarioError, scenario_from_dict
+
+    n = _int_or_none(mission.custom_data.get("fire_uav.uav_count"))
+    try:
+        sc = scenario_from_dict(mission.scenario)
+        poses = sc.uav_start_poses(n if n is not None else len(mission.uav_ids))
+        return {i: (float(p[0]), float(p[1])) for i, p in enumerate(poses)}
+    except (ScenarioError, ValueError, TypeError, KeyError):
+        return {u: (float(v["x"][0]), float(v["y"][0])) for u, v in mission.truth_vehicles.items() if v}
+
+
+def safety_metrics(mission: Mission) -> dict[str, Any]:
+    """Closest approach, collisions and landings (FF IV-D d), as the runner's summary has them.
+
+    min_separation_m: the least 3-D distance between two airborne vehicles over the mission [m]
+    (the world's running figure in ``/world/truth``; None if never two flew at once);
+    collisions: colliding pairs; landing_error_m: per landed UAV, the horizontal distance from
+    its touchdown (its first LANDED event) to its takeoff point [m]; touchdown_spacing_m: the
+    least distance between two touchdown points [m].
+    """
+    sep = mission.separation
+    finite = sep["min_separation_m"][np.isfinite(sep["min_separation_m"])] if sep else np.zeros(0)
+    touchdown: dict[int, tuple[float, float]] = {}
+    for e in mission.world_events:
+        if e.type == EventType.LANDED and math.isfinite(e.x_m) and math.isfinite(e.y_m):
+            touchdown.setdefault(e.uav_id, (e.x_m, e.y_m))
+    home = home_xy(mission) if touchdown else {}
+    errors = {
+        str(u): math.hypot(x - home[u][0], y - home[u][1]) for u, (x, y) in sorted(touchdown.items()) if u in home
+    }
+    pts = list(touchdown.values())
+    spacing = [math.dist(a, b) for i, a in enumerate(pts) for b in pts[i + 1 :]]
+    return {
+        "min_separation_m": float(finite.min()) if finite.size else None,
+        "collisions": int(sep["collisions"].max()) if sep else 0,
+        "landed": sorted({e.uav_id for e in mission.world_events if e.type == EventType.LANDED}),
+        "landing_error_m": errors,
+        "touchdown_spacing_m": min(spacing) if spacing else None,
+    }
+
+
+def fire_counts(mission: Mission) -> dict[str, Any]:
+    """fires_total and fires_active_at_end from the last ``/world/truth`` sample of each fire."""
+    last = [int(f["status"][-1]) for f in mission.truth_fires.values() if f]
+    return {
+        "fires_total": len(last) if last else None,
+        "fires_active_at_end": sum(s == FireStatus.ACTIVE for s in last) if last else None,
     }
 
 
@@ -227,7 +303,9 @@ CONTAINMENT_WINDOW_S = 60.0  # [s] as fire_world_sim.measures.CONTAINMENT_WINDOW
 _CELLS_BURNING = re.compile(r"(\d+) of (\d+) cells burning")
 
 
-def containment_from_area(t_s: np.ndarray, area_m2: np.ndarray, active: np.ndarray) -> float | None:
+def containment_from_area(
+    t_s: np.ndarray, area_m2: np.ndarray, active: np.ndarray, *, raster: bool
+) -> float | None:
     """Time to containment [s] from the burned-area history of ``/world/truth``, or None.
 
     Same definition as the world's (``fire_world_sim.measures.Containment``), recomputed from
@@ -236,6 +314,9 @@ def containment_from_area(t_s: np.ndarray, area_m2: np.ndarray, active: np.ndarr
     the result is the first sample from which that holds to the end. The world uses the cells'
     exact ignition times; this uses the sample at which the area changed, so the two agree to
     within the fire's propagation update (0.5 s). ``active``: any fire ACTIVE at each sample.
+
+    ``raster`` False (analytic fires): they do not spread cell by cell, so an area that stays put
+    says nothing; as for the world, they are contained only once every fire is out.
     """
     t = np.asarray(t_s, dtype=float)
     a = np.asarray(area_m2, dtype=float)
@@ -244,7 +325,7 @@ def containment_from_area(t_s: np.ndarray, area_m2: np.ndarray, active: np.ndarr
         return None
     grew = np.r_[True, np.diff(a) > 0]
     last_growth = np.maximum.accumulate(np.where(grew, t, -np.inf))
-    quiet = ~on | (t - last_growth >= CONTAINMENT_WINDOW_S - 1e-9)
+    quiet = ~on | (t - last_growth >= CONTAINMENT_WINDOW_S - 1e-9) if raster else ~on
     if not quiet[-1]:
         return None
     breaks = np.flatnonzero(~quiet)
@@ -300,7 +381,7 @@ def suppression_metrics(mission: Mission) -> dict[str, Any]:
     t, area, active = burned_area_series(mission)
     out = drop_outcomes(mission.world_events, is_raster)
     out["burned_area_m2"] = float(area[-1]) if area.size else None
-    out["contained_at_s"] = containment_from_area(t, area, active)
+    out["contained_at_s"] = containment_from_area(t, area, active, raster=is_raster)
     return out
 
 

@@ -2,93 +2,79 @@
 
 from __future__ import annotations
 
-import html
 import json
 from pathlib import Path
 from typing import Any
 
-from fire_report.data import load_mission
+from fire_report import debrief
+from fire_report.data import Mission, load_mission
 from fire_report.errors import ReportError
 from fire_report.figures import make_figures
-from fire_report.metrics import compute_metrics
-from fire_report.sections import Section, make_sections, render_section
+from fire_report.metrics import compute_metrics, suppression_metrics
+from fire_report.page import render_page
+from fire_report.sections import Figure, Section, cp, pm
+from fire_report.sections.bagdata import load_section_data
 
-META_ROWS = (
-    ("scenario file", "fire_uav.scenario_file"),
-    ("seed", "fire_uav.seed"),
-    ("fleet size", "fire_uav.uav_count"),
-    ("software", "fire_uav.software_version"),
-    ("recorder started (UTC)", "fire_uav.recorder_started_utc"),
-    ("closed cleanly", "fire_uav.closed_cleanly"),
-)
-SUMMARY_KEYS = (
-    "outcome",
-    "outcome_detail",
-    "mission_duration_s",
-    "drop_count",
-    "drops_per_fire",
-    "mean_inter_drop_interval_s",
-    "extinction_times_s",
-    "crash_events",
-    "peers_declared_crashed",
-    "packets_lost_total",
-    "packets_rejected_total",
-    "perimeter_distance_error_m",
-    "hit_rate",
-    "burned_area_m2",
-    "contained_at_s",
-    "water_on_burning_kg",
+#: which part of the page shows a figure (by file name prefix); the rest go to the diagnostics
+FIGURE_PLACES = (
+    ("voronoi_phases", "maps"),
+    ("raster_front", "maps"),
+    ("drops", "fires"),
+    ("burned_area", "fires"),
+    ("perimeter", "fires"),
+    ("faults", "faults"),
 )
 
 
-def _fmt(v: Any) -> str:
-    if isinstance(v, float):
-        return f"{v:.3f}"
-    if isinstance(v, (dict, list)):
-        return json.dumps(v, default=str)
-    return str(v)
+def make_sections(mission: Mission, out: Path, *, salvage: bool = True) -> list[Section]:
+    """Every capability section the bag has data for (perimeter monitoring, coverage search),
+    figures written into ``out``."""
+    data = load_section_data(mission.path, mission.topics, salvage=salvage)
+    found = [mod.build(mission, data, out) for mod in (pm, cp)]
+    return [s for s in found if s is not None]
 
 
-def render_html(
-    metrics: dict[str, Any],
-    custom: dict[str, str],
-    figures: list[tuple[str, str]],
-    sections: list[Section] | None = None,
-) -> str:
-    """One self-contained page: metadata, summary metrics, EKF table, every figure, then one
-    section per capability the mission used (``fire_report.sections``)."""
-    e = html.escape
-    rows = "".join(f"<tr><th>{e(k)}</th><td>{e(custom.get(key, '-'))}</td></tr>" for k, key in META_ROWS)
-    summ = "".join(f"<tr><th>{e(k)}</th><td>{e(_fmt(metrics.get(k)))}</td></tr>" for k in SUMMARY_KEYS)
-    ekf = metrics.get("ekf_error", {})
-    ekf_rows = "".join(
-        f"<tr><th>{e(ax)} [{e(ekf['units'][ax])}]</th>"
-        + "".join(f"<td>{_fmt((ekf.get(ax) or {}).get(p, '-'))}</td>" for p in ("p50", "p90", "p95", "max"))
-        + "</tr>"
-        for ax in ("x", "y", "z", "yaw", "horizontal")
-    )
-    warns = "".join(f"<li>{e(w)}</li>" for w in metrics.get("warnings", []))
-    figs = "".join(
-        f'<figure><img src="{e(name)}" alt="{e(cap)}"><figcaption>{e(cap)}</figcaption></figure>'
-        for name, cap in figures
-    )
-    title = f"Mission report: {metrics.get('scenario') or metrics.get('bag')}"
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>{e(title)}</title>
-<style>body{{font-family:sans-serif;max-width:1200px;margin:auto;padding:1em}}
-table{{border-collapse:collapse;margin-bottom:1em}}th,td{{border:1px solid #ccc;padding:3px 8px;text-align:left}}
-figure{{margin:1.5em 0}}img{{max-width:100%}}figcaption{{color:#444}}.warn{{color:#a40}}</style></head>
-<body><h1>{e(title)}</h1>
-<p>Bag: <code>{e(str(metrics.get("bag")))}</code> &middot; <a href="metrics.json">metrics.json</a></p>
-{f'<ul class="warn">{warns}</ul>' if warns else ""}
-<h2>Recording</h2><table>{rows}</table>
-<h2>Summary</h2><table>{summ}</table>
-<h2>EKF error (|estimate - truth|, {ekf.get("samples", 0)} samples)</h2>
-<table><tr><th></th><th>p50</th><th>p90</th><th>p95</th><th>max</th></tr>{ekf_rows}</table>
-<h2>Figures</h2>{figs or "<p>No figure: the bag holds none of the topics they need.</p>"}
-{"".join(render_section(s) for s in sections or [])}
-</body></html>
-"""
+def place_figures(figures: list[Figure]) -> dict[str, list[Figure]]:
+    """The figures grouped by the part of the page that shows them (see ``FIGURE_PLACES``)."""
+    out: dict[str, list[Figure]] = {}
+    for name, cap in figures:
+        place = next((p for prefix, p in FIGURE_PLACES if name.startswith(prefix)), "diagnostics")
+        out.setdefault(place, []).append((name, cap))
+    return out
+
+
+def _scenario_value(scenario: dict[str, Any], *path: str) -> Any:
+    node: Any = scenario
+    for key in path:
+        node = node.get(key) if isinstance(node, dict) else None
+    return node
+
+
+def loss_probability(mission: Mission) -> float | None:
+    """The random loss rate the agents applied: the runner's ``--loss`` (the agents' parameters
+    beside the bag) if given, else the scenario's ``comms.loss_probability`` (default 0.05)."""
+    try:
+        return float(debrief.agent_params(mission.path)["loss_probability"])
+    except (KeyError, TypeError, ValueError):
+        pass
+    if not mission.uav_ids:
+        return None
+    v = _scenario_value(mission.scenario, "comms", "loss_probability")
+    try:
+        return float(v) if v is not None else 0.05
+    except (TypeError, ValueError):
+        return None
+
+
+def collision_radius_m(mission: Mission) -> float | None:
+    """The scenario's collision radius [m] (its default when the scenario leaves it out); None
+    when the bag holds no valid scenario."""
+    from fire_uav_common.scenario import ScenarioError, scenario_from_dict
+
+    try:
+        return float(scenario_from_dict(mission.scenario).vehicle.collision_radius_m)
+    except (ScenarioError, ValueError, TypeError, KeyError):
+        return None
 
 
 def write_report(
@@ -107,14 +93,37 @@ def write_report(
         raise ReportError(f"{out}: cannot create the output directory: {err.strerror}") from None
     metrics = compute_metrics(mission)
     if base is not None:
-        from fire_report.metrics import suppression_metrics
-
         metrics["baseline_burned_area_m2"] = suppression_metrics(base)["burned_area_m2"]
-    figures = make_figures(mission, out, base)
+    metrics["loss_probability"] = loss_probability(mission)
+    known = debrief.run_summary_found(mission.path)
+    metrics["injected_faults_known"] = known
+    faults = debrief.with_responses(
+        debrief.scenario_outages(mission.scenario) + debrief.run_faults(mission.path), mission
+    )
+    metrics["faults"] = [
+        {"kind": f.kind, "t_s": f.t_s, "uav_id": f.uav, "peer_id": f.peer, "end_s": f.end_s,
+         "source": f.source, "response": f.response}
+        for f in faults
+    ]  # fmt: skip
+    outages = [(f.t_s, f.end_s) for f in faults if f.kind == "outage" and f.end_s is not None]
+    figures = make_figures(mission, out, base, outages)
     sections = make_sections(mission, out, salvage=salvage)
     metrics["figures"] = [name for name, _ in figures] + [name for s in sections for name, _ in s.figures]
     metrics["sections"] = {s.key: s.metrics for s in sections}
+    raster = _scenario_value(mission.scenario, "fires", "model") == "raster"
+    radius = collision_radius_m(mission)
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2, default=str) + "\n", encoding="utf8")
-    page = render_html(metrics, mission.custom_data, figures, sections)
+    page = render_page(
+        metrics,
+        mission.custom_data,
+        entries=debrief.timeline(mission, metrics, faults, known=known),
+        fires=debrief.fire_rows(mission, metrics, raster),
+        uavs=debrief.uav_rows(mission, metrics, faults, known=known),
+        faults=faults,
+        figures=place_figures(figures),
+        sections=sections,
+        raster=raster,
+        collision_radius_m=radius,
+    )
     (out / "index.html").write_text(page, encoding="utf8")
     return metrics

@@ -1,19 +1,16 @@
 """Report sections per capability, each present only when the mission used it.
 
-A section module has ``build(mission, data, out) -> Section | None``: None when the bag holds
-none of its traffic. ``make_sections`` runs them all; ``render_section`` gives its HTML.
-FF stays the page's main body (``fire_report.report``); PM (``pm``) and CP (``cp``) are here.
+A section module (``pm``: perimeter monitoring, ``cp``: coverage search) has
+``build(mission, data, out) -> Section | None``: None when the bag holds none of its traffic.
+This package holds only the :class:`Section` record the modules fill; the report
+(``fire_report.report``) runs them and ``fire_report.page`` renders them, so no section module
+is imported from here (each one imports this record).
 """
 
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
-
-from fire_report.data import Mission
-from fire_report.sections.bagdata import SectionData, load_section_data
 
 Figure = tuple[str, str]
 
@@ -22,7 +19,7 @@ Figure = tuple[str, str]
 class Section:
     """One capability's part of the page: a heading, a table of numbers, figures, notes."""
 
-    key: str  # metrics.json key ("pm", "cp")
+    key: str  # metrics.json key ("pm", "cp"), also the page anchor
     heading: str
     rows: list[tuple[str, str]] = field(default_factory=list)
     figures: list[Figure] = field(default_factory=list)
@@ -30,30 +27,4 @@ class Section:
     metrics: dict[str, Any] = field(default_factory=dict)
 
 
-def make_sections(mission: Mission, out: Path, *, salvage: bool = True) -> list[Section]:
-    """Every section the bag has data for (figures written into ``out``)."""
-    from fire_report.sections import cp, pm
-
-    data: SectionData = load_section_data(mission.path, mission.topics, salvage=salvage)
-    found = [mod.build(mission, data, out) for mod in (pm, cp)]
-    return [s for s in found if s is not None]
-
-
-def render_section(s: Section) -> str:
-    e = html.escape
-    rows = "".join(f"<tr><th>{e(k)}</th><td>{e(v)}</td></tr>" for k, v in s.rows)
-    figs = "".join(
-        f'<figure><img src="{e(name)}" alt="{e(cap)}"><figcaption>{e(cap)}</figcaption></figure>'
-        for name, cap in s.figures
-    )
-    notes = "".join(f"<li>{e(n)}</li>" for n in s.notes)
-    return (
-        f'<section id="{e(s.key)}"><h2>{e(s.heading)}</h2>'
-        + (f"<table>{rows}</table>" if rows else "")
-        + (f"<ul>{notes}</ul>" if notes else "")
-        + figs
-        + "</section>"
-    )
-
-
-__all__ = ["Section", "make_sections", "render_section"]
+__all__ = ["Figure", "Section"]
