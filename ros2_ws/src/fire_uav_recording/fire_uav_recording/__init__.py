@@ -13,7 +13,7 @@ one into a temporary copy; :func:`repair_bag` writes such a copy for good.
 from __future__ import annotations
 
 from fire_uav_recording.bagfile import MCAP_MAGIC, BagInfo, inspect_bag
-from fire_uav_recording.errors import BagError
+from fire_uav_recording.errors import BagError, ConfigError, RecordingError
 from fire_uav_recording.metadata import (
     KEY_CLOSED,
     KEY_LOG_TIME_OFFSET_NS,
@@ -44,7 +44,9 @@ __all__ = [
     "BagError",
     "BagInfo",
     "BagWriter",
+    "ConfigError",
     "MissionBag",
+    "RecordingError",
     "SalvageResult",
     "ensure_type",
     "find_msg_dir",
