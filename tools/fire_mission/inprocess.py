@@ -26,6 +26,7 @@ from fire_uav_common.constants import FireStatus, VehicleStatus
 from fire_uav_common.scenario import Scenario, load_scenario
 
 from .cli import OneLineParser
+from .errors import MissionError
 from .summary import Event, LiveSummary, table
 
 __all__ = ["run_inprocess", "main"]
@@ -56,7 +57,7 @@ def run_inprocess(
     from fire_world_sim.world import World
 
     if uavs is not None and uavs < 0:
-        raise ValueError(f"uavs must be >= 0 (0: the fire alone), got {uavs}")
+        raise MissionError(f"uavs must be >= 0 (0: the fire alone), got {uavs}")
     sc = (
         scenario if isinstance(scenario, Scenario) else load_scenario(_resolve(scenario), overrides=overrides)
     )

@@ -7,7 +7,7 @@ so an ``except ValueError`` written before the family existed still catches it.
 
 from __future__ import annotations
 
-__all__ = ["ConfigError", "SequenceError", "WorldError"]
+__all__ = ["ConfigError", "FireBehaviorError", "SequenceError", "WorldError"]
 
 
 class WorldError(Exception):
@@ -21,3 +21,8 @@ class ConfigError(WorldError, ValueError):
 class SequenceError(WorldError, ValueError):
     """A call out of order or repeated where it must be unique (time going back, two markers with
     one id): a bug in the caller, caught before it corrupts what the world reports."""
+
+
+class FireBehaviorError(WorldError, ValueError):
+    """A fire-behaviour input is invalid: an unknown fuel model code, a moisture or wind out of
+    range, a malformed FMS moisture file."""

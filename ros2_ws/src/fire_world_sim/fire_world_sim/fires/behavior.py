@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import FireBehaviorError
 from .crown import CROWN_RATE_FACTOR, CROWN_WAF, FireType, crown_fire, crown_flame_length_m
 from .fuel_models import FUEL_MODELS, NONBURNABLE
 from .rothermel import DEFAULT_WIND_LIMIT, SpreadParams, head_spread_cells, spread_params
@@ -60,7 +61,7 @@ class Moisture:
         for f in fields(self):
             v = getattr(self, f.name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and 0.0 < v <= 5.0):
-                raise ValueError(f"moisture {f.name} must be a fraction in (0, 5], got {v!r}")
+                raise FireBehaviorError(f"moisture {f.name} must be a fraction in (0, 5], got {v!r}")
 
 
 @dataclass(frozen=True)
@@ -78,11 +79,11 @@ def parse_moisture(text: str) -> Moisture:
     """``"0.06,0.08,0.10,0.75,0.60"`` (1H,10H,100H,HERB,WOODY fractions) -> :class:`Moisture`."""
     parts = text.split(",")
     if len(parts) != 5:
-        raise ValueError(f"--moisture wants 5 fractions 1H,10H,100H,HERB,WOODY, got {text!r}")
+        raise FireBehaviorError(f"--moisture wants 5 fractions 1H,10H,100H,HERB,WOODY, got {text!r}")
     try:
         values = [float(p) for p in parts]
     except ValueError:
-        raise ValueError(f"--moisture wants numbers, got {text!r}") from None
+        raise FireBehaviorError(f"--moisture wants numbers, got {text!r}") from None
     return Moisture(*values)
 
 
@@ -98,20 +99,20 @@ def read_fms(path: Path) -> FuelMoistures:
             continue
         parts = text.split()
         if len(parts) != 6:
-            raise ValueError(f"{path}:{n}: FMS line wants MODEL 1H 10H 100H HERB WOODY, got {line!r}")
+            raise FireBehaviorError(f"{path}:{n}: FMS line wants MODEL 1H 10H 100H HERB WOODY, got {line!r}")
         try:
             code = int(parts[0])
             pct = [float(p) for p in parts[1:]]
         except ValueError:
-            raise ValueError(f"{path}:{n}: FMS line wants numbers, got {line!r}") from None
+            raise FireBehaviorError(f"{path}:{n}: FMS line wants numbers, got {line!r}") from None
         if code != 0 and code not in FUEL_MODELS:
-            raise ValueError(f"{path}:{n}: unknown fuel model {code}")
+            raise FireBehaviorError(f"{path}:{n}: unknown fuel model {code}")
         try:
             rows[code] = Moisture(*(p / 100.0 for p in pct))
         except ValueError as e:
-            raise ValueError(f"{path}:{n}: {e}") from None
+            raise FireBehaviorError(f"{path}:{n}: {e}") from None
     if not rows:
-        raise ValueError(f"{path}: no moisture lines")
+        raise FireBehaviorError(f"{path}: no moisture lines")
     default = rows.pop(0, None) or next(iter(rows.values()))
     return FuelMoistures(default, rows)
 
@@ -206,19 +207,19 @@ def fire_behavior(
     clockwise from north; negative = flat]; ``canopy_cover`` [fraction]; heights [m]; CBD
     [kg/m^3]; ``wind_from_deg``: where the 20-ft wind blows from [deg clockwise from north];
     ``foliar_moisture`` [fraction]. Missing canopy layers mean no canopy (unsheltered wind, no
-    crown fire). Unknown fuel codes raise ValueError naming the code.
+    crown fire). Unknown fuel codes raise FireBehaviorError (a ValueError) naming the code.
     """
     if crown not in CROWN_METHODS:
-        raise ValueError(f"crown must be one of {CROWN_METHODS}, got {crown!r}")
+        raise FireBehaviorError(f"crown must be one of {CROWN_METHODS}, got {crown!r}")
     if not (math.isfinite(wind_20ft_mps) and wind_20ft_mps >= 0):
-        raise ValueError(f"wind_20ft_mps must be >= 0, got {wind_20ft_mps!r}")
+        raise FireBehaviorError(f"wind_20ft_mps must be >= 0, got {wind_20ft_mps!r}")
     if not (math.isfinite(foliar_moisture) and 0.0 < foliar_moisture <= 5.0):
-        raise ValueError(f"foliar_moisture must be a fraction in (0, 5], got {foliar_moisture!r}")
+        raise FireBehaviorError(f"foliar_moisture must be a fraction in (0, 5], got {foliar_moisture!r}")
     fuel = np.asarray(fuel)
     codes = np.unique(fuel)
     unknown = [int(c) for c in codes if int(c) not in FUEL_MODELS and int(c) not in NONBURNABLE]
     if unknown:
-        raise ValueError(f"unknown fuel model code(s) {unknown}; expected 1-13, 101-204 or 91-99")
+        raise FireBehaviorError(f"unknown fuel model code(s) {unknown}; expected 1-13, 101-204 or 91-99")
     index = fuel.astype(np.int64)
     zeros = np.zeros(fuel.shape)
     cc = zeros if canopy_cover is None else np.asarray(canopy_cover, dtype=float)
