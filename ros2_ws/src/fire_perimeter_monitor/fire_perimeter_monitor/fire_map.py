@@ -115,18 +115,15 @@ def perimeter_mask(x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_siz
         return np.zeros(0, dtype=bool)
     grid = CellGrid(float(x[0]), float(y[0]), cell_size_m)
     i, j = grid.index(x, y)
-    unburned = {(int(a), int(b)) for a, b, c in zip(i, j, s, strict=True) if c == CellState.UNBURNED}
-    fire = s != CellState.UNBURNED
-    out = np.zeros(x.size, dtype=bool)
-    for k in np.flatnonzero(fire):
-        a, b = int(i[k]), int(j[k])
-        out[k] = (
-            (a + 1, b) in unburned
-            or (a - 1, b) in unburned
-            or (a, b + 1) in unburned
-            or (a, b - 1) in unburned
-        )
-    return out
+    # A dense raster over the footprint's bounding box, one cell of margin on every side so
+    # that the four neighbours of every cell are inside it.
+    i = i - i.min() + 1
+    j = j - j.min() + 1
+    unburned = np.zeros((int(i.max()) + 2, int(j.max()) + 2), dtype=bool)
+    u = s == CellState.UNBURNED
+    unburned[i[u], j[u]] = True
+    near = unburned[i + 1, j] | unburned[i - 1, j] | unburned[i, j + 1] | unburned[i, j - 1]
+    return ~u & near
 
 
 def angle_bin(x_m, y_m, center_x_m: float, center_y_m: float, bin_count: int = 360) -> np.ndarray:
@@ -295,9 +292,7 @@ class FireMap:
                 taken += 1
         return taken
 
-    def set_center(
-        self, center_x_m: float, center_y_m: float, cells: list[tuple[float, float, float]]
-    ) -> None:
+    def set_center(self, center_x_m: float, center_y_m: float, cells) -> None:
         """Re-centre the map and rebuild it from raw perimeter sightings ``(x_m, y_m, t_s)``.
 
         Used when the ignition point is unknown (PM IV-A: the fire centre is computed after
@@ -311,9 +306,9 @@ class FireMap:
             revisit_gap_s=self.revisit_gap_s,
             ros_baseline_s=self.ros_baseline_s,
         )
-        if not cells:
-            return
         arr = np.asarray(cells, dtype=float).reshape(-1, 3)
+        if arr.shape[0] == 0:
+            return
         for t in np.unique(arr[:, 2]):
             sel = arr[:, 2] == t
             self.record(arr[sel, 0], arr[sel, 1], float(t))

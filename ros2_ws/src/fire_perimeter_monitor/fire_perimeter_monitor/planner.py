@@ -110,7 +110,11 @@ class _Lap:
     last_angle: float | None = None
     swept_rad: float = 0.0
     left_start: bool = False
-    raw: list[tuple[float, float, float]] = field(default_factory=list)
+    raw: list[np.ndarray] = field(default_factory=list)  # (n, 3) chunks of (x_m, y_m, t_s) sightings
+
+    def raw_cells(self) -> np.ndarray:
+        """All raw sightings so far as one ``(n, 3)`` array, in the order they came."""
+        return np.vstack(self.raw) if self.raw else np.zeros((0, 3))
 
 
 class PerimeterMonitor:
@@ -170,9 +174,8 @@ class PerimeterMonitor:
         if self.center_known:
             self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m)
         else:
-            self._lap.raw.extend(
-                (float(a), float(b), float(t_s)) for a, b in zip(x[per], y[per], strict=True)
-            )
+            xp, yp = x[per], y[per]
+            self._lap.raw.append(np.column_stack([xp, yp, np.full(xp.size, float(t_s))]))
             if self._lap.done:
                 self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m)
         i, j = self.grid.index(ux, uy)
@@ -286,7 +289,7 @@ class PerimeterMonitor:
         taken = self.fire_map.merge_outer(px, py, tv) if self._lap.done or self.center_known else 0
         if not self._lap.done and not self.center_known:
             ok = np.isfinite(px) & np.isfinite(tv)
-            self._lap.raw.extend(zip(px[ok].tolist(), py[ok].tolist(), tv[ok].tolist(), strict=True))
+            self._lap.raw.append(np.column_stack([px[ok], py[ok], tv[ok]]))
         heard = float(t_s) if t_s is not None else float(np.nanmax(tv)) if np.isfinite(tv).any() else -np.inf
         if peer_pos_m is not None:
             ang = math.atan2(
@@ -336,9 +339,11 @@ class PerimeterMonitor:
         if dist > 4 * cs:
             lap.left_start = True
         if lap.left_start and dist <= 1.5 * cs and self.steps > 12:
-            pts = np.asarray([(a, b) for a, b, _ in lap.raw], dtype=float)
-            cx, cy = (float(v) for v in pts.mean(axis=0)) if pts.size else (ux, uy)
-            self.fire_map.set_center(cx, cy, lap.raw)
+            raw = lap.raw_cells()
+            cx, cy = (
+                (float(v) for v in np.ascontiguousarray(raw[:, :2]).mean(axis=0)) if raw.size else (ux, uy)
+            )
+            self.fire_map.set_center(cx, cy, raw)
             self.center_known = True
             lap.done = True
             lap.raw.clear()
