@@ -223,23 +223,22 @@ class FireMap:
         nxt = np.roll(np.arange(bins.size), -1)
         gap = (bins[nxt] - bins) % nb
         close = np.hypot(xs[nxt] - xs, ys[nxt] - ys) <= link_m
-        add_b, add_x, add_y = [], [], []
-        for k in np.flatnonzero(close & (gap >= 2) & (gap <= nb // 4)):
-            p = np.array([xs[k] - self.center_x_m, ys[k] - self.center_y_m])
-            e = np.array([xs[nxt[k]] - xs[k], ys[nxt[k]] - ys[k]])
-            fb = (bins[k] + np.arange(1, gap[k])) % nb
-            th = (fb + 0.5) * (2 * np.pi / nb)
-            ux, uy = np.cos(th), np.sin(th)
-            den = ux * e[1] - uy * e[0]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                r = (p[0] * e[1] - p[1] * e[0]) / den
-            ok = np.isfinite(r) & (r > 0)
-            add_b.append(fb[ok])
-            add_x.append(self.center_x_m + r[ok] * ux[ok])
-            add_y.append(self.center_y_m + r[ok] * uy[ok])
-        if not add_b:
+        ks = np.flatnonzero(close & (gap >= 2) & (gap <= nb // 4))
+        if ks.size == 0:
             return bins, xs, ys, ds
-        ab, ax, ay = np.concatenate(add_b), np.concatenate(add_x), np.concatenate(add_y)
+        counts = gap[ks] - 1
+        k = np.repeat(ks, counts)  # one row per bin to fill, in the order of the gaps
+        step = np.arange(k.size) - np.repeat(np.cumsum(counts) - counts, counts) + 1
+        px, py = xs[k] - self.center_x_m, ys[k] - self.center_y_m
+        ex, ey = xs[nxt[k]] - xs[k], ys[nxt[k]] - ys[k]
+        fb = (bins[k] + step) % nb
+        th = (fb + 0.5) * (2 * np.pi / nb)
+        ux, uy = np.cos(th), np.sin(th)
+        den = ux * ey - uy * ex
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = (px * ey - py * ex) / den
+        ok = np.isfinite(r) & (r > 0)
+        ab, ax, ay = fb[ok], self.center_x_m + r[ok] * ux[ok], self.center_y_m + r[ok] * uy[ok]
         keep = ~np.isin(ab, bins)
         ab, ax, ay = ab[keep], ax[keep], ay[keep]
         ab, first = np.unique(ab, return_index=True)
@@ -247,7 +246,9 @@ class FireMap:
         ad = np.hypot(ax - self.center_x_m, ay - self.center_y_m)
         return np.r_[bins, ab], np.r_[xs, ax], np.r_[ys, ay], np.r_[ds, ad]
 
-    def _visit(self, bins: np.ndarray, x: np.ndarray, y: np.ndarray, d: np.ndarray, t_s: float) -> None:
+    def _visit(self, bins: np.ndarray, x: np.ndarray, y: np.ndarray, d: np.ndarray, t_s) -> None:
+        """Visits of distinct ``bins`` at time ``t_s`` [s] (one time, or one per bin)."""
+        t_s = np.broadcast_to(np.asarray(t_s, dtype=float), bins.shape)
         prev_t = self.outer_t_s[bins]
         first = np.isnan(prev_t)
         same_visit = ~first & (t_s >= prev_t) & (t_s - prev_t < self.revisit_gap_s)  # older: ignored
@@ -257,7 +258,8 @@ class FireMap:
         self.inner_d_m[fb] = 0.0
         self.inner_t_s[fb] = np.nan if self.ignition_time_s is None else self.ignition_time_s
         # PM IV-A: a new visit turns the previous outer cell into the inner cell (if old enough).
-        nb = bins[new_visit & ((t_s - prev_t >= self.ros_baseline_s) | np.isnan(self.inner_t_s[bins]))]
+        nv = new_visit & ((t_s - prev_t >= self.ros_baseline_s) | np.isnan(self.inner_t_s[bins]))
+        nb = bins[nv]
         self.inner_d_m[nb] = self.outer_d_m[nb]
         self.inner_t_s[nb] = self.outer_t_s[nb]
         upd = first | same_visit | new_visit
@@ -265,7 +267,7 @@ class FireMap:
         self.outer_x_m[ub] = x[upd]
         self.outer_y_m[ub] = y[upd]
         self.outer_d_m[ub] = d[upd]
-        self.outer_t_s[ub] = t_s
+        self.outer_t_s[ub] = t_s[upd]
 
     def merge_outer(self, x_m: np.ndarray, y_m: np.ndarray, t_s: np.ndarray) -> int:
         """Merge a peer's outer cells [m] with their visit times [s]; returns bins taken.
@@ -282,14 +284,24 @@ class FireMap:
             return 0
         b = self.bin_of(x, y)
         d = np.hypot(x - self.center_x_m, y - self.center_y_m)
+        # A peer cell is a visit of its bin in time order: per bin the cells go in time order,
+        # each taken if newer than the bin's outer cell at that moment. Bins are independent,
+        # so round r takes the r-th cell (in time) of every bin at once.
+        order = np.argsort(t, kind="stable")
+        b, x, y, d, t = b[order], x[order], y[order], d[order], t[order]
+        by_bin = np.argsort(b, kind="stable")
+        bs = b[by_bin]
+        first = np.r_[True, bs[1:] != bs[:-1]]
+        rank = np.empty(b.size, dtype=np.int64)
+        rank[by_bin] = np.arange(b.size) - np.maximum.accumulate(np.where(first, np.arange(b.size), 0))
         taken = 0
-        # newest per bin first, as a visit each, in time order
-        for k in np.argsort(t, kind="stable"):
-            bk = b[k : k + 1]
-            ours = self.outer_t_s[bk[0]]
-            if np.isnan(ours) or t[k] > ours:
-                self._visit(bk, x[k : k + 1], y[k : k + 1], d[k : k + 1], float(t[k]))
-                taken += 1
+        for r in range(int(rank.max()) + 1):
+            sel = np.flatnonzero(rank == r)
+            ours = self.outer_t_s[b[sel]]
+            sel = sel[np.isnan(ours) | (t[sel] > ours)]
+            if sel.size:
+                self._visit(b[sel], x[sel], y[sel], d[sel], t[sel])
+                taken += int(sel.size)
         return taken
 
     def set_center(self, center_x_m: float, center_y_m: float, cells) -> None:
