@@ -312,7 +312,7 @@ def fig_perimeter(mission: Mission, out: Path) -> list[Figure]:
     axp.set_title("last perimeter map: outer distance per bin [m]")
     axp.legend(fontsize=7, loc="lower left")
     axe.set_xlabel("sim time [s]")
-    axe.set_ylabel("mean |distance - true radius| [m]")
+    axe.set_ylabel("max distance error over 360 angles [m]")
     axe.set_title("perimeter distance error (PM)")
     axe.grid(alpha=0.3)
     return _save(fig, out, "perimeter.png", "Monitored fires: perimeter map and distance error (PM).")

@@ -35,6 +35,8 @@ from .shape import convex_hull, polygon_radial_extent
 __all__ = [
     "DistanceError",
     "N_ANGLES",
+    "bin_points",
+    "grid_cells",
     "distance_error",
     "hull_extent",
     "max_error",
@@ -183,6 +185,22 @@ def distance_error(
         perfect_map_cells(fire_xy_m, cell_size_m, center_xy_m), cell_size_m, center_xy_m, n_angles
     )
     return DistanceError(max_error(truth, est), max_error(truth, perfect), float(cell_size_m))
+
+
+def bin_points(center_xy_m: tuple[float, float], outer_distance_m: np.ndarray) -> np.ndarray:
+    """The on-board outer cells of a PerimeterMap, (k, 2) [m]: per known bin the point at the
+    bin's centre angle and its outer distance (the map carries no more)."""
+    d = np.asarray(outer_distance_m, dtype=float)
+    k = np.flatnonzero(np.isfinite(d))
+    a = (k + 0.5) * (2 * np.pi / d.size) if d.size else np.zeros(0)
+    return np.column_stack([center_xy_m[0] + d[k] * np.cos(a), center_xy_m[1] + d[k] * np.sin(a)])
+
+
+def grid_cells(mask: np.ndarray, x0_m: float, y0_m: float, res_m: float) -> np.ndarray:
+    """Centres (k, 2) [m] of the true cells of a raster ``mask[row, col]`` whose cell (i, j)
+    spans ``[x0 + j res, x0 + (j + 1) res] x [y0 + i res, y0 + (i + 1) res]``."""
+    i, j = np.nonzero(np.asarray(mask, dtype=bool))
+    return np.column_stack([x0_m + (j + 0.5) * res_m, y0_m + (i + 0.5) * res_m])
 
 
 def running_average(values: np.ndarray) -> np.ndarray:
