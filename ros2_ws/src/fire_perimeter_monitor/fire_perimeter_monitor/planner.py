@@ -69,9 +69,8 @@ class MonitorConfig:
     min_run_fraction: float = 0.25
     turn_margin: float = 0.0
     ros_baseline_s: float | None = None  # FireMap: Eq. 1 over at least this long; default 20 cells of flight
-    ros_baseline_cells: float = (
-        2.0  # FireMap: ... and over at least the time the fire takes to spread this far
-    )
+    # FireMap: Eq. 1 also over at least the time the fire takes to spread this many cells
+    ros_baseline_cells: float = 2.0
     ros_smooth_bins: int = 0  # circular moving average of the per-bin ROS over +-this many bins
     # Turning rule: "worst" (ours, importance.worst_angle_turn: turn when that lowers the
     # largest predicted error at any angle) or "windows" (PM Listing 3: IMP_BACK > IMP_FRONT).
@@ -418,7 +417,12 @@ def smooth_circular(values: np.ndarray, half_width_bins: int) -> np.ndarray:
 
 
 class ImportanceMonitor(PerimeterMonitor):
-    """Importance-based perimeter monitor (PM Listings 1-3, Eqs. 1-7)."""
+    """Importance-based perimeter monitor (PM Listings 1-3, Eqs. 1-7).
+
+    The turn decision is ``MonitorConfig.rule``: "worst" (default, ours: turn when that lowers
+    the largest Eq. 4 error predicted at any angle, :func:`importance.worst_angle_turn`) or
+    "windows" (the paper's Listing 3: IMP_BACK > IMP_FRONT over Eqs. 5-6).
+    """
 
     changes_direction = True
 
