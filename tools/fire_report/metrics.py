@@ -364,7 +364,7 @@ def perimeter_distance_error_raster(mission: Mission, uav: int, fire: int) -> di
         pts = de.bin_points(tuple(per["center"][k]), per["outer"][k])
         if pts.shape[0] == 0:
             continue
-        e = de.distance_error(cells, pts, res, tuple(float(v) for v in per["center"][k]))
+        e = de.distance_error(cells, pts, res, (float(per["center"][k][0]), float(per["center"][k][1])))
         if math.isfinite(e.max_m):
             ts.append(per["t"][k])
             errs.append(e.max_m)
