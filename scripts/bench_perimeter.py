@@ -1,18 +1,30 @@
 #!/usr/bin/env python3
-"""Benchmark of the importance-based perimeter monitor (PM VI-B, VI-E); prints, asserts nothing.
+"""Benchmark of the perimeter monitors (PM VI-B, VI-E); prints figures, asserts nothing.
 
-1. Direction changes vs the heterogeneity factor alpha on one recorded fire (PM Fig. 11:
-   0, 8, 11, 15, 20, 43 for alpha 0, 0.8, 1.0, 1.2, 1.5, 5.0).
-2. Importance-based vs circling: mean over time of the maximum distance error at 360 angles
-   between the true fire shape and the convex hull of the on-board perimeter cells (PM VI-E:
-   7.3 vs 8.5 on a fire that speeds up, 12.2 vs 15.8 on a fast wind-driven fire, in cells).
+Distance error: ``fire_perimeter_monitor.distance_error`` (the one definition the report and
+metrics.json use too): at 360 angles about the monitor's map centre, |extent of the true fire
+- extent of the convex hull of the on-board perimeter cells|, maximum over the angles, sampled
+every ``every`` new cells after the initial lap; the table gives the mean of that maximum
+over the flight (PM Fig. 16's end value) per seed, in metres and cells, and beside it the
+perfect-map floor (the same metric for a map holding the whole current fire). PM: 7.3 vs 8.5
+(ratio 0.86) on a fire that speeds up, 12.2 vs 15.8 (0.77) on a fast wind-driven fire.
 
-Fires: (a) fire_world_sim's raster fire (RasterFireModel, Rothermel spread, pure Python, no
-ROS) built from the scenarios grass_wind.yaml and grass_to_brush.yaml, flown at the world's
-stall-ish speed with the world's 70 m fire sensor; (b) fire_perimeter_monitor.synthetic_fire
-arrival-time rasters at the paper's scale (30 m cells, 10 m/s, hours).
+Monitors: circling (PM VI-E baseline); importance with the worst-angle rule (ours, default);
+importance with the paper's window sums (Listing 3, with our hysteresis). Seeds draw the
+deployment angle and the initial direction.
 
-Run: .venv/bin/python scripts/bench_perimeter.py [--quick]  (full about 4 min, quick < 1 min)
+Fires (no suppression):
+- A. fire_world_sim's raster fire (RasterFireModel, Rothermel, pure Python, no ROS) from the
+  scenarios; 5 m cells, UAV 50 m/s, the world's 70 m fire sensor. monitor_grass: the centre
+  known (the agents pass the fleet's fire estimate; here the ignition point); grass_wind and
+  grass_to_brush: the centre unknown, estimated after the initial lap (PM IV-A).
+- B. synthetic arrival-time rasters in the paper's regime: 30 m cells, 10 m/s, sensing one
+  cell around the UAV, laps of tens of minutes, 3 h from 1 h after ignition; a wind-driven
+  fire (head 15x the back) and a slow fire that reaches a 4x faster fuel (PM Fig. 12a / 16a).
+
+Run: .venv/bin/python scripts/bench_perimeter.py [--quick] [--seeds N] [--fires NAME ...]
+(quick: the world's monitor_grass, and grass_wind for its first 2 min; a paper-regime
+synthetic flight of 3 h takes about a minute of CPU)
 """
 
 from __future__ import annotations
@@ -21,6 +33,7 @@ import argparse
 import math
 import time
 from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -28,86 +41,45 @@ import numpy as np
 _SRC = Path(__file__).resolve().parents[1] / "ros2_ws/src"
 
 from fire_perimeter_monitor.boundary import is_boundary_cell, lookup_from_grid  # noqa: E402
-from fire_perimeter_monitor.fire_map import CellGrid  # noqa: E402
-from fire_perimeter_monitor.planner import CirclingMonitor, ImportanceMonitor, MonitorConfig  # noqa: E402
+from fire_perimeter_monitor.distance_error import distance_error  # noqa: E402
+from fire_perimeter_monitor.fire_map import CellGrid, Direction  # noqa: E402
+from fire_perimeter_monitor.planner import (  # noqa: E402
+    CirclingMonitor,
+    ImportanceMonitor,
+    MonitorConfig,
+    PerimeterMonitor,
+)
 from fire_perimeter_monitor.synthetic_fire import elliptical_ros, fly, spread_fire  # noqa: E402
 
 ALPHAS = (0.0, 0.8, 1.0, 1.2, 1.5, 5.0)
 PAPER_CHANGES = (0, 8, 11, 15, 20, 43)
+MONITORS = ("circling", "worst", "windows")
 
+# --- B. synthetic fires, the paper's regime -------------------------------------------------
 CELL_M = 30.0  # [m] raster cell
 SPEED_MPS = 10.0  # [m/s] UAV speed along the perimeter
-SENSOR_M = 1.5 * CELL_M  # [m] fire sensor footprint radius
+SENSOR_M = 1.5 * CELL_M  # [m] the cell under the UAV and its 8 neighbours
 SHAPE = (140, 140)  # cells
 IGNITION = (100, 100)  # north-east of the centre; the fires run south-west
-DEPLOY_S = 3600.0  # the UAV arrives 1 h after ignition (PM VI-A)
-MONITOR_S = 3 * 3600.0  # [s] monitoring time
-ERROR_EVERY = 3  # measure the VI-E error at every 3rd new cell (the hull is the costly part)
 SW = math.radians(225.0)
 
 
 def wind_fire():
-    """Fast spread south-west from the start (PM Fig. 13a / 16b)."""
+    """Fast spread south-west from the start, head 15x the back (PM Fig. 13a / 16b)."""
     return spread_fire(SHAPE, CELL_M, IGNITION, elliptical_ros(0.25, 0.75, SW))
 
 
 def fuel_change_fire():
-    """Slow, mildly wind-driven fire that speeds up 4x in the south-west half's fuel (PM Fig. 12a / 16a)."""
+    """Slow, mildly wind-driven fire in a fuel that burns 4x faster beyond a line 14 cells
+    south-west of the ignition, which the head reaches after about 2 h (PM Fig. 12a / 16a)."""
     ii, jj = np.meshgrid(np.arange(SHAPE[0]), np.arange(SHAPE[1]), indexing="ij")
-    fuel = np.where(ii + jj < 150, 4.0, 1.0)
+    fuel = np.where(ii + jj < 180, 4.0, 1.0)
     return spread_fire(SHAPE, CELL_M, IGNITION, elliptical_ros(0.06, 0.5, SW), fuel_factor=fuel)
 
 
-def config(fire, alpha=1.0):
-    cx, cy = fire.ignition_xy_m
-    return MonitorConfig(
-        cell_size_m=CELL_M,
-        speed_mps=SPEED_MPS,
-        alpha=alpha,
-        center_x_m=cx,
-        center_y_m=cy,
-        ignition_time_s=0.0,
-    )
-
-
-def run(fire, monitor):
-    return fly(
-        fire,
-        monitor,
-        start_angle_rad=math.radians(45.0),
-        t_start_s=DEPLOY_S,
-        t_end_s=DEPLOY_S + MONITOR_S,
-        speed_mps=SPEED_MPS,
-        sensor_range_m=SENSOR_M,
-    )
-
-
-def run_with_error(fire, monitor):
-    """Fly and measure the VI-E error every ERROR_EVERY cells; returns mean max error [cells]."""
-    from fire_perimeter_monitor.shape import max_distance_error, polygon_radial_extent
-
-    errors = []
-    orig = monitor.update
-
-    def update(cells, pos, t):
-        d = orig(cells, pos, t)
-        if monitor.steps % ERROR_EVERY == 0:
-            est = polygon_radial_extent(monitor.hull_m(), *fire.ignition_xy_m, 360)
-            errors.append(max_distance_error(fire.true_extent(t), est))
-        return d
-
-    monitor.update = update  # type: ignore[method-assign]
-    run(fire, monitor)
-    return float(np.nanmean(errors)) / CELL_M
-
-
-# --- fire_world_sim's raster fire ----------------------------------------------------------------
+# --- A. fire_world_sim's raster fire ---------------------------------------------------------
 WORLD_SPEED_MPS = 50.0  # [m/s] just above the 44.7 m/s stall speed (scenario vehicle:)
 WORLD_SENSOR_M = 70.0  # [m] sensors.fire.range_m default
-WORLD = {  # scenario -> (deploy [s after ignition], end [s]): the fire stays inside the 1 km grid
-    "grass_wind": (120.0, 480.0),
-    "grass_to_brush": (120.0, 600.0),
-}
 
 
 class WorldRasterFire:
@@ -130,7 +102,6 @@ class WorldRasterFire:
         ig = spec.ignitions[0]
         self.ignition_xy_m = (float(ig.x_m), float(ig.y_m))
         self._t = 0.0
-        self._rays: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def advance(self, t_s: float) -> None:
         while self._t + 0.5 <= t_s + 1e-9:
@@ -162,136 +133,192 @@ class WorldRasterFire:
                 best = c
         return best  # type: ignore[return-value]
 
-    def true_extent(self, t_s: float, bin_count: int = 360) -> np.ndarray:
-        """Farthest burned distance [m] along rays from the ignition point (PM VI-E)."""
-        mask = self.fire_mask(t_s)
-        if self._rays is None:
-            ni, nj = mask.shape
-            r = np.arange(0.0, math.hypot(ni, nj) * self.cell_size_m, self.cell_size_m / 4)
-            th = (np.arange(bin_count) + 0.5) * (2 * np.pi / bin_count)
-            i, j = self.grid.index(
-                self.ignition_xy_m[0] + np.outer(np.cos(th), r),
-                self.ignition_xy_m[1] + np.outer(np.sin(th), r),
-            )
-            inside = (i >= 0) & (i < ni) & (j >= 0) & (j < nj)
-            self._rays = (np.where(inside, i, 0), np.where(inside, j, 0), inside, r)  # type: ignore[assignment]
-        i, j, inside, r = self._rays  # type: ignore[misc]
-        burnt = mask[i, j] & inside
-        any_b = burnt.any(axis=1)
-        last = burnt.shape[1] - 1 - np.argmax(burnt[:, ::-1], axis=1)
-        return np.where(any_b, r[last], np.nan)
+
+@dataclass(frozen=True)
+class Setting:
+    """One benchmark fire: how it is built and flown."""
+
+    name: str
+    t0_s: float  # deployment [s after ignition]
+    t1_s: float  # end [s]
+    every: int  # distance error every this many new cells
+    center_known: bool
+
+    def fire(self):
+        if self.name == "wind-driven":
+            return wind_fire()
+        if self.name == "fuel change":
+            return fuel_change_fire()
+        return WorldRasterFire(self.name)
+
+    @property
+    def world(self) -> bool:
+        return self.name not in ("wind-driven", "fuel change")
 
 
-def world_config(fire: WorldRasterFire, alpha: float = 1.0, **kw) -> MonitorConfig:
-    """The world's wind-driven grass fires barely spread backwards: the ignition point lies on
-    the rear perimeter, where angles about it do not go round the fire. The monitor therefore
-    estimates its centre after the initial lap (PM IV-A, "ignition cell unknown"), as the
-    agent does; the error metric still measures from the ignition point."""
-    return MonitorConfig(
-        cell_size_m=fire.cell_size_m,
-        speed_mps=WORLD_SPEED_MPS,
-        alpha=alpha,
-        ros_baseline_s=30.0,
-        **kw,
+SETTINGS = {
+    # the world's fires stay inside their grids until t1 (monitor_grass reaches its edge at 120 s)
+    "monitor_grass": Setting("monitor_grass", 30.0, 110.0, 5, True),
+    "grass_wind": Setting("grass_wind", 120.0, 480.0, 10, False),
+    "grass_to_brush": Setting("grass_to_brush", 120.0, 600.0, 10, False),
+    "wind-driven": Setting("wind-driven", 3600.0, 4 * 3600.0, 4, True),
+    "fuel change": Setting("fuel change", 3600.0, 4 * 3600.0, 4, True),
+}
+
+
+def _cell_speed_sensor(s: Setting, fire) -> tuple[float, float, float]:
+    if s.world:
+        return fire.cell_size_m, WORLD_SPEED_MPS, WORLD_SENSOR_M
+    return CELL_M, SPEED_MPS, SENSOR_M
+
+
+def make_monitor(s: Setting, fire, kind: str, seed: int, alpha: float = 1.0, uav_id: int = 0):
+    cell, speed, _ = _cell_speed_sensor(s, fire)
+    rng = np.random.default_rng(seed)
+    direction = Direction.CCW if rng.random() < 0.5 else Direction.CW
+    kw: dict = dict(
+        cell_size_m=cell, speed_mps=speed, alpha=alpha, initial_direction=direction, uav_id=uav_id
+    )
+    if s.center_known:
+        kw.update(center_x_m=fire.ignition_xy_m[0], center_y_m=fire.ignition_xy_m[1])
+    if not s.world:
+        kw.update(ignition_time_s=0.0)
+    else:
+        kw.update(ros_baseline_s=30.0)  # as the agents (MonitorPlannerConfig)
+    if kind == "circling":
+        return CirclingMonitor(MonitorConfig(**kw))
+    return ImportanceMonitor(MonitorConfig(rule=kind, **kw))
+
+
+def _fire_cells(fire, t_s: float) -> np.ndarray:
+    i, j = np.nonzero(fire.fire_mask(t_s))
+    x, y = fire.grid.center(i, j)
+    return np.column_stack([x, y])
+
+
+def _error(fire, m: PerimeterMonitor, t_s: float):
+    fm = m.fire_map
+    k = fm.known
+    return distance_error(
+        _fire_cells(fire, t_s),
+        np.column_stack([fm.outer_x_m[k], fm.outer_y_m[k]]),
+        m.config.cell_size_m,
+        (fm.center_x_m, fm.center_y_m),
     )
 
 
-def world_run(job: tuple) -> tuple:
-    """One flight on the world's raster fire; returns (job, mean max error [cells], changes)."""
-    scenario, kind, alpha, quick = job
-    fire = WorldRasterFire(scenario)
-    t0, t1 = WORLD[scenario]
-    if quick:
-        t1 = t0 + (t1 - t0) / 3
-    cls = CirclingMonitor if kind == "circling" else ImportanceMonitor
-    m = cls(world_config(fire, alpha))
-    errors: list[float] = []
+def start_angle(seed: int) -> float:
+    return float(np.random.default_rng(1000 + seed).uniform(0.0, 2 * math.pi))
+
+
+def run_one(job: tuple) -> tuple:
+    """One flight; returns (job, mean max error [m], mean floor [m], cell [m], direction changes)."""
+    setting, kind, seed, alpha = job
+    s = SETTINGS[setting]
+    fire = s.fire()
+    cell, speed, sensor = _cell_speed_sensor(s, fire)
+    m = make_monitor(s, fire, kind, seed, alpha)
+    errs: list[tuple[float, float]] = []
     orig = m.update
-    every = 10  # measure once per 10 cells (1 s of flight)
 
     def update(cells, pos, t):
         d = orig(cells, pos, t)
-        if m.steps % every == 0 and m.initial_lap_done:
-            from fire_perimeter_monitor.shape import max_distance_error, polygon_radial_extent
-
-            est = polygon_radial_extent(m.hull_m(), *fire.ignition_xy_m, 360)
-            errors.append(max_distance_error(fire.true_extent(t), est))
+        if m.steps % s.every == 0 and m.initial_lap_done:
+            e = _error(fire, m, t)
+            errs.append((e.max_m, e.floor_m))
         return d
 
     m.update = update  # type: ignore[method-assign]
-    fly(
-        fire,  # type: ignore[arg-type]
-        m,
-        start_angle_rad=math.radians(45.0),
-        t_start_s=t0,
-        t_end_s=t1,
-        speed_mps=WORLD_SPEED_MPS,
-        sensor_range_m=WORLD_SENSOR_M,
+    fly(fire, m, start_angle_rad=start_angle(seed), t_start_s=s.t0_s, t_end_s=s.t1_s, speed_mps=speed,
+        sensor_range_m=sensor)  # fmt: skip
+    a = np.asarray(errs) if errs else np.full((1, 2), np.nan)
+    return job, float(np.nanmean(a[:, 0])), float(np.nanmean(a[:, 1])), cell, m.direction_changes
+
+
+def run_two(job: tuple) -> tuple:
+    """Two importance monitors on one fire, deployed apart, each merging the other's map at
+    every step; the UAVs move one perimeter cell per step (cell / speed). Error of each
+    monitor's (merged) map, averaged over the two."""
+    setting, kind, seed = job
+    s = SETTINGS[setting]
+    fire = s.fire()
+    cell, speed, sensor = _cell_speed_sensor(s, fire)
+    ms = [make_monitor(s, fire, kind, seed, uav_id=k) for k in (0, 1)]
+    a0 = start_angle(seed)
+    pos = []
+    for k in (0, 1):
+        c = fire.boundary_cell_at_angle(a0 + k * math.pi, s.t0_s)
+        pos.append(tuple(float(v) for v in fire.grid.center(*c)))
+    t, n, errs = s.t0_s, 0, []
+    while t <= s.t1_s:
+        for k, m in enumerate(ms):
+            peer = ms[1 - k]
+            if peer.grid is not None:
+                m.merge(peer.to_summary(), peer_id=1 - k, peer_pos_m=pos[1 - k], t_s=t)
+            m.update(fire.observe(*pos[k], sensor, t), pos[k], t)
+        for k, m in enumerate(ms):
+            pos[k] = m.next_waypoint()
+        n += 1
+        if n % s.every == 0 and all(m.initial_lap_done for m in ms):
+            es = [_error(fire, m, t) for m in ms]
+            errs.append((np.mean([e.max_m for e in es]), es[0].floor_m))
+        t += cell / speed
+    a = np.asarray(errs) if errs else np.full((1, 2), np.nan)
+    return (
+        job,
+        float(np.nanmean(a[:, 0])),
+        float(np.nanmean(a[:, 1])),
+        cell,
+        sum(m.direction_changes for m in ms),
     )
-    return job, float(np.nanmean(errors)) / fire.cell_size_m if errors else math.nan, m.direction_changes
 
 
-def world_bench(quick: bool, pool: ProcessPoolExecutor) -> None:
-    names = ("grass_wind", "grass_to_brush")
-    jobs = [(n, k, 1.0, quick) for n in names for k in ("importance", "circling")]
-    jobs += [("grass_wind", "importance", a, quick) for a in ALPHAS if a != 1.0]
-    res = {job[:3]: (e, c) for job, e, c in pool.map(world_run, jobs)}
-    print("\nA. fire_world_sim raster fire (5 m cells, UAV 50 m/s, sensor 70 m; errors in cells)")
-    print("   scenario         importance  circling  ratio  changes   (paper: 0.86 and 0.77)")
-    for n in names:
-        ei, ci = res[(n, "importance", 1.0)]
-        ec, _ = res[(n, "circling", 1.0)]
-        print(f"   {n:15s}  {ei:10.2f}  {ec:8.2f}  {ei / ec:5.2f}  {ci:7d}")
-    print("   direction changes vs alpha on grass_wind (paper Fig. 11: 0, 8, 11, 15, 20, 43):")
-    print("   " + "  ".join(f"a={a:g}: {res[('grass_wind', 'importance', a)][1]}" for a in ALPHAS))
-
-
-def synthetic_alpha(alpha: float) -> int:
-    m = ImportanceMonitor(config(wind_fire(), alpha))
-    run(wind_fire(), m)
-    return m.direction_changes
-
-
-def synthetic_error(job: tuple) -> float:
-    name, kind = job
-    fire = fuel_change_fire() if name == "fuel change" else wind_fire()
-    cls = CirclingMonitor if kind == "circling" else ImportanceMonitor
-    return run_with_error(fire, cls(config(fire)))
+def table(setting: str, rows: dict, seeds: int) -> None:
+    cell = next(iter(rows.values()))[0][2]
+    print(f"\n   {setting} (cell {cell:g} m; mean over the flight of the max distance error, per seed)")
+    print("   monitor         mean [m]  [cells]  floor [m]  ratio  turns  per seed [m]")
+    base = np.mean([r[0] for r in rows["circling"]]) if "circling" in rows else math.nan
+    for kind, rs in rows.items():
+        e = np.array([r[0] for r in rs])
+        f = np.array([r[1] for r in rs])
+        turns = np.mean([r[3] for r in rs])
+        per = " ".join(f"{v:5.1f}" for v in e)
+        print(f"   {kind:14s}  {e.mean():8.1f}  {e.mean() / cell:7.2f}  {f.mean():9.1f}  {e.mean() / base:5.2f}"
+              f"  {turns:5.1f}  {per}")  # fmt: skip
+    print(f"   ({seeds} seeds: deployment angle and direction; ratio: against circling)")
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument(
-        "--quick", action="store_true", help="world raster runs only, a third of the length (< 1 min)"
-    )
+    ap.add_argument("--quick", action="store_true", help="monitor_grass, and grass_wind for 2 min, only")
+    ap.add_argument("--fires", nargs="+", choices=list(SETTINGS), help="only these fires")
+    ap.add_argument("--seeds", type=int, default=4, help="seeds per fire and monitor (default 4)")
     args = ap.parse_args()
     t0 = time.time()
-    with ProcessPoolExecutor() as pool:
-        world_bench(args.quick, pool)
-        if not args.quick:
-            synthetic_bench(pool)
-    print(f"\ntotal {time.time() - t0:.0f} s wall")
-
-
-def synthetic_bench(pool: ProcessPoolExecutor) -> None:
-    t0 = time.time()
-    wind, fuel = wind_fire(), fuel_change_fire()
-    print(
-        f"\nB. synthetic fires built in {time.time() - t0:.1f} s; cell {CELL_M:.0f} m, UAV {SPEED_MPS:.0f} m/s, "
-        f"sensor radius {SENSOR_M:.0f} m, monitoring {MONITOR_S / 3600:.0f} h from 1 h after ignition"
+    if args.quick:
+        g = SETTINGS["grass_wind"]
+        SETTINGS["grass_wind"] = Setting(g.name, g.t0_s, g.t0_s + 120.0, g.every, g.center_known)
+    fires = args.fires or (["monitor_grass", "grass_wind"] if args.quick else list(SETTINGS))
+    jobs = [(f, k, seed, 1.0) for f in fires for k in MONITORS for seed in range(args.seeds)]
+    alpha_fires = [f for f in ("monitor_grass", "wind-driven") if f in fires]
+    alpha_jobs = [(f, "worst", 0, a) for f in alpha_fires for a in ALPHAS]
+    two_jobs = (
+        [("monitor_grass", "worst", seed) for seed in range(args.seeds)] if "monitor_grass" in fires else []
     )
-    del wind, fuel
-    names = ("fuel change", "wind-driven")
-    errs = pool.map(synthetic_error, [(n, k) for n in names for k in ("importance", "circling")])
-    changes = list(pool.map(synthetic_alpha, ALPHAS))
-    errs = list(errs)
-    print("   direction changes vs alpha (wind-driven fire; paper Fig. 11: 0, 8, 11, 15, 20, 43)")
-    print("   " + "  ".join(f"a={a:g}: {c}" for a, c in zip(ALPHAS, changes, strict=True)))
-    print("   mean over time of the max distance error [cells] (PM VI-E)")
-    print("   fire          importance  circling  ratio   (paper: 7.3/8.5 = 0.86, 12.2/15.8 = 0.77)")
-    for k, name in enumerate(names):
-        e_imp, e_circ = errs[2 * k], errs[2 * k + 1]
-        print(f"   {name:12s}  {e_imp:10.2f}  {e_circ:8.2f}  {e_imp / e_circ:5.2f}")
+    with ProcessPoolExecutor() as pool:
+        res = list(pool.map(run_one, jobs + alpha_jobs))
+        two = list(pool.map(run_two, two_jobs))
+    one = {job: (e, f, c, n) for job, e, f, c, n in res}
+    print("Distance error (PM VI-E, fire_perimeter_monitor.distance_error); no suppression")
+    for f in fires:
+        rows = {k: [one[(f, k, seed, 1.0)] for seed in range(args.seeds)] for k in MONITORS}
+        if f == "monitor_grass":
+            rows["two (worst)"] = [(e, fl, c, n) for _, e, fl, c, n in two]
+        table(f, rows, args.seeds)
+    print("\n   direction changes vs alpha, worst-angle rule, seed 0 (paper Fig. 11: 0, 8, 11, 15, 20, 43)")
+    for f in alpha_fires:
+        print(f"   {f:14s} " + "  ".join(f"a={a:g}: {one[(f, 'worst', 0, a)][3]}" for a in ALPHAS))
+    print(f"\ntotal {time.time() - t0:.0f} s wall")
 
 
 if __name__ == "__main__":

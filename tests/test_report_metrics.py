@@ -311,12 +311,14 @@ def test_raster_perimeter_error_uses_the_grid_nearest_in_time_around_the_maps_ce
     m = _mission(fire_grids=grids, perimeters={(0, 7): per})
     e = perimeter_distance_error_raster(m, 0, 7)
     assert e["t"].tolist() == [90.0, 160.0, 20.0]  # the all-unknown map is left out
-    assert e["error_m"] == pytest.approx([0.0, 10.0, 0.0], abs=2.0)  # within a cell of the disc
+    # within about a cell (2 m) of the disc, and of the offset: the worst angle finds a square's
+    # corner of the hull and the sag between the 24 bins
+    assert e["error_m"] == pytest.approx([0.0, 10.0, 0.0], abs=3.0)
     assert e["error_m"][1] > 8.0
-    # seen from a centre 20 m off, a map of a 40 m circle is wrong by up to 20 m
+    # seen from a centre 20 m off, a map of a 40 m circle is wrong by up to 20 m (and a cell)
     off = {**per, "center": np.array([[120.0, 100.0]] * 4)}
     e_off = perimeter_distance_error_raster(_mission(fire_grids=grids, perimeters={(0, 7): off}), 0, 7)
-    assert 5.0 < e_off["error_m"][0] < 20.0
+    assert 5.0 < e_off["error_m"][0] < 22.0
     assert perimeter_distance_error_raster(m, 0, 8)["t"].size == 0  # no such map
     assert (
         perimeter_distance_error_raster(_mission(perimeters={(0, 7): per}), 0, 7)["t"].size == 0

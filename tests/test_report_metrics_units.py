@@ -162,7 +162,7 @@ def test_true_outer_distance_of_single_cells_by_polar_geometry():
 def test_perimeter_errors_without_data_are_empty_with_both_keys():
     for fn in (perimeter_distance_error, perimeter_distance_error_raster):
         e = fn(_mission(), 0, 1)
-        assert sorted(e) == ["error_m", "t"] and e["t"].size == 0 and e["error_m"].size == 0
+        assert sorted(e) == ["error_m", "floor_m", "t"] and e["t"].size == 0 and e["error_m"].size == 0
 
 
 def _state(steps, dx, lost):
@@ -244,9 +244,12 @@ def test_perimeter_error_needs_both_the_map_and_the_truth():
     assert perimeter_distance_error(_mission(perimeters={(0, 1): per}), 0, 1)["t"].size == 0
     assert perimeter_distance_error(_mission(truth_fires={1: tru}), 0, 1)["t"].size == 0
     both = perimeter_distance_error(_mission(perimeters={(0, 1): per}, truth_fires={1: tru}), 0, 1)
-    assert both["t"].tolist() == [1.0] and both["error_m"] == pytest.approx([0.0])
+    # the worst angle lies between two of the 8 bin points, where their hull sags inside the circle
+    sag = 10.0 * (1 - math.cos(math.pi / 8))
+    assert both["t"].tolist() == [1.0] and both["error_m"] == pytest.approx([sag], rel=1e-3)
     m = compute_metrics(_mission(perimeters={(0, 1): per}, truth_fires={1: {**tru, "status": np.array([1])}}))
-    assert m["perimeter_distance_error_m"] == {"0/1": pytest.approx(0.0)}
+    assert m["perimeter_distance_error_m"] == {"0/1": pytest.approx(sag, rel=1e-3)}
+    assert m["perimeter_distance_error_floor_m"] == {"0/1": 0.0}
     assert m["seed"] is None and m["uav_count"] == 0
 
 
@@ -292,6 +295,7 @@ def test_metrics_keys_and_the_fleet_event_lists():
         "link_outages_scheduled",
         "ekf_error",
         "perimeter_distance_error_m",
+        "perimeter_distance_error_floor_m",
         "drops",
         "hits",
         "hit_rate",

@@ -364,7 +364,7 @@ def fig_perimeter(mission: Mission, out: Path) -> list[Figure]:
     axp.set_title("last perimeter map: distance of the edge [m]", fontsize=10)
     axp.legend(fontsize=7, loc="lower left")
     axe.set_xlabel("sim time [s]")
-    axe.set_ylabel("mean |distance - true radius| [m]")
+    axe.set_ylabel("max distance error over 360 angles [m]")
     axe.set_title("perimeter distance error", fontsize=10)
     axe.grid(alpha=0.3)
     return _save(

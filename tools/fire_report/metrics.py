@@ -12,6 +12,7 @@ import math
 import re
 from typing import Any
 
+import fire_perimeter_monitor.distance_error as de
 import numpy as np
 from fire_uav_common.constants import EventType, FireStatus
 
@@ -186,6 +187,7 @@ def compute_metrics(mission: Mission) -> dict[str, Any]:
         **fire_counts(mission),
         "ekf_error": ekf,
         "perimeter_distance_error_m": perimeter_errors(mission),
+        "perimeter_distance_error_floor_m": perimeter_error_floors(mission),
         **suppression_metrics(mission),
         "event_counts": dict(sorted(event_counts.items())),
         "recorder_closed_cleanly": mission.custom_data.get("fire_uav.closed_cleanly") == "true",
@@ -254,31 +256,44 @@ def _int_or_none(text: str | None) -> int | None:
 
 
 def perimeter_distance_error(mission: Mission, uav: int, fire: int) -> dict[str, np.ndarray]:
-    """Mean |outer distance - true equivalent radius| over the known bins, per PerimeterMap [m].
-
-    The truth is the fire's equivalent radius sqrt(area/pi) from /world/truth at the nearest
-    step (a circle: an approximation of PM's distance-error metric, which compares cells).
-    """
+    """PM VI-E distance error [m] per PerimeterMap without a raster: the maximum over 360 angles of
+    |true extent - extent of the hull of the map's bin points|, the truth the circle of the fire's
+    equivalent radius sqrt(area/pi) from /world/truth at the nearest step (convex: floor 0)."""
     per, tru = mission.perimeters.get((uav, fire)), mission.truth_fires.get(fire)
     if not per or not tru:
-        return {"t": np.zeros(0), "error_m": np.zeros(0)}
+        return {"t": np.zeros(0), "error_m": np.zeros(0), "floor_m": np.zeros(0)}
     idx = np.clip(np.searchsorted(tru["t"], per["t"]), 0, tru["t"].size - 1)
     radius = np.sqrt(np.maximum(tru["area"][idx], 0.0) / math.pi)
-    err = np.abs(per["outer"] - radius[:, None])
-    with np.errstate(all="ignore"):
-        mean = np.nanmean(np.where(np.isfinite(err), err, np.nan), axis=1)
-    ok = np.isfinite(mean)
-    return {"t": per["t"][ok], "error_m": mean[ok]}
+    ts, errs = [], []
+    for k in range(per["t"].size):
+        pts = de.bin_points(tuple(per["center"][k]), per["outer"][k])
+        if pts.shape[0] < 3:
+            continue
+        est = de.hull_extent(pts, 1e-6, tuple(per["center"][k]))  # points: no raster cell
+        e = de.max_error(np.full(de.N_ANGLES, radius[k]), est)
+        if math.isfinite(e):
+            ts.append(per["t"][k])
+            errs.append(e)
+    return {"t": np.asarray(ts), "error_m": np.asarray(errs), "floor_m": np.zeros(len(errs))}
 
 
 def perimeter_errors(mission: Mission) -> dict[str, float]:
-    """'uav/fire' -> mean perimeter distance error over the mission [m]."""
+    """'uav/fire' -> mean over the mission of the maximum distance error [m] (PM Fig. 16's value)."""
+    return {k: v[0] for k, v in _perimeter_error_pairs(mission).items()}
+
+
+def perimeter_error_floors(mission: Mission) -> dict[str, float]:
+    """'uav/fire' -> the same for the perfect, instantaneous map [m] (what the hull alone costs)."""
+    return {k: v[1] for k, v in _perimeter_error_pairs(mission).items()}
+
+
+def _perimeter_error_pairs(mission: Mission) -> dict[str, tuple[float, float]]:
     out = {}
     for uav, fire in sorted(mission.perimeters):
         fn = perimeter_distance_error_raster if mission.fire_grids else perimeter_distance_error
-        e = fn(mission, uav, fire)["error_m"]
-        if e.size:
-            out[f"{uav}/{fire}"] = float(e.mean())
+        e = fn(mission, uav, fire)
+        if e["error_m"].size:
+            out[f"{uav}/{fire}"] = (float(e["error_m"].mean()), float(e["floor_m"].mean()))
     return out
 
 
@@ -412,24 +427,27 @@ def true_outer_distance(grid: dict[str, Any], center_xy: tuple[float, float], bi
 
 
 def perimeter_distance_error_raster(mission: Mission, uav: int, fire: int) -> dict[str, np.ndarray]:
-    """PM distance error [m] per PerimeterMap against the true raster perimeter (/viz/fire_grid).
-
-    Mean over the bins known on both sides of |outer distance - true outer distance|, the true
-    one from the fire grid nearest in time (kept every 10 s) around the map's own centre. The
-    fleet's fire ids are not the world's, so no id matching is needed here.
-    """
+    """PM VI-E distance error [m] per PerimeterMap against the true raster fire (/viz/fire_grid),
+    ``fire_perimeter_monitor.distance_error`` (as the report's PM section and the benchmark):
+    maximum over 360 angles about the map's centre of |true extent - extent of the hull of the
+    map's cells|, and the perfect map's floor, against the fire grid nearest in time (kept every
+    10 s). The fleet's fire ids are not the world's, so no id matching is needed here."""
     per = mission.perimeters.get((uav, fire))
     grids = mission.fire_grids
     if not per or not grids:
-        return {"t": np.zeros(0), "error_m": np.zeros(0)}
+        return {"t": np.zeros(0), "error_m": np.zeros(0), "floor_m": np.zeros(0)}
     gt = np.asarray([g["t"] for g in grids])
-    ts, errs = [], []
+    ts, errs, floors = [], [], []
     for k in range(per["t"].size):
         g = grids[int(np.argmin(np.abs(gt - per["t"][k])))]
-        outer = per["outer"][k]
-        true = true_outer_distance(g, tuple(per["center"][k]), outer.size)
-        e = np.abs(outer - true)
-        if np.isfinite(e).any():
+        res = float(g["resolution"])
+        cells = de.grid_cells(g["data"] >= 60, g["origin"][0], g["origin"][1], res)  # burnt or burning
+        pts = de.bin_points(tuple(per["center"][k]), per["outer"][k])
+        if pts.shape[0] == 0:
+            continue
+        e = de.distance_error(cells, pts, res, (float(per["center"][k][0]), float(per["center"][k][1])))
+        if math.isfinite(e.max_m):
             ts.append(per["t"][k])
-            errs.append(float(np.nanmean(e)))
-    return {"t": np.asarray(ts), "error_m": np.asarray(errs)}
+            errs.append(e.max_m)
+            floors.append(e.floor_m)
+    return {"t": np.asarray(ts), "error_m": np.asarray(errs), "floor_m": np.asarray(floors)}

@@ -34,9 +34,21 @@ RING: tuple[Cell, ...] = ((1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0
 def lookup_from_cells(observed_cells, grid: CellGrid) -> FireLookup:
     """Fire lookup over the cells a sensor reported (FireCells); unseen cells are outside."""
     x, y, s = as_cell_arrays(observed_cells)
+    if x.size == 0:
+        return lambda a, b: False
     i, j = grid.index(x, y)
-    fire = {(int(a), int(b)) for a, b, c in zip(i, j, s, strict=True) if c != CellState.UNBURNED}
-    return lambda a, b: (a, b) in fire
+    i0, j0 = int(i.min()), int(j.min())
+    ni, nj = int(i.max()) - i0 + 1, int(j.max()) - j0 + 1
+    fire = np.zeros((ni, nj), dtype=bool)
+    f = s != CellState.UNBURNED
+    fire[i[f] - i0, j[f] - j0] = True
+
+    def is_fire(a: int, b: int) -> bool:
+        a -= i0
+        b -= j0
+        return 0 <= a < ni and 0 <= b < nj and bool(fire[a, b])
+
+    return is_fire
 
 
 def lookup_from_grid(

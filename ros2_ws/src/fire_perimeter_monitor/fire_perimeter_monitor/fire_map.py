@@ -14,16 +14,25 @@ Deviations from the paper, and why:
   ``revisit_gap_s`` of its last sighting is the *same* visit (the outer cell is replaced, the
   inner one kept), otherwise the old outer cell becomes the inner cell (PM IV-A). Without
   this, a footprint sliding over a bin would compute Eq. 1 over a fraction of a second.
-- Eq. 1 baseline (``ros_baseline_s``, default 0 = the paper): a new visit makes the previous
-  outer cell the inner one only if that cell is at least ``ros_baseline_s`` old; otherwise
-  the older inner cell is kept. Distances are quantised to a cell, so a quick revisit (a UAV
-  that just turned back) would give ROS spikes of one cell per few seconds, or 0; with the
-  baseline, Eq. 1 is always taken over at least ``ros_baseline_s``.
+- The map never moves a bin inward without evidence. Burned area does not shrink (a cell put
+  out stays burned), so a perimeter cell nearer the centre than the bin's outer cell is
+  another crossing of the same ray (a ray can cross a notched perimeter several times; Table
+  1 keeps lists of cells for this), not a new outer cell: it is not a visit of that bin. Only
+  when the sensor sees the outer cell's own place unburned (the map was wrong there) does the
+  bin move inward, and its Eq. 1 history restarts. Replacing the outer cell by any later,
+  nearer sighting shrank the map and made the next outward sighting a spread-rate spike.
+- Eq. 1 baseline: a new visit makes the previous outer cell the inner one only if that cell
+  is at least ``max(ros_baseline_s, ros_baseline_cells * cell_size_m / ROS)`` old, ROS the
+  bin's current estimate; otherwise the older inner cell is kept (both 0: the paper).
+  Distances are quantised to a cell, so Eq. 1 over less than the time the fire takes to
+  cross a cell or two gives spikes of one cell per few seconds, or 0; a slow fire needs a
+  long baseline and a fast one a short one, hence the part that scales with the ROS.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,6 +49,7 @@ __all__ = [
     "direction_sign",
     "reversed_direction",
     "perimeter_mask",
+    "unburned_lookup",
 ]
 
 
@@ -115,18 +125,40 @@ def perimeter_mask(x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_siz
         return np.zeros(0, dtype=bool)
     grid = CellGrid(float(x[0]), float(y[0]), cell_size_m)
     i, j = grid.index(x, y)
-    unburned = {(int(a), int(b)) for a, b, c in zip(i, j, s, strict=True) if c == CellState.UNBURNED}
-    fire = s != CellState.UNBURNED
-    out = np.zeros(x.size, dtype=bool)
-    for k in np.flatnonzero(fire):
-        a, b = int(i[k]), int(j[k])
-        out[k] = (
-            (a + 1, b) in unburned
-            or (a - 1, b) in unburned
-            or (a, b + 1) in unburned
-            or (a, b - 1) in unburned
-        )
-    return out
+    # A dense raster over the footprint's bounding box, one cell of margin on every side so
+    # that the four neighbours of every cell are inside it.
+    i = i - i.min() + 1
+    j = j - j.min() + 1
+    unburned = np.zeros((int(i.max()) + 2, int(j.max()) + 2), dtype=bool)
+    u = s == CellState.UNBURNED
+    unburned[i[u], j[u]] = True
+    near = unburned[i + 1, j] | unburned[i - 1, j] | unburned[i, j + 1] | unburned[i, j - 1]
+    return ~u & near
+
+
+def unburned_lookup(
+    x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_size_m: float
+) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """Vectorised test "was the cell at (x_m, y_m) seen unburned in this sighting" [m]."""
+    x, y, s = as_cell_arrays((x_m, y_m, state))
+    u = s == CellState.UNBURNED
+    if not u.any():
+        return lambda px, py: np.zeros(np.shape(px), dtype=bool)
+    grid = CellGrid(float(x[0]), float(y[0]), cell_size_m)
+    i, j = grid.index(x[u], y[u])
+    i0, j0 = int(i.min()), int(j.min())
+    seen = np.zeros((int(i.max()) - i0 + 1, int(j.max()) - j0 + 1), dtype=bool)
+    seen[i - i0, j - j0] = True
+
+    def lookup(px: np.ndarray, py: np.ndarray) -> np.ndarray:
+        a, b = grid.index(px, py)
+        a, b = a - i0, b - j0
+        ok = (a >= 0) & (a < seen.shape[0]) & (b >= 0) & (b < seen.shape[1])
+        out = np.zeros(np.shape(a), dtype=bool)
+        out[ok] = seen[a[ok], b[ok]]
+        return out
+
+    return lookup
 
 
 def angle_bin(x_m, y_m, center_x_m: float, center_y_m: float, bin_count: int = 360) -> np.ndarray:
@@ -157,6 +189,8 @@ class FireMap:
         ignition_time_s: float | None = None,
         revisit_gap_s: float = 60.0,
         ros_baseline_s: float = 0.0,
+        ros_baseline_cells: float = 0.0,
+        cell_size_m: float = 1.0,
     ) -> None:
         if bin_count < 8:
             raise ValueError(f"bin_count must be >= 8, got {bin_count}")
@@ -164,6 +198,10 @@ class FireMap:
             raise ValueError(f"revisit_gap_s must be >= 0, got {revisit_gap_s}")
         if not ros_baseline_s >= 0:
             raise ValueError(f"ros_baseline_s must be >= 0, got {ros_baseline_s}")
+        if not ros_baseline_cells >= 0:
+            raise ValueError(f"ros_baseline_cells must be >= 0, got {ros_baseline_cells}")
+        if not cell_size_m > 0:
+            raise ValueError(f"cell_size_m must be > 0, got {cell_size_m}")
         if not (math.isfinite(center_x_m) and math.isfinite(center_y_m)):
             raise ValueError(f"map centre must be finite, got ({center_x_m}, {center_y_m})")
         self.center_x_m = float(center_x_m)
@@ -172,6 +210,8 @@ class FireMap:
         self.ignition_time_s = ignition_time_s
         self.revisit_gap_s = float(revisit_gap_s)
         self.ros_baseline_s = float(ros_baseline_s)
+        self.ros_baseline_cells = float(ros_baseline_cells)
+        self.cell_size_m = float(cell_size_m)
         nan = np.full(self.bin_count, np.nan)
         self.outer_x_m = nan.copy()
         self.outer_y_m = nan.copy()
@@ -194,10 +234,19 @@ class FireMap:
         return ~np.isnan(self.outer_d_m)
 
     # --- updates -------------------------------------------------------------------------
-    def record(self, x_m: np.ndarray, y_m: np.ndarray, t_s: float, link_m: float = 0.0) -> np.ndarray:
+    def record(
+        self,
+        x_m: np.ndarray,
+        y_m: np.ndarray,
+        t_s: float,
+        link_m: float = 0.0,
+        seen_unburned: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+    ) -> np.ndarray:
         """Record perimeter cells [m] seen at time ``t_s``; returns the bins touched.
 
-        Per bin the farthest of the given cells is the candidate outer cell (PM IV-A).
+        Per bin the farthest of the given cells is the candidate outer cell (PM IV-A); one
+        nearer than the bin's outer cell is taken only where ``seen_unburned(x_m, y_m)`` (the
+        same sighting's unburned cells, vectorised) says the outer cell's place is unburned.
 
         Deviation: far from the centre a bin is narrower than a cell, so the cells of one
         sighting skip bins, and a skipped bin would keep its stale cell from the last lap
@@ -218,7 +267,7 @@ class FireMap:
         bins, xs, ys, ds = b[sel], x[sel], y[sel], d[sel]
         if link_m > 0 and bins.size >= 2:
             bins, xs, ys, ds = self._fill_skipped(bins, xs, ys, ds, link_m)
-        self._visit(bins, xs, ys, ds, float(t_s))
+        self._visit(bins, xs, ys, ds, float(t_s), seen_unburned)
         return bins
 
     def _fill_skipped(self, bins, xs, ys, ds, link_m):
@@ -226,23 +275,22 @@ class FireMap:
         nxt = np.roll(np.arange(bins.size), -1)
         gap = (bins[nxt] - bins) % nb
         close = np.hypot(xs[nxt] - xs, ys[nxt] - ys) <= link_m
-        add_b, add_x, add_y = [], [], []
-        for k in np.flatnonzero(close & (gap >= 2) & (gap <= nb // 4)):
-            p = np.array([xs[k] - self.center_x_m, ys[k] - self.center_y_m])
-            e = np.array([xs[nxt[k]] - xs[k], ys[nxt[k]] - ys[k]])
-            fb = (bins[k] + np.arange(1, gap[k])) % nb
-            th = (fb + 0.5) * (2 * np.pi / nb)
-            ux, uy = np.cos(th), np.sin(th)
-            den = ux * e[1] - uy * e[0]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                r = (p[0] * e[1] - p[1] * e[0]) / den
-            ok = np.isfinite(r) & (r > 0)
-            add_b.append(fb[ok])
-            add_x.append(self.center_x_m + r[ok] * ux[ok])
-            add_y.append(self.center_y_m + r[ok] * uy[ok])
-        if not add_b:
+        ks = np.flatnonzero(close & (gap >= 2) & (gap <= nb // 4))
+        if ks.size == 0:
             return bins, xs, ys, ds
-        ab, ax, ay = np.concatenate(add_b), np.concatenate(add_x), np.concatenate(add_y)
+        counts = gap[ks] - 1
+        k = np.repeat(ks, counts)  # one row per bin to fill, in the order of the gaps
+        step = np.arange(k.size) - np.repeat(np.cumsum(counts) - counts, counts) + 1
+        px, py = xs[k] - self.center_x_m, ys[k] - self.center_y_m
+        ex, ey = xs[nxt[k]] - xs[k], ys[nxt[k]] - ys[k]
+        fb = (bins[k] + step) % nb
+        th = (fb + 0.5) * (2 * np.pi / nb)
+        ux, uy = np.cos(th), np.sin(th)
+        den = ux * ey - uy * ex
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = (px * ey - py * ex) / den
+        ok = np.isfinite(r) & (r > 0)
+        ab, ax, ay = fb[ok], self.center_x_m + r[ok] * ux[ok], self.center_y_m + r[ok] * uy[ok]
         keep = ~np.isin(ab, bins)
         ab, ax, ay = ab[keep], ax[keep], ay[keep]
         ab, first = np.unique(ab, return_index=True)
@@ -250,25 +298,60 @@ class FireMap:
         ad = np.hypot(ax - self.center_x_m, ay - self.center_y_m)
         return np.r_[bins, ab], np.r_[xs, ax], np.r_[ys, ay], np.r_[ds, ad]
 
-    def _visit(self, bins: np.ndarray, x: np.ndarray, y: np.ndarray, d: np.ndarray, t_s: float) -> None:
+    def _visit(
+        self,
+        bins: np.ndarray,
+        x: np.ndarray,
+        y: np.ndarray,
+        d: np.ndarray,
+        t_s,
+        seen_unburned: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+    ) -> None:
+        """Visits of distinct ``bins`` at time ``t_s`` [s] (one time, or one per bin)."""
+        t_s = np.broadcast_to(np.asarray(t_s, dtype=float), bins.shape)
         prev_t = self.outer_t_s[bins]
         first = np.isnan(prev_t)
-        same_visit = ~first & (t_s >= prev_t) & (t_s - prev_t < self.revisit_gap_s)  # older: ignored
-        new_visit = ~first & ~same_visit & (t_s > prev_t)
+        # never inward without evidence (module docstring)
+        inward = ~first & (d < self.outer_d_m[bins])
+        cleared = np.zeros(bins.size, dtype=bool)
+        if seen_unburned is not None and inward.any():
+            cleared[inward] = np.asarray(
+                seen_unburned(self.outer_x_m[bins[inward]], self.outer_y_m[bins[inward]]), dtype=bool
+            )
+        seen = ~inward | cleared
+        same_visit = seen & ~first & (t_s >= prev_t) & (t_s - prev_t < self.revisit_gap_s)  # older: ignored
+        new_visit = seen & ~first & ~same_visit & (t_s > prev_t)
         # Listing 2 (iii): the ignition point is the first inner cell.
         fb = bins[first]
         self.inner_d_m[fb] = 0.0
         self.inner_t_s[fb] = np.nan if self.ignition_time_s is None else self.ignition_time_s
         # PM IV-A: a new visit turns the previous outer cell into the inner cell (if old enough).
-        nb = bins[new_visit & ((t_s - prev_t >= self.ros_baseline_s) | np.isnan(self.inner_t_s[bins]))]
+        nv = new_visit & ((t_s - prev_t >= self._baseline_s(bins)) | np.isnan(self.inner_t_s[bins]))
+        nb = bins[nv]
         self.inner_d_m[nb] = self.outer_d_m[nb]
         self.inner_t_s[nb] = self.outer_t_s[nb]
+        # a bin moved inward on evidence: its Eq. 1 history is void
+        cb = bins[cleared & (same_visit | new_visit)]
+        self.inner_d_m[cb] = d[cleared & (same_visit | new_visit)]
+        self.inner_t_s[cb] = np.nan
         upd = first | same_visit | new_visit
         ub = bins[upd]
         self.outer_x_m[ub] = x[upd]
         self.outer_y_m[ub] = y[upd]
         self.outer_d_m[ub] = d[upd]
-        self.outer_t_s[ub] = t_s
+        self.outer_t_s[ub] = t_s[upd]
+
+    def _baseline_s(self, bins: np.ndarray) -> np.ndarray:
+        """Eq. 1 baseline [s] per bin: ``max(ros_baseline_s, ros_baseline_cells * cell / ROS)``."""
+        base = np.full(bins.size, self.ros_baseline_s)
+        if self.ros_baseline_cells > 0:
+            ros = self.ros_mps()[bins]
+            with np.errstate(divide="ignore"):
+                scaled = np.where(
+                    ros > 0, self.ros_baseline_cells * self.cell_size_m / np.where(ros > 0, ros, 1.0), np.inf
+                )
+            base = np.where(np.isfinite(ros), np.maximum(base, scaled), base)
+        return base
 
     def merge_outer(self, x_m: np.ndarray, y_m: np.ndarray, t_s: np.ndarray) -> int:
         """Merge a peer's outer cells [m] with their visit times [s]; returns bins taken.
@@ -285,19 +368,27 @@ class FireMap:
             return 0
         b = self.bin_of(x, y)
         d = np.hypot(x - self.center_x_m, y - self.center_y_m)
+        # A peer cell is a visit of its bin in time order: per bin the cells go in time order,
+        # each taken if newer than the bin's outer cell at that moment. Bins are independent,
+        # so round r takes the r-th cell (in time) of every bin at once.
+        order = np.argsort(t, kind="stable")
+        b, x, y, d, t = b[order], x[order], y[order], d[order], t[order]
+        by_bin = np.argsort(b, kind="stable")
+        bs = b[by_bin]
+        first = np.r_[True, bs[1:] != bs[:-1]]
+        rank = np.empty(b.size, dtype=np.int64)
+        rank[by_bin] = np.arange(b.size) - np.maximum.accumulate(np.where(first, np.arange(b.size), 0))
         taken = 0
-        # newest per bin first, as a visit each, in time order
-        for k in np.argsort(t, kind="stable"):
-            bk = b[k : k + 1]
-            ours = self.outer_t_s[bk[0]]
-            if np.isnan(ours) or t[k] > ours:
-                self._visit(bk, x[k : k + 1], y[k : k + 1], d[k : k + 1], float(t[k]))
-                taken += 1
+        for r in range(int(rank.max()) + 1):
+            sel = np.flatnonzero(rank == r)
+            ours = self.outer_t_s[b[sel]]
+            sel = sel[np.isnan(ours) | (t[sel] > ours)]
+            if sel.size:
+                self._visit(b[sel], x[sel], y[sel], d[sel], t[sel])
+                taken += int(sel.size)
         return taken
 
-    def set_center(
-        self, center_x_m: float, center_y_m: float, cells: list[tuple[float, float, float]]
-    ) -> None:
+    def set_center(self, center_x_m: float, center_y_m: float, cells) -> None:
         """Re-centre the map and rebuild it from raw perimeter sightings ``(x_m, y_m, t_s)``.
 
         Used when the ignition point is unknown (PM IV-A: the fire centre is computed after
@@ -310,10 +401,12 @@ class FireMap:
             ignition_time_s=self.ignition_time_s,
             revisit_gap_s=self.revisit_gap_s,
             ros_baseline_s=self.ros_baseline_s,
+            ros_baseline_cells=self.ros_baseline_cells,
+            cell_size_m=self.cell_size_m,
         )
-        if not cells:
-            return
         arr = np.asarray(cells, dtype=float).reshape(-1, 3)
+        if arr.shape[0] == 0:
+            return
         for t in np.unique(arr[:, 2]):
             sel = arr[:, 2] == t
             self.record(arr[sel, 0], arr[sel, 1], float(t))

@@ -24,6 +24,8 @@ __all__ = [
     "time_since_visit",
     "time_to_cell",
     "window_importance",
+    "worst_angle_turn",
+    "WorstAngle",
 ]
 
 
@@ -154,3 +156,66 @@ def should_turn(
     if abs(diff) <= tie_rel_tol * scale:
         return turn_on_tie
     return diff < 0
+
+
+class WorstAngle(NamedTuple):
+    """Result of :func:`worst_angle_turn`; cell arrays are in the Eq. 5-6 index order."""
+
+    worst_on_m: float  # [m] largest predicted spread at a cell's next visit, flying on
+    worst_back_m: float  # [m] the same after turning back
+    on_m: np.ndarray  # [m] per cell, flying on
+    back_m: np.ndarray  # [m] per cell, turning back
+    ros_adjusted: np.ndarray  # [m/s] per cell, Eq. 7
+
+
+def worst_angle_turn(
+    ros_mps: np.ndarray,
+    t_since_visit_s: np.ndarray,
+    spacing_m: float,
+    speed_mps: float,
+    alpha: float = 1.0,
+    weight: np.ndarray | None = None,
+    reach_m: float = 0.0,
+) -> WorstAngle:
+    """Turning rule aimed at the worst angle (ours; replaces the window sums of Eqs. 5-6).
+
+    Eq. 4 is the distance the fire spreads at a cell's angle between its last visit and the
+    next one: the error the on-board map will have there when the UAV comes back. The
+    distance error PM VI-E scores is the *maximum* of that error over the angles, while Eqs.
+    5-6 *sum* it over half-perimeter windows, so a window with one badly stale cell can lose
+    against a window of many slightly stale ones. Here each direction is scored by its worst
+    cell: flying on reaches cell ``i`` (index as in :func:`window_importance`, growing against
+    the flying direction) after ``(M - i) * spacing``, turning back after ``i * spacing``, each
+    less ``reach_m`` (the sensor footprint refreshes a cell before the UAV is over it), and
+
+        on_i = ROS_adj_i * (t_sinceVisit_i + t_on_i),  back_i = ROS_adj_i * (t_sinceVisit_i + t_back_i)
+
+    (Eq. 4 with Eq. 7's ROS). The UAV turns when ``max(back) < max(on)``. ``alpha`` keeps the
+    paper's role: 0 makes every cell's ROS alike, and then a UAV that has been circling never
+    turns (flying on, every cell waits one lap; turning, the cells ahead wait up to two: PM
+    VI-D, circling is best for uniform spread); it turns only for a cell left staler than
+    circling would leave it. Larger values weigh the fast cells more. Unlike the windows, the
+    rule counts a cell's whole time to the next visit in either direction, so a stale cell
+    just behind the UAV pulls it back, and a fast cell far ahead is not outvoted by many slow
+    ones. ``weight`` (per cell) scales the values as in :func:`window_importance` (0: a
+    peer's cells).
+    """
+    ros = np.asarray(ros_mps, dtype=float)
+    since = np.asarray(t_since_visit_s, dtype=float)
+    if ros.shape != since.shape or ros.ndim != 1:
+        raise ValueError(f"ros and t_since must be equal 1-D arrays, got {ros.shape} and {since.shape}")
+    if not reach_m >= 0:
+        raise ValueError(f"reach_m must be >= 0, got {reach_m}")
+    m = ros.size
+    idx = np.arange(m, dtype=float)
+    t_on = time_to_cell(np.maximum((m - idx) * spacing_m - reach_m, 0.0), speed_mps)
+    t_back = time_to_cell(np.maximum(idx * spacing_m - reach_m, 0.0), speed_mps)
+    ros_adj = adjust_heterogeneity(ros, alpha)
+    on = cell_importance(ros_adj, since, t_on)
+    back = cell_importance(ros_adj, since, t_back)
+    if weight is not None:
+        w = np.asarray(weight, dtype=float)
+        on, back = on * w, back * w
+    if m == 0:
+        return WorstAngle(0.0, 0.0, on, back, ros_adj)
+    return WorstAngle(float(np.max(on)), float(np.max(back)), on, back, ros_adj)

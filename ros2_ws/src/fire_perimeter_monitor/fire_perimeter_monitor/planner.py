@@ -37,8 +37,9 @@ from .fire_map import (
     direction_sign,
     perimeter_mask,
     reversed_direction,
+    unburned_lookup,
 )
-from .importance import WindowImportance, should_turn, window_importance
+from .importance import WindowImportance, should_turn, window_importance, worst_angle_turn
 from .shape import construct_perimeter, perimeter_cells_hull, resample_closed
 
 __all__ = ["CirclingMonitor", "ImportanceMonitor", "MonitorConfig", "PerimeterMonitor"]
@@ -68,7 +69,13 @@ class MonitorConfig:
     min_run_fraction: float = 0.25
     turn_margin: float = 0.0
     ros_baseline_s: float | None = None  # FireMap: Eq. 1 over at least this long; default 20 cells of flight
+    # FireMap: Eq. 1 also over at least the time the fire takes to spread this many cells
+    ros_baseline_cells: float = 2.0
     ros_smooth_bins: int = 0  # circular moving average of the per-bin ROS over +-this many bins
+    # Turning rule: "worst" (ours, importance.worst_angle_turn: turn when that lowers the
+    # largest predicted error at any angle) or "windows" (PM Listing 3: IMP_BACK > IMP_FRONT).
+    rule: str = "worst"
+    reach_m: float = 0.0  # how far ahead the sensor refreshes the map (worst-angle rule) [m]
 
     def __post_init__(self) -> None:
         if not self.cell_size_m > 0:
@@ -84,6 +91,10 @@ class MonitorConfig:
                 "min_run_cells must be >= 0, min_run_fraction in [0, 1], turn_margin >= 0; got "
                 f"{self.min_run_cells}, {self.min_run_fraction}, {self.turn_margin}"
             )
+        if self.rule not in ("worst", "windows"):
+            raise ValueError(f"rule must be 'worst' or 'windows', got {self.rule!r}")
+        if not self.reach_m >= 0:
+            raise ValueError(f"reach_m must be >= 0, got {self.reach_m}")
         if self.revisit_gap_s is not None and not self.revisit_gap_s >= 0:
             raise ValueError(f"revisit_gap_s must be >= 0, got {self.revisit_gap_s}")
 
@@ -108,9 +119,14 @@ class _Lap:
     done: bool = False
     start_xy: tuple[float, float] | None = None
     last_angle: float | None = None
-    swept_rad: float = 0.0
-    left_start: bool = False
-    raw: list[tuple[float, float, float]] = field(default_factory=list)
+    swept_rad: float = 0.0  # [rad] about the map centre
+    last_heading: float | None = None
+    turned_rad: float = 0.0  # [rad] the UAV's heading, cell to cell
+    raw: list[np.ndarray] = field(default_factory=list)  # (n, 3) chunks of (x_m, y_m, t_s) sightings
+
+    def raw_cells(self) -> np.ndarray:
+        """All raw sightings so far as one ``(n, 3)`` array, in the order they came."""
+        return np.vstack(self.raw) if self.raw else np.zeros((0, 3))
 
 
 class PerimeterMonitor:
@@ -131,6 +147,8 @@ class PerimeterMonitor:
             ros_baseline_s=c.ros_baseline_s
             if c.ros_baseline_s is not None
             else 20 * c.cell_size_m / c.speed_mps,
+            ros_baseline_cells=c.ros_baseline_cells,
+            cell_size_m=c.cell_size_m,
         )
         self.direction = Direction(c.initial_direction)
         self.direction_changes = 0
@@ -167,14 +185,14 @@ class PerimeterMonitor:
         self.uav_xy, self.t_s = (ux, uy), float(t_s)
         self._lookup = lookup_from_cells((x, y, s), self.grid)
         per = perimeter_mask(x, y, s, self.config.cell_size_m)
+        unburned = unburned_lookup(x, y, s, self.config.cell_size_m)
         if self.center_known:
-            self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m)
+            self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m, seen_unburned=unburned)
         else:
-            self._lap.raw.extend(
-                (float(a), float(b), float(t_s)) for a, b in zip(x[per], y[per], strict=True)
-            )
+            xp, yp = x[per], y[per]
+            self._lap.raw.append(np.column_stack([xp, yp, np.full(xp.size, float(t_s))]))
             if self._lap.done:
-                self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m)
+                self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m, seen_unburned=unburned)
         i, j = self.grid.index(ux, uy)
         cell = (int(i), int(j))
         if cell != self.cell:
@@ -286,7 +304,7 @@ class PerimeterMonitor:
         taken = self.fire_map.merge_outer(px, py, tv) if self._lap.done or self.center_known else 0
         if not self._lap.done and not self.center_known:
             ok = np.isfinite(px) & np.isfinite(tv)
-            self._lap.raw.extend(zip(px[ok].tolist(), py[ok].tolist(), tv[ok].tolist(), strict=True))
+            self._lap.raw.append(np.column_stack([px[ok], py[ok], tv[ok]]))
         heard = float(t_s) if t_s is not None else float(np.nanmax(tv)) if np.isfinite(tv).any() else -np.inf
         if peer_pos_m is not None:
             ang = math.atan2(
@@ -320,28 +338,46 @@ class PerimeterMonitor:
         return (self.cell[0] + int(round(dx / n)), self.cell[1] + int(round(dy / n)))
 
     def _track_initial_lap(self, ux: float, uy: float) -> None:
-        """Listing 2: fly on until back at the deployment angle (or cell, centre unknown)."""
+        """Listing 2: fly on until one lap is done, judged by angle swept.
+
+        The paper flies until back at the deployment angle about the ignition point, as we do
+        when the centre is known. With the centre unknown the lap ends when the UAV's own
+        heading has turned by a full turn: a closed loop around a fire turns the heading by
+        2 pi whatever the fire's shape. A return to the start position is not used: the fire
+        grows over the start, and the UAV never gets back to it.
+        """
         lap = self._lap
-        cs = self.config.cell_size_m
         if lap.start_xy is None:
             lap.start_xy = (ux, uy)
+        if self.prev_cell is not None and self.cell is not None:
+            heading = math.atan2(self.cell[1] - self.prev_cell[1], self.cell[0] - self.prev_cell[0])
+            if lap.last_heading is not None:
+                lap.turned_rad += (heading - lap.last_heading + math.pi) % (2 * math.pi) - math.pi
+            lap.last_heading = heading
         if self.center_known:
             ang = math.atan2(uy - self.fire_map.center_y_m, ux - self.fire_map.center_x_m)
             if lap.last_angle is not None:
                 lap.swept_rad += (ang - lap.last_angle + math.pi) % (2 * math.pi) - math.pi
             lap.last_angle = ang
-            lap.done = abs(lap.swept_rad) >= 2 * math.pi
+        # Known centre: the paper's full turn about it, or (a centre outside the fire, which
+        # angles about it never go round) the heading's full turn and a quarter: on a fire with
+        # a dent the heading can complete its turn a little before the loop closes.
+        full = (
+            abs(lap.swept_rad) >= 2 * math.pi or abs(lap.turned_rad) >= 2.5 * math.pi
+            if self.center_known
+            else abs(lap.turned_rad) >= 2 * math.pi
+        )
+        if not full:
             return
-        dist = math.hypot(ux - lap.start_xy[0], uy - lap.start_xy[1])
-        if dist > 4 * cs:
-            lap.left_start = True
-        if lap.left_start and dist <= 1.5 * cs and self.steps > 12:
-            pts = np.asarray([(a, b) for a, b, _ in lap.raw], dtype=float)
-            cx, cy = (float(v) for v in pts.mean(axis=0)) if pts.size else (ux, uy)
-            self.fire_map.set_center(cx, cy, lap.raw)
+        if not self.center_known:
+            raw = lap.raw_cells()
+            cx, cy = (
+                (float(v) for v in np.ascontiguousarray(raw[:, :2]).mean(axis=0)) if raw.size else (ux, uy)
+            )
+            self.fire_map.set_center(cx, cy, raw)
             self.center_known = True
-            lap.done = True
             lap.raw.clear()
+        lap.done = True
 
     def _peer_weight(self, cells_m: np.ndarray) -> np.ndarray | None:
         live = [p for p in self._peers.values() if self.t_s - p.heard_s <= self.config.peer_timeout_s]
@@ -381,7 +417,12 @@ def smooth_circular(values: np.ndarray, half_width_bins: int) -> np.ndarray:
 
 
 class ImportanceMonitor(PerimeterMonitor):
-    """Importance-based perimeter monitor (PM Listings 1-3, Eqs. 1-7)."""
+    """Importance-based perimeter monitor (PM Listings 1-3, Eqs. 1-7).
+
+    The turn decision is ``MonitorConfig.rule``: "worst" (default, ours: turn when that lowers
+    the largest Eq. 4 error predicted at any angle, :func:`importance.worst_angle_turn`) or
+    "windows" (the paper's Listing 3: IMP_BACK > IMP_FRONT over Eqs. 5-6).
+    """
 
     changes_direction = True
 
@@ -400,12 +441,18 @@ class ImportanceMonitor(PerimeterMonitor):
         ros = smooth_circular(circular_fill(fm.ros_mps(), 0.0), c.ros_smooth_bins)[bins]
         t_outer = circular_fill(fm.outer_t_s, self.t_s)[bins]
         since = np.maximum(self.t_s - t_outer, 0.0)
-        w = window_importance(ros, since, spacing, c.speed_mps, c.alpha, weight=self._peer_weight(cells))
+        weight = self._peer_weight(cells)
+        w = window_importance(ros, since, spacing, c.speed_mps, c.alpha, weight=weight)
         self.last_window, self.last_cells_m = w, cells
         min_run = max(c.min_run_cells, int(math.ceil(c.min_run_fraction * cells.shape[0])))
         if self.direction_changes > 0 and self.run_cells < min_run:
             return  # hysteresis: finish the sweep first
-        if should_turn(w.imp_back, (1.0 + c.turn_margin) * w.imp_front, turn_on_tie=c.turn_on_tie):
+        if c.rule == "worst":
+            wa = worst_angle_turn(ros, since, spacing, c.speed_mps, c.alpha, weight=weight, reach_m=c.reach_m)
+            turn = (1.0 + c.turn_margin) * wa.worst_back_m < wa.worst_on_m  # ties: fly on
+        else:
+            turn = should_turn(w.imp_back, (1.0 + c.turn_margin) * w.imp_front, turn_on_tie=c.turn_on_tie)
+        if turn:
             self.direction = reversed_direction(self.direction)
             self.direction_changes += 1
             self.run_cells = 0

@@ -248,3 +248,88 @@ def test_skipped_bins_are_not_filled_across_more_than_a_quarter_turn():
             mid = np.radians(np.arange(1, span_deg) + 0.5) - np.radians(span_deg / 2 + 0.5)
             chord = r * math.cos(math.radians(span_deg / 2)) / np.cos(mid)
             np.testing.assert_allclose(fm.outer_d_m[1:span_deg], chord)
+
+
+def test_the_map_never_moves_a_bin_inward_without_evidence():
+    """Burned area never shrinks: a nearer perimeter cell in a bin is another crossing of the
+    ray (a notched fire), not the bin's outer cell, and is no visit of it."""
+    fm = FireMap(0.0, 0.0, ignition_time_s=0.0, revisit_gap_s=10.0)
+    fm.record([100.0], [0.0], 100.0)
+    fm.record([60.0], [0.0], 105.0)  # same visit, nearer crossing
+    assert fm.outer_d_m[0] == 100.0 and fm.outer_t_s[0] == 100.0
+    fm.record([70.0], [0.0], 200.0)  # new visit, nearer crossing only
+    assert fm.outer_d_m[0] == 100.0 and fm.outer_t_s[0] == 100.0 and fm.inner_t_s[0] == 0.0
+    assert fm.ros_mps()[0] == pytest.approx(1.0)  # no spread-rate spike from the dent
+    fm.record([130.0], [0.0], 230.0)  # the outer crossing seen again, grown
+    assert fm.outer_d_m[0] == 130.0 and fm.ros_mps()[0] == pytest.approx(30.0 / 130.0)
+    # the same through a peer's map
+    fm.merge_outer(np.array([50.0]), np.array([0.0]), np.array([300.0]))
+    assert fm.outer_d_m[0] == 130.0 and fm.outer_t_s[0] == 230.0
+
+
+def test_the_map_moves_inward_where_the_outer_cell_is_seen_unburned():
+    fm = FireMap(0.0, 0.0, ignition_time_s=0.0, revisit_gap_s=10.0)
+    fm.record([100.0], [0.0], 100.0)
+    fm.record([70.0], [0.0], 200.0, seen_unburned=lambda x, y: np.abs(np.asarray(x) - 100.0) < 1.0)
+    assert fm.outer_d_m[0] == 70.0 and fm.outer_t_s[0] == 200.0
+    assert np.isnan(fm.ros_mps()[0])  # its Eq. 1 history is void
+    keep = FireMap(0.0, 0.0, ignition_time_s=0.0, revisit_gap_s=10.0)
+    keep.record([100.0], [0.0], 100.0)
+    keep.record([70.0], [0.0], 200.0, seen_unburned=lambda x, y: np.zeros(np.shape(x), dtype=bool))
+    assert keep.outer_d_m[0] == 100.0
+
+
+@settings(max_examples=40, deadline=None, phases=NO_SHRINK)
+@given(
+    st.lists(
+        st.tuples(st.floats(1.0, 500.0), st.floats(0.0, 2 * math.pi), st.floats(0.5, 50.0)),
+        min_size=1,
+        max_size=40,
+    )
+)
+def test_outer_distances_never_decrease(sightings):
+    """Property: whatever the sightings (any distances, any order of sizes), no bin's outer
+    distance ever decreases."""
+    fm = FireMap(0.0, 0.0, bin_count=36, ignition_time_s=0.0, revisit_gap_s=5.0, ros_baseline_s=3.0)
+    t = 0.0
+    prev = fm.outer_d_m.copy()
+    for r, a, dt in sightings:
+        t += dt
+        fm.record([r * math.cos(a)], [r * math.sin(a)], t)
+        both = np.isfinite(prev)
+        assert np.all(fm.outer_d_m[both] >= prev[both])
+        prev = fm.outer_d_m.copy()
+
+
+def test_ros_baseline_scales_with_the_spread_rate():
+    """Eq. 1 is taken over at least the time the fire needs to spread ros_baseline_cells cells."""
+    fm = FireMap(
+        0.0,
+        0.0,
+        ignition_time_s=0.0,
+        revisit_gap_s=1.0,
+        ros_baseline_s=0.0,
+        ros_baseline_cells=2.0,
+        cell_size_m=10.0,
+    )
+    fm.record([100.0], [0.0], 1000.0)  # ROS 0.1 m/s: 2 cells take 200 s
+    fm.record([110.0], [0.0], 1100.0)  # 100 s later: too soon, the inner cell stays the ignition
+    assert fm.inner_t_s[0] == 0.0 and fm.ros_mps()[0] == pytest.approx(0.1)
+    fm.record([130.0], [0.0], 1300.0)  # 200 s after the 1100 s sighting: it becomes the inner cell
+    assert fm.inner_t_s[0] == 1100.0 and fm.ros_mps()[0] == pytest.approx(0.1)
+    fast = FireMap(
+        0.0,
+        0.0,
+        ignition_time_s=0.0,
+        revisit_gap_s=1.0,
+        ros_baseline_s=0.0,
+        ros_baseline_cells=2.0,
+        cell_size_m=10.0,
+    )
+    fast.record([100.0], [0.0], 10.0)  # ROS 10 m/s: 2 cells take 2 s
+    fast.record([130.0], [0.0], 13.0)
+    assert fast.inner_t_s[0] == 10.0 and fast.ros_mps()[0] == pytest.approx(10.0)
+    with pytest.raises(ValueError, match="ros_baseline_cells"):
+        FireMap(0.0, 0.0, ros_baseline_cells=-1.0)
+    with pytest.raises(ValueError, match="cell_size_m"):
+        FireMap(0.0, 0.0, cell_size_m=0.0)

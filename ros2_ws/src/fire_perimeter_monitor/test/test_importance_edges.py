@@ -7,6 +7,7 @@ from fire_perimeter_monitor.importance import (
     rate_of_spread,
     should_turn,
     window_importance,
+    worst_angle_turn,
 )
 
 
@@ -70,3 +71,51 @@ def test_should_turn_tie_band_is_relative_and_inclusive():
     assert not should_turn(4.0, 3.5, tie_rel_tol=0.25)  # 0.5 <= 1: tie
     assert should_turn(4.0, 2.9, tie_rel_tol=0.25)  # 1.1 > 1: the back window wins
     assert not should_turn(10.0, 10.5)  # the front is more important: fly on
+
+
+def _circling_since(m, spacing, speed):
+    """t_sinceVisit of a UAV circling at constant speed: cell i (behind by i cells) was seen
+    i cells of flight ago."""
+    return np.arange(m) * spacing / speed
+
+
+def test_worst_angle_keeps_circling_a_uniform_fire():
+    """Uniform spread (or alpha = 0): circling is optimal (PM VI-D), the rule never turns."""
+    m, s, v = 40, 5.0, 10.0
+    since = _circling_since(m, s, v)
+    for ros in (np.full(m, 0.3), np.linspace(0.1, 2.0, m)):
+        alpha = 1.0 if np.ptp(ros) == 0 else 0.0
+        w = worst_angle_turn(ros, since, s, v, alpha)
+        assert w.worst_back_m > w.worst_on_m  # turning back leaves the cells ahead stale twice as long
+        # flying on, every cell's predicted error is ROS * one lap
+        assert np.allclose(w.on_m, w.ros_adjusted * m * s / v)
+
+
+def test_worst_angle_turns_back_to_a_fast_cell_just_passed():
+    """The fast head is 2 cells behind: flying on reaches it after a lap, turning back at once."""
+    m, s, v = 40, 5.0, 10.0
+    since = _circling_since(m, s, v)
+    ros = np.full(m, 0.05)
+    ros[2] = 2.0
+    w = worst_angle_turn(ros, since, s, v)
+    assert w.worst_back_m < w.worst_on_m
+    assert int(np.argmax(w.on_m)) == 2
+    # its values are Eq. 4 with the turn's and the flight's times to the cell
+    assert w.on_m[2] == pytest.approx(2.0 * (since[2] + (m - 2) * s / v))
+    assert w.back_m[2] == pytest.approx(2.0 * (since[2] + 2 * s / v))
+    # a peer owns the head (weight 0): no reason to turn
+    weight = np.ones(m)
+    weight[2] = 0.0
+    w = worst_angle_turn(ros, since, s, v, weight=weight)
+    assert w.worst_back_m > w.worst_on_m
+
+
+def test_worst_angle_reach_and_errors():
+    m, s, v = 10, 5.0, 10.0
+    w0 = worst_angle_turn(np.ones(m), np.zeros(m), s, v)
+    w1 = worst_angle_turn(np.ones(m), np.zeros(m), s, v, reach_m=2 * s)
+    assert np.allclose(w0.on_m - w1.on_m, np.minimum(2 * s, (m - np.arange(m)) * s) / v)
+    with pytest.raises(ValueError, match="reach_m"):
+        worst_angle_turn(np.ones(m), np.zeros(m), s, v, reach_m=-1.0)
+    with pytest.raises(ValueError, match="equal 1-D"):
+        worst_angle_turn(np.ones(m), np.zeros(m + 1), s, v)

@@ -18,10 +18,10 @@ def fire():
     return star_fire((120, 120), C, (60, 60), linear_ros(0.02, 0.2, 0.0))
 
 
-def _config(fire, **kw):
+def _config(fire, rule="windows", **kw):
     cx, cy = fire.ignition_xy_m
     return MonitorConfig(
-        cell_size_m=C, speed_mps=SPEED, center_x_m=cx, center_y_m=cy, ignition_time_s=0.0, **kw
+        cell_size_m=C, speed_mps=SPEED, center_x_m=cx, center_y_m=cy, ignition_time_s=0.0, rule=rule, **kw
     )
 
 
@@ -70,16 +70,18 @@ def test_direction_changes_increase_with_alpha(fire):
     assert changes[-1] > changes[0]
 
 
-def test_importance_monitor_turns_back_towards_the_active_side(fire):
-    m = ImportanceMonitor(_config(fire, alpha=1.0))
+@pytest.mark.parametrize("rule", ["windows", "worst"])
+def test_importance_monitor_turns_back_towards_the_active_side(fire, rule):
+    m = ImportanceMonitor(_config(fire, rule=rule, alpha=1.0))
     tr = _fly(fire, m, hours=1.0)
     assert m.direction_changes > 0
     ang = np.degrees(
         np.arctan2(np.array(tr.y_m) - fire.ignition_xy_m[1], np.array(tr.x_m) - fire.ignition_xy_m[0])
     )
     turns = np.flatnonzero(np.diff(tr.direction) != 0)
-    # turns happen on the fast (west, r_max at 180 deg) half, not near r_min (0 deg)
-    assert np.all(np.abs(ang[turns]) > 90), ang[turns]
+    # turns happen on the fast (west, r_max at 180 deg) half, not near r_min (0 deg); the
+    # worst-angle rule sweeps that half and turns at its ends, the flanks (85-95 deg)
+    assert np.all(np.abs(ang[turns]) > (90 if rule == "windows" else 80)), ang[turns]
 
 
 def test_summary_fields_and_merge(fire):
@@ -132,3 +134,24 @@ def test_unknown_centre_is_estimated_after_initial_lap(fire):
     # the centre of a fire spreading 10x faster west lies west of the ignition point
     assert m.fire_map.center_x_m < fire.ignition_xy_m[0]
     assert abs(m.fire_map.center_y_m - fire.ignition_xy_m[1]) < 3 * C
+
+
+def test_worst_angle_rule_turns_less_at_alpha_zero(fire):
+    """alpha = 0 makes every cell's ROS alike (Eq. 7): the worst-angle rule then turns only
+    for a cell left staler than circling would leave it, far less often than at alpha = 1."""
+    changes = []
+    for alpha in (0.0, 1.0):
+        m = ImportanceMonitor(_config(fire, rule="worst", alpha=alpha))
+        _fly(fire, m, hours=0.5)
+        assert m.initial_lap_done
+        changes.append(m.direction_changes)
+    assert changes[0] <= 2 < changes[1], changes
+
+
+def test_unknown_centre_lap_ends_when_the_fire_grows_over_the_start():
+    """The lap ends by the heading's full turn, not by a return to the start position: on a
+    fast fire the start is soon inside the burned area and the UAV never gets back to it."""
+    fast = star_fire((120, 120), C, (60, 60), linear_ros(0.5, 2.0, 0.0))
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED))
+    fly(fast, m, start_angle_rad=0.5, t_start_s=300.0, t_end_s=900.0, speed_mps=SPEED, sensor_range_m=1.5 * C)
+    assert m.initial_lap_done and m.center_known

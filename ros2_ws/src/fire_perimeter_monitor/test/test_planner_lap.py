@@ -215,6 +215,7 @@ def _fly_deciding(fire, **config):
         center_y_m=cy,
         ignition_time_s=0.0,
         min_run_fraction=0.0,
+        rule="windows",
         **config,
     )
     m = _Deciding(cfg)

@@ -202,7 +202,7 @@ def test_scan_edge_cases():
     # only the half-turn behind the UAV stale: no candidate within half a turn ahead
     fm = _stale_circle(t=0.0)
     th = np.radians(np.arange(0, 181) + 0.5)
-    fm.record(50 * np.cos(th), 50 * np.sin(th), 1000.0)
+    fm.record(55 * np.cos(th), 55 * np.sin(th), 1000.0)  # the fire grew: the map never moves inward
     cp = construct_perimeter(fm, 80.0, 0.0, Direction.CCW, 1000.0)
     assert cp.best_bin == -1 and cp.anchor_bin == 180 and len(cp.vertices_m) == 360
     # fresh_s overrides the map's revisit gap: with a huge one, nothing is stale
