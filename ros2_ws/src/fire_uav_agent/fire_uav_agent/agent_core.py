@@ -47,6 +47,7 @@ from .fire_front import FrontConfig, FrontPicture
 from .front_consensus import FrontSharing, PeerFront
 from .mission import Decision, Mission, MissionConfig, MissionView
 from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
+from .peer_gate import inbox_order
 from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
 from .separation import Avoider, hold_layer, peer_rows
@@ -268,10 +269,9 @@ class Agent:
         (PM), which are merged in :meth:`_decide`.
         """
         cfg = self.cfg
-        msgs = sorted(
-            inbox,
-            key=lambda m: (m.step, m.uav_id if isinstance(m.uav_id, int) else -1, isinstance(m, PeerFires)),
-        )
+        # the gate hands them in this order already; sorted here too (a no-op then) so that a direct
+        # caller in arrival order gets the same result
+        msgs = sorted(inbox, key=inbox_order)
         perimeters: list[PeerPerimeter] = []
         for m in msgs:
             if isinstance(m, PeerState):

@@ -25,6 +25,7 @@ import numpy as np
 from fire_uav_common.cdr import U32, align4, align8, check_encapsulation, read_string_end
 
 from .agent_types import Bundle
+from .errors import WireError
 from .estimation import Samples
 
 __all__ = ["WireBundle", "SENSORBUNDLE_FIELDS", "SAMPLE_FIELDS", "read_sensor_bundle"]
@@ -117,7 +118,7 @@ def read_sensor_bundle(data: bytes | bytearray | memoryview) -> WireBundle:
         def count(i: int, what: str, least: int) -> tuple[int, int]:
             (k,) = U32.unpack_from(data, i)
             if i + 4 + least * k > n:
-                raise ValueError(f"SensorBundle {what} length {k} runs past the end of {n} bytes")
+                raise WireError(f"SensorBundle {what} length {k} runs past the end of {n} bytes")
             return k, i + 4
 
         k, i = count(align4(i), "gyro", _MIN_SAMPLE_BYTES)
@@ -165,9 +166,9 @@ def read_sensor_bundle(data: bytes | bytearray | memoryview) -> WireBundle:
         vehicle = data[i + 4]
         i += 5
     except (struct.error, IndexError):
-        raise ValueError(f"SensorBundle truncated: {n} bytes") from None
+        raise WireError(f"SensorBundle truncated: {n} bytes") from None
     if n not in (i, align4(i)):  # DDS delivers the payload padded to 4 bytes (serialize_message does not)
-        raise ValueError(f"SensorBundle of {n} bytes: {n - i} bytes left after vehicle_status")
+        raise WireError(f"SensorBundle of {n} bytes: {n - i} bytes left after vehicle_status")
     cells = None
     if len(cx) > 0 and len(cx) == len(cy) == len(cs):
         cells = (cx.astype(float), cy.astype(float), cs.astype(np.int64))

@@ -88,6 +88,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .errors import InputError
 from .peer_link import FireEntry, PeerFires
 
 __all__ = ["PRIOR_FIRE_ID_BASE", "ConsensusConfig", "FireConsensus", "consensus_matrix", "consensus_row"]
@@ -101,7 +102,7 @@ def consensus_row(ages: np.ndarray) -> np.ndarray:
     """One row of Q_c (Eqs. 27-28 as the text intends): normalised inverse ages (ages >= 1)."""
     a = np.asarray(ages, dtype=float)
     if a.ndim != 1 or a.size == 0 or np.any(~np.isfinite(a)) or np.any(a <= 0):
-        raise ValueError(f"ages must be a non-empty vector of positive numbers, got {ages!r}")
+        raise InputError(f"ages must be a non-empty vector of positive numbers, got {ages!r}")
     inv = 1.0 / a
     return inv / inv.sum()
 

@@ -26,6 +26,7 @@ from fire_uav_common.scenario import Vehicle
 from fire_uav_common.terrain import Terrain
 from numpy.typing import ArrayLike
 
+from .errors import ConfigError, InputError
 from .estimation import wrap_angle
 
 __all__ = [
@@ -63,9 +64,9 @@ class Grid:
 
 def make_grid(x_min_m: float, x_max_m: float, y_min_m: float, y_max_m: float, resolution_m: float) -> Grid:
     if not resolution_m > 0:
-        raise ValueError(f"grid resolution must be > 0, got {resolution_m}")
+        raise ConfigError(f"grid resolution must be > 0, got {resolution_m}")
     if not (x_max_m > x_min_m and y_max_m > y_min_m):
-        raise ValueError(f"empty area [{x_min_m}, {x_max_m}] x [{y_min_m}, {y_max_m}]")
+        raise ConfigError(f"empty area [{x_min_m}, {x_max_m}] x [{y_min_m}, {y_max_m}]")
     nx = max(1, int(math.ceil((x_max_m - x_min_m) / resolution_m - 1e-9)))
     ny = max(1, int(math.ceil((y_max_m - y_min_m) / resolution_m - 1e-9)))
     xs = x_min_m + (np.arange(nx) + 0.5) * resolution_m
@@ -85,7 +86,7 @@ def voronoi_labels(points: np.ndarray, positions: np.ndarray) -> np.ndarray:
     """Eq. 6: index of the nearest position for every grid point (ties -> lowest index)."""
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     if positions.shape[0] == 0:
-        raise ValueError("need at least one position")
+        raise InputError("need at least one position")
     return np.argmin(_sqdist(points, positions), axis=1)
 
 

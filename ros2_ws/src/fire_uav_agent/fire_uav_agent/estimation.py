@@ -45,6 +45,8 @@ import numpy as np
 from fire_uav_common.angles import wrap_angle  # re-exported: callers import it from here
 from fire_uav_common.terrain import Terrain
 
+from .errors import ConfigError
+
 __all__ = ["EkfConfig", "Samples", "StateEkf", "wrap_angle"]
 
 
@@ -62,10 +64,10 @@ class EkfConfig:
 
     def __post_init__(self) -> None:
         if not self.dt_s > 0:
-            raise ValueError(f"dt_s must be > 0, got {self.dt_s}")
+            raise ConfigError(f"dt_s must be > 0, got {self.dt_s}")
         for name in ("sigma_gps_m", "sigma_alt_m", "sigma_gyro_radps"):
             if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
+                raise ConfigError(f"{name} must be > 0, got {getattr(self, name)}")
 
 
 @dataclass
@@ -90,7 +92,7 @@ class StateEkf:
         self.terrain = terrain or Terrain()
         self.s = np.asarray(s0, dtype=float).copy()
         if self.s.shape != (4,) or not np.all(np.isfinite(self.s)):
-            raise ValueError(f"s0 must be 4 finite numbers, got {s0!r}")
+            raise ConfigError(f"s0 must be 4 finite numbers, got {s0!r}")
         self.s[3] = wrap_angle(self.s[3])
         self.P = np.diag(np.square(config.initial_sigma)).astype(float)
         self._q = np.square(np.asarray(config.sigma_nu, dtype=float))

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from fire_uav_common.constants import CellState
 
+from .errors import ConfigError
 from .fire_front import FrontCells, FrontPicture
 
 __all__ = ["FrontSharing", "PeerFront", "concat"]
@@ -55,7 +56,7 @@ class FrontSharing:
 
     def __init__(self, recent_s: float = 3.0) -> None:
         if not recent_s >= 0:
-            raise ValueError(f"FrontSharing: recent_s must be >= 0 [s], got {recent_s}")
+            raise ConfigError(f"FrontSharing: recent_s must be >= 0 [s], got {recent_s}")
         self.recent_s = recent_s
         self._sent_x = np.zeros(0)
         self._sent_y = np.zeros(0)

@@ -40,6 +40,8 @@ from fire_uav_common import rng
 from fire_uav_common.constants import Objective
 from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
+from .errors import ConfigError
+
 __all__ = [
     "Outage",
     "PeerFires",
@@ -71,9 +73,9 @@ class Outage:
 
     def __post_init__(self) -> None:
         if self.from_id < 0 or self.to_id < 0:
-            raise ValueError(f"outage ids must be >= 0, got {self.from_id} -> {self.to_id}")
+            raise ConfigError(f"outage ids must be >= 0, got {self.from_id} -> {self.to_id}")
         if not self.end_s >= self.start_s:
-            raise ValueError(f"outage end_s {self.end_s} before start_s {self.start_s}")
+            raise ConfigError(f"outage end_s {self.end_s} before start_s {self.start_s}")
 
 
 @dataclass(frozen=True)
@@ -169,13 +171,13 @@ class PeerLink:
         max_step_lag: int | None = None,
     ) -> None:
         if not 0 <= uav_id < uav_count:
-            raise ValueError(f"uav_id {uav_id} outside 0..{uav_count - 1}")
+            raise ConfigError(f"uav_id {uav_id} outside 0..{uav_count - 1}")
         if not 0.0 <= loss_probability <= 1.0:
-            raise ValueError(f"loss_probability must be in [0, 1], got {loss_probability}")
+            raise ConfigError(f"loss_probability must be in [0, 1], got {loss_probability}")
         if crash_threshold_steps < 1:
-            raise ValueError(f"crash_threshold_steps must be >= 1, got {crash_threshold_steps}")
+            raise ConfigError(f"crash_threshold_steps must be >= 1, got {crash_threshold_steps}")
         if seed < 0:
-            raise ValueError(f"seed must be >= 0, got {seed}")
+            raise ConfigError(f"seed must be >= 0, got {seed}")
         self.uav_id = uav_id
         self.uav_count = uav_count
         self.seed = seed
@@ -192,7 +194,7 @@ class PeerLink:
         # oldest plausible step is k - max_step_lag (k: the step being run); older news is a missed step anyway
         self.max_step_lag = crash_threshold_steps if max_step_lag is None else int(max_step_lag)
         if self.max_step_lag < 1:
-            raise ValueError(f"max_step_lag must be >= 1, got {self.max_step_lag}")
+            raise ConfigError(f"max_step_lag must be >= 1, got {self.max_step_lag}")
         # loss draws of the last few steps, {step: {(sender, topic_index): lost}}: the lockstep wait
         # asks for step k's draws and the receipt of the same messages asks again (a draw costs ~15 us)
         self._draws: dict[int, dict[tuple[int, int], bool]] = {}

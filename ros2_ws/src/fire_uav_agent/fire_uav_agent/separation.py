@@ -43,6 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import ConfigError, InputError
 from .estimation import wrap_angle
 
 __all__ = ["Avoider", "SeparationConfig", "avoid_heading", "closest_approach_m", "hold_layer", "peer_rows"]
@@ -65,9 +66,9 @@ class SeparationConfig:
     def __post_init__(self) -> None:
         for name in ("radius_m", "vertical_m", "horizon_s", "detect_m"):
             if not getattr(self, name) > 0:
-                raise ValueError(f"SeparationConfig.{name} must be > 0, got {getattr(self, name)}")
+                raise ConfigError(f"SeparationConfig.{name} must be > 0, got {getattr(self, name)}")
         if self.headings < 4:
-            raise ValueError(f"SeparationConfig.headings must be >= 4, got {self.headings}")
+            raise ConfigError(f"SeparationConfig.headings must be >= 4, got {self.headings}")
 
 
 def closest_approach_m(rel_pos_m: np.ndarray, rel_vel_mps: np.ndarray, horizon_s: float) -> np.ndarray:
@@ -162,7 +163,7 @@ def avoid_heading(
     x, y, z = own_xyz_m
     yt = np.zeros(p.shape[0], bool) if yield_to is None else np.asarray(yield_to, bool).reshape(-1)
     if yt.shape[0] != p.shape[0]:
-        raise ValueError(f"yield_to must have one entry per peer row ({p.shape[0]}), got {yt.shape[0]}")
+        raise InputError(f"yield_to must have one entry per peer row ({p.shape[0]}), got {yt.shape[0]}")
     if p.shape[0]:
         rel = p[:, :2] - np.array([x, y])
         near = (np.hypot(rel[:, 0], rel[:, 1]) <= cfg.detect_m) & (np.abs(p[:, 2] - z) <= cfg.vertical_m)

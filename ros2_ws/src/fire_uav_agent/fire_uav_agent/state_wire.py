@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 from fire_uav_common.cdr import U32, align4, align8, check_encapsulation, read_string_end
 
+from .errors import WireError
 from .peer_link import FireEntry, PeerFires, PeerState
 
 __all__ = ["WireState", "UAVSTATE_FIELDS", "FIREESTIMATE_FIELDS", "read_uav_state"]
@@ -107,7 +108,7 @@ def read_uav_state(data: bytes | bytearray | memoryview) -> WireState:
         (k,) = U32.unpack_from(data, i)
         i += 4
         if i + 2 * k > n:
-            raise ValueError(f"sent_per_topic length {k} runs past the end of {n} bytes")
+            raise WireError(f"sent_per_topic length {k} runs past the end of {n} bytes")
         sent = struct.unpack_from(f"<{k}H", data, i)
         i += 2 * k
         final = data[i]
@@ -115,7 +116,7 @@ def read_uav_state(data: bytes | bytearray | memoryview) -> WireState:
         fires_sequence, k = _IDS.unpack_from(data, i)
         i += 8
         if i + _FIRE_MIN_BYTES * k > n:
-            raise ValueError(f"fires length {k} runs past the end of {n} bytes")
+            raise WireError(f"fires length {k} runs past the end of {n} bytes")
         fires = []
         for _ in range(k):
             i = align4(i)
@@ -128,9 +129,9 @@ def read_uav_state(data: bytes | bytearray | memoryview) -> WireState:
                 FireEntry(fire_id, status == _STATUS_ACTIVE, fx, fy, ext, vx, vy, t_s, frx, fry, rate)
             )
     except (struct.error, IndexError):
-        raise ValueError(f"UavState truncated: {n} bytes") from None
+        raise WireError(f"UavState truncated: {n} bytes") from None
     if i + _AUTH_BYTES != n:
-        raise ValueError(
+        raise WireError(
             f"UavState of {n} bytes: expected its auth field to end at byte {n}, not {i + _AUTH_BYTES}"
         )
     state = PeerState(uav_id, sequence, step, x, y, z, yaw, objective, target, water, cx, cy)

@@ -13,12 +13,12 @@ pytest.importorskip("fire_uav_msgs.msg")
 
 from builtin_interfaces.msg import Time
 from fire_uav_agent.agent_node import (
-    _step_verdict,
     _to_bundle,
     _to_peer_fires,
     _to_peer_perimeter,
     _to_peer_state,
 )
+from fire_uav_agent.peer_gate import step_verdict as _step_verdict
 from fire_uav_agent.peer_link import PeerLink, Verdict
 from fire_uav_msgs.msg import FireEstimate, PerimeterMap, SensorBundle, UavState
 from hypothesis import given, settings

@@ -5,10 +5,12 @@ Test support only: the node never imports this module. :class:`Harness` builds
 per UAV from the same scenario, and steps them as the processes do in lockstep mode
 (docs/protocol.md): world step k -> one bundle per live vehicle -> each agent's step k (with the
 peers' step-(k-1) messages) -> commands and payload requests stamped t_{k+1} -> world step k+1.
-Peer messages (state, fires, perimeter) are delivered to every other running agent one step
-later; the injected loss is applied on receipt by each agent's own peer link (seeded rule of
-``fire_uav_agent.peer_link``), as in the node. A stopped agent (:meth:`Harness.stop`, a killed
-process) sends nothing more; the world lets its vehicle fall after the command timeout.
+Peer messages (state, fires, perimeter, front) go through each receiving agent's
+:class:`~fire_uav_agent.peer_gate.PeerGate`, the node's gate (admission, duplicates, the lockstep
+wait, the inbox order), and reach the agent with its next bundle; the injected loss is applied on
+receipt by each agent's own peer link (seeded rule of ``fire_uav_agent.peer_link``), as in the
+node. A stopped agent (:meth:`Harness.stop`, a killed process) sends nothing more and is no longer
+waited for; the world lets its vehicle fall after the command timeout.
 
 The conversions between the world's Python types and the agent's are :func:`agent_bundle`,
 :func:`world_command` and :func:`peer_messages`, one function each; they round what the ROS
@@ -24,6 +26,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from fire_uav_common import topics
+from fire_uav_common.constants import VehicleStatus
 from fire_uav_common.scenario import Scenario, load_scenario
 from fire_uav_common.stamps import ns_to_s, s_to_ns
 from fire_world_sim import world as wsim
@@ -34,6 +38,7 @@ from ..agent_types import Bundle, PeerPerimeter, StepOutput
 from ..estimation import Samples
 from ..fire_front import FrontCells
 from ..front_consensus import PeerFront
+from ..peer_gate import PeerGate, Rejected, RunStep
 from ..peer_link import FireEntry, PeerFires, PeerState
 
 __all__ = ["Harness", "agent_bundle", "peer_messages", "scenario_path", "world_command"]
@@ -178,7 +183,11 @@ class Harness:
         self.events: list[wsim.Event] = []
         self._commands: dict[int, wsim.Command | None] = {}
         self._payload: dict[int, list[int]] = {}
-        self._inbox: list[list[PeerMessage]] = [[] for _ in range(n)]
+        period_s = self.agents[0].cfg.control_period_s if n else 0.1
+        self.gates: list[PeerGate] = [
+            PeerGate(i, n, period_s, crash_threshold_steps=a.cfg.crash_threshold_steps)
+            for i, a in enumerate(self.agents)
+        ]
         self._perimeter_seq = [0] * n
 
     @classmethod
@@ -195,6 +204,9 @@ class Harness:
     def stop(self, uav_id: int) -> None:
         """The agent's process dies now: it is not stepped again and sends nothing more."""
         self.stopped.add(uav_id)
+        for g in self.gates:
+            if g.uav_id != uav_id:
+                g.mark_gone(uav_id)
 
     def step(self) -> wsim.StepResult:
         """One lockstep round: world step k, then every running agent's step k."""
@@ -206,8 +218,12 @@ class Harness:
         for uid, b in sorted(r.bundles.items()):
             if uid in self.stopped:
                 continue
-            inbox, self._inbox[uid] = self._inbox[uid], []
-            out = self.agents[uid].step(agent_bundle(b), inbox)
+            run = self._decide(uid, self.gates[uid].on_bundle(b.step, b))
+            if run is None:
+                raise RuntimeError(
+                    f"harness: agent {uid} would wait at step {b.step} for {self.gates[uid].wait.describe(b.step)}"
+                )
+            out = self.agents[uid].step(agent_bundle(run.bundle), run.inbox)
             outs[uid] = out
             if out is None:
                 continue
@@ -218,11 +234,40 @@ class Harness:
             if out.perimeter is not None:
                 self._perimeter_seq[uid] += 1
             msgs = peer_messages(out, self._perimeter_seq[uid])
+            final = int(r.bundles[uid].vehicle_status) == int(VehicleStatus.CRASHED)
             for j in range(len(self.agents)):
                 if j != uid and j not in self.stopped:
-                    self._inbox[j] += msgs
+                    self._deliver(j, msgs, final)
         self.outputs = outs
         return r
+
+    def _deliver(self, j: int, msgs: list[PeerMessage], final: bool) -> None:
+        """One agent's step messages to agent ``j``'s gate, as the node hands them over (the state
+        first, with the count of what else was sent)."""
+        gate = self.gates[j]
+        state, fires, rest = msgs[0], msgs[1], msgs[2:]
+        assert isinstance(state, PeerState) and isinstance(fires, PeerFires)
+        sent = [0] * (1 + max(s.loss_index for s in topics.ALL_TOPICS if s.loss_index is not None))
+        sent[topics.FLEET_STATE_SPEC.draw_index] = sent[topics.FLEET_FIRES_SPEC.draw_index] = 1
+        for m in rest:
+            spec = topics.FLEET_PERIMETER_SPEC if isinstance(m, PeerPerimeter) else topics.FLEET_FRONT_SPEC
+            sent[spec.draw_index] += 1
+        self._decide(j, gate.on_state(b"", state, fires, tuple(sent), final))
+        for m in rest:
+            if isinstance(m, PeerPerimeter):
+                self._decide(j, gate.on_perimeter(b"", m))
+            elif isinstance(m, PeerFront):
+                self._decide(j, gate.on_front(m.uav_id, m.step, m))
+
+    def _decide(self, uid: int, decisions: list) -> RunStep | None:
+        """Count the gate's rejections in the agent's link (as the node does); the step to run, if any."""
+        run = None
+        for d in decisions:
+            if isinstance(d, Rejected):
+                self.agents[uid].link.count_rejection(d.reason)
+            elif isinstance(d, RunStep):
+                run = d
+        return run
 
     def run(self, steps: int | None = None) -> wsim.StepResult | None:
         """Step until the world reports the mission complete (or for ``steps`` steps)."""
@@ -239,4 +284,4 @@ class Harness:
 
     def messages_to(self, uav_id: int) -> Iterable[PeerMessage]:
         """Peer messages waiting for ``uav_id``'s next step (for tests)."""
-        return tuple(self._inbox[uav_id])
+        return tuple(self.gates[uav_id].inbox())
