@@ -14,10 +14,12 @@ import numpy as np
 import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
-from fire_uav_common.constants import EventType, FireStatus, PayloadAction, VehicleStatus
-from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
+from fire_uav_common.cdr import CdrError
+from fire_uav_common.codecs.sensor_bundle import WireBundle, read_sensor_bundle
+from fire_uav_common.codecs.uav_state import WireState, read_uav_state
+from fire_uav_common.constants import EventType, PayloadAction, VehicleStatus
+from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_step
 from fire_uav_msgs.msg import (
-    FireEstimate,
     FireFront,
     MissionEvent,
     PayloadRequest,
@@ -43,12 +45,11 @@ from .agent_params import (
     node_config,
     unknown_parameters,
 )
-from .agent_types import Bundle, PeerPerimeter, StepOutput
-from .bundle_wire import WireBundle, read_sensor_bundle
+from .agent_types import PeerPerimeter, StepOutput
 from .errors import ConfigError
-from .estimation import Samples
 from .fire_front import FrontCells
 from .front_consensus import PeerFront
+from .outgoing import sent_per_topic, state_bytes
 from .peer_gate import (
     AskResend,
     PeerGate,
@@ -59,45 +60,10 @@ from .peer_gate import (
     StartWaiting,
     StillWaiting,
 )
-from .peer_link import FireEntry, PeerFires, PeerState
 from .search_io import attach_search
-from .state_wire import WireState, read_uav_state
 
 
 # --- conversions (the only place messages meet arrays) -----------------------------------------
-def _to_bundle(msg: SensorBundle) -> Bundle:
-    gps = np.array([(stamp_to_s(g.header.stamp), g.x_m, g.y_m) for g in msg.gps], dtype=float).reshape(-1, 3)
-    gps_var = np.array([g.variance_m2 for g in msg.gps], dtype=float)
-    alt = np.array([(stamp_to_s(r.header.stamp), r.range) for r in msg.altimeter], dtype=float).reshape(-1, 2)
-    gyro = np.array(
-        [(stamp_to_s(m.header.stamp), m.angular_velocity.z) for m in msg.gyro], dtype=float
-    ).reshape(-1, 2)
-    fires = np.array(
-        [(stamp_to_s(f.header.stamp), f.x_m, f.y_m, f.extent_m) for f in msg.fires], dtype=float
-    ).reshape(-1, 4)
-    c = msg.cells
-    cells = None
-    if len(c.x_m) > 0 and len(c.x_m) == len(c.y_m) == len(c.state):
-        cells = (
-            np.asarray(c.x_m, dtype=float),
-            np.asarray(c.y_m, dtype=float),
-            np.frombuffer(bytes(c.state), dtype=np.uint8).astype(np.int64)
-            if isinstance(c.state, (bytes, bytearray))
-            else np.asarray(c.state, dtype=np.int64),
-        )
-    return Bundle(
-        step=int(msg.step),
-        stamp_s=stamp_to_s(msg.header.stamp),
-        samples=Samples(gps, gps_var, alt, gyro),
-        fires=fires,
-        water_kg=float(msg.water_kg),
-        vehicle=int(msg.vehicle_status),
-        control_period_s=float(msg.control_period_s),
-        cells=cells,
-        cell_size_m=float(c.cell_size_m),
-    )
-
-
 def _to_peer_perimeter(m: PerimeterMap, control_period_s: float) -> PeerPerimeter:
     """A peer's PerimeterMap; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
     summary = {
@@ -158,70 +124,6 @@ def _from_front(out: StepOutput, stamp: TimeMsg, seq: int, cell_size_m: float) -
     m.state = np.asarray(c.state, dtype=np.uint8).tobytes()
     m.observed_s = np.asarray(c.t_obs_s, dtype=float).tolist()
     m.spread_rate_mps = np.asarray(c.ros_mps, dtype=np.float32).tolist()
-    return m
-
-
-def _to_peer_state(m: UavState) -> PeerState:
-    return PeerState(
-        int(m.uav_id), int(m.sequence), int(m.step), m.x_m, m.y_m, m.z_m, m.yaw_rad, int(m.objective),
-        int(m.target_fire_id), float(m.water_kg), m.centroid_x_m, m.centroid_y_m,
-    )  # fmt: skip
-
-
-def _to_peer_fires(m: UavState) -> PeerFires:
-    """The fire picture a peer's UavState carries (``fires``, ``fires_sequence``)."""
-    entries = tuple(
-        FireEntry(
-            int(f.fire_id),
-            f.status == FireStatus.ACTIVE,
-            f.x_m,
-            f.y_m,
-            f.extent_m,
-            f.vx_mps,
-            f.vy_mps,
-            stamp_to_s(f.last_measurement),
-            f.front_x_m,
-            f.front_y_m,
-            f.max_spread_rate_mps,
-        )  # fmt: skip
-        for f in m.fires
-    )
-    return PeerFires(int(m.uav_id), int(m.fires_sequence), int(m.step), entries)
-
-
-def _from_state(out: StepOutput, stamp: TimeMsg) -> UavState:
-    st = out.state
-    m = UavState()
-    m.header.stamp = stamp
-    m.header.frame_id = "map"
-    m.uav_id, m.sequence, m.step = st.uav_id, st.sequence, st.step
-    m.x_m, m.y_m, m.z_m, m.yaw_rad = (float(v) for v in st.s)
-    m.covariance = [float(v) for v in st.covariance.ravel()]
-    m.objective = st.objective
-    m.target_fire_id = st.target_fire_id
-    m.water_kg = st.water_kg
-    m.centroid_x_m, m.centroid_y_m = st.centroid_xy
-    m.alive_peers = list(st.alive_peers)
-    m.crashed_peers = list(st.crashed_peers)
-    m.packets_received, m.packets_lost, m.packets_rejected = (
-        st.packets_received, st.packets_lost, st.packets_rejected,
-    )  # fmt: skip
-    return m
-
-
-def _add_fires(m: UavState, out: StepOutput) -> UavState:
-    """Put this step's fire picture into the state message (one peer message per step)."""
-    m.fires_sequence = out.fires_sequence
-    for e in out.fires:
-        f = FireEstimate()
-        f.fire_id = e.fire_id
-        f.status = int(FireStatus.ACTIVE if e.active else FireStatus.EXTINGUISHED)
-        f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps = e.x_m, e.y_m, e.extent_m, e.vx_mps, e.vy_mps
-        f.last_measurement = to_time_msg(
-            s_to_ns(max(0.0, e.last_measurement_s) if math.isfinite(e.last_measurement_s) else 0.0), TimeMsg
-        )
-        f.front_x_m, f.front_y_m, f.max_spread_rate_mps = e.front_x_m, e.front_y_m, e.max_spread_rate_mps
-        m.fires.append(f)
     return m
 
 
@@ -400,20 +302,17 @@ class UavAgentNode(Node):
 
     # --- peer traffic ---------------------------------------------------------------------------------
     def _read_state(self, data: bytes) -> WireState | None:
-        """A raw peer UavState -> :class:`WireState`, read from its bytes (``state_wire``); an encoding
-        that reader does not take (not XCDR1 little-endian) goes through ``deserialize_message``;
-        None (counted as ``undecodable``) if neither reads it."""
+        """A raw peer UavState -> :class:`WireState` (the ``uav_state`` codec); an encoding the codec
+        does not take (not XCDR1 little-endian) is read by ``deserialize_message`` and re-serialised
+        for the codec; None (counted as ``undecodable``) if neither reads it."""
         try:
             return read_uav_state(data)
-        except ValueError:
+        except CdrError:
             pass
         msg = self._decode(data, UavState, topics.FLEET_STATE_SPEC)
         if msg is None:
             return None
-        return WireState(
-            int(msg.uav_id), int(msg.step), tuple(msg.sent_per_topic), bool(msg.final),
-            _to_peer_state(msg), _to_peer_fires(msg),
-        )  # fmt: skip
+        return read_uav_state(serialize_message(msg))
 
     def _on_state(self, data: bytes) -> None:
         w = self._read_state(data)
@@ -515,11 +414,12 @@ class UavAgentNode(Node):
         self.get_logger().info(f"ready for step 0 (world and {len(peers)} peers matched)")
 
     def _read_bundle(self, data: bytes) -> WireBundle | None:
-        """A raw SensorBundle -> :class:`WireBundle`, read from its bytes (``bundle_wire``); another
-        encoding goes through ``deserialize_message``; None (logged) if neither reads it."""
+        """A raw SensorBundle -> :class:`WireBundle` (the ``sensor_bundle`` codec); another encoding
+        is read by ``deserialize_message`` and re-serialised for the codec; None (logged) if
+        neither reads it."""
         try:
             return read_sensor_bundle(data)
-        except ValueError as fast_err:
+        except CdrError as fast_err:
             try:
                 msg = deserialize_message(data, SensorBundle)
             except RuntimeError as err:  # rclpy's RMWError: bytes that are no CDR of this type
@@ -529,7 +429,7 @@ class UavAgentNode(Node):
                     throttle_duration_sec=2.0,
                 )
                 return None
-        return WireBundle(_to_bundle(msg), int(msg.header.stamp.sec), int(msg.header.stamp.nanosec))
+        return read_sensor_bundle(serialize_message(msg))
 
     def _on_bundle(self, data: bytes) -> None:
         wb = self._read_bundle(data)
@@ -591,24 +491,16 @@ class UavAgentNode(Node):
         if out.perimeter is not None:
             self._perimeter_seq += 1
             pm = _from_perimeter(out, stamp, self._perimeter_seq)
-        sent = [0] * (1 + max(s.loss_index for s in topics.ALL_TOPICS if s.loss_index is not None))
-        sent[topics.FLEET_STATE_SPEC.loss_index] = 1
-        sent[topics.FLEET_FIRES_SPEC.loss_index] = 1
-        sent[topics.FLEET_PERIMETER_SPEC.loss_index] = int(pm is not None)
         fm = None
         if out.front is not None and self.agent.front is not None:
             self._front_seq += 1
             fm = _from_front(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
-        sent[topics.FLEET_FRONT_SPEC.loss_index] = int(fm is not None)
-        if self.search_link is not None:
-            for index, n in self.search_link.counts(coverage).items():
-                sent[index] = n
-        state = _add_fires(_from_state(out, stamp), out)
-        state.sent_per_topic = sent  # fires: 1, the part the state carries (its own loss draw)
-        state.final = final
+        counts = None if self.search_link is None else self.search_link.counts(coverage)
+        sent = sent_per_topic(pm is not None, fm is not None, counts)
         stamp_ns = stamp_to_ns(stamp)
+        state = state_bytes(out, stamp_ns, sent, final)
         if self.auth is not None:  # signed: the bytes that go out (auth.sign_serialized), kept as sent
-            state = self._signed(state, topics.FLEET_STATE_SPEC.name, out.step)
+            state = self.auth.sign_serialized(state, topics.FLEET_STATE_SPEC.name, uid, out.step)
             if pm is not None:
                 pm_step = stamp_to_step(stamp_ns, s_to_ns(self.cfg.control_period_s))
                 pm = self._signed(pm, topics.FLEET_PERIMETER_SPEC.name, pm_step)

@@ -39,10 +39,11 @@ Deviations from the paper, and why:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from fire_uav_common.angles import wrap_angle  # re-exported: callers import it from here
+from fire_uav_common.codecs.sensor_bundle import Samples  # re-exported: the EKF's input
 from fire_uav_common.terrain import Terrain
 
 from .errors import ConfigError
@@ -68,20 +69,6 @@ class EkfConfig:
         for name in ("sigma_gps_m", "sigma_alt_m", "sigma_gyro_radps"):
             if not getattr(self, name) > 0:
                 raise ConfigError(f"{name} must be > 0, got {getattr(self, name)}")
-
-
-@dataclass
-class Samples:
-    """Sensor samples of one control step, each row stamped with its sim time [s].
-
-    gps: (N, 3) rows (t_s, x_m, y_m); gps_var_m2: (N,) reported variance (<= 0: use config).
-    alt: (N, 2) rows (t_s, height_above_ground_m). gyro: (N, 2) rows (t_s, omega_z_radps).
-    """
-
-    gps: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    gps_var_m2: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    alt: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
-    gyro: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
 
 
 class StateEkf:

@@ -32,17 +32,18 @@ nothing about message validation; these rules are our choice (docs/security.md).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from enum import IntEnum
 
 from fire_uav_common import rng
+from fire_uav_common.codecs.uav_state import FireEntry, PeerFires, PeerState  # re-exported
 from fire_uav_common.constants import Objective
 from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
 from .errors import ConfigError
 
 __all__ = [
+    "FireEntry",
     "Outage",
     "PeerFires",
     "PeerLink",
@@ -76,61 +77,6 @@ class Outage:
             raise ConfigError(f"outage ids must be >= 0, got {self.from_id} -> {self.to_id}")
         if not self.end_s >= self.start_s:
             raise ConfigError(f"outage end_s {self.end_s} before start_s {self.start_s}")
-
-
-@dataclass(frozen=True)
-class FireEntry:
-    """One fire estimate as exchanged in UavState.fires (FireEstimate.msg), units in names."""
-
-    fire_id: int
-    active: bool
-    x_m: float
-    y_m: float
-    extent_m: float
-    vx_mps: float = 0.0
-    vy_mps: float = 0.0
-    last_measurement_s: float = 0.0  # sim time of the newest measurement fused in
-    front_x_m: float = math.nan
-    front_y_m: float = math.nan
-    max_spread_rate_mps: float = 0.0
-
-
-@dataclass(frozen=True)
-class PeerState:
-    """A peer's UavState, ROS-free (the node converts). Positions [m; map], yaw [rad]."""
-
-    uav_id: int
-    sequence: int
-    step: int
-    x_m: float
-    y_m: float
-    z_m: float
-    yaw_rad: float
-    objective: int
-    target_fire_id: int = -1
-    water_kg: float = 0.0
-    centroid_x_m: float = math.nan
-    centroid_y_m: float = math.nan
-
-    def finite(self) -> bool:
-        return all(math.isfinite(v) for v in (self.x_m, self.y_m, self.z_m, self.yaw_rad, self.water_kg))
-
-
-@dataclass(frozen=True)
-class PeerFires:
-    """A peer's fire picture (UavState.fires, fires_sequence), ROS-free; its own loss draw and count."""
-
-    uav_id: int
-    sequence: int
-    step: int
-    fires: tuple[FireEntry, ...] = ()
-
-    def finite(self) -> bool:
-        for f in self.fires:
-            vals = (f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps, f.last_measurement_s)
-            if not all(math.isfinite(v) for v in vals):
-                return False
-        return True
 
 
 @dataclass

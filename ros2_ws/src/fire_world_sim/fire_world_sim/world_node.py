@@ -17,6 +17,7 @@ import rclpy
 from builtin_interfaces.msg import Time
 from fire_uav_common import topics
 from fire_uav_common.auth import Authenticator, parse_key
+from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
 from fire_uav_common.constants import CellState, EventType, PayloadAction, VehicleStatus
 from fire_uav_common.lockstep import OfflineWindow, offline_uavs, parse_schedule
 from fire_uav_common.scenario import ScenarioError, load_scenario
@@ -41,7 +42,6 @@ from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
 
 from . import viz
-from .bundle_wire import write_sensor_bundle
 from .errors import ConfigError
 from .fires.raster import RasterFireModel
 from .world import Bundle, Command, Event, StepResult, World
@@ -549,7 +549,7 @@ class WorldNode(Node):
                 self.pub_grid.publish(self._grid_msg(r.stamp_ns))
 
     def _bundle_bytes(self, b: Bundle) -> bytes:
-        """``b`` as a serialised SensorBundle (``bundle_wire``), published as it is."""
+        """``b`` as a serialised SensorBundle (``fire_uav_common.codecs.sensor_bundle``), published as it is."""
         return write_sensor_bundle(b, self.world.scenario.sensors.gyro.sigma_radps)
 
     @staticmethod

@@ -12,34 +12,33 @@ receipt by each agent's own peer link (seeded rule of ``fire_uav_agent.peer_link
 node. A stopped agent (:meth:`Harness.stop`, a killed process) sends nothing more and is no longer
 waited for; the world lets its vehicle fall after the command timeout.
 
-The conversions between the world's Python types and the agent's are :func:`agent_bundle`,
-:func:`world_command` and :func:`peer_messages`, one function each; they round what the ROS
-messages carry as float32 (water gauge, altimeter range, raster cells, perimeter arrays) the
-way the messages do, so a harness run sees the numbers a ROS run sees.
+The sensor bundle and the peer state travel as the bytes the nodes publish, through the same
+codecs (``fire_uav_common.codecs``), so a harness run sees the numbers a ROS run sees (float32
+fields, stamps of whole nanoseconds). The perimeter map and the front picture, which the node
+builds as rclpy messages, are rounded here as those messages round them (:func:`peer_messages`).
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from fire_uav_common import topics
+from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle, write_sensor_bundle
+from fire_uav_common.codecs.uav_state import WireState, read_uav_state
 from fire_uav_common.constants import VehicleStatus
 from fire_uav_common.scenario import Scenario, load_scenario
-from fire_uav_common.stamps import ns_to_s, s_to_ns
 from fire_world_sim import world as wsim
 
 from ..agent_config import config_from_scenario
 from ..agent_core import Agent
 from ..agent_types import Bundle, PeerPerimeter, StepOutput
-from ..estimation import Samples
 from ..fire_front import FrontCells
 from ..front_consensus import PeerFront
+from ..outgoing import sent_per_topic, state_bytes
 from ..peer_gate import PeerGate, Rejected, RunStep
-from ..peer_link import FireEntry, PeerFires, PeerState
+from ..peer_link import PeerFires, PeerState
 
 __all__ = ["Harness", "agent_bundle", "peer_messages", "scenario_path", "world_command"]
 
@@ -62,38 +61,10 @@ def _f32(x: float) -> float:
     return float(np.float32(x))
 
 
-# --- conversions (the harness's counterpart of world_node._bundle_bytes and agent_node._to_*) ---
-def agent_bundle(b: wsim.Bundle) -> Bundle:
-    """World bundle -> agent bundle, as ``SensorBundle`` carries it (stamps [ns] -> [s])."""
-    gps = np.array([(ns_to_s(g.stamp_ns), g.x_m, g.y_m) for g in b.gps], dtype=float).reshape(-1, 3)
-    gps_var = np.array([g.variance_m2 for g in b.gps], dtype=float)
-    alt = np.array([(ns_to_s(a.stamp_ns), _f32(a.range_m)) for a in b.altimeter], dtype=float).reshape(-1, 2)
-    gyro = np.array([(ns_to_s(g.stamp_ns), g.omega_z_radps) for g in b.gyro], dtype=float).reshape(-1, 2)
-    fires = np.array([(ns_to_s(f.stamp_ns), f.x_m, f.y_m, f.extent_m) for f in b.fires], dtype=float).reshape(
-        -1, 4
-    )
-    c = b.cells
-    cells = None
-    cell_size_m = 0.0
-    if c is not None:
-        cell_size_m = _f32(c.cell_size_m)
-        if len(c.x_m) > 0 and len(c.x_m) == len(c.y_m) == len(c.state):
-            cells = (
-                np.asarray(c.x_m, dtype=np.float32).astype(float),
-                np.asarray(c.y_m, dtype=np.float32).astype(float),
-                np.asarray(c.state, dtype=np.uint8).astype(np.int64),
-            )
-    return Bundle(
-        step=int(b.step),
-        stamp_s=ns_to_s(b.stamp_ns),
-        samples=Samples(gps, gps_var, alt, gyro),
-        fires=fires,
-        water_kg=_f32(b.water_kg),
-        vehicle=int(b.vehicle_status),
-        control_period_s=float(b.control_period_s),
-        cells=cells,
-        cell_size_m=cell_size_m,
-    )
+# --- conversions -----------------------------------------------------------------------------------
+def agent_bundle(b: wsim.Bundle, gyro_sigma_radps: float) -> Bundle:
+    """World bundle -> agent bundle, through the bytes the world node publishes."""
+    return read_sensor_bundle(write_sensor_bundle(b, gyro_sigma_radps)).bundle
 
 
 def world_command(out: StepOutput) -> tuple[wsim.Command, list[int]]:
@@ -102,27 +73,12 @@ def world_command(out: StepOutput) -> tuple[wsim.Command, list[int]]:
     return wsim.Command(v, vz, om), [int(action) for action, _fire in out.payload_requests]
 
 
-def peer_messages(out: StepOutput, perimeter_sequence: int = 0) -> list[PeerMessage]:
-    """Agent output -> what its peers receive (``UavState`` with its fires, ``PerimeterMap``)."""
-    st = out.state.as_peer_state()
-    st = PeerState(**{**st.__dict__, "water_kg": _f32(st.water_kg)})
-    fires = tuple(
-        FireEntry(
-            e.fire_id,
-            e.active,
-            e.x_m,
-            e.y_m,
-            e.extent_m,
-            e.vx_mps,
-            e.vy_mps,
-            ns_to_s(s_to_ns(max(0.0, e.last_measurement_s) if math.isfinite(e.last_measurement_s) else 0.0)),
-            e.front_x_m,
-            e.front_y_m,
-            e.max_spread_rate_mps,
-        )  # fmt: skip
-        for e in out.fires
-    )
-    msgs: list[PeerMessage] = [st, PeerFires(out.state.uav_id, out.fires_sequence, out.step, fires)]
+def peer_messages(
+    out: StepOutput, stamp_ns: int, final: bool, perimeter_sequence: int = 0
+) -> tuple[bytes, list[PeerPerimeter | PeerFront]]:
+    """Agent output -> what its peers receive: the UavState's bytes (with the fire picture and the
+    count of the rest), and the perimeter map and front picture as their messages carry them."""
+    rest: list[PeerPerimeter | PeerFront] = []
     if out.perimeter is not None:
         fire_id, s = out.perimeter
         summary = {
@@ -132,10 +88,11 @@ def peer_messages(out: StepOutput, perimeter_sequence: int = 0) -> list[PeerMess
             "outer_visit_time_s": np.asarray(s["outer_visit_time_s"], dtype=np.float32).astype(float),
         }
         fid = int(fire_id) if fire_id < 2**31 else -1
-        msgs.append(PeerPerimeter(out.state.uav_id, perimeter_sequence, out.step, fid, summary))
+        rest.append(PeerPerimeter(out.state.uav_id, perimeter_sequence, out.step, fid, summary))
     if out.front is not None:
-        msgs.append(PeerFront(out.state.uav_id, out.state.sequence, out.step, front_as_sent(out.front)))  # type: ignore[arg-type]  # StepOutput.front is typed object (agent_types does not import fire_front)
-    return msgs
+        rest.append(PeerFront(out.state.uav_id, out.state.sequence, out.step, front_as_sent(out.front)))  # type: ignore[arg-type]  # StepOutput.front is typed object (agent_types does not import fire_front)
+    sent = sent_per_topic(out.perimeter is not None, out.front is not None)
+    return state_bytes(out, stamp_ns, sent, final), rest
 
 
 def front_as_sent(c: FrontCells) -> FrontCells:
@@ -189,6 +146,7 @@ class Harness:
             for i, a in enumerate(self.agents)
         ]
         self._perimeter_seq = [0] * n
+        self._gyro_sigma_radps = float(self.scenario.sensors.gyro.sigma_radps)
 
     @classmethod
     def from_file(
@@ -223,7 +181,7 @@ class Harness:
                 raise RuntimeError(
                     f"harness: agent {uid} would wait at step {b.step} for {self.gates[uid].wait.describe(b.step)}"
                 )
-            out = self.agents[uid].step(agent_bundle(run.bundle), run.inbox)
+            out = self.agents[uid].step(agent_bundle(run.bundle, self._gyro_sigma_radps), run.inbox)
             outs[uid] = out
             if out is None:
                 continue
@@ -233,26 +191,21 @@ class Harness:
                 continue
             if out.perimeter is not None:
                 self._perimeter_seq[uid] += 1
-            msgs = peer_messages(out, self._perimeter_seq[uid])
-            final = int(r.bundles[uid].vehicle_status) == int(VehicleStatus.CRASHED)
+            b = r.bundles[uid]
+            final = int(b.vehicle_status) == int(VehicleStatus.CRASHED)
+            data, rest = peer_messages(out, b.stamp_ns, final, self._perimeter_seq[uid])
+            wire = read_uav_state(data)
             for j in range(len(self.agents)):
                 if j != uid and j not in self.stopped:
-                    self._deliver(j, msgs, final)
+                    self._deliver(j, data, wire, rest)
         self.outputs = outs
         return r
 
-    def _deliver(self, j: int, msgs: list[PeerMessage], final: bool) -> None:
+    def _deliver(self, j: int, data: bytes, wire: WireState, rest: list[PeerPerimeter | PeerFront]) -> None:
         """One agent's step messages to agent ``j``'s gate, as the node hands them over (the state
-        first, with the count of what else was sent)."""
+        first: it says what else was sent)."""
         gate = self.gates[j]
-        state, fires, rest = msgs[0], msgs[1], msgs[2:]
-        assert isinstance(state, PeerState) and isinstance(fires, PeerFires)
-        sent = [0] * (1 + max(s.loss_index for s in topics.ALL_TOPICS if s.loss_index is not None))
-        sent[topics.FLEET_STATE_SPEC.draw_index] = sent[topics.FLEET_FIRES_SPEC.draw_index] = 1
-        for m in rest:
-            spec = topics.FLEET_PERIMETER_SPEC if isinstance(m, PeerPerimeter) else topics.FLEET_FRONT_SPEC
-            sent[spec.draw_index] += 1
-        self._decide(j, gate.on_state(b"", state, fires, tuple(sent), final))
+        self._decide(j, gate.on_state(data, wire.state, wire.fires, wire.sent_per_topic, wire.final))
         for m in rest:
             if isinstance(m, PeerPerimeter):
                 self._decide(j, gate.on_perimeter(b"", m))
