@@ -10,7 +10,11 @@ item 3 orders it, as six named stages:
 4. :meth:`Agent._decide` -- partition (FF Eqs. 6-7), target fire (Eq. 8), monitor role (PM) and
    the mission life-cycle (FF IV-D);
 5. :meth:`Agent._guide` -- the target of the objective and the control law (FF Eqs. 8-15);
-6. :meth:`Agent._publish` -- what the node publishes (:class:`StepOutput`).
+6. :meth:`Agent._compose_output` -- what the node publishes (:class:`StepOutput`).
+
+Each stage returns what it produces (:class:`Situation`, :class:`Guidance`, ...) and the next
+takes it as an argument; what crosses from one step to the next (the EKF, the peer link, the
+fire tracks, the last command and centroid) is kept on the agent and set in :meth:`Agent.step`.
 
 Positions are [m; map frame], yaw [rad], speeds [m/s], times [s of sim time].
 
@@ -90,6 +94,20 @@ class Situation:
     aim: tuple[FireEntry, ...]  # active fires as suppression sees them (centred on known fronts)
     lake: Lake | None  # nearest lake
     view: PlannerView
+    cell: np.ndarray  # the own Voronoi cell on the grid (bool per grid point, FF Eqs. 6-7)
+    front_aim: tuple[float, float] | None = None  # raster: the aim point on the front (tactics)
+
+
+@dataclass(frozen=True)
+class Guidance:
+    """What :meth:`Agent._guide` produced: the command and the point it steers to.
+
+    ``target_xy`` None: no target this step (on the ground); the agent keeps the previous one, which
+    the next step's mission life-cycle reads as the centroid (FF Eq. 13) and the UavState carries.
+    """
+
+    command: tuple[float, float, float]  # v_lin [m/s], v_z [m/s], omega_z [rad/s]
+    target_xy: tuple[float, float] | None = None
 
 
 # --- the agent --------------------------------------------------------------------------------
@@ -175,8 +193,8 @@ class Agent:
         self.last_command = np.zeros(3)
         self._last_vehicle = int(VehicleStatus.ON_GROUND)
         self._seq = 0
-        self._centroid = (cfg.start_pose[0], cfg.start_pose[1])
-        self._cell = np.ones(self.grid.points.shape[0], dtype=bool)
+        self._centroid = (cfg.start_pose[0], cfg.start_pose[1])  # the point the last step steered to
+        self._situation: Situation | None = None  # the last step's (for tests and benchmarks)
         self._start_xy = np.array(cfg.start_pose[:2], dtype=float)
         # raster suppression (issue [suppression]): front picture, sharing, tactic
         self.front: FrontPicture | None = None  # made at the first FireCells with a cell size
@@ -194,12 +212,23 @@ class Agent:
             layer_top_m=top,
         )
         self._peer_fronts: list[PeerFront] = []
-        self._front_aim: tuple[float, float] | None = None
         self._anchor: tuple[float, float] | None = None
         self.fronts_received = 0
         self._peer_motion: dict[int, tuple[int, float, float, float, float]] = {}  # j -> step, x, y, vx, vy
         self.avoidance_steps = 0  # control steps the separation filter changed the heading
         self.avoider = Avoider(cfg.separation)
+
+    @property
+    def _cell(self) -> np.ndarray:
+        """The own Voronoi cell of the last step (all of the grid before the first)."""
+        if self._situation is None:
+            return np.ones(self.grid.points.shape[0], dtype=bool)
+        return self._situation.cell
+
+    @property
+    def _front_aim(self) -> tuple[float, float] | None:
+        """The last step's aim point on the front (raster), read by the suppression benchmark."""
+        return None if self._situation is None else self._situation.front_aim
 
     # --- lockstep helper ---------------------------------------------------------------------
     def expected_peer_messages(self, step: int) -> set[tuple[int, int]]:
@@ -233,9 +262,12 @@ class Agent:
         s = self._estimate(bundle, vehicle)
         perimeters = self._link(bundle.step, inbox, events)
         active = self._fuse(bundle, vehicle, s, events)
-        sit = self._decide(bundle, vehicle, s, active, perimeters, events)
-        cmd = self._guide(sit, vehicle, s)
-        return self._publish(bundle, sit.decision, s, cmd, events, want_markers)
+        sit = self._decide(bundle, vehicle, s, active, perimeters, events, self._centroid)
+        guidance = self._guide(sit, vehicle, s)
+        self._situation = sit
+        if guidance.target_xy is not None:
+            self._centroid = guidance.target_xy
+        return self._compose_output(bundle, sit, s, guidance.command, events, want_markers)
 
     def _estimate(self, bundle: Bundle, vehicle: VehicleStatus) -> np.ndarray:
         """Stage 1, FF III-B: EKF over the step's samples; returns the estimate s = (x, y, z [m], yaw [rad]).
@@ -335,6 +367,7 @@ class Agent:
         active: tuple[FireEntry, ...],
         perimeters: list[PeerPerimeter],
         events: list[AgentEvent],
+        centroid_xy: tuple[float, float],
     ) -> Situation:
         """Stage 4: partition, target fire, monitor role and life-cycle; returns the :class:`Situation`.
 
@@ -342,6 +375,7 @@ class Agent:
         target fire of largest mass in the cell (Eq. 8 per fire, else the nearest), the fleet's
         staleness map, the fastest-spreading fronts and peers' perimeter maps (PM), this UAV's
         monitor role, and the mission life-cycle (FF IV-D; an OBJECTIVE event on a change).
+        ``centroid_xy``: the point the previous step steered to.
         """
         cfg = self.cfg
         t1 = bundle.stamp_s
@@ -354,14 +388,13 @@ class Agent:
         pos = np.array(s[:2])
         others = np.array(list(flying.values())).reshape(-1, 2)
         band = cfg.mission.safety_radius_m if cfg.mission.use_safety_band else None
-        self._cell = own_cell_on_grid(self.grid, pos, others, band)
+        cell = own_cell_on_grid(self.grid, pos, others, band)
         if vehicle == VehicleStatus.AIRBORNE:
             self.search.observe(t1, np.vstack([pos[None, :], others]))
         target_fire = -1
         if active:
             masses = [
-                float(gaussian_density(self.grid, [(f.x_m, f.y_m)], [f.extent_m])[self._cell].sum())
-                for f in active
+                float(gaussian_density(self.grid, [(f.x_m, f.y_m)], [f.extent_m])[cell].sum()) for f in active
             ]
             if max(masses) > 0:
                 target_fire = active[int(np.argmax(masses))].fire_id
@@ -371,7 +404,7 @@ class Agent:
         over_lake = lake is not None and lake.contains(float(s[0]), float(s[1]))
         self._collect_fronts(active)
         pview = PlannerView(
-            t1, cfg.uav_id, s, self.grid, self._cell, flying, active,
+            t1, cfg.uav_id, s, self.grid, cell, flying, active,
             cells=bundle.cells if vehicle == VehicleStatus.AIRBORNE else None,
             cell_size_m=float(bundle.cell_size_m),
             peer_roles={j: (int(p.objective), int(p.target_fire_id)) for j, p in peer_states.items()},
@@ -383,9 +416,9 @@ class Agent:
         monitor_fire = self.monitor_assigner(pview) if self.monitor_assigner is not None else -1
         prev_obj = self.mission.objective
         aim = self._aim(active)
-        release = None
+        release, front_aim = None, None
         if self.front is not None:
-            aim, release = self._target_front(bundle, s, aim)
+            aim, release, front_aim = self._target_front(bundle, s, aim, cell)
         dec = self.mission.step(
             MissionView(
                 t_s=t1,
@@ -396,7 +429,7 @@ class Agent:
                 all_out=self.fires.all_out(),
                 peer_objectives={j: p.objective for j, p in peer_states.items()},
                 over_lake=over_lake,
-                centroid_xy=self._centroid,
+                centroid_xy=centroid_xy,
                 target_fire_id=target_fire,
                 monitor_fire_id=monitor_fire,
                 release=release,
@@ -415,12 +448,12 @@ class Agent:
                     detail=f"{Objective(prev_obj).name} -> {dec.objective.name}",
                 )
             )
-        return Situation(dec, aim, lake, pview)
+        return Situation(dec, aim, lake, pview, cell, front_aim)
 
-    def _publish(
+    def _compose_output(
         self,
         bundle: Bundle,
-        dec: Decision,
+        sit: Situation,
         s: np.ndarray,
         cmd: tuple[float, float, float],
         events: list[AgentEvent],
@@ -433,7 +466,7 @@ class Agent:
         the fire picture with known fronts, the events, the markers when ``want_markers``, and a
         monitor's PerimeterMap every ``perimeter_every_steps`` steps.
         """
-        cfg = self.cfg
+        cfg, dec = self.cfg, sit.decision
         requests: list[tuple[int, int]] = []
         if dec.request is not None:
             requests.append(
@@ -479,13 +512,13 @@ class Agent:
             fires=self._with_fronts(self.fires.entries()),
             fires_sequence=self._seq,
             events=tuple(events),
-            markers=self._markers(dec) if want_markers else None,
+            markers=self._markers(dec, sit.cell) if want_markers else None,
             direct=dec.direct,
             perimeter=perimeter,
             front=self._front_message(bundle),
         )
 
-    def _guide(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray) -> tuple[float, float, float]:
+    def _guide(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray) -> Guidance:
         """Stage 5, FF Eqs. 8-15: the command (v_lin [m/s], v_z [m/s], omega_z [rad/s]) for the objective.
 
         SUPPRESS: centroid of the fire density in the own cell (Eq. 13) or, on an attack run,
@@ -496,14 +529,14 @@ class Agent:
         terrain. Zero on the ground before takeoff, after landing or a crash.
         """
         cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
-        dec, active, lake, pview = sit.decision, sit.aim, sit.lake, sit.view
+        dec, active, lake, pview, cell = sit.decision, sit.aim, sit.lake, sit.view, sit.cell
         obj = dec.objective
         if vehicle in (VehicleStatus.CRASHED, VehicleStatus.LANDED) or obj == Objective.LANDED:
-            return (0.0, 0.0, 0.0)
+            return Guidance((0.0, 0.0, 0.0))
         if obj == Objective.GROUNDED:
-            return (0.0, 0.0, 0.0)
+            return Guidance((0.0, 0.0, 0.0))
         if vehicle == VehicleStatus.ON_GROUND:  # takeoff slot reached: v >= v_stall and v_z > 0
-            return (lim.v_stall_mps, min(lim.vz_max_mps, cfg.gains.vz_cmd_max_mps), 0.0)
+            return Guidance((lim.v_stall_mps, min(lim.vz_max_mps, cfg.gains.vz_cmd_max_mps), 0.0))
         cruise = veh.flight_height_m
         if self.front is None:  # FF mode: altitude layers (GuidanceConfig.ff_layers)
             cruise = layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m)
@@ -513,8 +546,8 @@ class Agent:
         target: tuple[float, float]
         if obj == Objective.SUPPRESS and active:
             tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
-            if self._front_aim is not None:  # raster: the aim point on the front (tactics)
-                target = self._front_aim
+            if sit.front_aim is not None:  # raster: the aim point on the front (tactics)
+                target = sit.front_aim
             elif dec.direct:
                 target = (tgt.x_m, tgt.y_m)
                 if self.front is not None:
@@ -526,14 +559,14 @@ class Agent:
                 dens = gaussian_density(
                     self.grid, [(f.x_m, f.y_m) for f in active], [f.extent_m for f in active]
                 )  # Eq. 13
-                target = self._centroid_of(dens, (tgt.x_m, tgt.y_m))
+                target = self._centroid_of(dens, (tgt.x_m, tgt.y_m), cell)
         elif obj == Objective.REFILL and lake is not None:
             lake_xy = (lake.x_m, lake.y_m)
             if dec.direct:
                 target = lake_xy
             else:
                 dens = gaussian_density(self.grid, [lake_xy], [cfg.mission.sigma_water_m])  # Eq. 14
-                target = self._centroid_of(dens, lake_xy)
+                target = self._centroid_of(dens, lake_xy, cell)
             if (
                 math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m)
                 < lake.diameter_m / 2 + gd.lake_approach_margin_m
@@ -552,7 +585,7 @@ class Agent:
                 target = start  # final approach: straight at the own takeoff point (FF IV-D d)
             else:
                 dens = gaussian_density(self.grid, [start], [cfg.mission.sigma_landing_m])  # Eq. 15
-                target = self._centroid_of(dens, start)
+                target = self._centroid_of(dens, start, cell)
             if d < r:
                 v_cap = lim.v_stall_mps
                 low = gd.land_height_fraction * veh.landing_height_m
@@ -567,17 +600,18 @@ class Agent:
                     height = max(height, cruise)  # keep the layer over a landing right-of-way peer
                 agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
                 if agl < gd.touchdown_agl_fraction * veh.landing_height_m and d <= gd.touchdown_radius_m:
-                    return (0.0, -gd.touchdown_sink_mps, 0.0)  # below stall speed near the ground: it lands
+                    return Guidance((0.0, -gd.touchdown_sink_mps, 0.0))  # below stall speed: it lands
                 bearing = math.atan2(start[1] - pos[1], start[0] - pos[0])
                 if d < gd.go_around_radius_m and abs(math.remainder(bearing - float(s[3]), math.tau)) > (
                     gd.go_around_heading_rad
                 ):
                     # not lined up this close: a unicycle at v_stall circles a point inside its turning
                     # circle for ever, so fly straight out and come back lined up
-                    self._centroid = start
                     v, vz, _ = control_law(s, np.array(start), height, cfg.terrain, lim, cfg.gains, v_cap)
                     cmd = (v, vz, 0.0)
-                    return self._separate(s, cmd, start, pview, straight=True) if cfg.avoidance else cmd
+                    if cfg.avoidance:
+                        cmd = self._separate(s, cmd, start, pview, straight=True)
+                    return Guidance(cmd, start)
         else:  # SEARCH, MONITOR, or SUPPRESS/REFILL without fire/lake
             planner = self.planners.get(int(obj)) or self.search
             plan = planner.plan(dataclasses.replace(pview, target_fire_id=int(dec.target_fire_id)))
@@ -587,15 +621,14 @@ class Agent:
             if plan.waypoint_xy is not None:
                 target = (float(plan.waypoint_xy[0]), float(plan.waypoint_xy[1]))
             else:
-                target = self._centroid_of(np.asarray(plan.density, dtype=float), pos)
+                target = self._centroid_of(np.asarray(plan.density, dtype=float), pos, cell)
             if plan.height_m is not None:
                 height = plan.height_m
             v_cap = plan.speed_cap_mps
         if self.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
             height = self.tactic.layer_height_m(cfg.uav_id)
-        self._centroid = target
         cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
-        return self._separate(s, cmd, target, pview) if cfg.avoidance else cmd
+        return Guidance(self._separate(s, cmd, target, pview) if cfg.avoidance else cmd, target)
 
     def _separate(
         self,
@@ -741,32 +774,31 @@ class Agent:
         self._peer_fronts.clear()
 
     def _target_front(
-        self, bundle: Bundle, s: np.ndarray, aim: tuple[FireEntry, ...]
-    ) -> tuple[tuple[FireEntry, ...], bool | None]:
-        """Aim point on the front (Eq. 13' density, Lloyd centroid in the own cell, tactics) and the
-        release verdict. The active fire nearest the aim point is re-centred there (extent 0)."""
+        self, bundle: Bundle, s: np.ndarray, aim: tuple[FireEntry, ...], cell: np.ndarray
+    ) -> tuple[tuple[FireEntry, ...], bool | None, tuple[float, float] | None]:
+        """Aim point on the front (Eq. 13' density, Lloyd centroid in the own ``cell``, tactics), the
+        release verdict and the aim point (None: none). The active fire nearest the aim point is
+        re-centred there (extent 0)."""
         assert self.front is not None
-        self._front_aim = None
         front = self.front.front(bundle.stamp_s)
         if len(front) == 0 or not aim:
-            return aim, None if not aim else False
+            return aim, None if not aim else False, None
         if self.tactic.tactic == "flank" and self._anchor is None:
             from .tactics import choose_anchor
 
             self._anchor = choose_anchor(front)
         w = front_weights(front, self.tactic, self._anchor)
         dens = front_density(self.grid, front, w, self.tactic.sigma_m)
-        _, c = mass_centroid(self.grid.points, dens, self._cell, self.grid.cell_area_m2)
+        _, c = mass_centroid(self.grid.points, dens, cell, self.grid.cell_area_m2)
         res = self.grid.resolution_m
         ny, nx = self.grid.shape
         gj = np.clip(np.floor((front.x_m - self.grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
         gi = np.clip(np.floor((front.y_m - self.grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
-        in_cell = self._cell[gi * nx + gj]
+        in_cell = cell[gi * nx + gj]
         near = (float(s[0]), float(s[1])) if c is None else (float(c[0]), float(c[1]))
         xy = aim_on_front(near, front, w, in_cell)
         if xy is None:
-            return aim, False
-        self._front_aim = xy
+            return aim, False, None
         k = min(range(len(aim)), key=lambda n: math.hypot(aim[n].x_m - xy[0], aim[n].y_m - xy[1]))
         aim = tuple(
             dataclasses.replace(e, x_m=xy[0], y_m=xy[1], extent_m=0.0) if n == k else e
@@ -780,7 +812,7 @@ class Agent:
             speed * self.cfg.control_period_s,
             self.tactic,
         )
-        return aim, ok
+        return aim, ok, xy
 
     def _front_message(self, bundle: Bundle):
         """This step's FireFront payload (every ``front_every_steps`` steps), or None."""
@@ -794,13 +826,15 @@ class Agent:
             return None
         return min(self.cfg.lakes, key=lambda lk: math.hypot(lk.x_m - pos[0], lk.y_m - pos[1]))
 
-    def _centroid_of(self, density: np.ndarray, fallback_xy: tuple[float, float]) -> tuple[float, float]:
-        _, c = mass_centroid(self.grid.points, density, self._cell, self.grid.cell_area_m2)
+    def _centroid_of(
+        self, density: np.ndarray, fallback_xy: tuple[float, float], cell: np.ndarray
+    ) -> tuple[float, float]:
+        _, c = mass_centroid(self.grid.points, density, cell, self.grid.cell_area_m2)
         return (float(c[0]), float(c[1])) if c is not None else fallback_xy
 
-    def _markers(self, dec: Decision) -> MarkersData:
+    def _markers(self, dec: Decision, cell: np.ndarray) -> MarkersData:
         ny, nx = self.grid.shape
-        m = self._cell.reshape(ny, nx)
+        m = cell.reshape(ny, nx)
         inner = m.copy()
         inner[1:, :] &= m[:-1, :]
         inner[:-1, :] &= m[1:, :]
