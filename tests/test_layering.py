@@ -1,5 +1,5 @@
 """Layering: algorithm modules stay free of ROS (only node modules ``*_node.py`` and the adapters
-``ros_io.py``/``search_io.py`` may import rclpy); the report is ROS-free; the tools import ROS
+``ros_io.py``/``search_io.py``/``agent_io.py`` may import rclpy); the report is ROS-free; the tools import ROS
 only in the modules that run nodes; nothing edits ``sys.path`` outside the tests."""
 
 from __future__ import annotations
@@ -51,7 +51,11 @@ def _algorithm_modules() -> list[Path]:
     out = []
     for pkg in PACKAGES:
         for path in (ROOT / "ros2_ws/src" / pkg / pkg).rglob("*.py"):
-            if not path.name.endswith("_node.py") and path.name not in ("ros_io.py", "search_io.py"):
+            if not path.name.endswith("_node.py") and path.name not in (
+                "ros_io.py",
+                "search_io.py",
+                "agent_io.py",
+            ):
                 out.append(path)
     return out
 

@@ -1,16 +1,17 @@
 """ROS 2 node ``uav_agent``: a thin adapter around :class:`fire_uav_agent.agent_core.Agent`.
 
 One process per UAV in namespace ``/uav_<id>`` (docs/protocol.md "Agent, on SensorBundle k").
-This module owns parameters, subscriptions, publishers and the lockstep peer wait, and converts
-messages to arrays and back in one place (the ``_to_*`` / ``_from_*`` functions); all decisions
-are in the pure modules.
+This module owns the endpoints, the timers and the publishing; it hands every bundle and peer
+message to the :class:`~fire_uav_agent.peer_gate.PeerGate` and carries out its decisions. The
+parameters are listed in ``agent_params`` (declared by ``agent_io.read_node_config``), the sensor
+bundle and the peer state are read and written by the codecs (``fire_uav_common.codecs``), the
+other messages converted in ``agent_io``; all decisions are in the pure modules.
 """
 
 from __future__ import annotations
 
 import math
 
-import numpy as np
 import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
@@ -27,28 +28,29 @@ from fire_uav_msgs.msg import (
     SensorBundle,
     UavState,
 )
-from geometry_msgs.msg import Point, TwistStamped
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from geometry_msgs.msg import TwistStamped
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 from rclpy.serialization import deserialize_message, serialize_message
-from visualization_msgs.msg import Marker, MarkerArray
 
 from .agent_core import Agent
-from .agent_params import (
-    RCLPY_PARAMETERS,
-    NodeConfig,
-    ParamSpec,
-    declare_agent_parameters,
-    node_config,
-    unknown_parameters,
+from .agent_io import (
+    event_msg,
+    front_msg,
+    log_event,
+    make_executor,
+    markers_msg,
+    perimeter_msg,
+    profiled,
+    read_node_config,
+    spin_through_bad_messages,
+    tf_estimate_msg,
+    to_peer_front,
+    to_peer_perimeter,
 )
-from .agent_types import PeerPerimeter, StepOutput
+from .agent_types import StepOutput
 from .errors import ConfigError
-from .fire_front import FrontCells
-from .front_consensus import PeerFront
 from .outgoing import sent_per_topic, state_bytes
 from .peer_gate import (
     AskResend,
@@ -64,139 +66,6 @@ from .search_io import attach_search
 
 
 # --- conversions (the only place messages meet arrays) -----------------------------------------
-def _to_peer_perimeter(m: PerimeterMap, control_period_s: float) -> PeerPerimeter:
-    """A peer's PerimeterMap; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
-    summary = {
-        "center_x_m": float(m.center_x_m),
-        "center_y_m": float(m.center_y_m),
-        "outer_distance_m": np.asarray(m.outer_distance_m, dtype=float),
-        "outer_visit_time_s": np.asarray(m.outer_visit_time_s, dtype=float),
-    }
-    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
-    return PeerPerimeter(int(m.uav_id), int(m.sequence), step, int(m.fire_id), summary)
-
-
-def _from_perimeter(out: StepOutput, stamp: TimeMsg, seq: int) -> PerimeterMap | None:
-    if out.perimeter is None:
-        return None
-    fire_id, s = out.perimeter
-    m = PerimeterMap()
-    m.header.stamp = stamp
-    m.header.frame_id = "map"
-    m.uav_id, m.sequence, m.fire_id = out.state.uav_id, seq, int(fire_id) if fire_id < 2**31 else -1
-    m.center_x_m, m.center_y_m = s["center_x_m"], s["center_y_m"]
-    m.outer_distance_m = s["outer_distance_m"].astype(np.float32).tolist()
-    m.outer_visit_time_s = s["outer_visit_time_s"].astype(np.float32).tolist()
-    m.spread_rate_mps = s["spread_rate_mps"].astype(np.float32).tolist()
-    m.importance = s["importance"].astype(np.float32).tolist()
-    m.direction, m.direction_changes = int(s["direction"]), int(s["direction_changes"])
-    return m
-
-
-def _to_peer_front(m: FireFront, control_period_s: float) -> PeerFront:
-    """A peer's FireFront; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
-    state = (
-        np.frombuffer(bytes(m.state), dtype=np.uint8)
-        if isinstance(m.state, (bytes, bytearray))
-        else np.asarray(m.state, dtype=np.uint8)
-    )
-    cells = FrontCells(
-        np.asarray(m.x_m, dtype=float),
-        np.asarray(m.y_m, dtype=float),
-        state.astype(np.int64),
-        np.asarray(m.observed_s, dtype=float),
-        np.asarray(m.spread_rate_mps, dtype=float),
-    )  # raises ValueError on unequal lengths: the caller drops the message
-    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
-    return PeerFront(int(m.uav_id), int(m.sequence), step, cells)
-
-
-def _from_front(out: StepOutput, stamp: TimeMsg, seq: int, cell_size_m: float) -> FireFront | None:
-    c = out.front
-    if not isinstance(c, FrontCells):
-        return None
-    m = FireFront()
-    m.header.stamp = stamp
-    m.header.frame_id = "map"
-    m.uav_id, m.sequence, m.cell_size_m = out.state.uav_id, seq, float(cell_size_m)
-    m.x_m = np.asarray(c.x_m, dtype=np.float32).tolist()
-    m.y_m = np.asarray(c.y_m, dtype=np.float32).tolist()
-    m.state = np.asarray(c.state, dtype=np.uint8).tobytes()
-    m.observed_s = np.asarray(c.t_obs_s, dtype=float).tolist()
-    m.spread_rate_mps = np.asarray(c.ros_mps, dtype=np.float32).tolist()
-    return m
-
-
-def _markers(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:
-    md = out.markers
-    arr = MarkerArray()
-    if md is None:
-        return arr
-    z = float(out.state.s[2])
-    cell = Marker(ns=ns, id=0, type=Marker.POINTS, action=Marker.ADD)
-    cell.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in md.cell_boundary_xy]
-    cell.scale.x = cell.scale.y = 2.0
-    if not cell.points:  # no cell yet (or lost): remove the old one rather than send an empty POINTS
-        cell.action = Marker.DELETE
-    cell.color.g, cell.color.a = 1.0, 0.8
-    cen = Marker(ns=ns, id=1, type=Marker.SPHERE, action=Marker.ADD)
-    cen.pose.position = Point(x=md.centroid_xy[0], y=md.centroid_xy[1], z=z)
-    cen.scale.x = cen.scale.y = cen.scale.z = 6.0
-    cen.color.g, cen.color.b, cen.color.a = 1.0, 1.0, 1.0
-    txt = Marker(ns=ns, id=2, type=Marker.TEXT_VIEW_FACING, action=Marker.ADD, text=md.text)
-    txt.pose.position = Point(x=float(out.state.s[0]), y=float(out.state.s[1]), z=z + 15.0)
-    txt.scale.z = 10.0
-    txt.color.r = txt.color.g = txt.color.b = txt.color.a = 1.0
-    for m in (cell, cen, txt):
-        m.header.stamp = stamp
-        m.header.frame_id = "map"
-        arr.markers.append(m)
-    return arr
-
-
-# --- parameters ---------------------------------------------------------------------------------
-def _descriptor(spec: ParamSpec) -> ParameterDescriptor:
-    d = ParameterDescriptor(description=spec.description, read_only=spec.read_only)
-    if spec.float_range is not None:
-        d.floating_point_range = [
-            FloatingPointRange(from_value=spec.float_range[0], to_value=spec.float_range[1])
-        ]
-    if spec.int_range is not None:
-        d.integer_range = [IntegerRange(from_value=spec.int_range[0], to_value=spec.int_range[1], step=1)]
-    return d
-
-
-def read_node_config(node: Node) -> NodeConfig:
-    """Declare every parameter of :func:`declare_agent_parameters` on ``node`` and read them.
-
-    The node is built with ``automatically_declare_parameters_from_overrides``, so every name it
-    was given is declared already: an unknown one is refused (:class:`ConfigError`), a known one
-    declared again with its descriptor (the given value stays). ``fleet_key`` is undeclared once
-    read, so the node's parameter services do not hand it to other participants; it is never logged.
-    """
-    decl = declare_agent_parameters()
-    names = [name for name, _, _ in decl]
-    unknown = unknown_parameters(node.list_parameters([], 0).names, names)
-    if unknown:
-        raise ConfigError(
-            f"unknown parameter{'s' if len(unknown) > 1 else ''} {', '.join(unknown)} given to uav_agent "
-            f"(known: {', '.join(sorted(names))})"
-        )
-    for name, default, spec in decl:
-        if name in RCLPY_PARAMETERS:
-            node.set_parameters([Parameter(name, value=default)])
-            continue
-        if node.has_parameter(name):
-            node.undeclare_parameter(name)
-        node.declare_parameter(name, default, _descriptor(spec))
-    values = {name: node.get_parameter(name).value for name in names}
-    node.undeclare_parameter("fleet_key")
-    cfg = node_config(values, node.get_namespace())
-    if cfg.authenticator is None:
-        node.get_logger().warning("authentication off: any participant on the domain can speak for the fleet")
-    return cfg
-
-
 # --- the node ------------------------------------------------------------------------------------
 class UavAgentNode(Node):
     """``uav_agent``: see the package README for topics and parameters."""
@@ -324,7 +193,7 @@ class UavAgentNode(Node):
         msg = self._decode(data, PerimeterMap, topics.FLEET_PERIMETER_SPEC)
         if msg is None or msg.uav_id == self.cfg.uav_id:
             return
-        self._act(self.gate.on_perimeter(data, _to_peer_perimeter(msg, self.cfg.control_period_s)))
+        self._act(self.gate.on_perimeter(data, to_peer_perimeter(msg, self.cfg.control_period_s)))
 
     def _on_front(self, msg: FireFront) -> None:
         if msg.uav_id == self.cfg.uav_id:
@@ -332,7 +201,7 @@ class UavAgentNode(Node):
         step = stamp_to_step(stamp_to_ns(msg.header.stamp), s_to_ns(self.cfg.control_period_s))
         front = None
         try:
-            front = _to_peer_front(msg, self.cfg.control_period_s)
+            front = to_peer_front(msg, self.cfg.control_period_s)
         except ValueError as err:  # malformed: counted as arrived, its content dropped
             self.get_logger().warning(
                 f"FireFront from uav {msg.uav_id} dropped: {err}", throttle_duration_sec=5.0
@@ -348,12 +217,10 @@ class UavAgentNode(Node):
         only *when* a copy is asked for, never *what* the agent then decides.
         """
         j = d.peer
-        ev = MissionEvent(type=int(EventType.RESEND_REQUEST), uav_id=self.cfg.uav_id, peer_id=j, fire_id=-1)
-        ev.x_m = ev.y_m = math.nan
-        ev.value = float(d.step)
-        ev.detail = f"waited {d.waited_s:.0f} s for uav {j}'s step-{d.step} messages"
-        ev.header.frame_id = "map"
-        self.pub_events.publish(ev)
+        detail = f"waited {d.waited_s:.0f} s for uav {j}'s step-{d.step} messages"
+        self.pub_events.publish(
+            event_msg(EventType.RESEND_REQUEST, self.cfg.uav_id, j, value=d.step, detail=detail)
+        )
         self.get_logger().warning(f"step {d.step + 1}: asked uav {j} to resend its step-{d.step} messages")
 
     def _on_fleet_event(self, msg: MissionEvent) -> None:
@@ -406,11 +273,8 @@ class UavAgentNode(Node):
             if matched < len(others):
                 return  # discovered but not matched yet
         self._ready_timer.cancel()
-        ev = MissionEvent(type=int(EventType.AGENT_READY), uav_id=self.cfg.uav_id, peer_id=-1, fire_id=-1)
-        ev.x_m = ev.y_m = math.nan
-        ev.detail = "ready: world and peers matched"
-        ev.header.frame_id = "map"
-        self.pub_events.publish(ev)
+        ready = event_msg(EventType.AGENT_READY, self.cfg.uav_id, detail="ready: world and peers matched")
+        self.pub_events.publish(ready)
         self.get_logger().info(f"ready for step 0 (world and {len(peers)} peers matched)")
 
     def _read_bundle(self, data: bytes) -> WireBundle | None:
@@ -465,21 +329,6 @@ class UavAgentNode(Node):
         self._publish(out, TimeMsg(sec=wb.stamp_sec, nanosec=wb.stamp_nanosec), coverage, final)
 
     # --- output ---------------------------------------------------------------------------------------
-    def _publish_tf_estimate(self, out: StepOutput, stamp: TimeMsg) -> None:
-        """``/tf``: ``map -> uav_<k>/estimate``, this agent's own pose estimate (x, y, z [m], yaw [rad])."""
-        from geometry_msgs.msg import TransformStamped
-        from tf2_msgs.msg import TFMessage
-
-        if getattr(self, "_pub_tf", None) is None:
-            self._pub_tf = topics.publisher(self, topics.TF_SPEC)
-        x, y, z, yaw = (float(v) for v in out.state.s[:4])
-        t = TransformStamped()
-        t.header.stamp, t.header.frame_id = stamp, "map"
-        t.child_frame_id = f"uav_{self.cfg.uav_id}/estimate"
-        t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = x, y, z
-        t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-        self._pub_tf.publish(TFMessage(transforms=[t]))
-
     def _signed(self, msg, topic: str, step: int) -> bytes:
         """``msg`` serialised and signed for ``topic`` (its auth field zero until now)."""
         return self.auth.sign_serialized(serialize_message(msg), topic, self.cfg.uav_id, step)
@@ -490,11 +339,11 @@ class UavAgentNode(Node):
         pm = None
         if out.perimeter is not None:
             self._perimeter_seq += 1
-            pm = _from_perimeter(out, stamp, self._perimeter_seq)
+            pm = perimeter_msg(out, stamp, self._perimeter_seq)
         fm = None
         if out.front is not None and self.agent.front is not None:
             self._front_seq += 1
-            fm = _from_front(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
+            fm = front_msg(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
         counts = None if self.search_link is None else self.search_link.counts(coverage)
         sent = sent_per_topic(pm is not None, fm is not None, counts)
         stamp_ns = stamp_to_ns(stamp)
@@ -544,74 +393,15 @@ class UavAgentNode(Node):
         answer.append((self.pub_cmd, cmd))
         self._answer = (out.step, answer)
         if out.markers is not None:
-            self.pub_viz.publish(_markers(out, stamp, f"uav_{uid}"))
-        self._publish_tf_estimate(out, stamp)
+            self.pub_viz.publish(markers_msg(out, stamp, f"uav_{uid}"))
+        if getattr(self, "_pub_tf", None) is None:
+            self._pub_tf = topics.publisher(self, topics.TF_SPEC)
+        self._pub_tf.publish(tf_estimate_msg(out, stamp, uid))
         for ev in out.events:
-            m = MissionEvent(
-                type=ev.type, uav_id=uid, peer_id=ev.peer_id, fire_id=int(ev.fire_id) if ev.fire_id < 2**31 else -1,
-                x_m=float(ev.x_m), y_m=float(ev.y_m), value=float(ev.value), detail=ev.detail,
-            )  # fmt: skip
-            m.header.stamp = stamp
-            m.header.frame_id = "map"
-            self.pub_events.publish(m)
-            log = self.get_logger()
-            if ev.type == EventType.PEER_CRASHED:
-                log.warning(
-                    f"step {out.step}: peer {ev.peer_id} declared crashed ({int(ev.value)} missed steps)"
-                )
-            elif ev.type == EventType.PEER_REJOINED:
-                log.info(f"step {out.step}: peer {ev.peer_id} rejoined")
-            elif ev.type == EventType.FIRE_DETECTED:
-                log.info(f"step {out.step}: fire {ev.fire_id} detected at ({ev.x_m:.0f}, {ev.y_m:.0f})")
-            elif ev.type == EventType.OBJECTIVE:
-                log.info(f"step {out.step}: objective {ev.detail}")
-
-
-def make_executor():
-    """The executor an agent spins on: ``fire_uav_common.ros_io.make_executor`` (the lean
-    executor, a wait set built once; ``FIRE_UAV_EXECUTOR=rclpy`` for rclpy's
-    SingleThreadedExecutor), made explicit so that the profile hook below wraps exactly what
-    runs. rclpy's EventsExecutor (rclpy.experimental) was tried for the issue [scale]: with this
-    rclpy wheel the messaging skeleton did not finish its steps and its processes ignored
-    SIGINT/SIGTERM, so it is not offered (docs/profile.md)."""
-    from fire_uav_common.ros_io import make_executor as _make
-
-    return _make()
-
-
-def _profiled(fn, path: str) -> None:
-    """Run ``fn()`` under cProfile and write the statistics to ``path`` (FIRE_UAV_PROFILE_DIR)."""
-    import cProfile
-    import time
-
-    # the main thread's CPU time: on a shared, oversubscribed machine wall time would charge a
-    # call for every moment the process waited for a core (Fast DDS's threads are not counted)
-    prof = cProfile.Profile(time.thread_time)
-    try:
-        prof.runcall(fn)
-    finally:
-        prof.dump_stats(path)
-
-
-def _spin_through_bad_messages(executor, node: UavAgentNode) -> None:
-    """``executor.spin()``, except that a message rclpy cannot convert to Python is dropped.
-
-    A fuzzed peer message (issue "hardening") can fail inside rclpy's ``take_message``, before any
-    callback of ours runs; ``spin()`` would then end the agent. The message is counted as a
-    rejection ("undecodable") and the agent spins on; any other error still ends it.
-    """
-    while rclpy.ok():
-        try:
-            executor.spin_once()
-        except RuntimeError as err:
-            if "Unable to convert" not in str(err):
-                raise
-            node.agent.link.count_rejection("undecodable")
-            node.get_logger().warning(
-                f"dropped a message rclpy could not decode: {err} "
-                f"(rejections so far: {node.agent.link.reject_reasons})",
-                throttle_duration_sec=5.0,
+            self.pub_events.publish(
+                event_msg(ev.type, uid, ev.peer_id, ev.fire_id, ev.x_m, ev.y_m, ev.value, ev.detail, stamp)
             )
+            log_event(self.get_logger(), out.step, ev)
 
 
 def main(args: list[str] | None = None) -> int:
@@ -631,9 +421,9 @@ def main(args: list[str] | None = None) -> int:
         executor.add_node(node)
         prof_dir = os.environ.get("FIRE_UAV_PROFILE_DIR")
         if prof_dir:  # profile the whole spin: executor + callbacks (docs/profile.md)
-            _profiled(executor.spin, os.path.join(prof_dir, f"agent_{node.cfg.uav_id}.prof"))
+            profiled(executor.spin, os.path.join(prof_dir, f"agent_{node.cfg.uav_id}.prof"))
         else:
-            _spin_through_bad_messages(executor, node)
+            spin_through_bad_messages(executor, node)
     except (ConfigError, ScenarioError) as e:
         rclpy.logging.get_logger("uav_agent").error(str(e))
         code = 2

@@ -1,4 +1,4 @@
-"""Fuzz of the agent's readers (the codecs, ``agent_node._to_peer_perimeter``) and the peer link behind them.
+"""Fuzz of the agent's readers (the codecs, ``agent_io.to_peer_perimeter``) and the peer link behind them.
 
 Random field values within the message types' ranges (NaN, inf, huge arrays, any id, any enum
 value, any step and sequence): a conversion never raises, and the peer link then accepts or
@@ -12,7 +12,7 @@ import pytest
 pytest.importorskip("fire_uav_msgs.msg")
 
 from builtin_interfaces.msg import Time
-from fire_uav_agent.agent_node import _to_peer_perimeter
+from fire_uav_agent.agent_io import to_peer_perimeter as _to_peer_perimeter
 from fire_uav_agent.peer_gate import step_verdict as _step_verdict
 from fire_uav_agent.peer_link import PeerLink, Verdict
 from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle
