@@ -48,7 +48,7 @@ class GuidanceConfig:
     touchdown_radius_m: float = 2.5  # [m] touch down only this close to the takeoff point (FF IV-D d)
     go_around_radius_m: float = 25.0  # [m] this close to the takeoff point, not lined up: fly straight out
     go_around_heading_rad: float = 0.5  # [rad] "lined up": heading within this of the bearing to the point
-    # FF mode (analytic fires): altitude layers around the flight height, our addition (issue 16): at
+    # FF mode (analytic fires): altitude layers around the flight height, our addition: at
     # 100 m/s a peer closes 20 m per control step and turns at 10 rad/s, so the velocity-obstacle
     # filter alone let two UAVs crossing at a drop point pass at 3.6 m (8 UAVs); two layers 14 m
     # apart (23 and 37 m AGL for 30 m, inside the 40 m altimeter range) keep even-odd pairs apart

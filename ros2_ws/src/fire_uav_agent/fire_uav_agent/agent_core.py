@@ -560,7 +560,6 @@ class Agent:
             for e in active
         )  # fmt: skip
 
-    # --- raster suppression (issue [suppression]; fire_front, front_consensus, tactics) ---------
     # --- helpers --------------------------------------------------------------------------------
     def _nearest_lake(self, pos: np.ndarray) -> Lake | None:
         if not self.cfg.lakes:

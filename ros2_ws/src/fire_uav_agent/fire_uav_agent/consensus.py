@@ -59,7 +59,7 @@ evidence on a stale estimate was the other half of that path: an estimate predic
 seconds with a wrong drift sat 50+ m from the fire, a UAV flew over the estimate, saw nothing
 and declared the fire out, and the freshest-status rule spread it.
 
-**Raster fires (issue [suppression]).** The negative-evidence rule above assumes that a fire
+**Raster fires.** The negative-evidence rule above assumes that a fire
 still burning is in sight from near its centre (FF III-C step 4: FF's fires are Gaussians around
 their centre). A raster fire's reported centre is the centroid of its burned ground and its
 extent the radius of that area (100-200 m for a fire of a few ha, above the 70 m sensor range),

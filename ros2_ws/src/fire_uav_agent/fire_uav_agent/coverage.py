@@ -155,7 +155,7 @@ _SURE_M = 1e-6  # a point this far inside (outside) every half-plane is in (out)
 def own_cell_on_grid(
     grid: Grid, p_i: np.ndarray, others: np.ndarray, safety_radius_m: float | None = None
 ) -> np.ndarray:
-    """:func:`own_cell` on ``grid.points``, the same mask, in ~1/5 of the time (issue [scale]).
+    """:func:`own_cell` on ``grid.points``, the same mask, in ~1/5 of the time (every agent partitions the grid every control step).
 
     The cell is convex, so on each grid row it is an interval of x. The row's bounds come from
     the half-planes in closed form, widened and narrowed by 1e-6 m of projection. Points that
@@ -278,8 +278,8 @@ def control_law(
     under a UAV at speed v on a grade G = |grad E| rises or falls at up to v G, and the commanded
     climb rate is capped at vz_cap = min(vz_max, ``vz_cmd_max_mps``). Where v G > vz_cap the
     height error grows without bound -- at 100 m/s on a 29 % slope the ground rises 29 m/s
-    against a 20 m/s climb, and the UAV flew into the hill (grass_brush_hill, the collisions of
-    issue [suppression] happened at ~0 m above ground, where the layers no longer separate).
+    against a 20 m/s climb, and the UAV flew into the hill (grass_brush_hill, the collisions
+    there happened at ~0 m above ground, where the layers no longer separate).
     So v_lin is also capped at ``climb_fraction`` x vz_cap / G, with G the larger grade of here
     and ``terrain_lookahead_s`` ahead along the heading (any heading: the UAV may turn), never
     below v_stall. Above a grade of climb_fraction x vz_cap / v_stall (0.36 for the defaults) the

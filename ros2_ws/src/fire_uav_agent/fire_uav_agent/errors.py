@@ -6,7 +6,7 @@ handling) catch ``ValueError``, and a bad value is what each of them reports.
 
 from __future__ import annotations
 
-__all__ = ["AgentError", "ConfigError", "InputError", "WireError"]
+__all__ = ["AgentError", "ConfigError", "InputError"]
 
 
 class AgentError(Exception):
@@ -23,6 +23,4 @@ class InputError(AgentError, ValueError):
     block, cell list or peer row)."""
 
 
-class WireError(AgentError, ValueError):
-    """Bytes that are not the CDR encoding the byte reader takes (truncated, lengths past the end,
-    another encoding); the reader's caller falls back to ``deserialize_message`` or drops them."""
+# Bytes that are no CDR of a message are fire_uav_common.cdr.CdrError (the codecs' error).

@@ -9,7 +9,7 @@ A receiver merges every cell with :meth:`FrontPicture.merge` (newest observation
 
 Why the recent cells: a cell an agent never had on its own front (first seen BURNED after a drop,
 or burning inside the fire) was otherwise never shared, so a peer that saw it BURNING earlier kept
-it on its front for ever (2026-12-01, found by a strict xfail in test_front_consensus.py). Every
+it on its front for ever (test_front_consensus.py has the case). Every
 new sighting now reaches the peers, repeated in each message for ``recent_s`` (3 messages at the
 default 1 Hz), so one lost message does not lose it. With a connected fleet and
 no new sightings, every agent's front converges to the same set after as many rounds as the

@@ -21,7 +21,7 @@ crashed peer that is heard again rejoins. Id validity is checked before the loss
 draw needs a valid sender id); the other checks come after it, so a lost message is never
 also counted as rejected.
 
-No single message can poison the bookkeeping (issue "hardening"): messages are ordered by
+No single message can poison the bookkeeping: messages are ordered by
 ``(step, sequence)`` with the step first, and the step must lie in a window around the step being
 run, so a forged ``sequence = 2**32 - 1`` is rejected as implausible instead of becoming the bar
 every later genuine message fails. A message of a newer step whose sequence went *down* is a

@@ -16,7 +16,7 @@ heading change of up to 1 rad per 0.1 s control step is available and the filter
 the heading (speed kept at the law's value, lowered to stall speed when no heading is clear).
 Positions [m; map frame], velocities [m/s], headings [rad] ccw from +x.
 
-Right of way (our addition, issue 16). At 100 m/s two UAVs close 20 m per 0.1 s step and turn at
+Right of way (our addition). At 100 m/s two UAVs close 20 m per 0.1 s step and turn at
 up to 10 rad/s, so a peer's straight-line prediction from its last two states is wrong exactly
 when it matters (after a drop a UAV reverses towards the lake; measured: 3.0-3.6 m passes, 8
 UAVs). So within ``yield_m`` of a peer with the right of way (the lower uav id) a UAV only flies
@@ -24,7 +24,7 @@ headings that do not close on that peer's position (``cos(heading, bearing from 
 full speed; the peer keeps its course. The lowest id of a cluster always proceeds (no deadlock:
 a symmetric "both turn away" rule kept two UAVs on opposite sides of a fire from ever reaching it).
 
-Intent of a turning peer (our addition, issue 16; FF is silent). Every UavState carries the
+Intent of a turning peer (our addition; FF is silent). Every UavState carries the
 centroid its sender steers at (FF Eqs. 8-12: the control law turns the unicycle towards it at up
 to 10 rad/s). So a peer with the right of way within ``yield_m`` is checked twice: on its straight
 line, and flying at the same speed straight at its centroid when that is more than

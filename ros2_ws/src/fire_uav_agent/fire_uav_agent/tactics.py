@@ -15,8 +15,8 @@ of the own cell nearest that centroid, so a UAV always flies at burning edge cel
 
 * ``head`` -- head attack, fastest front first: w_i = (R_i / R_max)^p + w_min, with R_i the rate
   of spread toward cell i (PM Eq. 1 per direction). For uniform fuel, Byram's fireline
-  intensity I = H w R is proportional to R, so this weights by intensity too (the issue's
-  "rate of spread or fireline intensity"); p = 2 concentrates the fleet on the head.
+  intensity I = H w R is proportional to R, so this weights by intensity too ("rate of
+  spread or fireline intensity"); p = 2 concentrates the fleet on the head.
 * ``flank`` -- flank attack from an anchor point: the anchor is the slowest front cell (the
   heel, where the fire backs into the wind: safe, low intensity) chosen once, and
   w_i = exp(-(d_i - d_min) / L) + w_min with d_i the distance from the anchor. Cells near the

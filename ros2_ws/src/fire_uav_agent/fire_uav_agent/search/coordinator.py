@@ -157,7 +157,7 @@ def _finite_candidate(m: CandidateMessage, n: int) -> bool:
     )
 
 
-# --- the path follower -----------------------------------------------------------------------------
+# --- balancing and MST sessions -------------------------------------------------------------------
 @dataclass
 class _Balance:
     candidate: CandidateMessage

@@ -73,6 +73,7 @@ class SearchConfig:
             raise SearchConfigError("lookahead_m, capture_m and speed_mps must be > 0")
 
 
+# --- the path follower -----------------------------------------------------------------------------
 class SearchPlanner:
     """Planner for Objective.SEARCH: a carrot ``lookahead_m`` ahead on the own STC path.
 
@@ -142,6 +143,3 @@ class SearchPlanner:
             return PlannerTarget(waypoint_xy=(float(p[0]), float(p[1])), speed_cap_mps=cfg.speed_mps)
         wp = path.positions_at(np.array(self.s_m + cfg.lookahead_m))
         return PlannerTarget(waypoint_xy=(float(wp[0]), float(wp[1])), speed_cap_mps=cfg.speed_mps)
-
-
-# --- balancing and MST sessions -------------------------------------------------------------------
