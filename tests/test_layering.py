@@ -20,7 +20,7 @@ PACKAGES = [
 TOOLS_ROS_MODULES = {"fire_mission": {"runner.py"}, "fire_bench": {"skeleton.py"}, "fire_report": set()}
 # ROS adapter modules besides the nodes: the spin loop, the agent's search adapter, the recording's
 # raw subscriptions, the world's message builders
-ROS_ADAPTERS = {"ros_io.py", "search_io.py", "raw_topics.py", "ros_messages.py"}
+ROS_ADAPTERS = {"ros_io.py", "search_io.py", "agent_io.py", "raw_topics.py", "ros_messages.py"}
 ROS_MODULES = (
     "rclpy",
     "fire_uav_msgs",

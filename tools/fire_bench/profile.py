@@ -2,7 +2,7 @@
 
 ``harness``: the real World and Agents in one process (no DDS), ``--steps`` steps of
 ``--uavs`` UAVs; profiles only the agents' ``Agent.step`` calls and prints the share of each
-stage (_estimate/_link/_fuse/_decide/_guide/_publish) and the top functions.
+stage (_estimate/_link/_fuse/_decide/_guide/_compose_output) and the top functions.
 
 ``process``: a real mission (``fire_mission.runner``, ``--max-duration`` s of mission time)
 with every agent under cProfile (``FIRE_UAV_PROFILE_DIR``, see ``agent_node.main``); prints
@@ -25,7 +25,7 @@ import tempfile
 import time
 from pathlib import Path
 
-STAGES = ("_estimate", "_link", "_fuse", "_decide", "_guide", "_publish")
+STAGES = ("_estimate", "_link", "_fuse", "_decide", "_guide", "_compose_output")
 
 
 def _stage_table(stats: pstats.Stats, total_s: float, steps: int) -> str:

@@ -7,11 +7,11 @@ TwistStamped answering that step (lockstep), ``--steps`` times; prints steps per
 one peer message per step), subscribes to every peer's, and answers with its command. No
 estimation, consensus or control: what is left is the cost of DDS + rclpy for this topology.
 ``--wire bytes`` (the default): the messages travel as the fleet's do: the world
-writes each bundle as CDR bytes (``fire_world_sim.bundle_wire``) and publishes them raw, an agent
-reads its bundle and every peer state from their bytes (``fire_uav_agent.bundle_wire``,
-``state_wire``) and publishes its state as serialised bytes; signing is left out. ``--wire
-messages``: rclpy messages end to end (bundles of ``sensor_msgs/Imu`` objects, typed takes), as
-the fleet sent them before it wrote bundles and states as bytes.
+writes each bundle as CDR bytes (``fire_uav_common.codecs.sensor_bundle``) and publishes them raw,
+an agent reads its bundle and every peer state from their bytes (the same codec,
+``fire_uav_common.codecs.uav_state``) and publishes its state as serialised bytes; signing is left
+out. ``--wire messages``: rclpy messages end to end (bundles of ``sensor_msgs/Imu`` objects, typed
+takes), as the fleet sent them before it wrote bundles and states as bytes.
 ``--peer-messages 2``: the older protocol with two peer messages per step (messages only): a UavState without fires
 and a FireEstimateArray (two fires) on /fleet/fires.
 
@@ -113,9 +113,10 @@ class SkeletonWorld(Node):
         self.full = full
         self.as_bytes = wire == "bytes"  # the fleet's wire (module docstring)
         if self.as_bytes:  # world role only: the world package is imported here, not per bundle
-            from fire_world_sim import bundle_wire, sensors, world
+            from fire_uav_common.codecs import sensor_bundle
+            from fire_world_sim import sensors, world
 
-            self._wire, self._sensors, self._world = bundle_wire, sensors, world
+            self._wire, self._sensors, self._world = sensor_bundle, sensors, world
         self.clock_pub = topics.publisher(self, topics.CLOCK_SPEC)
         self.sensor_pubs = [topics.publisher(self, topics.SENSORS_SPEC, uav_id=i) for i in range(n)]
         self.answered: set[int] = set()
@@ -275,8 +276,8 @@ class SkeletonAgent(Node):
             self.fires_pub = topics.publisher(self, topics.FLEET_FIRES_SPEC)
         self.as_bytes = wire == "bytes"  # the fleet's wire (module docstring)
         if self.as_bytes:
-            from fire_uav_agent.bundle_wire import read_sensor_bundle
-            from fire_uav_agent.state_wire import read_uav_state
+            from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle
+            from fire_uav_common.codecs.uav_state import read_uav_state
 
             self._read_bundle, self._read_state = read_sensor_bundle, read_uav_state
         topics.subscription(self, topics.SENSORS_SPEC, self.on_bundle, raw=self.as_bytes)

@@ -19,6 +19,7 @@ from fire_uav_common import scenario as sc
 from fire_uav_common.terrain import Lake, Terrain
 
 from .coverage import ControlGains, VehicleLimits
+from .errors import ConfigError
 from .peer_link import Outage
 from .separation import SeparationConfig
 
@@ -47,7 +48,7 @@ class GuidanceConfig:
     touchdown_radius_m: float = 2.5  # [m] touch down only this close to the takeoff point (FF IV-D d)
     go_around_radius_m: float = 25.0  # [m] this close to the takeoff point, not lined up: fly straight out
     go_around_heading_rad: float = 0.5  # [rad] "lined up": heading within this of the bearing to the point
-    # FF mode (analytic fires): altitude layers around the flight height, our addition (issue 16): at
+    # FF mode (analytic fires): altitude layers around the flight height, our addition: at
     # 100 m/s a peer closes 20 m per control step and turns at 10 rad/s, so the velocity-obstacle
     # filter alone let two UAVs crossing at a drop point pass at 3.6 m (8 UAVs); two layers 14 m
     # apart (23 and 37 m AGL for 30 m, inside the 40 m altimeter range) keep even-odd pairs apart
@@ -59,9 +60,9 @@ class GuidanceConfig:
         for f in dataclasses.fields(self):
             name, value = f.name, getattr(self, f.name)
             if not value >= 0:
-                raise ValueError(f"GuidanceConfig.{name} must be >= 0, got {value}")
+                raise ConfigError(f"GuidanceConfig.{name} must be >= 0, got {value}")
         if not 0 < self.land_flat_fraction < 1:
-            raise ValueError(
+            raise ConfigError(
                 f"GuidanceConfig.land_flat_fraction must be in (0, 1), got {self.land_flat_fraction}"
             )
 
@@ -102,18 +103,18 @@ class AgentConfig:
 
     def __post_init__(self) -> None:
         if not 0 <= self.uav_id < self.uav_count:
-            raise ValueError(
+            raise ConfigError(
                 f"uav_id must be in 0..uav_count-1, got uav_id={self.uav_id}, uav_count={self.uav_count}"
             )
         if not self.control_period_s > 0 or not self.physics_period_s > 0:
-            raise ValueError("control_period_s and physics_period_s must be > 0")
+            raise ConfigError("control_period_s and physics_period_s must be > 0")
         if self.crash_threshold_steps < 1:
-            raise ValueError(f"crash_threshold_steps must be >= 1, got {self.crash_threshold_steps}")
+            raise ConfigError(f"crash_threshold_steps must be >= 1, got {self.crash_threshold_steps}")
         if not 0.0 <= self.loss_probability <= 1.0:
-            raise ValueError(f"loss_probability must be in [0, 1], got {self.loss_probability}")
+            raise ConfigError(f"loss_probability must be in [0, 1], got {self.loss_probability}")
         for k, f in enumerate(self.prior_fires):
             if len(f) != 3 or not all(math.isfinite(v) for v in f) or not f[2] > 0:
-                raise ValueError(f"prior_fires[{k}] must be finite (x_m, y_m, extent_m > 0), got {f!r}")
+                raise ConfigError(f"prior_fires[{k}] must be finite (x_m, y_m, extent_m > 0), got {f!r}")
 
     # --- views of the sub-configs (read-only) --------------------------------------------------
     @property
@@ -182,6 +183,8 @@ def config_from_scenario(
     (runner flags); ``agent_options`` are further :class:`AgentConfig` fields (monitor_alpha, ...).
     """
     n = int(uav_count if uav_count is not None else scenario.uavs.count)
+    if not 0 <= uav_id < n:  # before the start poses are indexed by it
+        raise ConfigError(f"uav_id must be in 0..uav_count-1, got uav_id={uav_id}, uav_count={n}")
     a = scenario.area
     mission = scenario.mission
     if crash_threshold_steps is not None:

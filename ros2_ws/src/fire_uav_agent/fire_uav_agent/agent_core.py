@@ -10,7 +10,11 @@ item 3 orders it, as six named stages:
 4. :meth:`Agent._decide` -- partition (FF Eqs. 6-7), target fire (Eq. 8), monitor role (PM) and
    the mission life-cycle (FF IV-D);
 5. :meth:`Agent._guide` -- the target of the objective and the control law (FF Eqs. 8-15);
-6. :meth:`Agent._publish` -- what the node publishes (:class:`StepOutput`).
+6. :meth:`Agent._compose_output` -- what the node publishes (:class:`StepOutput`).
+
+Each stage returns what it produces (:class:`Situation`, :class:`Guidance`, ...) and the next
+takes it as an argument; what crosses from one step to the next (the EKF, the peer link, the
+fire tracks, the last command and centroid) is kept on the agent and set in :meth:`Agent.step`.
 
 Positions are [m; map frame], yaw [rad], speeds [m/s], times [s of sim time].
 
@@ -31,7 +35,6 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass
 
 import numpy as np
 from fire_uav_common.constants import EventType, Objective, PayloadAction, VehicleStatus
@@ -41,25 +44,21 @@ from fire_uav_common.topics import FLEET_FRONT_SPEC, FLEET_PERIMETER_SPEC
 from .agent_config import AgentConfig, GuidanceConfig, config_from_scenario
 from .agent_types import AgentEvent, Bundle, MarkersData, OwnState, PeerPerimeter, StepOutput
 from .consensus import ConsensusConfig, FireConsensus
-from .coverage import control_law, gaussian_density, make_grid, mass_centroid, own_cell_on_grid
+from .coverage import gaussian_density, make_grid, own_cell_on_grid
 from .estimation import EkfConfig, StateEkf
-from .fire_front import FrontConfig, FrontPicture
-from .front_consensus import FrontSharing, PeerFront
+from .fire_front import FrontPicture
+from .front_consensus import PeerFront
+from .guidance import Guidance, Guide, Situation
 from .mission import Decision, Mission, MissionConfig, MissionView
 from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
+from .peer_gate import inbox_order
 from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
-from .separation import Avoider, hold_layer, peer_rows
+from .raster_role import RasterSuppression
+from .separation import PeerAvoidance
 from .staleness_search import StalenessSearch
 from .tactics import (
     TacticConfig,
-    aim_on_front,
-    direct_run_point,
-    front_density,
-    front_weights,
-    layer_height,
-    raster_layers,
-    release_now,
 )
 
 __all__ = [
@@ -79,16 +78,6 @@ __all__ = [
     "StepOutput",
     "config_from_scenario",
 ]
-
-
-@dataclass(frozen=True)
-class Situation:
-    """What :meth:`Agent._decide` found and :meth:`Agent._guide` acts on (one control step)."""
-
-    decision: Decision
-    aim: tuple[FireEntry, ...]  # active fires as suppression sees them (centred on known fronts)
-    lake: Lake | None  # nearest lake
-    view: PlannerView
 
 
 # --- the agent --------------------------------------------------------------------------------
@@ -174,31 +163,45 @@ class Agent:
         self.last_command = np.zeros(3)
         self._last_vehicle = int(VehicleStatus.ON_GROUND)
         self._seq = 0
-        self._centroid = (cfg.start_pose[0], cfg.start_pose[1])
-        self._cell = np.ones(self.grid.points.shape[0], dtype=bool)
-        self._start_xy = np.array(cfg.start_pose[:2], dtype=float)
-        # raster suppression (issue [suppression]): front picture, sharing, tactic
-        self.front: FrontPicture | None = None  # made at the first FireCells with a cell size
-        self.front_sharing = FrontSharing()
-        layers, step, top = raster_layers(  # the altitude stack over a raster fire
-            cfg.vehicle.collision_radius_m,
-            cfg.sensors.altimeter.max_range_m,
-            cfg.guidance.refill_height_fraction * cfg.vehicle.refill_height_m,
-        )
-        self.tactic = TacticConfig(
-            tactic=cfg.mission.tactic,
-            release_radius_m=0.8 * cfg.drop_radius_m,
-            layers=layers,
-            layer_step_m=step,
-            layer_top_m=top,
-        )
-        self._peer_fronts: list[PeerFront] = []
-        self._front_aim: tuple[float, float] | None = None
-        self._anchor: tuple[float, float] | None = None
-        self.fronts_received = 0
-        self._peer_motion: dict[int, tuple[int, float, float, float, float]] = {}  # j -> step, x, y, vx, vy
-        self.avoidance_steps = 0  # control steps the separation filter changed the heading
-        self.avoider = Avoider(cfg.separation)
+        self._centroid = (cfg.start_pose[0], cfg.start_pose[1])  # the point the last step steered to
+        self._situation: Situation | None = None  # the last step's (for tests and benchmarks)
+        self.raster = RasterSuppression(cfg, self.grid)  # idle until a bundle carries FireCells
+        lim = cfg.limits
+        self.avoidance = PeerAvoidance(
+            cfg.uav_id, cfg.control_period_s, cfg.separation, lim.v_stall_mps, lim.v_max_mps, lim.omega_max_radps
+        )  # fmt: skip
+        self.guide = Guide(cfg, self.grid, self.planners, self.search, self.raster, self.link, self.avoidance)
+
+    # --- views of the parts (read by tests and benchmarks) -----------------------------------------
+    @property
+    def front(self) -> FrontPicture | None:
+        """The raster front picture (None: no raster fire seen yet)."""
+        return self.raster.front
+
+    @property
+    def tactic(self) -> TacticConfig:
+        return self.raster.tactic
+
+    @property
+    def fronts_received(self) -> int:
+        return self.raster.fronts_received
+
+    @property
+    def avoidance_steps(self) -> int:
+        """Control steps the separation filter changed the heading."""
+        return self.avoidance.steps_changed
+
+    @property
+    def _cell(self) -> np.ndarray:
+        """The own Voronoi cell of the last step (all of the grid before the first)."""
+        if self._situation is None:
+            return np.ones(self.grid.points.shape[0], dtype=bool)
+        return self._situation.cell
+
+    @property
+    def _front_aim(self) -> tuple[float, float] | None:
+        """The last step's aim point on the front (raster), read by the suppression benchmark."""
+        return None if self._situation is None else self._situation.front_aim
 
     # --- lockstep helper ---------------------------------------------------------------------
     def expected_peer_messages(self, step: int) -> set[tuple[int, int]]:
@@ -232,9 +235,12 @@ class Agent:
         s = self._estimate(bundle, vehicle)
         perimeters = self._link(bundle.step, inbox, events)
         active = self._fuse(bundle, vehicle, s, events)
-        sit = self._decide(bundle, vehicle, s, active, perimeters, events)
-        cmd = self._guide(sit, vehicle, s)
-        return self._publish(bundle, sit.decision, s, cmd, events, want_markers)
+        sit = self._decide(bundle, vehicle, s, active, perimeters, events, self._centroid)
+        guidance = self._guide(sit, vehicle, s)
+        self._situation = sit
+        if guidance.target_xy is not None:
+            self._centroid = guidance.target_xy
+        return self._compose_output(bundle, sit, s, guidance.command, events, want_markers)
 
     def _estimate(self, bundle: Bundle, vehicle: VehicleStatus) -> np.ndarray:
         """Stage 1, FF III-B: EKF over the step's samples; returns the estimate s = (x, y, z [m], yaw [rad]).
@@ -268,10 +274,9 @@ class Agent:
         (PM), which are merged in :meth:`_decide`.
         """
         cfg = self.cfg
-        msgs = sorted(
-            inbox,
-            key=lambda m: (m.step, m.uav_id if isinstance(m.uav_id, int) else -1, isinstance(m, PeerFires)),
-        )
+        # the gate hands them in this order already; sorted here too (a no-op then) so that a direct
+        # caller in arrival order gets the same result
+        msgs = sorted(inbox, key=inbox_order)
         perimeters: list[PeerPerimeter] = []
         for m in msgs:
             if isinstance(m, PeerState):
@@ -287,7 +292,7 @@ class Agent:
                 if m.uav_id == cfg.uav_id or not 0 <= m.uav_id < cfg.uav_count:
                     continue
                 if not self.link.is_lost(m.uav_id, m.step, FLEET_FRONT_SPEC.draw_index):
-                    self._peer_fronts.append(m)
+                    self.raster.peer_fronts.append(m)
             else:
                 self.link.receive_fires(m, now_step=step)
         if step >= 1:
@@ -314,7 +319,7 @@ class Agent:
         self.fires.predict(cfg.control_period_s)
         new_ids = self.fires.fuse(self.link.alive_fires(), t1)
         det = bundle.fires if vehicle == VehicleStatus.AIRBORNE else np.zeros((0, 4))
-        self._fuse_front(bundle, vehicle, t1)  # first: its burning cells gate negative evidence
+        self.raster.fuse(bundle, vehicle, t1)  # first: its burning cells gate negative evidence
         burning = None if self.front is None else self.front.burning_xy(t1)
         new_ids += self.fires.observe(det, (float(s[0]), float(s[1])), t1, burning)
         for fid in new_ids:
@@ -335,6 +340,7 @@ class Agent:
         active: tuple[FireEntry, ...],
         perimeters: list[PeerPerimeter],
         events: list[AgentEvent],
+        centroid_xy: tuple[float, float],
     ) -> Situation:
         """Stage 4: partition, target fire, monitor role and life-cycle; returns the :class:`Situation`.
 
@@ -342,6 +348,7 @@ class Agent:
         target fire of largest mass in the cell (Eq. 8 per fire, else the nearest), the fleet's
         staleness map, the fastest-spreading fronts and peers' perimeter maps (PM), this UAV's
         monitor role, and the mission life-cycle (FF IV-D; an OBJECTIVE event on a change).
+        ``centroid_xy``: the point the previous step steered to.
         """
         cfg = self.cfg
         t1 = bundle.stamp_s
@@ -354,14 +361,13 @@ class Agent:
         pos = np.array(s[:2])
         others = np.array(list(flying.values())).reshape(-1, 2)
         band = cfg.mission.safety_radius_m if cfg.mission.use_safety_band else None
-        self._cell = own_cell_on_grid(self.grid, pos, others, band)
+        cell = own_cell_on_grid(self.grid, pos, others, band)
         if vehicle == VehicleStatus.AIRBORNE:
             self.search.observe(t1, np.vstack([pos[None, :], others]))
         target_fire = -1
         if active:
             masses = [
-                float(gaussian_density(self.grid, [(f.x_m, f.y_m)], [f.extent_m])[self._cell].sum())
-                for f in active
+                float(gaussian_density(self.grid, [(f.x_m, f.y_m)], [f.extent_m])[cell].sum()) for f in active
             ]
             if max(masses) > 0:
                 target_fire = active[int(np.argmax(masses))].fire_id
@@ -371,7 +377,7 @@ class Agent:
         over_lake = lake is not None and lake.contains(float(s[0]), float(s[1]))
         self._collect_fronts(active)
         pview = PlannerView(
-            t1, cfg.uav_id, s, self.grid, self._cell, flying, active,
+            t1, cfg.uav_id, s, self.grid, cell, flying, active,
             cells=bundle.cells if vehicle == VehicleStatus.AIRBORNE else None,
             cell_size_m=float(bundle.cell_size_m),
             peer_roles={j: (int(p.objective), int(p.target_fire_id)) for j, p in peer_states.items()},
@@ -383,9 +389,10 @@ class Agent:
         monitor_fire = self.monitor_assigner(pview) if self.monitor_assigner is not None else -1
         prev_obj = self.mission.objective
         aim = self._aim(active)
-        release = None
+        release, front_aim = None, None
         if self.front is not None:
-            aim, release = self._target_front(bundle, s, aim)
+            speed = max(cfg.limits.v_stall_mps, float(self.last_command[0]))
+            aim, release, front_aim = self.raster.target(bundle, s, aim, cell, speed)
         dec = self.mission.step(
             MissionView(
                 t_s=t1,
@@ -396,7 +403,7 @@ class Agent:
                 all_out=self.fires.all_out(),
                 peer_objectives={j: p.objective for j, p in peer_states.items()},
                 over_lake=over_lake,
-                centroid_xy=self._centroid,
+                centroid_xy=centroid_xy,
                 target_fire_id=target_fire,
                 monitor_fire_id=monitor_fire,
                 release=release,
@@ -415,12 +422,12 @@ class Agent:
                     detail=f"{Objective(prev_obj).name} -> {dec.objective.name}",
                 )
             )
-        return Situation(dec, aim, lake, pview)
+        return Situation(dec, aim, lake, pview, cell, front_aim)
 
-    def _publish(
+    def _compose_output(
         self,
         bundle: Bundle,
-        dec: Decision,
+        sit: Situation,
         s: np.ndarray,
         cmd: tuple[float, float, float],
         events: list[AgentEvent],
@@ -433,7 +440,7 @@ class Agent:
         the fire picture with known fronts, the events, the markers when ``want_markers``, and a
         monitor's PerimeterMap every ``perimeter_every_steps`` steps.
         """
-        cfg = self.cfg
+        cfg, dec = self.cfg, sit.decision
         requests: list[tuple[int, int]] = []
         if dec.request is not None:
             requests.append(
@@ -479,184 +486,15 @@ class Agent:
             fires=self._with_fronts(self.fires.entries()),
             fires_sequence=self._seq,
             events=tuple(events),
-            markers=self._markers(dec) if want_markers else None,
+            markers=self._markers(dec, sit.cell) if want_markers else None,
             direct=dec.direct,
             perimeter=perimeter,
-            front=self._front_message(bundle),
+            front=self.raster.message(bundle),
         )
 
-    def _guide(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray) -> tuple[float, float, float]:
-        """Stage 5, FF Eqs. 8-15: the command (v_lin [m/s], v_z [m/s], omega_z [rad/s]) for the objective.
-
-        SUPPRESS: centroid of the fire density in the own cell (Eq. 13) or, on an attack run,
-        the target fire itself; REFILL: the lake density (Eq. 14), low and slow near the lake
-        (FF IV-D b); LAND: the start-point density (Eq. 15), descending inside
-        ``guidance.land_approach_radius_m``; SEARCH / MONITOR: the planner's waypoint or density.
-        The target goes through the control law (Eqs. 10-12) at the objective's height above
-        terrain. Zero on the ground before takeoff, after landing or a crash.
-        """
-        cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
-        dec, active, lake, pview = sit.decision, sit.aim, sit.lake, sit.view
-        obj = dec.objective
-        if vehicle in (VehicleStatus.CRASHED, VehicleStatus.LANDED) or obj == Objective.LANDED:
-            return (0.0, 0.0, 0.0)
-        if obj == Objective.GROUNDED:
-            return (0.0, 0.0, 0.0)
-        if vehicle == VehicleStatus.ON_GROUND:  # takeoff slot reached: v >= v_stall and v_z > 0
-            return (lim.v_stall_mps, min(lim.vz_max_mps, cfg.gains.vz_cmd_max_mps), 0.0)
-        cruise = veh.flight_height_m
-        if self.front is None:  # FF mode: altitude layers (GuidanceConfig.ff_layers)
-            cruise = layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m)
-        height = cruise
-        v_cap = None
-        pos = (float(s[0]), float(s[1]))
-        target: tuple[float, float]
-        if obj == Objective.SUPPRESS and active:
-            tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
-            if self._front_aim is not None:  # raster: the aim point on the front (tactics)
-                target = self._front_aim
-            elif dec.direct:
-                target = (tgt.x_m, tgt.y_m)
-                if self.front is not None:
-                    # raster with no front left (contained): a direct run sent every stalled UAV
-                    # to the one track centre (two collided there); each flies at its own point
-                    # of a circle around it instead (tactics.direct_run_point)
-                    target = direct_run_point(target, cfg.uav_id, self.tactic)
-            else:
-                dens = gaussian_density(
-                    self.grid, [(f.x_m, f.y_m) for f in active], [f.extent_m for f in active]
-                )  # Eq. 13
-                target = self._centroid_of(dens, (tgt.x_m, tgt.y_m))
-        elif obj == Objective.REFILL and lake is not None:
-            lake_xy = (lake.x_m, lake.y_m)
-            if dec.direct:
-                target = lake_xy
-            else:
-                dens = gaussian_density(self.grid, [lake_xy], [cfg.mission.sigma_water_m])  # Eq. 14
-                target = self._centroid_of(dens, lake_xy)
-            if (
-                math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m)
-                < lake.diameter_m / 2 + gd.lake_approach_margin_m
-            ):
-                height = gd.refill_height_fraction * veh.refill_height_m  # low ...
-                v_cap = (
-                    lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
-                )  # ... and slow
-        elif obj == Objective.LAND:
-            start = (float(self._start_xy[0]), float(self._start_xy[1]))
-            d = math.hypot(pos[0] - start[0], pos[1] - start[1])
-            r = gd.land_approach_radius_m
-            x0, x1, y0, y1 = cfg.area_m
-            home_in_area = x0 <= start[0] <= x1 and y0 <= start[1] <= y1
-            if d < r or not home_in_area:
-                target = start  # final approach: straight at the own takeoff point (FF IV-D d)
-            else:
-                dens = gaussian_density(self.grid, [start], [cfg.mission.sigma_landing_m])  # Eq. 15
-                target = self._centroid_of(dens, start)
-            if d < r:
-                v_cap = lim.v_stall_mps
-                low = gd.land_height_fraction * veh.landing_height_m
-                flat = gd.land_flat_fraction
-                height = low + (cruise - low) * max(0.0, (d - flat * r) / ((1.0 - flat) * r))
-                below = [
-                    (p.x_m, p.y_m, p.z_m)
-                    for j, p in self.link.alive_states().items()
-                    if j < cfg.uav_id and p.objective not in (Objective.GROUNDED, Objective.LANDED)
-                ]
-                if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
-                    height = max(height, cruise)  # keep the layer over a landing right-of-way peer
-                agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
-                if agl < gd.touchdown_agl_fraction * veh.landing_height_m and d <= gd.touchdown_radius_m:
-                    return (0.0, -gd.touchdown_sink_mps, 0.0)  # below stall speed near the ground: it lands
-                bearing = math.atan2(start[1] - pos[1], start[0] - pos[0])
-                if d < gd.go_around_radius_m and abs(math.remainder(bearing - float(s[3]), math.tau)) > (
-                    gd.go_around_heading_rad
-                ):
-                    # not lined up this close: a unicycle at v_stall circles a point inside its turning
-                    # circle for ever, so fly straight out and come back lined up
-                    self._centroid = start
-                    v, vz, _ = control_law(s, np.array(start), height, cfg.terrain, lim, cfg.gains, v_cap)
-                    cmd = (v, vz, 0.0)
-                    return self._separate(s, cmd, start, pview, straight=True) if cfg.avoidance else cmd
-        else:  # SEARCH, MONITOR, or SUPPRESS/REFILL without fire/lake
-            planner = self.planners.get(int(obj)) or self.search
-            plan = planner.plan(dataclasses.replace(pview, target_fire_id=int(dec.target_fire_id)))
-            if plan is None:
-                plan = self.search.plan(pview)
-            assert plan is not None, "the staleness search always returns a target"
-            if plan.waypoint_xy is not None:
-                target = (float(plan.waypoint_xy[0]), float(plan.waypoint_xy[1]))
-            else:
-                target = self._centroid_of(np.asarray(plan.density, dtype=float), pos)
-            if plan.height_m is not None:
-                height = plan.height_m
-            v_cap = plan.speed_cap_mps
-        if self.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
-            height = self.tactic.layer_height_m(cfg.uav_id)
-        self._centroid = target
-        cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
-        return self._separate(s, cmd, target, pview) if cfg.avoidance else cmd
-
-    def _separate(
-        self,
-        s: np.ndarray,
-        cmd: tuple[float, float, float],
-        target: tuple[float, float],
-        pview: PlannerView,
-        straight: bool = False,
-    ) -> tuple[float, float, float]:
-        """Turn-rate-limited avoidance (:mod:`.separation`) of the peers' predicted motion, every phase.
-
-        Peers' positions are their step k-1 estimates (time t_k), moved to t_{k+1} by the velocity
-        of their last two states; the heading the control law wants is replaced when a peer would
-        come closer than ``separation.radius_m`` within the horizon (turn at up to omega_max).
-        """
-        cfg, lim = self.cfg, self.cfg.limits
-        T = cfg.control_period_s
-        rows = []
-        right_of_way = []  # lower ids have the right of way (separation module doc)
-        for j, p in sorted(self.link.alive_states().items()):
-            if p.objective in (Objective.GROUNDED, Objective.LANDED):
-                continue
-            old = self._peer_motion.get(j)
-            vx = vy = 0.0
-            if old is not None and p.step > old[0]:
-                dt = (p.step - old[0]) * T
-                vx, vy = (p.x_m - old[1]) / dt, (p.y_m - old[2]) / dt
-                if math.hypot(vx, vy) > 1.5 * lim.v_max_mps:  # a jump (rejoin, GPS reset): no velocity
-                    vx = vy = 0.0
-            elif old is not None:
-                vx, vy = old[3], old[4]
-            if old is None or p.step != old[0]:
-                self._peer_motion[j] = (p.step, p.x_m, p.y_m, vx, vy)
-            lead = (self.last_step + 1 - p.step) * T  # from the peer's t to our t_{k+1}
-            for row in peer_rows(
-                (p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy),
-                (p.centroid_x_m, p.centroid_y_m),
-                lim.v_stall_mps,
-                cfg.separation,
-                (float(s[0]), float(s[1])),
-                j < cfg.uav_id,
-            ):
-                rows.append(row)
-                right_of_way.append(j < cfg.uav_id)
-        if not rows:
-            return cmd
-        v, vz, om = cmd
-        want = float(s[3]) if straight else math.atan2(target[1] - s[1], target[0] - s[0])
-        head, changed, clear = self.avoider.step(
-            (float(s[0]), float(s[1]), float(s[2])),
-            max(v, lim.v_stall_mps),
-            want,
-            np.array(rows),
-            np.array(right_of_way, bool),
-        )
-        if not changed:
-            return cmd
-        self.avoidance_steps += 1
-        err = float(np.arctan2(math.sin(head - s[3]), math.cos(head - s[3])))
-        om = max(-lim.omega_max_radps, min(lim.omega_max_radps, err / T))
-        return (v if clear else lim.v_stall_mps, vz, om)
+    def _guide(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray) -> Guidance:
+        """Stage 5, FF Eqs. 8-15: the command for the objective (:class:`.guidance.Guide`)."""
+        return self.guide.run(sit, vehicle, s, self.last_step)
 
     # --- perimeter monitoring (PM) ----------------------------------------------------------------
     def assign_monitor(self, view: PlannerView) -> int:
@@ -722,85 +560,15 @@ class Agent:
             for e in active
         )  # fmt: skip
 
-    # --- raster suppression (issue [suppression]; fire_front, front_consensus, tactics) ---------
-    def _fuse_front(self, bundle: Bundle, vehicle: VehicleStatus, t_s: float) -> None:
-        """Own FireCells (airborne) and the peers' shared fronts into this UAV's front picture."""
-        if self.front is None and bundle.cell_size_m > 0:
-            self.front = FrontPicture(FrontConfig(self.cfg.area_m, float(bundle.cell_size_m)))
-        if self.front is None:
-            self._peer_fronts.clear()
-            return
-        if vehicle == VehicleStatus.AIRBORNE and bundle.cells is not None:
-            self.front.observe(*bundle.cells, t_s)
-        for pf in self._peer_fronts:
-            try:
-                self.front.merge(pf.cells)
-                self.fronts_received += 1
-            except ValueError:
-                pass  # malformed peer message: ignored
-        self._peer_fronts.clear()
-
-    def _target_front(
-        self, bundle: Bundle, s: np.ndarray, aim: tuple[FireEntry, ...]
-    ) -> tuple[tuple[FireEntry, ...], bool | None]:
-        """Aim point on the front (Eq. 13' density, Lloyd centroid in the own cell, tactics) and the
-        release verdict. The active fire nearest the aim point is re-centred there (extent 0)."""
-        assert self.front is not None
-        self._front_aim = None
-        front = self.front.front(bundle.stamp_s)
-        if len(front) == 0 or not aim:
-            return aim, None if not aim else False
-        if self.tactic.tactic == "flank" and self._anchor is None:
-            from .tactics import choose_anchor
-
-            self._anchor = choose_anchor(front)
-        w = front_weights(front, self.tactic, self._anchor)
-        dens = front_density(self.grid, front, w, self.tactic.sigma_m)
-        _, c = mass_centroid(self.grid.points, dens, self._cell, self.grid.cell_area_m2)
-        res = self.grid.resolution_m
-        ny, nx = self.grid.shape
-        gj = np.clip(np.floor((front.x_m - self.grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
-        gi = np.clip(np.floor((front.y_m - self.grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
-        in_cell = self._cell[gi * nx + gj]
-        near = (float(s[0]), float(s[1])) if c is None else (float(c[0]), float(c[1]))
-        xy = aim_on_front(near, front, w, in_cell)
-        if xy is None:
-            return aim, False
-        self._front_aim = xy
-        k = min(range(len(aim)), key=lambda n: math.hypot(aim[n].x_m - xy[0], aim[n].y_m - xy[1]))
-        aim = tuple(
-            dataclasses.replace(e, x_m=xy[0], y_m=xy[1], extent_m=0.0) if n == k else e
-            for n, e in enumerate(aim)
-        )
-        speed = max(self.cfg.limits.v_stall_mps, float(self.last_command[0]))
-        ok = release_now(
-            bundle.cells,
-            (float(s[0]), float(s[1])),
-            float(s[3]),
-            speed * self.cfg.control_period_s,
-            self.tactic,
-        )
-        return aim, ok
-
-    def _front_message(self, bundle: Bundle):
-        """This step's FireFront payload (every ``front_every_steps`` steps), or None."""
-        if self.front is None or bundle.step % max(1, self.cfg.front_every_steps) != 0:
-            return None
-        return self.front_sharing.message(self.front, bundle.stamp_s)
-
     # --- helpers --------------------------------------------------------------------------------
     def _nearest_lake(self, pos: np.ndarray) -> Lake | None:
         if not self.cfg.lakes:
             return None
         return min(self.cfg.lakes, key=lambda lk: math.hypot(lk.x_m - pos[0], lk.y_m - pos[1]))
 
-    def _centroid_of(self, density: np.ndarray, fallback_xy: tuple[float, float]) -> tuple[float, float]:
-        _, c = mass_centroid(self.grid.points, density, self._cell, self.grid.cell_area_m2)
-        return (float(c[0]), float(c[1])) if c is not None else fallback_xy
-
-    def _markers(self, dec: Decision) -> MarkersData:
+    def _markers(self, dec: Decision, cell: np.ndarray) -> MarkersData:
         ny, nx = self.grid.shape
-        m = self._cell.reshape(ny, nx)
+        m = cell.reshape(ny, nx)
         inner = m.copy()
         inner[1:, :] &= m[:-1, :]
         inner[:-1, :] &= m[1:, :]

@@ -1,26 +1,26 @@
 """ROS 2 node ``uav_agent``: a thin adapter around :class:`fire_uav_agent.agent_core.Agent`.
 
 One process per UAV in namespace ``/uav_<id>`` (docs/protocol.md "Agent, on SensorBundle k").
-This module owns parameters, subscriptions, publishers and the lockstep peer wait, and converts
-messages to arrays and back in one place (the ``_to_*`` / ``_from_*`` functions); all decisions
-are in the pure modules.
+This module owns the endpoints, the timers and the publishing; it hands every bundle and peer
+message to the :class:`~fire_uav_agent.peer_gate.PeerGate` and carries out its decisions. The
+parameters are listed in ``agent_params`` (declared by ``agent_io.read_node_config``), the sensor
+bundle and the peer state are read and written by the codecs (``fire_uav_common.codecs``), the
+other messages converted in ``agent_io``; all decisions are in the pure modules.
 """
 
 from __future__ import annotations
 
 import math
-import re
 
-import numpy as np
 import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
-from fire_uav_common.auth import Authenticator, parse_key
-from fire_uav_common.constants import EventType, FireStatus, PayloadAction, VehicleStatus
-from fire_uav_common.lockstep import OfflineWindow, parse_schedule
-from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
+from fire_uav_common.cdr import CdrError
+from fire_uav_common.codecs.sensor_bundle import WireBundle, read_sensor_bundle
+from fire_uav_common.codecs.uav_state import WireState, read_uav_state
+from fire_uav_common.constants import EventType, PayloadAction, VehicleStatus
+from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_step
 from fire_uav_msgs.msg import (
-    FireEstimate,
     FireFront,
     MissionEvent,
     PayloadRequest,
@@ -28,316 +28,60 @@ from fire_uav_msgs.msg import (
     SensorBundle,
     UavState,
 )
-from geometry_msgs.msg import Point, TwistStamped
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from geometry_msgs.msg import TwistStamped
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 from rclpy.serialization import deserialize_message, serialize_message
-from visualization_msgs.msg import Marker, MarkerArray
 
-from .agent_config import AgentConfig, config_from_scenario
 from .agent_core import Agent
-from .agent_types import Bundle, PeerPerimeter, StepOutput
-from .bundle_wire import WireBundle, read_sensor_bundle
-from .estimation import Samples
-from .fire_front import FrontCells
-from .front_consensus import PeerFront
-from .lockstep_wait import PeerWait
-from .peer_link import FireEntry, Outage, PeerFires, PeerState
-from .resend import ResendBook
+from .agent_io import (
+    event_msg,
+    front_msg,
+    log_event,
+    make_executor,
+    markers_msg,
+    perimeter_msg,
+    profiled,
+    read_node_config,
+    spin_through_bad_messages,
+    tf_estimate_msg,
+    to_peer_front,
+    to_peer_perimeter,
+)
+from .agent_types import StepOutput
+from .errors import ConfigError
+from .outgoing import sent_per_topic, state_bytes
+from .peer_gate import (
+    AskResend,
+    PeerGate,
+    PeerGone,
+    Rejected,
+    RepeatAnswer,
+    RunStep,
+    StartWaiting,
+    StillWaiting,
+)
 from .search_io import attach_search
-from .state_wire import WireState, read_uav_state
 
 
 # --- conversions (the only place messages meet arrays) -----------------------------------------
-def _to_bundle(msg: SensorBundle) -> Bundle:
-    gps = np.array([(stamp_to_s(g.header.stamp), g.x_m, g.y_m) for g in msg.gps], dtype=float).reshape(-1, 3)
-    gps_var = np.array([g.variance_m2 for g in msg.gps], dtype=float)
-    alt = np.array([(stamp_to_s(r.header.stamp), r.range) for r in msg.altimeter], dtype=float).reshape(-1, 2)
-    gyro = np.array(
-        [(stamp_to_s(m.header.stamp), m.angular_velocity.z) for m in msg.gyro], dtype=float
-    ).reshape(-1, 2)
-    fires = np.array(
-        [(stamp_to_s(f.header.stamp), f.x_m, f.y_m, f.extent_m) for f in msg.fires], dtype=float
-    ).reshape(-1, 4)
-    c = msg.cells
-    cells = None
-    if len(c.x_m) > 0 and len(c.x_m) == len(c.y_m) == len(c.state):
-        cells = (
-            np.asarray(c.x_m, dtype=float),
-            np.asarray(c.y_m, dtype=float),
-            np.frombuffer(bytes(c.state), dtype=np.uint8).astype(np.int64)
-            if isinstance(c.state, (bytes, bytearray))
-            else np.asarray(c.state, dtype=np.int64),
-        )
-    return Bundle(
-        step=int(msg.step),
-        stamp_s=stamp_to_s(msg.header.stamp),
-        samples=Samples(gps, gps_var, alt, gyro),
-        fires=fires,
-        water_kg=float(msg.water_kg),
-        vehicle=int(msg.vehicle_status),
-        control_period_s=float(msg.control_period_s),
-        cells=cells,
-        cell_size_m=float(c.cell_size_m),
-    )
-
-
-def _to_peer_perimeter(m: PerimeterMap, control_period_s: float) -> PeerPerimeter:
-    """A peer's PerimeterMap; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
-    summary = {
-        "center_x_m": float(m.center_x_m),
-        "center_y_m": float(m.center_y_m),
-        "outer_distance_m": np.asarray(m.outer_distance_m, dtype=float),
-        "outer_visit_time_s": np.asarray(m.outer_visit_time_s, dtype=float),
-    }
-    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
-    return PeerPerimeter(int(m.uav_id), int(m.sequence), step, int(m.fire_id), summary)
-
-
-def _from_perimeter(out: StepOutput, stamp: TimeMsg, seq: int) -> PerimeterMap | None:
-    if out.perimeter is None:
-        return None
-    fire_id, s = out.perimeter
-    m = PerimeterMap()
-    m.header.stamp = stamp
-    m.header.frame_id = "map"
-    m.uav_id, m.sequence, m.fire_id = out.state.uav_id, seq, int(fire_id) if fire_id < 2**31 else -1
-    m.center_x_m, m.center_y_m = s["center_x_m"], s["center_y_m"]
-    m.outer_distance_m = s["outer_distance_m"].astype(np.float32).tolist()
-    m.outer_visit_time_s = s["outer_visit_time_s"].astype(np.float32).tolist()
-    m.spread_rate_mps = s["spread_rate_mps"].astype(np.float32).tolist()
-    m.importance = s["importance"].astype(np.float32).tolist()
-    m.direction, m.direction_changes = int(s["direction"]), int(s["direction_changes"])
-    return m
-
-
-def _to_peer_front(m: FireFront, control_period_s: float) -> PeerFront:
-    """A peer's FireFront; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
-    state = (
-        np.frombuffer(bytes(m.state), dtype=np.uint8)
-        if isinstance(m.state, (bytes, bytearray))
-        else np.asarray(m.state, dtype=np.uint8)
-    )
-    cells = FrontCells(
-        np.asarray(m.x_m, dtype=float),
-        np.asarray(m.y_m, dtype=float),
-        state.astype(np.int64),
-        np.asarray(m.observed_s, dtype=float),
-        np.asarray(m.spread_rate_mps, dtype=float),
-    )  # raises ValueError on unequal lengths: the caller drops the message
-    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
-    return PeerFront(int(m.uav_id), int(m.sequence), step, cells)
-
-
-def _from_front(out: StepOutput, stamp: TimeMsg, seq: int, cell_size_m: float) -> FireFront | None:
-    c = out.front
-    if not isinstance(c, FrontCells):
-        return None
-    m = FireFront()
-    m.header.stamp = stamp
-    m.header.frame_id = "map"
-    m.uav_id, m.sequence, m.cell_size_m = out.state.uav_id, seq, float(cell_size_m)
-    m.x_m = np.asarray(c.x_m, dtype=np.float32).tolist()
-    m.y_m = np.asarray(c.y_m, dtype=np.float32).tolist()
-    m.state = np.asarray(c.state, dtype=np.uint8).tobytes()
-    m.observed_s = np.asarray(c.t_obs_s, dtype=float).tolist()
-    m.spread_rate_mps = np.asarray(c.ros_mps, dtype=np.float32).tolist()
-    return m
-
-
-def _to_peer_state(m: UavState) -> PeerState:
-    return PeerState(
-        int(m.uav_id), int(m.sequence), int(m.step), m.x_m, m.y_m, m.z_m, m.yaw_rad, int(m.objective),
-        int(m.target_fire_id), float(m.water_kg), m.centroid_x_m, m.centroid_y_m,
-    )  # fmt: skip
-
-
-def _to_peer_fires(m: UavState) -> PeerFires:
-    """The fire picture a peer's UavState carries (``fires``, ``fires_sequence``)."""
-    entries = tuple(
-        FireEntry(
-            int(f.fire_id),
-            f.status == FireStatus.ACTIVE,
-            f.x_m,
-            f.y_m,
-            f.extent_m,
-            f.vx_mps,
-            f.vy_mps,
-            stamp_to_s(f.last_measurement),
-            f.front_x_m,
-            f.front_y_m,
-            f.max_spread_rate_mps,
-        )  # fmt: skip
-        for f in m.fires
-    )
-    return PeerFires(int(m.uav_id), int(m.fires_sequence), int(m.step), entries)
-
-
-def _from_state(out: StepOutput, stamp: TimeMsg) -> UavState:
-    st = out.state
-    m = UavState()
-    m.header.stamp = stamp
-    m.header.frame_id = "map"
-    m.uav_id, m.sequence, m.step = st.uav_id, st.sequence, st.step
-    m.x_m, m.y_m, m.z_m, m.yaw_rad = (float(v) for v in st.s)
-    m.covariance = [float(v) for v in st.covariance.ravel()]
-    m.objective = st.objective
-    m.target_fire_id = st.target_fire_id
-    m.water_kg = st.water_kg
-    m.centroid_x_m, m.centroid_y_m = st.centroid_xy
-    m.alive_peers = list(st.alive_peers)
-    m.crashed_peers = list(st.crashed_peers)
-    m.packets_received, m.packets_lost, m.packets_rejected = (
-        st.packets_received, st.packets_lost, st.packets_rejected,
-    )  # fmt: skip
-    return m
-
-
-def _add_fires(m: UavState, out: StepOutput) -> UavState:
-    """Put this step's fire picture into the state message (one peer message per step)."""
-    m.fires_sequence = out.fires_sequence
-    for e in out.fires:
-        f = FireEstimate()
-        f.fire_id = e.fire_id
-        f.status = int(FireStatus.ACTIVE if e.active else FireStatus.EXTINGUISHED)
-        f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps = e.x_m, e.y_m, e.extent_m, e.vx_mps, e.vy_mps
-        f.last_measurement = to_time_msg(
-            s_to_ns(max(0.0, e.last_measurement_s) if math.isfinite(e.last_measurement_s) else 0.0), TimeMsg
-        )
-        f.front_x_m, f.front_y_m, f.max_spread_rate_mps = e.front_x_m, e.front_y_m, e.max_spread_rate_mps
-        m.fires.append(f)
-    return m
-
-
-def _markers(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:
-    md = out.markers
-    arr = MarkerArray()
-    if md is None:
-        return arr
-    z = float(out.state.s[2])
-    cell = Marker(ns=ns, id=0, type=Marker.POINTS, action=Marker.ADD)
-    cell.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in md.cell_boundary_xy]
-    cell.scale.x = cell.scale.y = 2.0
-    if not cell.points:  # no cell yet (or lost): remove the old one rather than send an empty POINTS
-        cell.action = Marker.DELETE
-    cell.color.g, cell.color.a = 1.0, 0.8
-    cen = Marker(ns=ns, id=1, type=Marker.SPHERE, action=Marker.ADD)
-    cen.pose.position = Point(x=md.centroid_xy[0], y=md.centroid_xy[1], z=z)
-    cen.scale.x = cen.scale.y = cen.scale.z = 6.0
-    cen.color.g, cen.color.b, cen.color.a = 1.0, 1.0, 1.0
-    txt = Marker(ns=ns, id=2, type=Marker.TEXT_VIEW_FACING, action=Marker.ADD, text=md.text)
-    txt.pose.position = Point(x=float(out.state.s[0]), y=float(out.state.s[1]), z=z + 15.0)
-    txt.scale.z = 10.0
-    txt.color.r = txt.color.g = txt.color.b = txt.color.a = 1.0
-    for m in (cell, cen, txt):
-        m.header.stamp = stamp
-        m.header.frame_id = "map"
-        arr.markers.append(m)
-    return arr
-
-
-def _step_verdict(step: int, last_step: int, lockstep: bool, slack_steps: int) -> str | None:
-    """Whether a peer message of ``step`` can be genuine when this agent last ran ``last_step``.
-
-    In lockstep a peer's message is of the step this agent last ran or the next one: a peer runs
-    step s only after the world's bundle s, which needs this agent's command of s - 1; messages of
-    older steps are never waited for again. ``slack_steps``: steps this agent itself is offline
-    in the fault schedule (it falls behind by that many). Returns the rejection kind, or None.
-    """
-    if step < 0:
-        return "negative step"
-    if lockstep and step < last_step:
-        return "stale step"
-    if step > last_step + 1 + slack_steps:
-        return "implausible step"
-    return None
-
-
-def _inbox_order(m: PeerState | PeerFires | PeerPerimeter) -> tuple[int, int, int, int]:
-    """(step, kind, sender, sequence): the order peer messages are handed to the agent."""
-    kind = 0 if isinstance(m, PeerState) else 1 if isinstance(m, PeerFires) else 2
-    return (int(m.step), kind, int(m.uav_id), int(m.sequence))
-
-
 # --- the node ------------------------------------------------------------------------------------
-def _desc(text: str, **kw) -> ParameterDescriptor:
-    return ParameterDescriptor(description=text, **kw)
-
-
 class UavAgentNode(Node):
     """``uav_agent``: see the package README for topics and parameters."""
 
     def __init__(self, **kwargs) -> None:
+        # every name given is declared first, so that read_node_config can refuse the unknown ones
+        kwargs.setdefault("automatically_declare_parameters_from_overrides", True)
         super().__init__("uav_agent", **kwargs)
-        if not self.has_parameter("use_sim_time"):
-            self.declare_parameter("use_sim_time", True)
-        self.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])
-        ro = {"read_only": True}
-        self.declare_parameter("uav_id", -1, _desc("0-based UAV id; -1: from the namespace /uav_<id>", **ro))
-        self.declare_parameter("uav_count", 0, _desc("fleet size N; 0: the scenario's uavs.count", **ro))
-        self.declare_parameter("seed", -1, _desc("run seed (loss draws); -1: the scenario's seed", **ro))
-        self.declare_parameter("scenario_file", "", _desc("scenario YAML (docs/scenario.md)", **ro))
-        self.declare_parameter("mode", "lockstep", _desc("lockstep | realtime", **ro))
-        self.declare_parameter(
-            "loss_probability", -1.0,
-            _desc("peer message loss on receipt [0, 1]; < 0: the scenario's comms.loss_probability", **ro),
-        )  # fmt: skip
-        self.declare_parameter(
-            "liveness_check_wall_s", 0.5,
-            _desc("lockstep: how often [s wall] to check that the peers waited for still have a process "
-                  "(DDS graph); a live peer is never timed out",
-                  floating_point_range=[FloatingPointRange(from_value=0.01, to_value=60.0)], **ro),
-        )  # fmt: skip
-        self.declare_parameter(
-            "prior_fires", [-1.0],
-            _desc("known-fires mode: the dispatch briefing as flat (x_m, y_m, extent_m) triples [m]; "
-                  "[-1.0]: none (the runner writes it when mission.prior_fires is known)", **ro),
-        )  # fmt: skip
-        self.declare_parameter(
-            "offline_schedule", "",
-            _desc("lockstep fault schedule 'K@T1:T2;K@T1' [s sim] (fire_uav_common.lockstep), the same "
-                  "string the world gets: peers offline by it are not waited for", **ro),
-        )  # fmt: skip
-        self.declare_parameter(
-            "crash_threshold_steps", 0,
-            _desc("missed steps before a peer is declared crashed; 0: the scenario's value",
-                  integer_range=[IntegerRange(from_value=0, to_value=10000, step=1)], **ro),
-        )  # fmt: skip
-        self.declare_parameter(
-            "outage_from", [-1], _desc("link outages: sender ids ([-1]: none; else scenario)")
-        )
-        self.declare_parameter("outage_to", [-1], _desc("link outages: receiver ids"))
-        self.declare_parameter("outage_start_s", [0.0], _desc("link outages: start [s sim]"))
-        self.declare_parameter("outage_end_s", [0.0], _desc("link outages: end [s sim]"))
-        self.declare_parameter("marker_every_steps", 5, _desc("publish viz markers every n steps (0: never)"))
-        self.declare_parameter(
-            "monitors_per_fire", -1,
-            _desc("PM perimeter monitors per active fire; -1: the scenario's mission.monitors_per_fire",
-                  integer_range=[IntegerRange(from_value=-1, to_value=64, step=1)], **ro),
-        )  # fmt: skip
-        self.declare_parameter(
-            "monitor_planner",
-            "importance",
-            _desc("perimeter monitor: importance (PM) | circling (baseline)", **ro),
-        )
-        self.declare_parameter(
-            "monitor_alpha", 1.0,
-            _desc("PM Eq. 7 heterogeneity-adjusting factor (>= 0)",
-                  floating_point_range=[FloatingPointRange(from_value=0.0, to_value=100.0)], **ro),
-        )  # fmt: skip
-        self.cfg, self.mode, self.liveness_s, self.marker_every, schedule = self._read_config()
-        self.auth = self._read_auth()
-        self._step_slack = sum(
-            w.steps(self.cfg.control_period_s)[1] - w.steps(self.cfg.control_period_s)[0] + 1
-            for w in schedule
-            if w.uav_id == self.cfg.uav_id and math.isfinite(w.end_s)
-        )
+        self.config = read_node_config(self)
+        self.cfg, self.mode = self.config.agent, self.config.mode
+        self.liveness_s, self.marker_every = self.config.liveness_check_wall_s, self.config.marker_every_steps
+        schedule = self.config.offline_schedule
+        self.auth = self.config.authenticator
         self.agent = Agent(self.cfg)
         # CP coverage search over /fleet/coverage/* (None when search_mode resolves to off)
-        self.search_link = attach_search(self, self.agent)
+        self.search_link = attach_search(self, self.agent, self.config.search)
         uid = self.cfg.uav_id
         self.get_logger().info(
             f"uav {uid}/{self.cfg.uav_count} mode={self.mode} loss={self.cfg.loss_probability} "
@@ -365,114 +109,21 @@ class UavAgentNode(Node):
         )
         if self.search_link is not None:
             self.search_link.on_arrival = self._on_coverage_arrival
-        self._inbox: list[PeerState | PeerFires | PeerPerimeter] = []
-        self._pending: WireBundle | None = None  # the bundle waiting for the peers' messages
         self._answer: tuple[int, list] | None = None  # (step, [(publisher, msg)]) last sent to the world
-        self.wait = PeerWait(uid, self.cfg.uav_count, self.cfg.control_period_s, schedule)
+        # admission, duplicates, resend, the pending bundle and the lockstep wait (kept per step for
+        # a resend: the (publisher, message) pairs published)
+        self.gate: PeerGate[WireBundle, tuple] = PeerGate(
+            uid, self.cfg.uav_count, self.cfg.control_period_s, lockstep=self.mode == "lockstep",
+            schedule=schedule, crash_threshold_steps=self.cfg.crash_threshold_steps,
+            check_tag=None if self.auth is None else self.auth.check_serialized,
+        )  # fmt: skip
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)
         # not a timeout: while waiting, notice a peer whose process is gone (its publishers left the graph)
         self._liveness_timer = self.create_timer(self.liveness_s, self._check_liveness, clock=self._steady)
         self._liveness_timer.cancel()
-        self._wait_since_ns = 0
-        # recovery from a lost message (a reader's history overrun by a flood): docs/protocol.md "Resend"
-        self.resend: ResendBook[tuple] = ResendBook()  # kept (publisher, message) pairs per step
         topics.subscription(self, topics.FLEET_EVENTS_SPEC, self._on_fleet_event)
         # the start-up handshake: AGENT_READY once every fleet topic is matched with every peer
         self._ready_timer = self.create_timer(0.05, self._check_ready, clock=self._steady)
-
-    # --- parameters -------------------------------------------------------------------------------
-    def _read_config(self) -> tuple[AgentConfig, str, float, int, tuple[OfflineWindow, ...]]:
-        p = self.get_parameter
-        uid = int(p("uav_id").value)
-        if uid < 0:
-            m = re.fullmatch(r"/uav_(\d+)", self.get_namespace().rstrip("/"))
-            if not m:
-                raise ValueError(
-                    f"parameter uav_id not set and namespace {self.get_namespace()!r} is not /uav_<id>"
-                )
-            uid = int(m.group(1))
-        mode = str(p("mode").value)
-        if mode not in ("lockstep", "realtime"):
-            raise ValueError(f"parameter mode must be 'lockstep' or 'realtime', got {mode!r}")
-        path = str(p("scenario_file").value)
-        if not path:
-            raise ValueError("parameter scenario_file is required (a scenario YAML, docs/scenario.md)")
-        from fire_uav_common.scenario import load_scenario  # written alongside; imported late
-
-        scenario = load_scenario(path)
-        count = int(p("uav_count").value) or None
-        seed = int(p("seed").value)
-        loss = float(p("loss_probability").value)
-        thr = int(p("crash_threshold_steps").value)
-        ofrom, oto = list(p("outage_from").value), list(p("outage_to").value)
-        ostart, oend = list(p("outage_start_s").value), list(p("outage_end_s").value)
-        outages = None
-        if ofrom != [-1]:
-            if not len(ofrom) == len(oto) == len(ostart) == len(oend):
-                raise ValueError(
-                    "parameters outage_from/outage_to/outage_start_s/outage_end_s must have equal lengths, got "
-                    f"{len(ofrom)}/{len(oto)}/{len(ostart)}/{len(oend)}"
-                )
-            outages = tuple(
-                Outage(int(a), int(b), float(s), float(e))
-                for a, b, s, e in zip(ofrom, oto, ostart, oend, strict=True)
-            )
-        mpf = int(p("monitors_per_fire").value)
-        planner = str(p("monitor_planner").value)
-        if planner not in ("importance", "circling"):
-            raise ValueError(f"parameter monitor_planner must be 'importance' or 'circling', got {planner!r}")
-        flat = [float(v) for v in p("prior_fires").value]
-        prior: tuple[tuple[float, float, float], ...] = ()
-        if flat != [-1.0]:
-            if len(flat) % 3:
-                raise ValueError(
-                    f"parameter prior_fires: {len(flat)} numbers, expected (x_m, y_m, extent_m) triples"
-                )
-            prior = tuple((flat[i], flat[i + 1], flat[i + 2]) for i in range(0, len(flat), 3))
-        cfg = config_from_scenario(
-            scenario, uid, uav_count=count, seed=seed if seed >= 0 else None, prior_fires=prior,
-            loss_probability=loss if loss >= 0 else None, outages=outages,
-            crash_threshold_steps=thr if thr > 0 else None, monitors_per_fire=mpf if mpf >= 0 else None,
-            monitor_circling=planner == "circling", monitor_alpha=float(p("monitor_alpha").value),
-        )  # fmt: skip
-        try:
-            schedule = parse_schedule(str(p("offline_schedule").value))
-        except ValueError as e:
-            raise ValueError(f"parameter offline_schedule: {e}") from None
-        return (
-            cfg,
-            mode,
-            float(p("liveness_check_wall_s").value),
-            int(p("marker_every_steps").value),
-            schedule,
-        )
-
-    def _read_auth(self) -> Authenticator | None:
-        """Parameters ``auth`` / ``fleet_key`` (docs/security.md). The key is read, then undeclared,
-        so the node's parameter services do not hand it to other participants; it is never logged."""
-        self.declare_parameter(
-            "auth", True,
-            _desc("HMAC-SHA256 authentication of fleet and command topics with fleet_key (docs/security.md)",
-                  read_only=True),
-        )  # fmt: skip
-        self.declare_parameter(
-            "fleet_key", "", _desc("per-mission key, 64 hex digits (undeclared once read)")
-        )
-        key = str(self.get_parameter("fleet_key").value)
-        self.undeclare_parameter("fleet_key")
-        if not bool(self.get_parameter("auth").value):
-            self.get_logger().warning(
-                "authentication off: any participant on the domain can speak for the fleet"
-            )
-            return None
-        if not key:
-            raise ValueError(
-                "parameter fleet_key is required when auth is true (the runner writes one per mission)"
-            )
-        try:
-            return Authenticator(parse_key(key))
-        except ValueError as e:
-            raise ValueError(f"parameter fleet_key: {e}") from None
 
     def _decode(self, data: bytes, msg_type: type, spec: topics.TopicSpec):
         """A raw peer message as ``msg_type``; None (counted as a rejection) if it is not one."""
@@ -486,121 +137,91 @@ class UavAgentNode(Node):
             )
             return None
 
-    def _admit(self, data: bytes, spec: topics.TopicSpec, sender: int, step: int, auth_step: int) -> bool:
-        """Checks before a peer message is counted by the lockstep wait: id, step, HMAC.
-
-        ``data``: the message's bytes as received (raw); the tag is checked on them
-        (``Authenticator.check_serialized``), after the cheaper id and step checks.
-
-        A rejected message is counted in the peer link's ``reject_reasons`` (so in
-        ``UavState.packets_rejected``) and never reaches :class:`PeerWait`: a forged state cannot
-        make this agent wait for messages its claimed sender did not send.
-        """
-        reason = None
-        if not 0 <= sender < self.cfg.uav_count:
-            reason = "unknown id"
-        else:
-            lockstep = self.mode == "lockstep"
-            slack = self._step_slack + (0 if lockstep else self.cfg.crash_threshold_steps)
-            reason = _step_verdict(step, self.agent.last_step, lockstep, slack)
-        if reason is None and self.auth is not None:
-            if not self.auth.check_serialized(data, spec.name, sender, auth_step):
-                reason = "bad auth"
-        if reason is None:
-            return True
-        self.agent.link.count_rejection(reason)
-        self.get_logger().warning(
-            f"rejected a message on {spec.name} claiming uav {sender} step {step}: {reason} "
-            f"(rejections so far: {self.agent.link.reject_reasons})",
-            throttle_duration_sec=2.0,
-        )
-        return False
+    def _act(self, decisions: list) -> None:
+        """Carry out the gate's decisions, in order."""
+        log = self.get_logger()
+        for d in decisions:
+            if isinstance(d, RunStep):
+                self._run(d)
+            elif isinstance(d, Rejected):
+                self.agent.link.count_rejection(d.reason)
+                log.warning(
+                    f"rejected a message on {d.topic} claiming uav {d.sender} step {d.step}: {d.reason} "
+                    f"(rejections so far: {self.agent.link.reject_reasons})",
+                    throttle_duration_sec=2.0,
+                )
+            elif isinstance(d, RepeatAnswer) and self._answer is not None:
+                log.warning(f"step {d.step}: bundle received again; re-sending this step's answer")
+                for pub, m in self._answer[1]:
+                    pub.publish(m)
+            elif isinstance(d, StartWaiting):
+                self._liveness_timer.reset()
+            elif isinstance(d, StillWaiting):  # a long wait is worth a line: it names what is missing
+                log.warning(
+                    f"step {d.step}: waiting {d.waited_s:.0f} s for peers' step-{d.step - 1} messages: {d.missing}",
+                    throttle_duration_sec=10.0,
+                )
+            elif isinstance(d, AskResend):
+                self._ask_resend(d)
+            elif isinstance(d, PeerGone):
+                log.error(
+                    f"step {d.step}: peer {d.peer}'s process is gone (not in the fault schedule); no longer "
+                    "waiting for it, so this run is not reproducible"
+                )
 
     # --- peer traffic ---------------------------------------------------------------------------------
     def _read_state(self, data: bytes) -> WireState | None:
-        """A raw peer UavState -> :class:`WireState`, read from its bytes (``state_wire``); an encoding
-        that reader does not take (not XCDR1 little-endian) goes through ``deserialize_message``;
-        None (counted as ``undecodable``) if neither reads it."""
+        """A raw peer UavState -> :class:`WireState` (the ``uav_state`` codec); an encoding the codec
+        does not take (not XCDR1 little-endian) is read by ``deserialize_message`` and re-serialised
+        for the codec; None (counted as ``undecodable``) if neither reads it."""
         try:
             return read_uav_state(data)
-        except ValueError:
+        except CdrError:
             pass
         msg = self._decode(data, UavState, topics.FLEET_STATE_SPEC)
         if msg is None:
             return None
-        return WireState(
-            int(msg.uav_id), int(msg.step), tuple(msg.sent_per_topic), bool(msg.final),
-            _to_peer_state(msg), _to_peer_fires(msg),
-        )  # fmt: skip
+        return read_uav_state(serialize_message(msg))
 
     def _on_state(self, data: bytes) -> None:
         w = self._read_state(data)
         if w is None or w.uav_id == self.cfg.uav_id:
             return  # undecodable, or our own broadcast
-        sender, step = w.uav_id, w.step
-        if not self._admit(data, topics.FLEET_STATE_SPEC, sender, step, step):
-            return
-        if self._duplicate(sender, topics.FLEET_STATE_SPEC, step):
-            return
-        self.wait.on_state(sender, step, w.sent_per_topic, w.final)
-        self._inbox.append(w.state)
-        # the fire picture it carries: counted and kept as the part it is (FLEET_FIRES loss index);
-        # a resent copy was dropped with its state above
-        self.wait.on_message(sender, step, topics.FLEET_FIRES_SPEC.loss_index)
-        self._inbox.append(w.fires)
-        self._maybe_run()
+        self._act(self.gate.on_state(data, w.state, w.fires, w.sent_per_topic, w.final))
 
     def _on_perimeter(self, data: bytes) -> None:
         msg = self._decode(data, PerimeterMap, topics.FLEET_PERIMETER_SPEC)
         if msg is None or msg.uav_id == self.cfg.uav_id:
             return
-        pm = _to_peer_perimeter(msg, self.cfg.control_period_s)
-        if not self._admit(data, topics.FLEET_PERIMETER_SPEC, pm.uav_id, pm.step, pm.step):
-            return
-        if self._duplicate(pm.uav_id, topics.FLEET_PERIMETER_SPEC, pm.step):
-            return
-        self.wait.on_message(pm.uav_id, pm.step, topics.FLEET_PERIMETER_SPEC.loss_index)
-        self._inbox.append(pm)
-        self._maybe_run()
+        self._act(self.gate.on_perimeter(data, to_peer_perimeter(msg, self.cfg.control_period_s)))
 
     def _on_front(self, msg: FireFront) -> None:
         if msg.uav_id == self.cfg.uav_id:
             return
         step = stamp_to_step(stamp_to_ns(msg.header.stamp), s_to_ns(self.cfg.control_period_s))
-        if self._duplicate(int(msg.uav_id), topics.FLEET_FRONT_SPEC, step):
-            return
-        self.wait.on_message(int(msg.uav_id), step, topics.FLEET_FRONT_SPEC.loss_index)  # it arrived
+        front = None
         try:
-            self._inbox.append(_to_peer_front(msg, self.cfg.control_period_s))
+            front = to_peer_front(msg, self.cfg.control_period_s)
         except ValueError as err:  # malformed: counted as arrived, its content dropped
             self.get_logger().warning(
                 f"FireFront from uav {msg.uav_id} dropped: {err}", throttle_duration_sec=5.0
             )
-        self._maybe_run()
+        self._act(self.gate.on_front(int(msg.uav_id), step, front))
 
     # --- resend: recovery from a message the transport lost (docs/protocol.md "Resend") ----------
-    def _duplicate(self, sender: int, spec: topics.TopicSpec, step: int) -> bool:
-        """A resent copy of a (sender, topic, step) already taken: dropped (state with its
-        fires, perimeter and front carry one message per sender and step)."""
-        return self.resend.duplicate(sender, spec.loss_index, step)
-
-    def _ask_resend(self, k: int, waited_s: float) -> None:
-        """Ask each peer still missing for step ``k - 1`` to send its messages again (every 5 s).
+    def _ask_resend(self, d: AskResend) -> None:
+        """Ask peer ``d.peer`` to send its step-``d.step`` messages again.
 
         The lockstep wait has no timeout (determinism), so a message the transport lost (a reader
         history overrun by a flood on the topic) would block the fleet for good. Wall time decides
         only *when* a copy is asked for, never *what* the agent then decides.
         """
-        for j in self.resend.peers_to_ask(self.wait.missing(k), k, self._steady.now().nanoseconds):
-            ev = MissionEvent(
-                type=int(EventType.RESEND_REQUEST), uav_id=self.cfg.uav_id, peer_id=j, fire_id=-1
-            )
-            ev.x_m = ev.y_m = math.nan
-            ev.value = float(k - 1)
-            ev.detail = f"waited {waited_s:.0f} s for uav {j}'s step-{k - 1} messages"
-            ev.header.frame_id = "map"
-            self.pub_events.publish(ev)
-            self.get_logger().warning(f"step {k}: asked uav {j} to resend its step-{k - 1} messages")
+        j = d.peer
+        detail = f"waited {d.waited_s:.0f} s for uav {j}'s step-{d.step} messages"
+        self.pub_events.publish(
+            event_msg(EventType.RESEND_REQUEST, self.cfg.uav_id, j, value=d.step, detail=detail)
+        )
+        self.get_logger().warning(f"step {d.step + 1}: asked uav {j} to resend its step-{d.step} messages")
 
     def _on_fleet_event(self, msg: MissionEvent) -> None:
         if msg.type != EventType.RESEND_REQUEST or msg.peer_id != self.cfg.uav_id:
@@ -608,19 +229,18 @@ class UavAgentNode(Node):
         if not math.isfinite(msg.value):
             return
         step = int(msg.value)
-        sent = self.resend.to_resend(step, self._steady.now().nanoseconds)
+        sent = self.gate.to_resend(step, self._steady.now().nanoseconds)
         if sent is None:
             return  # not kept (too old or never sent), or resent just now
         for pub, m in sent:
             pub.publish(m)
         self.get_logger().warning(
             f"resent step {step}'s {len(sent)} messages at uav {msg.uav_id}'s request "
-            f"({self.resend.resends_served} so far)"
+            f"({self.gate.resend.resends_served} so far)"
         )
 
     def _on_coverage_arrival(self, sender: int, step: int, loss_index: int) -> None:
-        self.wait.on_message(sender, step, loss_index)
-        self._maybe_run()
+        self._act(self.gate.on_arrival(sender, step, loss_index))
 
     # --- lockstep -------------------------------------------------------------------------------------
     def _check_ready(self) -> None:
@@ -653,19 +273,17 @@ class UavAgentNode(Node):
             if matched < len(others):
                 return  # discovered but not matched yet
         self._ready_timer.cancel()
-        ev = MissionEvent(type=int(EventType.AGENT_READY), uav_id=self.cfg.uav_id, peer_id=-1, fire_id=-1)
-        ev.x_m = ev.y_m = math.nan
-        ev.detail = "ready: world and peers matched"
-        ev.header.frame_id = "map"
-        self.pub_events.publish(ev)
+        ready = event_msg(EventType.AGENT_READY, self.cfg.uav_id, detail="ready: world and peers matched")
+        self.pub_events.publish(ready)
         self.get_logger().info(f"ready for step 0 (world and {len(peers)} peers matched)")
 
     def _read_bundle(self, data: bytes) -> WireBundle | None:
-        """A raw SensorBundle -> :class:`WireBundle`, read from its bytes (``bundle_wire``); another
-        encoding goes through ``deserialize_message``; None (logged) if neither reads it."""
+        """A raw SensorBundle -> :class:`WireBundle` (the ``sensor_bundle`` codec); another encoding
+        is read by ``deserialize_message`` and re-serialised for the codec; None (logged) if
+        neither reads it."""
         try:
             return read_sensor_bundle(data)
-        except ValueError as fast_err:
+        except CdrError as fast_err:
             try:
                 msg = deserialize_message(data, SensorBundle)
             except RuntimeError as err:  # rclpy's RMWError: bytes that are no CDR of this type
@@ -675,76 +293,33 @@ class UavAgentNode(Node):
                     throttle_duration_sec=2.0,
                 )
                 return None
-        return WireBundle(_to_bundle(msg), int(msg.header.stamp.sec), int(msg.header.stamp.nanosec))
+        return read_sensor_bundle(serialize_message(msg))
 
     def _on_bundle(self, data: bytes) -> None:
         wb = self._read_bundle(data)
         if wb is None:
             return
-        k = wb.bundle.step
-        if self.mode == "lockstep" and self._answer is not None and k == self._answer[0]:
-            # the world re-sent the bundle of a step already answered: our answer did not reach it
-            # (the world re-sends only to agents it still waits for, docs/protocol.md); say it again
-            self.get_logger().warning(f"step {k}: bundle received again; re-sending this step's answer")
-            for pub, m in self._answer[1]:
-                pub.publish(m)
-            return
-        if k <= self.agent.last_step or (self._pending is not None and k <= self._pending.bundle.step):
-            return  # protocol item 1: answer only the newest bundle
-        if self._pending is not None:
-            self._run()  # a newer bundle overtook the one we were waiting on (realtime)
-            if k <= self.agent.last_step:
-                return
-        self._pending = wb
-        if self.mode == "realtime" or k == 0:
-            self._run()
-            return
-        if not self._maybe_run():
-            self._wait_since_ns = self._steady.now().nanoseconds
-            self._liveness_timer.reset()
-
-    def _maybe_run(self) -> bool:
-        if self._pending is None:
-            return False
-        if self.wait.ready(self._pending.bundle.step):
-            self._run()
-            return True
-        return False
+        self._act(self.gate.on_bundle(wb.bundle.step, wb, self._steady.now().nanoseconds))
 
     def _check_liveness(self) -> None:
         """Stop waiting for a peer whose process is gone (unscheduled death; not reproducible)."""
-        if self._pending is None:
+        if self.gate.pending_step is None:
             self._liveness_timer.cancel()
             return
-        k = self._pending.bundle.step
-        waited_s = (self._steady.now().nanoseconds - self._wait_since_ns) / 1e9
-        if waited_s > 5.0:  # a long wait is worth a line (throttled): it names what is missing
-            self.get_logger().warning(
-                f"step {k}: waiting {waited_s:.0f} s for peers' step-{k - 1} messages: {self.wait.describe(k)}",
-                throttle_duration_sec=10.0,
-            )
-            self._ask_resend(k, waited_s)
-        alive = {i.node_namespace for i in self.get_publishers_info_by_topic(topics.FLEET_STATE_SPEC.name)}
-        for j in self.wait.missing(k):
-            if topics.uav_namespace(j) not in alive:
-                self.wait.mark_gone(j)
-                self.get_logger().error(
-                    f"step {k}: peer {j}'s process is gone (not in the fault schedule); no longer waiting "
-                    "for it, so this run is not reproducible"
-                )
-        self._maybe_run()
 
-    def _run(self) -> None:
+        def alive() -> set[int]:
+            graph = {
+                i.node_namespace for i in self.get_publishers_info_by_topic(topics.FLEET_STATE_SPEC.name)
+            }
+            return {j for j in range(self.cfg.uav_count) if topics.uav_namespace(j) in graph}
+
+        self._act(self.gate.on_liveness(self._steady.now().nanoseconds, alive))
+
+    def _run(self, d: RunStep[WireBundle, tuple]) -> None:
         self._liveness_timer.cancel()
-        wb, self._pending = self._pending, None
-        if wb is None:
-            return
-        k = wb.bundle.step
-        # in a total order, not arrival order: fusion may depend on the order it sees messages in
-        take = sorted((m for m in self._inbox if m.step < k), key=_inbox_order)
-        self._inbox = [m for m in self._inbox if m.step >= k]
+        wb, k = d.bundle, d.step
         want_markers = self.marker_every > 0 and k % self.marker_every == 0
-        out = self.agent.step(wb.bundle, take, want_markers=want_markers)
+        out = self.agent.step(wb.bundle, d.inbox, want_markers=want_markers)
         if out is None:
             return
         coverage = []
@@ -752,25 +327,8 @@ class UavAgentNode(Node):
             coverage = self.search_link.step(out.stamp_s, out.step, out.state.alive_peers)
         final = wb.bundle.vehicle == VehicleStatus.CRASHED
         self._publish(out, TimeMsg(sec=wb.stamp_sec, nanosec=wb.stamp_nanosec), coverage, final)
-        self.wait.prune(k)
-        self.resend.ran(k)
 
     # --- output ---------------------------------------------------------------------------------------
-    def _publish_tf_estimate(self, out: StepOutput, stamp: TimeMsg) -> None:
-        """``/tf``: ``map -> uav_<k>/estimate``, this agent's own pose estimate (x, y, z [m], yaw [rad])."""
-        from geometry_msgs.msg import TransformStamped
-        from tf2_msgs.msg import TFMessage
-
-        if getattr(self, "_pub_tf", None) is None:
-            self._pub_tf = topics.publisher(self, topics.TF_SPEC)
-        x, y, z, yaw = (float(v) for v in out.state.s[:4])
-        t = TransformStamped()
-        t.header.stamp, t.header.frame_id = stamp, "map"
-        t.child_frame_id = f"uav_{self.cfg.uav_id}/estimate"
-        t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = x, y, z
-        t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-        self._pub_tf.publish(TFMessage(transforms=[t]))
-
     def _signed(self, msg, topic: str, step: int) -> bytes:
         """``msg`` serialised and signed for ``topic`` (its auth field zero until now)."""
         return self.auth.sign_serialized(serialize_message(msg), topic, self.cfg.uav_id, step)
@@ -781,25 +339,17 @@ class UavAgentNode(Node):
         pm = None
         if out.perimeter is not None:
             self._perimeter_seq += 1
-            pm = _from_perimeter(out, stamp, self._perimeter_seq)
-        sent = [0] * (1 + max(s.loss_index for s in topics.ALL_TOPICS if s.loss_index is not None))
-        sent[topics.FLEET_STATE_SPEC.loss_index] = 1
-        sent[topics.FLEET_FIRES_SPEC.loss_index] = 1
-        sent[topics.FLEET_PERIMETER_SPEC.loss_index] = int(pm is not None)
+            pm = perimeter_msg(out, stamp, self._perimeter_seq)
         fm = None
         if out.front is not None and self.agent.front is not None:
             self._front_seq += 1
-            fm = _from_front(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
-        sent[topics.FLEET_FRONT_SPEC.loss_index] = int(fm is not None)
-        if self.search_link is not None:
-            for index, n in self.search_link.counts(coverage).items():
-                sent[index] = n
-        state = _add_fires(_from_state(out, stamp), out)
-        state.sent_per_topic = sent  # fires: 1, the part the state carries (its own loss draw)
-        state.final = final
+            fm = front_msg(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
+        counts = None if self.search_link is None else self.search_link.counts(coverage)
+        sent = sent_per_topic(pm is not None, fm is not None, counts)
         stamp_ns = stamp_to_ns(stamp)
+        state = state_bytes(out, stamp_ns, sent, final)
         if self.auth is not None:  # signed: the bytes that go out (auth.sign_serialized), kept as sent
-            state = self._signed(state, topics.FLEET_STATE_SPEC.name, out.step)
+            state = self.auth.sign_serialized(state, topics.FLEET_STATE_SPEC.name, uid, out.step)
             if pm is not None:
                 pm_step = stamp_to_step(stamp_ns, s_to_ns(self.cfg.control_period_s))
                 pm = self._signed(pm, topics.FLEET_PERIMETER_SPEC.name, pm_step)
@@ -829,7 +379,7 @@ class UavAgentNode(Node):
         if fm is not None:
             self.pub_front.publish(fm)
             log.append((self.pub_front, fm))
-        self.resend.keep(out.step, log)
+        self.gate.keep(out.step, log)
         if self.search_link is not None:
             self.search_link.publish(coverage)
             plan = self.search_link.plan_marker(stamp)
@@ -843,91 +393,40 @@ class UavAgentNode(Node):
         answer.append((self.pub_cmd, cmd))
         self._answer = (out.step, answer)
         if out.markers is not None:
-            self.pub_viz.publish(_markers(out, stamp, f"uav_{uid}"))
-        self._publish_tf_estimate(out, stamp)
+            self.pub_viz.publish(markers_msg(out, stamp, f"uav_{uid}"))
+        if getattr(self, "_pub_tf", None) is None:
+            self._pub_tf = topics.publisher(self, topics.TF_SPEC)
+        self._pub_tf.publish(tf_estimate_msg(out, stamp, uid))
         for ev in out.events:
-            m = MissionEvent(
-                type=ev.type, uav_id=uid, peer_id=ev.peer_id, fire_id=int(ev.fire_id) if ev.fire_id < 2**31 else -1,
-                x_m=float(ev.x_m), y_m=float(ev.y_m), value=float(ev.value), detail=ev.detail,
-            )  # fmt: skip
-            m.header.stamp = stamp
-            m.header.frame_id = "map"
-            self.pub_events.publish(m)
-            log = self.get_logger()
-            if ev.type == EventType.PEER_CRASHED:
-                log.warning(
-                    f"step {out.step}: peer {ev.peer_id} declared crashed ({int(ev.value)} missed steps)"
-                )
-            elif ev.type == EventType.PEER_REJOINED:
-                log.info(f"step {out.step}: peer {ev.peer_id} rejoined")
-            elif ev.type == EventType.FIRE_DETECTED:
-                log.info(f"step {out.step}: fire {ev.fire_id} detected at ({ev.x_m:.0f}, {ev.y_m:.0f})")
-            elif ev.type == EventType.OBJECTIVE:
-                log.info(f"step {out.step}: objective {ev.detail}")
-
-
-def make_executor():
-    """The executor an agent spins on: ``fire_uav_common.ros_io.make_executor`` (the lean
-    executor, a wait set built once; ``FIRE_UAV_EXECUTOR=rclpy`` for rclpy's
-    SingleThreadedExecutor), made explicit so that the profile hook below wraps exactly what
-    runs. rclpy's EventsExecutor (rclpy.experimental) was tried for the issue [scale]: with this
-    rclpy wheel the messaging skeleton did not finish its steps and its processes ignored
-    SIGINT/SIGTERM, so it is not offered (docs/profile.md)."""
-    from fire_uav_common.ros_io import make_executor as _make
-
-    return _make()
-
-
-def _profiled(fn, path: str) -> None:
-    """Run ``fn()`` under cProfile and write the statistics to ``path`` (FIRE_UAV_PROFILE_DIR)."""
-    import cProfile
-    import time
-
-    # the main thread's CPU time: on a shared, oversubscribed machine wall time would charge a
-    # call for every moment the process waited for a core (Fast DDS's threads are not counted)
-    prof = cProfile.Profile(time.thread_time)
-    try:
-        prof.runcall(fn)
-    finally:
-        prof.dump_stats(path)
-
-
-def _spin_through_bad_messages(executor, node: UavAgentNode) -> None:
-    """``executor.spin()``, except that a message rclpy cannot convert to Python is dropped.
-
-    A fuzzed peer message (issue "hardening") can fail inside rclpy's ``take_message``, before any
-    callback of ours runs; ``spin()`` would then end the agent. The message is counted as a
-    rejection ("undecodable") and the agent spins on; any other error still ends it.
-    """
-    while rclpy.ok():
-        try:
-            executor.spin_once()
-        except RuntimeError as err:
-            if "Unable to convert" not in str(err):
-                raise
-            node.agent.link.count_rejection("undecodable")
-            node.get_logger().warning(
-                f"dropped a message rclpy could not decode: {err} "
-                f"(rejections so far: {node.agent.link.reject_reasons})",
-                throttle_duration_sec=5.0,
+            self.pub_events.publish(
+                event_msg(ev.type, uid, ev.peer_id, ev.fire_id, ev.x_m, ev.y_m, ev.value, ev.detail, stamp)
             )
+            log_event(self.get_logger(), out.step, ev)
 
 
-def main(args: list[str] | None = None) -> None:
+def main(args: list[str] | None = None) -> int:
+    """Spin one agent; 2 (and one error line naming the parameter or scenario field) on a bad
+    configuration, 0 otherwise."""
     import os
+
+    from fire_uav_common.scenario import ScenarioError
 
     rclpy.init(args=args)
     node = None
     executor = None
+    code = 0
     try:
         executor = make_executor()
         node = UavAgentNode()
         executor.add_node(node)
         prof_dir = os.environ.get("FIRE_UAV_PROFILE_DIR")
         if prof_dir:  # profile the whole spin: executor + callbacks (docs/profile.md)
-            _profiled(executor.spin, os.path.join(prof_dir, f"agent_{node.cfg.uav_id}.prof"))
+            profiled(executor.spin, os.path.join(prof_dir, f"agent_{node.cfg.uav_id}.prof"))
         else:
-            _spin_through_bad_messages(executor, node)
+            spin_through_bad_messages(executor, node)
+    except (ConfigError, ScenarioError) as e:
+        rclpy.logging.get_logger("uav_agent").error(str(e))
+        code = 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
@@ -936,7 +435,10 @@ def main(args: list[str] | None = None) -> None:
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()
+    return code
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+
+    sys.exit(main())

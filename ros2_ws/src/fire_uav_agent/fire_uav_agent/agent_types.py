@@ -10,26 +10,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from fire_uav_common.codecs.sensor_bundle import Bundle  # re-exported: the agent's input
 
-from .estimation import Samples
 from .peer_link import FireEntry, PeerState
 
 __all__ = ["AgentEvent", "Bundle", "MarkersData", "OwnState", "PeerPerimeter", "StepOutput"]
-
-
-@dataclass
-class Bundle:
-    """One SensorBundle, ROS-free. fires: (N, 4) rows (t_s, x_m, y_m, extent_m)."""
-
-    step: int
-    stamp_s: float  # t_{k+1}
-    samples: Samples
-    fires: np.ndarray
-    water_kg: float
-    vehicle: int  # VehicleStatus
-    control_period_s: float = 0.1
-    cells: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # FireCells: x_m, y_m, state
-    cell_size_m: float = 0.0  # [m] FireCells.cell_size_m, 0 without a raster fire
 
 
 @dataclass(frozen=True)

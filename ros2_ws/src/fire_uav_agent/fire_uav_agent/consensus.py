@@ -59,7 +59,7 @@ evidence on a stale estimate was the other half of that path: an estimate predic
 seconds with a wrong drift sat 50+ m from the fire, a UAV flew over the estimate, saw nothing
 and declared the fire out, and the freshest-status rule spread it.
 
-**Raster fires (issue [suppression]).** The negative-evidence rule above assumes that a fire
+**Raster fires.** The negative-evidence rule above assumes that a fire
 still burning is in sight from near its centre (FF III-C step 4: FF's fires are Gaussians around
 their centre). A raster fire's reported centre is the centroid of its burned ground and its
 extent the radius of that area (100-200 m for a fire of a few ha, above the 70 m sensor range),
@@ -88,6 +88,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .errors import InputError
 from .peer_link import FireEntry, PeerFires
 
 __all__ = ["PRIOR_FIRE_ID_BASE", "ConsensusConfig", "FireConsensus", "consensus_matrix", "consensus_row"]
@@ -101,7 +102,7 @@ def consensus_row(ages: np.ndarray) -> np.ndarray:
     """One row of Q_c (Eqs. 27-28 as the text intends): normalised inverse ages (ages >= 1)."""
     a = np.asarray(ages, dtype=float)
     if a.ndim != 1 or a.size == 0 or np.any(~np.isfinite(a)) or np.any(a <= 0):
-        raise ValueError(f"ages must be a non-empty vector of positive numbers, got {ages!r}")
+        raise InputError(f"ages must be a non-empty vector of positive numbers, got {ages!r}")
     inv = 1.0 / a
     return inv / inv.sum()
 

@@ -26,6 +26,7 @@ from fire_uav_common.scenario import Vehicle
 from fire_uav_common.terrain import Terrain
 from numpy.typing import ArrayLike
 
+from .errors import ConfigError, InputError
 from .estimation import wrap_angle
 
 __all__ = [
@@ -63,9 +64,9 @@ class Grid:
 
 def make_grid(x_min_m: float, x_max_m: float, y_min_m: float, y_max_m: float, resolution_m: float) -> Grid:
     if not resolution_m > 0:
-        raise ValueError(f"grid resolution must be > 0, got {resolution_m}")
+        raise ConfigError(f"grid resolution must be > 0, got {resolution_m}")
     if not (x_max_m > x_min_m and y_max_m > y_min_m):
-        raise ValueError(f"empty area [{x_min_m}, {x_max_m}] x [{y_min_m}, {y_max_m}]")
+        raise ConfigError(f"empty area [{x_min_m}, {x_max_m}] x [{y_min_m}, {y_max_m}]")
     nx = max(1, int(math.ceil((x_max_m - x_min_m) / resolution_m - 1e-9)))
     ny = max(1, int(math.ceil((y_max_m - y_min_m) / resolution_m - 1e-9)))
     xs = x_min_m + (np.arange(nx) + 0.5) * resolution_m
@@ -85,7 +86,7 @@ def voronoi_labels(points: np.ndarray, positions: np.ndarray) -> np.ndarray:
     """Eq. 6: index of the nearest position for every grid point (ties -> lowest index)."""
     positions = np.asarray(positions, dtype=float).reshape(-1, 2)
     if positions.shape[0] == 0:
-        raise ValueError("need at least one position")
+        raise InputError("need at least one position")
     return np.argmin(_sqdist(points, positions), axis=1)
 
 
@@ -154,7 +155,7 @@ _SURE_M = 1e-6  # a point this far inside (outside) every half-plane is in (out)
 def own_cell_on_grid(
     grid: Grid, p_i: np.ndarray, others: np.ndarray, safety_radius_m: float | None = None
 ) -> np.ndarray:
-    """:func:`own_cell` on ``grid.points``, the same mask, in ~1/5 of the time (issue [scale]).
+    """:func:`own_cell` on ``grid.points``, the same mask, in ~1/5 of the time (every agent partitions the grid every control step).
 
     The cell is convex, so on each grid row it is an interval of x. The row's bounds come from
     the half-planes in closed form, widened and narrowed by 1e-6 m of projection. Points that
@@ -277,8 +278,8 @@ def control_law(
     under a UAV at speed v on a grade G = |grad E| rises or falls at up to v G, and the commanded
     climb rate is capped at vz_cap = min(vz_max, ``vz_cmd_max_mps``). Where v G > vz_cap the
     height error grows without bound -- at 100 m/s on a 29 % slope the ground rises 29 m/s
-    against a 20 m/s climb, and the UAV flew into the hill (grass_brush_hill, the collisions of
-    issue [suppression] happened at ~0 m above ground, where the layers no longer separate).
+    against a 20 m/s climb, and the UAV flew into the hill (grass_brush_hill, the collisions
+    there happened at ~0 m above ground, where the layers no longer separate).
     So v_lin is also capped at ``climb_fraction`` x vz_cap / G, with G the larger grade of here
     and ``terrain_lookahead_s`` ahead along the heading (any heading: the UAV may turn), never
     below v_stall. Above a grade of climb_fraction x vz_cap / v_stall (0.36 for the defaults) the

@@ -39,11 +39,14 @@ Deviations from the paper, and why:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from fire_uav_common.angles import wrap_angle  # re-exported: callers import it from here
+from fire_uav_common.codecs.sensor_bundle import Samples  # re-exported: the EKF's input
 from fire_uav_common.terrain import Terrain
+
+from .errors import ConfigError
 
 __all__ = ["EkfConfig", "Samples", "StateEkf", "wrap_angle"]
 
@@ -62,24 +65,10 @@ class EkfConfig:
 
     def __post_init__(self) -> None:
         if not self.dt_s > 0:
-            raise ValueError(f"dt_s must be > 0, got {self.dt_s}")
+            raise ConfigError(f"dt_s must be > 0, got {self.dt_s}")
         for name in ("sigma_gps_m", "sigma_alt_m", "sigma_gyro_radps"):
             if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
-
-
-@dataclass
-class Samples:
-    """Sensor samples of one control step, each row stamped with its sim time [s].
-
-    gps: (N, 3) rows (t_s, x_m, y_m); gps_var_m2: (N,) reported variance (<= 0: use config).
-    alt: (N, 2) rows (t_s, height_above_ground_m). gyro: (N, 2) rows (t_s, omega_z_radps).
-    """
-
-    gps: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    gps_var_m2: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    alt: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
-    gyro: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+                raise ConfigError(f"{name} must be > 0, got {getattr(self, name)}")
 
 
 class StateEkf:
@@ -90,7 +79,7 @@ class StateEkf:
         self.terrain = terrain or Terrain()
         self.s = np.asarray(s0, dtype=float).copy()
         if self.s.shape != (4,) or not np.all(np.isfinite(self.s)):
-            raise ValueError(f"s0 must be 4 finite numbers, got {s0!r}")
+            raise ConfigError(f"s0 must be 4 finite numbers, got {s0!r}")
         self.s[3] = wrap_angle(self.s[3])
         self.P = np.diag(np.square(config.initial_sigma)).astype(float)
         self._q = np.square(np.asarray(config.sigma_nu, dtype=float))

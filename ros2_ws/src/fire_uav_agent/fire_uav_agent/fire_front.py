@@ -32,6 +32,8 @@ import numpy as np
 from fire_perimeter_monitor.fire_map import FireMap, circular_fill
 from fire_uav_common.constants import CellState
 
+from .errors import ConfigError, InputError
+
 __all__ = ["UNKNOWN", "FrontCells", "FrontConfig", "FrontPicture"]
 
 UNKNOWN = -1
@@ -53,7 +55,7 @@ class FrontCells:
     def __post_init__(self) -> None:
         n = len(self.x_m)
         if not (len(self.y_m) == len(self.state) == len(self.t_obs_s) == len(self.ros_mps) == n):
-            raise ValueError(
+            raise ConfigError(
                 "front cells: x_m, y_m, state, t_obs_s and ros_mps must have the same length, got "
                 f"{[len(a) for a in (self.x_m, self.y_m, self.state, self.t_obs_s, self.ros_mps)]}"
             )
@@ -81,11 +83,11 @@ class FrontConfig:
     def __post_init__(self) -> None:
         x0, x1, y0, y1 = self.area_m
         if not (x1 > x0 and y1 > y0):
-            raise ValueError(f"front area must be non-empty, got {self.area_m}")
+            raise ConfigError(f"front area must be non-empty, got {self.area_m}")
         if not self.cell_size_m > 0:
-            raise ValueError(f"front cell_size_m must be > 0, got {self.cell_size_m}")
+            raise ConfigError(f"front cell_size_m must be > 0, got {self.cell_size_m}")
         if not self.max_age_s > 0:
-            raise ValueError(f"front max_age_s must be > 0, got {self.max_age_s}")
+            raise ConfigError(f"front max_age_s must be > 0, got {self.max_age_s}")
 
 
 class FrontPicture:
@@ -125,7 +127,7 @@ class FrontPicture:
         i, j, ok = self.index(x_m, y_m)
         st = np.asarray(state, dtype=np.int64)
         if st.size != ok.size:
-            raise ValueError(f"observe: {ok.size} cell centres but {st.size} states")
+            raise InputError(f"observe: {ok.size} cell centres but {st.size} states")
         i, j, st = i[ok], j[ok], st[ok]
         self.state[i, j] = st
         self.t_obs[i, j] = t_s

@@ -9,7 +9,7 @@ A receiver merges every cell with :meth:`FrontPicture.merge` (newest observation
 
 Why the recent cells: a cell an agent never had on its own front (first seen BURNED after a drop,
 or burning inside the fire) was otherwise never shared, so a peer that saw it BURNING earlier kept
-it on its front for ever (2026-12-01, found by a strict xfail in test_front_consensus.py). Every
+it on its front for ever (test_front_consensus.py has the case). Every
 new sighting now reaches the peers, repeated in each message for ``recent_s`` (3 messages at the
 default 1 Hz), so one lost message does not lose it. With a connected fleet and
 no new sightings, every agent's front converges to the same set after as many rounds as the
@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from fire_uav_common.constants import CellState
 
+from .errors import ConfigError
 from .fire_front import FrontCells, FrontPicture
 
 __all__ = ["FrontSharing", "PeerFront", "concat"]
@@ -55,7 +56,7 @@ class FrontSharing:
 
     def __init__(self, recent_s: float = 3.0) -> None:
         if not recent_s >= 0:
-            raise ValueError(f"FrontSharing: recent_s must be >= 0 [s], got {recent_s}")
+            raise ConfigError(f"FrontSharing: recent_s must be >= 0 [s], got {recent_s}")
         self.recent_s = recent_s
         self._sent_x = np.zeros(0)
         self._sent_y = np.zeros(0)

@@ -25,6 +25,8 @@ from dataclasses import dataclass, field
 from fire_uav_common.lockstep import OfflineWindow, offline_uavs
 from fire_uav_common.topics import FLEET_STATE_SPEC
 
+from .errors import ConfigError
+
 __all__ = ["PeerWait"]
 
 STATE_INDEX = FLEET_STATE_SPEC.draw_index
@@ -45,9 +47,9 @@ class PeerWait:
 
     def __post_init__(self) -> None:
         if not 0 <= self.uav_id < self.uav_count:
-            raise ValueError(f"uav_id {self.uav_id} outside 0..{self.uav_count - 1}")
+            raise ConfigError(f"uav_id {self.uav_id} outside 0..{self.uav_count - 1}")
         if not self.period_s > 0:
-            raise ValueError(f"control period must be > 0 s, got {self.period_s}")
+            raise ConfigError(f"control period must be > 0 s, got {self.period_s}")
 
     # --- inputs --------------------------------------------------------------------------------
     def on_state(self, sender: int, step: int, sent_per_topic: tuple[int, ...], final: bool) -> None:

@@ -24,6 +24,7 @@ import numpy as np
 from fire_perimeter_monitor.planner import CirclingMonitor, ImportanceMonitor, MonitorConfig, PerimeterMonitor
 from fire_uav_common.constants import Objective
 
+from .errors import ConfigError
 from .planning import PlannerTarget, PlannerView
 
 __all__ = ["MonitorPlanner", "MonitorPlannerConfig", "RoleConfig", "assign_monitors", "eligible"]
@@ -38,9 +39,9 @@ class RoleConfig:
 
     def __post_init__(self) -> None:
         if self.monitors_per_fire < 0:
-            raise ValueError(f"monitors_per_fire must be >= 0, got {self.monitors_per_fire}")
+            raise ConfigError(f"monitors_per_fire must be >= 0, got {self.monitors_per_fire}")
         if not self.hysteresis_m >= 0:
-            raise ValueError(f"hysteresis_m must be >= 0, got {self.hysteresis_m}")
+            raise ConfigError(f"hysteresis_m must be >= 0, got {self.hysteresis_m}")
 
 
 def eligible(objective: int) -> bool:

@@ -21,7 +21,7 @@ crashed peer that is heard again rejoins. Id validity is checked before the loss
 draw needs a valid sender id); the other checks come after it, so a lost message is never
 also counted as rejected.
 
-No single message can poison the bookkeeping (issue "hardening"): messages are ordered by
+No single message can poison the bookkeeping: messages are ordered by
 ``(step, sequence)`` with the step first, and the step must lie in a window around the step being
 run, so a forged ``sequence = 2**32 - 1`` is rejected as implausible instead of becoming the bar
 every later genuine message fails. A message of a newer step whose sequence went *down* is a
@@ -32,15 +32,18 @@ nothing about message validation; these rules are our choice (docs/security.md).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from enum import IntEnum
 
 from fire_uav_common import rng
+from fire_uav_common.codecs.uav_state import FireEntry, PeerFires, PeerState  # re-exported
 from fire_uav_common.constants import Objective
 from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
+from .errors import ConfigError
+
 __all__ = [
+    "FireEntry",
     "Outage",
     "PeerFires",
     "PeerLink",
@@ -71,64 +74,9 @@ class Outage:
 
     def __post_init__(self) -> None:
         if self.from_id < 0 or self.to_id < 0:
-            raise ValueError(f"outage ids must be >= 0, got {self.from_id} -> {self.to_id}")
+            raise ConfigError(f"outage ids must be >= 0, got {self.from_id} -> {self.to_id}")
         if not self.end_s >= self.start_s:
-            raise ValueError(f"outage end_s {self.end_s} before start_s {self.start_s}")
-
-
-@dataclass(frozen=True)
-class FireEntry:
-    """One fire estimate as exchanged in UavState.fires (FireEstimate.msg), units in names."""
-
-    fire_id: int
-    active: bool
-    x_m: float
-    y_m: float
-    extent_m: float
-    vx_mps: float = 0.0
-    vy_mps: float = 0.0
-    last_measurement_s: float = 0.0  # sim time of the newest measurement fused in
-    front_x_m: float = math.nan
-    front_y_m: float = math.nan
-    max_spread_rate_mps: float = 0.0
-
-
-@dataclass(frozen=True)
-class PeerState:
-    """A peer's UavState, ROS-free (the node converts). Positions [m; map], yaw [rad]."""
-
-    uav_id: int
-    sequence: int
-    step: int
-    x_m: float
-    y_m: float
-    z_m: float
-    yaw_rad: float
-    objective: int
-    target_fire_id: int = -1
-    water_kg: float = 0.0
-    centroid_x_m: float = math.nan
-    centroid_y_m: float = math.nan
-
-    def finite(self) -> bool:
-        return all(math.isfinite(v) for v in (self.x_m, self.y_m, self.z_m, self.yaw_rad, self.water_kg))
-
-
-@dataclass(frozen=True)
-class PeerFires:
-    """A peer's fire picture (UavState.fires, fires_sequence), ROS-free; its own loss draw and count."""
-
-    uav_id: int
-    sequence: int
-    step: int
-    fires: tuple[FireEntry, ...] = ()
-
-    def finite(self) -> bool:
-        for f in self.fires:
-            vals = (f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps, f.last_measurement_s)
-            if not all(math.isfinite(v) for v in vals):
-                return False
-        return True
+            raise ConfigError(f"outage end_s {self.end_s} before start_s {self.start_s}")
 
 
 @dataclass
@@ -169,13 +117,13 @@ class PeerLink:
         max_step_lag: int | None = None,
     ) -> None:
         if not 0 <= uav_id < uav_count:
-            raise ValueError(f"uav_id {uav_id} outside 0..{uav_count - 1}")
+            raise ConfigError(f"uav_id {uav_id} outside 0..{uav_count - 1}")
         if not 0.0 <= loss_probability <= 1.0:
-            raise ValueError(f"loss_probability must be in [0, 1], got {loss_probability}")
+            raise ConfigError(f"loss_probability must be in [0, 1], got {loss_probability}")
         if crash_threshold_steps < 1:
-            raise ValueError(f"crash_threshold_steps must be >= 1, got {crash_threshold_steps}")
+            raise ConfigError(f"crash_threshold_steps must be >= 1, got {crash_threshold_steps}")
         if seed < 0:
-            raise ValueError(f"seed must be >= 0, got {seed}")
+            raise ConfigError(f"seed must be >= 0, got {seed}")
         self.uav_id = uav_id
         self.uav_count = uav_count
         self.seed = seed
@@ -192,7 +140,7 @@ class PeerLink:
         # oldest plausible step is k - max_step_lag (k: the step being run); older news is a missed step anyway
         self.max_step_lag = crash_threshold_steps if max_step_lag is None else int(max_step_lag)
         if self.max_step_lag < 1:
-            raise ValueError(f"max_step_lag must be >= 1, got {self.max_step_lag}")
+            raise ConfigError(f"max_step_lag must be >= 1, got {self.max_step_lag}")
         # loss draws of the last few steps, {step: {(sender, topic_index): lost}}: the lockstep wait
         # asks for step k's draws and the receipt of the same messages asks again (a draw costs ~15 us)
         self._draws: dict[int, dict[tuple[int, int], bool]] = {}

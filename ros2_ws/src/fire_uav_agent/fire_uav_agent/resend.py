@@ -21,6 +21,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Generic, TypeVar
 
+from .errors import ConfigError
+
 __all__ = ["ResendBook"]
 
 T = TypeVar("T")  # what the node keeps per step (its (publisher, message) pairs)
@@ -42,9 +44,9 @@ class ResendBook(Generic[T]):
 
     def __post_init__(self) -> None:
         if self.keep_steps < 1:
-            raise ValueError(f"keep_steps must be >= 1, got {self.keep_steps}")
+            raise ConfigError(f"keep_steps must be >= 1, got {self.keep_steps}")
         if self.ask_every_ns < 0 or self.resend_every_ns < 0:
-            raise ValueError(
+            raise ConfigError(
                 f"ask_every_ns and resend_every_ns must be >= 0, got {self.ask_every_ns}, {self.resend_every_ns}"
             )
 

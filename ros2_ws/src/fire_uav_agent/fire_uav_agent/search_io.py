@@ -1,6 +1,6 @@
 """ROS adapter of the in-fleet coverage search (CP): coverage topics <-> :class:`SearchCoordinator`.
 
-``attach_search(node, agent)`` declares the search parameters on the agent node, creates the
+``attach_search(node, agent, params)`` creates the
 publishers and subscriptions of ``/fleet/coverage/{weights,candidates,mst}`` (names and QoS from
 ``fire_uav_common.topics``), and plugs the coordinator's :class:`SearchPlanner` in as the agent's
 SEARCH planner. The node calls :meth:`SearchLink.step` once per control step after
@@ -9,7 +9,7 @@ peer link's rule (``agent.link.is_lost(sender, step, topic_index)``: loss probab
 scheduled outages) with each topic's ``TopicSpec.loss_index`` (``search.coordinator.TOPIC_SPECS``).
 Nothing here waits: coverage messages are not part of the lockstep peer wait.
 
-Parameters (read once): ``search_mode`` (``auto`` | ``bo`` | ``random`` | ``off``; ``auto`` = ``bo``
+Parameters (declared and read with the node's others, ``agent_params``): ``search_mode`` (``auto`` | ``bo`` | ``random`` | ``off``; ``auto`` = ``bo``
 when the scenario's ``mission.search_first`` is true, else ``off``), ``search_budget``
 (evaluations fleet-wide), ``search_lambda`` [m/J], ``search_cell_m`` (coarse cell edge [m]; 0 =
 from the sensor range).
@@ -28,17 +28,17 @@ from fire_uav_common.constants import CandidateKind, MstKind, Objective
 from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_step, step_to_ns, to_time_msg
 from fire_uav_msgs.msg import CoverageCandidate, CoverageWeight, MstFragment
 from geometry_msgs.msg import Point
-from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.node import Node
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .agent_core import Agent
+from .errors import ConfigError
 from .search.bayesopt import CandidateMessage
 from .search.coordinator import TOPIC_SPECS, Envelope, SearchConfig, SearchCoordinator, Topic
 from .search.mst import MstMessage
 from .search.power_diagram import WeightReport
 
-__all__ = ["SearchLink", "SearchParams", "attach_search", "declare_search_parameters"]
+__all__ = ["SearchLink", "SearchParams", "attach_search"]
 
 PATH_MARKER_STEP_M = 5.0  # [m] arc-length spacing of the planned-path marker's points
 
@@ -52,44 +52,13 @@ class SearchParams:
 
     def __post_init__(self) -> None:
         if self.mode not in ("bo", "random", "off"):
-            raise ValueError(f"parameter search_mode must be auto, bo, random or off, got {self.mode!r}")
+            raise ConfigError(f"parameter search_mode must be auto, bo, random or off, got {self.mode!r}")
         if self.budget < 1:
-            raise ValueError(f"parameter search_budget must be >= 1, got {self.budget}")
+            raise ConfigError(f"parameter search_budget must be >= 1, got {self.budget}")
         if not (math.isfinite(self.lambda_m_per_j) and self.lambda_m_per_j >= 0.0):
-            raise ValueError(f"parameter search_lambda must be >= 0, got {self.lambda_m_per_j}")
+            raise ConfigError(f"parameter search_lambda must be >= 0, got {self.lambda_m_per_j}")
         if not self.cell_size_m >= 0.0:
-            raise ValueError(f"parameter search_cell_m must be >= 0, got {self.cell_size_m}")
-
-
-def declare_search_parameters(node: Node, search_first: bool) -> SearchParams:
-    """Declare (if needed) and read the search parameters of ``node``."""
-    ro = {"read_only": True}
-    decl = [
-        ("search_mode", "auto", ParameterDescriptor(
-            description="coverage search: auto (bo if the scenario's mission.search_first) | bo | random | off",
-            **ro)),
-        ("search_budget", 18, ParameterDescriptor(
-            description="candidate evaluations, fleet-wide (CP III-F)",
-            integer_range=[IntegerRange(from_value=1, to_value=1000, step=1)], **ro)),
-        ("search_lambda", 1e-3, ParameterDescriptor(
-            description="lambda of the cost lambda*sum(E_i) + r_max [m/J]",
-            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1.0)], **ro)),
-        ("search_cell_m", 0.0, ParameterDescriptor(
-            description="coarse coverage cell edge [m]; 0: from the fire sensor range",
-            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10000.0)], **ro)),
-    ]  # fmt: skip
-    for name, default, desc in decl:
-        if not node.has_parameter(name):
-            node.declare_parameter(name, default, desc)
-    mode = str(node.get_parameter("search_mode").value)
-    if mode == "auto":
-        mode = "bo" if search_first else "off"
-    return SearchParams(
-        mode=mode,
-        budget=int(node.get_parameter("search_budget").value),
-        lambda_m_per_j=float(node.get_parameter("search_lambda").value),
-        cell_size_m=float(node.get_parameter("search_cell_m").value),
-    )
+            raise ConfigError(f"parameter search_cell_m must be >= 0, got {self.cell_size_m}")
 
 
 # --- conversions (the only place coverage messages meet the coordinator's types) --------------------
@@ -243,10 +212,9 @@ class SearchLink:
         return [(p, True) for p in self._pub.values()] + [(q, False) for q in self._sub.values()]
 
 
-def attach_search(node: Node, agent: Agent, params: SearchParams | None = None) -> SearchLink | None:
+def attach_search(node: Node, agent: Agent, params: SearchParams) -> SearchLink | None:
     """Set up the in-fleet search on an agent node; None when ``search_mode`` resolves to off."""
     cfg = agent.cfg
-    params = params or declare_search_parameters(node, cfg.search_first)
     if params.mode == "off":
         return None
     config = SearchConfig(

@@ -16,7 +16,7 @@ heading change of up to 1 rad per 0.1 s control step is available and the filter
 the heading (speed kept at the law's value, lowered to stall speed when no heading is clear).
 Positions [m; map frame], velocities [m/s], headings [rad] ccw from +x.
 
-Right of way (our addition, issue 16). At 100 m/s two UAVs close 20 m per 0.1 s step and turn at
+Right of way (our addition). At 100 m/s two UAVs close 20 m per 0.1 s step and turn at
 up to 10 rad/s, so a peer's straight-line prediction from its last two states is wrong exactly
 when it matters (after a drop a UAV reverses towards the lake; measured: 3.0-3.6 m passes, 8
 UAVs). So within ``yield_m`` of a peer with the right of way (the lower uav id) a UAV only flies
@@ -24,7 +24,7 @@ headings that do not close on that peer's position (``cos(heading, bearing from 
 full speed; the peer keeps its course. The lowest id of a cluster always proceeds (no deadlock:
 a symmetric "both turn away" rule kept two UAVs on opposite sides of a fire from ever reaching it).
 
-Intent of a turning peer (our addition, issue 16; FF is silent). Every UavState carries the
+Intent of a turning peer (our addition; FF is silent). Every UavState carries the
 centroid its sender steers at (FF Eqs. 8-12: the control law turns the unicycle towards it at up
 to 10 rad/s). So a peer with the right of way within ``yield_m`` is checked twice: on its straight
 line, and flying at the same speed straight at its centroid when that is more than
@@ -39,13 +39,25 @@ instead of 31 s; 160 s instead of 89 s): the UAVs that yield need them, the othe
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
+from fire_uav_common.codecs.uav_state import PeerState
+from fire_uav_common.constants import Objective
 
+from .errors import ConfigError, InputError
 from .estimation import wrap_angle
 
-__all__ = ["Avoider", "SeparationConfig", "avoid_heading", "closest_approach_m", "hold_layer", "peer_rows"]
+__all__ = [
+    "Avoider",
+    "PeerAvoidance",
+    "SeparationConfig",
+    "avoid_heading",
+    "closest_approach_m",
+    "hold_layer",
+    "peer_rows",
+]
 
 
 @dataclass(frozen=True)
@@ -65,9 +77,9 @@ class SeparationConfig:
     def __post_init__(self) -> None:
         for name in ("radius_m", "vertical_m", "horizon_s", "detect_m"):
             if not getattr(self, name) > 0:
-                raise ValueError(f"SeparationConfig.{name} must be > 0, got {getattr(self, name)}")
+                raise ConfigError(f"SeparationConfig.{name} must be > 0, got {getattr(self, name)}")
         if self.headings < 4:
-            raise ValueError(f"SeparationConfig.headings must be >= 4, got {self.headings}")
+            raise ConfigError(f"SeparationConfig.headings must be >= 4, got {self.headings}")
 
 
 def closest_approach_m(rel_pos_m: np.ndarray, rel_vel_mps: np.ndarray, horizon_s: float) -> np.ndarray:
@@ -162,7 +174,7 @@ def avoid_heading(
     x, y, z = own_xyz_m
     yt = np.zeros(p.shape[0], bool) if yield_to is None else np.asarray(yield_to, bool).reshape(-1)
     if yt.shape[0] != p.shape[0]:
-        raise ValueError(f"yield_to must have one entry per peer row ({p.shape[0]}), got {yt.shape[0]}")
+        raise InputError(f"yield_to must have one entry per peer row ({p.shape[0]}), got {yt.shape[0]}")
     if p.shape[0]:
         rel = p[:, :2] - np.array([x, y])
         near = (np.hypot(rel[:, 0], rel[:, 1]) <= cfg.detect_m) & (np.abs(p[:, 2] - z) <= cfg.vertical_m)
@@ -231,3 +243,90 @@ class Avoider:
         )
         self.heading_rad = head if changed else None
         return head, changed, clear
+
+
+class PeerAvoidance:
+    """One agent's avoidance of its peers' predicted motion, every phase (the agent's last stage
+    before the command goes out): the peers' motion from their last two states, and the
+    :class:`Avoider` with its memory.
+
+    ``uav_id``: this agent's (lower ids have the right of way); ``period_s``: the control period
+    T [s]; ``v_stall_mps``, ``v_max_mps``, ``omega_max_radps``: the vehicle's limits (FF Eq. 5).
+    """
+
+    def __init__(
+        self,
+        uav_id: int,
+        period_s: float,
+        cfg: SeparationConfig,
+        v_stall_mps: float,
+        v_max_mps: float,
+        omega_max_radps: float,
+    ) -> None:
+        self.uav_id, self.period_s, self.cfg = uav_id, period_s, cfg
+        self.v_stall_mps, self.v_max_mps, self.omega_max_radps = v_stall_mps, v_max_mps, omega_max_radps
+        self.avoider = Avoider(cfg)
+        self.steps_changed = 0  # control steps the filter changed the heading
+        self._motion: dict[int, tuple[int, float, float, float, float]] = {}  # j -> step, x, y, vx, vy
+
+    def command(
+        self,
+        s: np.ndarray,
+        cmd: tuple[float, float, float],
+        target: tuple[float, float],
+        peers: Mapping[int, PeerState],
+        last_step: int,
+        straight: bool = False,
+    ) -> tuple[float, float, float]:
+        """``cmd`` (v [m/s], v_z [m/s], omega [rad/s]) with its heading replaced when a peer would
+        come closer than ``radius_m`` within the horizon (turn at up to omega_max).
+
+        Peers' positions are their step k-1 estimates (time t_k), moved to t_{k+1} by the velocity
+        of their last two states (``last_step``: the step this agent last ran). ``straight``: hold
+        the current heading rather than turn to ``target``.
+        """
+        T = self.period_s
+        rows = []
+        right_of_way = []  # lower ids have the right of way (module doc)
+        for j, p in sorted(peers.items()):
+            if p.objective in (Objective.GROUNDED, Objective.LANDED):
+                continue
+            old = self._motion.get(j)
+            vx = vy = 0.0
+            if old is not None and p.step > old[0]:
+                dt = (p.step - old[0]) * T
+                vx, vy = (p.x_m - old[1]) / dt, (p.y_m - old[2]) / dt
+                if math.hypot(vx, vy) > 1.5 * self.v_max_mps:  # a jump (rejoin, GPS reset): no velocity
+                    vx = vy = 0.0
+            elif old is not None:
+                vx, vy = old[3], old[4]
+            if old is None or p.step != old[0]:
+                self._motion[j] = (p.step, p.x_m, p.y_m, vx, vy)
+            lead = (last_step + 1 - p.step) * T  # from the peer's t to our t_{k+1}
+            for row in peer_rows(
+                (p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy),
+                (p.centroid_x_m, p.centroid_y_m),
+                self.v_stall_mps,
+                self.cfg,
+                (float(s[0]), float(s[1])),
+                j < self.uav_id,
+            ):
+                rows.append(row)
+                right_of_way.append(j < self.uav_id)
+        if not rows:
+            return cmd
+        v, vz, om = cmd
+        want = float(s[3]) if straight else math.atan2(target[1] - s[1], target[0] - s[0])
+        head, changed, clear = self.avoider.step(
+            (float(s[0]), float(s[1]), float(s[2])),
+            max(v, self.v_stall_mps),
+            want,
+            np.array(rows),
+            np.array(right_of_way, bool),
+        )
+        if not changed:
+            return cmd
+        self.steps_changed += 1
+        err = float(np.arctan2(math.sin(head - s[3]), math.cos(head - s[3])))
+        om = max(-self.omega_max_radps, min(self.omega_max_radps, err / T))
+        return (v if clear else self.v_stall_mps, vz, om)

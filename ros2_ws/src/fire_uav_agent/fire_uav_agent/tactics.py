@@ -15,8 +15,8 @@ of the own cell nearest that centroid, so a UAV always flies at burning edge cel
 
 * ``head`` -- head attack, fastest front first: w_i = (R_i / R_max)^p + w_min, with R_i the rate
   of spread toward cell i (PM Eq. 1 per direction). For uniform fuel, Byram's fireline
-  intensity I = H w R is proportional to R, so this weights by intensity too (the issue's
-  "rate of spread or fireline intensity"); p = 2 concentrates the fleet on the head.
+  intensity I = H w R is proportional to R, so this weights by intensity too ("rate of
+  spread or fireline intensity"); p = 2 concentrates the fleet on the head.
 * ``flank`` -- flank attack from an anchor point: the anchor is the slowest front cell (the
   heel, where the fire backs into the wind: safe, low intensity) chosen once, and
   w_i = exp(-(d_i - d_min) / L) + w_min with d_i the distance from the anchor. Cells near the
@@ -41,6 +41,7 @@ from fire_uav_common.constants import CellState
 from fire_uav_common.scenario import TACTICS
 
 from .coverage import Grid
+from .errors import ConfigError
 from .fire_front import FrontCells
 
 __all__ = [
@@ -78,24 +79,24 @@ class TacticConfig:
 
     def __post_init__(self) -> None:
         if self.tactic not in TACTICS:
-            raise ValueError(f"tactic must be one of {list(TACTICS)}, got {self.tactic!r}")
+            raise ConfigError(f"tactic must be one of {list(TACTICS)}, got {self.tactic!r}")
         if not self.sigma_m > 0:
-            raise ValueError(f"tactic sigma_m must be > 0, got {self.sigma_m}")
+            raise ConfigError(f"tactic sigma_m must be > 0, got {self.sigma_m}")
         if not self.flank_scale_m > 0:
-            raise ValueError(f"tactic flank_scale_m must be > 0, got {self.flank_scale_m}")
+            raise ConfigError(f"tactic flank_scale_m must be > 0, got {self.flank_scale_m}")
         if self.min_burning_cells < 1:
-            raise ValueError(f"tactic min_burning_cells must be >= 1, got {self.min_burning_cells}")
+            raise ConfigError(f"tactic min_burning_cells must be >= 1, got {self.min_burning_cells}")
         if not self.release_radius_m > 0:
-            raise ValueError(f"tactic release_radius_m must be > 0, got {self.release_radius_m}")
+            raise ConfigError(f"tactic release_radius_m must be > 0, got {self.release_radius_m}")
         if self.direct_points < 1:
-            raise ValueError(f"tactic direct_points must be >= 1, got {self.direct_points}")
+            raise ConfigError(f"tactic direct_points must be >= 1, got {self.direct_points}")
         if self.layers < 1:
-            raise ValueError(f"tactic layers must be >= 1, got {self.layers}")
+            raise ConfigError(f"tactic layers must be >= 1, got {self.layers}")
         if not self.layer_step_m >= 0:
-            raise ValueError(f"tactic layer_step_m must be >= 0, got {self.layer_step_m}")
+            raise ConfigError(f"tactic layer_step_m must be >= 0, got {self.layer_step_m}")
         bottom = self.layer_top_m - (self.layers - 1) * self.layer_step_m
         if not bottom > 0:
-            raise ValueError(
+            raise ConfigError(
                 f"tactic layers do not fit above the ground: {self.layers} layers {self.layer_step_m} m apart "
                 f"below {self.layer_top_m} m put the lowest at {bottom:g} m"
             )
@@ -135,7 +136,7 @@ def raster_layers(
     step = 2.0 * collision_radius_m + tracking_error_m
     top = altimeter_range_m - 2.0 * tracking_error_m
     if not top > floor_m:
-        raise ValueError(
+        raise ConfigError(
             f"raster layers: the altimeter range minus twice the tracking error ({top:g} m) is not above "
             f"the floor ({floor_m:g} m)"
         )

@@ -252,10 +252,10 @@ def test_perimeters_and_fronts_from_bad_ids_or_lost_are_dropped():
     fr = [PeerFront(j, 1, 4, FrontCells.empty()) for j in (0, 3, -1, 1)]
     got = a._link(5, per + fr, [])
     assert [p.uav_id for p in got] == [2]
-    assert [f.uav_id for f in a._peer_fronts] == [1]
+    assert [f.uav_id for f in a.raster.peer_fronts] == [1]
     assert a.perimeter_lost == 0
     lossy = Agent(_cfg(n=3, loss_probability=1.0))
-    assert lossy._link(5, per + fr, []) == [] and lossy._peer_fronts == []
+    assert lossy._link(5, per + fr, []) == [] and lossy.raster.peer_fronts == []
     assert lossy.perimeter_lost == 1
 
 
@@ -644,7 +644,7 @@ def test_the_peers_velocity_is_kept_while_it_is_not_heard_again():
     (The avoider's commitment to its step-4 deviation is cleared first, so the rule is the plain one.)"""
     p0, v = (150.0, 190.0), (-20.0, -80.0)
     a, outs = _crossing(0, 1, p0, v, steps=5)
-    a.avoider.heading_rad = None
+    a.avoidance.avoider.heading_rad = None
     out = _fly(a, 5, *OWN)
     q = (p0[0] + 4 * T * v[0], p0[1] + 4 * T * v[1])
     assert _heading_after(out, 0.0) == pytest.approx(_nearest_clear(OWN, 0.0, 100.0, q, v), abs=1e-9)
@@ -799,15 +799,15 @@ def test_peer_fronts_are_merged_and_malformed_ones_ignored():
     bad = FrontCells(np.array([25.0]), np.array([25.0]), np.array([1]), np.array(["noon"]), np.array([0.3]))
     out = _fly(a, 1, 50.0, 50.0, cells=_block(), cell_size=10.0,
                inbox=[PeerFront(1, 1, 0, good), PeerFront(2, 1, 0, bad)])  # fmt: skip
-    assert a.fronts_received == 1 and a._peer_fronts == []
+    assert a.fronts_received == 1 and a.raster.peer_fronts == []
     fr = a.front.front(out.stamp_s)
     assert (255.0, 255.0) in {(float(x), float(y)) for x, y in zip(fr.x_m, fr.y_m, strict=True)}
     # no picture yet (no raster): peer fronts are dropped, not kept for later
     b = Agent(_cfg(n=3))
     _fly(b, 0, 50.0, 50.0)
-    b._peer_fronts.append(PeerFront(1, 1, 0, good))
-    b._fuse_front(_bundle(1), AIR, 0.2)
-    assert b._peer_fronts == [] and b.front is None and b.fronts_received == 0
+    b.raster.peer_fronts.append(PeerFront(1, 1, 0, good))
+    b.raster.fuse(_bundle(1), AIR, 0.2)
+    assert b.raster.peer_fronts == [] and b.front is None and b.fronts_received == 0
 
 
 def test_over_a_raster_fire_the_uav_aims_at_a_front_cell_and_releases_only_at_the_peak():
@@ -852,10 +852,10 @@ def test_a_direct_run_over_a_raster_fire_without_front_goes_to_the_own_point_of_
 def test_the_flank_anchor_is_chosen_once():
     a = _suppressor(fire=(145.0, 145.0, 15.0), mission=sc.Mission(tactic="flank"))
     _fly(a, 0, 60.0, 145.0, cells=_block(), cell_size=10.0)
-    first = a._anchor
+    first = a.raster.anchor
     assert first in _ring_cells()
     _fly(a, 1, 60.0, 145.0, cells=_block(cx=175.0), cell_size=10.0)  # the front moved east
-    assert a._anchor == first
+    assert a.raster.anchor == first
 
 
 # --- perimeter monitoring (PM) ----------------------------------------------------------------
@@ -1243,7 +1243,7 @@ def test_peer_perimeters_and_fronts_from_uav_0_count_and_one_lost_one_does_not_s
             PeerFront(0, 1, 4, FrontCells.empty()), _peer(3, 4, 10.0, 10.0)]  # fmt: skip
     a.last_step = 4
     got = a._link(5, msgs, [])
-    assert [p.uav_id for p in got] == [0] and [f.uav_id for f in a._peer_fronts] == [0]
+    assert [p.uav_id for p in got] == [0] and [f.uav_id for f in a.raster.peer_fronts] == [0]
     assert a.perimeter_lost == 2 and 3 in a.link.alive_states()
 
 

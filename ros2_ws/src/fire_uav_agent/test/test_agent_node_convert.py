@@ -1,11 +1,11 @@
-"""agent_node's message conversions (needs the built fire_uav_msgs; no DDS)."""
+"""The agent's rclpy message conversions (agent_io) (needs the built fire_uav_msgs; no DDS)."""
 
 import pytest
 
 pytest.importorskip("fire_uav_msgs.msg")
 
 from builtin_interfaces.msg import Time
-from fire_uav_agent.agent_node import _to_peer_perimeter
+from fire_uav_agent.agent_io import to_peer_perimeter as _to_peer_perimeter
 from fire_uav_common.stamps import step_to_ns, to_time_msg
 from fire_uav_msgs.msg import PerimeterMap
 
@@ -22,7 +22,8 @@ def test_fire_front_round_trip_keeps_cells_times_and_the_step() -> None:
     import dataclasses
 
     import numpy as np
-    from fire_uav_agent.agent_node import _from_front, _to_peer_front
+    from fire_uav_agent.agent_io import front_msg as _from_front
+    from fire_uav_agent.agent_io import to_peer_front as _to_peer_front
     from fire_uav_agent.fire_front import FrontCells
 
     cells = FrontCells(

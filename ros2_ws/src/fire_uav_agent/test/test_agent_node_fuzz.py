@@ -1,4 +1,4 @@
-"""Fuzz of agent_node's ``_to_*`` conversions and the peer link behind them (issue "hardening").
+"""Fuzz of the agent's readers (the codecs, ``agent_io.to_peer_perimeter``) and the peer link behind them.
 
 Random field values within the message types' ranges (NaN, inf, huge arrays, any id, any enum
 value, any step and sequence): a conversion never raises, and the peer link then accepts or
@@ -12,17 +12,15 @@ import pytest
 pytest.importorskip("fire_uav_msgs.msg")
 
 from builtin_interfaces.msg import Time
-from fire_uav_agent.agent_node import (
-    _step_verdict,
-    _to_bundle,
-    _to_peer_fires,
-    _to_peer_perimeter,
-    _to_peer_state,
-)
+from fire_uav_agent.agent_io import to_peer_perimeter as _to_peer_perimeter
+from fire_uav_agent.peer_gate import step_verdict as _step_verdict
 from fire_uav_agent.peer_link import PeerLink, Verdict
+from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle
+from fire_uav_common.codecs.uav_state import read_uav_state
 from fire_uav_msgs.msg import FireEstimate, PerimeterMap, SensorBundle, UavState
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from rclpy.serialization import serialize_message
 
 f64 = st.floats(allow_nan=True, allow_infinity=True)
 f32 = st.floats(width=32, allow_nan=True, allow_infinity=True)
@@ -43,7 +41,7 @@ def uav_states(draw):
     m.fires_sequence = draw(u32)  # the fire picture rides in the state
     n = draw(st.sampled_from([0, 1, 3, 500]))
     for _ in range(n):
-        f = FireEstimate(fire_id=draw(i32), status=draw(u8), x_m=draw(f64), y_m=draw(f64), extent_m=draw(f64))
+        f = FireEstimate(fire_id=draw(u32), status=draw(u8), x_m=draw(f64), y_m=draw(f64), extent_m=draw(f64))
         f.last_measurement = draw(stamp)
         f.front_x_m, f.max_spread_rate_mps = draw(f64), draw(f64)
         m.fires.append(f)
@@ -69,7 +67,8 @@ def _link() -> PeerLink:
 def test_fuzzed_states_and_their_fires_convert_and_are_counted(msgs, now):
     link = _link()
     for m in msgs:
-        p, q = _to_peer_state(m), _to_peer_fires(m)  # the state and the fire picture it carries
+        w = read_uav_state(serialize_message(m))  # the codec on the bytes rclpy writes
+        p, q = w.state, w.fires  # the state and the fire picture it carries
         assert (q.uav_id, q.sequence, q.step) == (m.uav_id, m.fires_sequence, m.step)
         assert len(q.fires) == len(m.fires)
         v_state = link.receive_state(p, now_step=now)
@@ -113,5 +112,5 @@ def test_fuzzed_bundle_converts(step, t, x, status, water, n):
     m.gps = [GpsFix(x_m=x, y_m=x, variance_m2=x) for _ in range(n)]
     m.cells.x_m = [x] * n
     m.cells.y_m = [x] * (n // 2)  # mismatched lengths: the cells are dropped, not misread
-    b = _to_bundle(m)
+    b = read_sensor_bundle(serialize_message(m)).bundle
     assert b.step == step and b.samples.gps.shape == (n, 3) and b.cells is None or n == 0

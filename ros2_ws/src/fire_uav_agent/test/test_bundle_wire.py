@@ -1,4 +1,5 @@
-"""``bundle_wire.read_sensor_bundle`` against ``agent_node._to_bundle`` of rclpy's deserialisation.
+"""The ``sensor_bundle`` codec's reader against the agent node's former conversion of rclpy's
+deserialisation (``rclpy_reference.to_bundle``).
 
 Generated SensorBundles (every field random, frame ids of every length mod 8 in every header so each
 alignment rule is exercised, 0-12 samples of each kind, raster cells of equal and unequal lengths)
@@ -15,14 +16,30 @@ import pytest
 pytest.importorskip("fire_uav_msgs.msg")
 
 from builtin_interfaces.msg import Time
-from fire_uav_agent.agent_node import _to_bundle
-from fire_uav_agent.bundle_wire import SAMPLE_FIELDS, SENSORBUNDLE_FIELDS, read_sensor_bundle
 from fire_uav_agent.testing.compare import same
+from fire_uav_common.codecs.sensor_bundle import SAMPLE_FIELDS, SENSORBUNDLE_FIELDS, read_sensor_bundle
 from fire_uav_msgs.msg import FireCells, FireDetection, GpsFix, SensorBundle
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from rclpy.serialization import deserialize_message, serialize_message
 from sensor_msgs.msg import Imu, Range
+
+
+def _reference():
+    """``rclpy_reference.py`` beside this file (the tests are no package: loaded by path)."""
+    import importlib.util
+    from pathlib import Path
+
+    spec = importlib.util.spec_from_file_location(
+        "rclpy_reference", Path(__file__).with_name("rclpy_reference.py")
+    )
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+rclpy_ref = _reference()
 
 f64 = st.floats(allow_nan=True, allow_infinity=True)
 f32 = st.floats(width=32, allow_nan=True, allow_infinity=True)
@@ -86,7 +103,7 @@ def test_read_equals_the_nodes_conversion_of_rclpys_deserialisation(m):
     data = serialize_message(m)
     w = read_sensor_bundle(data)
     ref = deserialize_message(data, SensorBundle)
-    assert same(w.bundle, _to_bundle(ref))
+    assert same(w.bundle, rclpy_ref.to_bundle(ref))
     assert (w.stamp_sec, w.stamp_nanosec) == (ref.header.stamp.sec, ref.header.stamp.nanosec)
 
 
@@ -219,7 +236,7 @@ def test_cell_coordinates_near_the_end_read(field):
     setattr(m.cells, field, [float(j) for j in range(20)])
     data = serialize_message(m)
     ref = deserialize_message(data, SensorBundle)
-    assert same(read_sensor_bundle(data).bundle, _to_bundle(ref))
+    assert same(read_sensor_bundle(data).bundle, rclpy_ref.to_bundle(ref))
 
 
 def test_a_cut_right_after_the_cell_centres_is_a_truncation():

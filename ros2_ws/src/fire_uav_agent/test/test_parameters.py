@@ -47,8 +47,7 @@ def yaml_params(path: Path) -> dict[str, object]:
 CASES = [
     (
         [
-            SRC / "fire_uav_agent/fire_uav_agent/agent_node.py",
-            SRC / "fire_uav_agent/fire_uav_agent/search_io.py",
+            SRC / "fire_uav_agent/fire_uav_agent/agent_params.py",
         ],
         SRC / "fire_uav_agent/config/agent.yaml",
     ),

@@ -11,19 +11,36 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 pytest.importorskip("fire_uav_msgs.msg")
 
 from builtin_interfaces.msg import Time
-from fire_uav_agent.agent_node import _to_peer_fires, _to_peer_state
-from fire_uav_agent.state_wire import FIREESTIMATE_FIELDS, UAVSTATE_FIELDS, read_uav_state
 from fire_uav_agent.testing.compare import same
 from fire_uav_common.auth import Authenticator
+from fire_uav_common.codecs.uav_state import FIREESTIMATE_FIELDS, UAVSTATE_FIELDS, read_uav_state
 from fire_uav_msgs.msg import FireEstimate, UavState
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from rclpy.serialization import deserialize_message, serialize_message
+
+
+def _reference():
+    """``rclpy_reference.py`` beside this file (the tests are no package: loaded by path)."""
+    import importlib.util
+    from pathlib import Path
+
+    spec = importlib.util.spec_from_file_location(
+        "rclpy_reference", Path(__file__).with_name("rclpy_reference.py")
+    )
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+rclpy_ref = _reference()
 
 f64 = st.floats(allow_nan=True, allow_infinity=True)
 f32 = st.floats(width=32, allow_nan=True, allow_infinity=True)
@@ -68,8 +85,8 @@ def test_read_equals_rclpys_deserialisation(m):
     data = serialize_message(m)
     w = read_uav_state(data)
     ref = deserialize_message(data, UavState)
-    assert same(w.state, _to_peer_state(ref))
-    assert same(w.fires, _to_peer_fires(ref))
+    assert same(w.state, rclpy_ref.to_peer_state(ref))
+    assert same(w.fires, rclpy_ref.to_peer_fires(ref))
     assert (w.uav_id, w.step, w.final) == (ref.uav_id, ref.step, ref.final)
     assert w.sent_per_topic == tuple(ref.sent_per_topic)
     assert all(type(v) is int for v in w.sent_per_topic)
@@ -83,7 +100,7 @@ def test_a_signed_state_reads_as_its_message(m, sender, step):
     auth = Authenticator(bytes(range(32)))
     data = auth.sign_serialized(serialize_message(m), "/fleet/state", sender, step)
     assert data[-32:] != bytes(32)
-    assert same(read_uav_state(data).state, _to_peer_state(m))
+    assert same(read_uav_state(data).state, rclpy_ref.to_peer_state(m))
 
 
 def test_values_come_through_exactly():
@@ -243,3 +260,103 @@ def test_a_cut_right_after_a_sequence_is_a_truncation():
     data = serialize_message(m)
     end = data.index((0x0C0FFEE0).to_bytes(4, "little")) + 77  # the least a fire takes, no padding
     assert _error(data[:end]) == f"UavState truncated: {end} bytes"
+
+
+# --- the writer -------------------------------------------------------------------------------------
+sim_stamps = st.builds(Time, sec=st.integers(0, 10**6), nanosec=st.integers(0, 999_999_999))
+
+
+@st.composite
+def written_states(draw) -> UavState:
+    """States the agent writes: frame ``map``, auth zero, status ACTIVE / EXTINGUISHED, stamps of
+    sim time (>= 0; up to ~11 days, where seconds as a float still hold every nanosecond)."""
+    m = draw(uav_states())
+    m.header.frame_id = "map"
+    m.header.stamp = draw(sim_stamps)
+    m.auth = [0] * 32
+    for f in m.fires:
+        f.status = draw(st.sampled_from([0, 1]))
+        f.last_measurement = draw(sim_stamps)
+    return m
+
+
+def _write(m: UavState) -> bytes:
+    from fire_uav_common.codecs.uav_state import FireEntry, write_uav_state
+    from fire_uav_common.stamps import stamp_to_ns, stamp_to_s
+
+    fires = [
+        FireEntry(
+            f.fire_id,
+            f.status == 0,
+            f.x_m,
+            f.y_m,
+            f.extent_m,
+            f.vx_mps,
+            f.vy_mps,
+            stamp_to_s(f.last_measurement),
+            f.front_x_m,
+            f.front_y_m,
+            f.max_spread_rate_mps,
+        )  # fmt: skip
+        for f in m.fires
+    ]
+    return write_uav_state(
+        stamp_ns=stamp_to_ns(m.header.stamp), uav_id=m.uav_id, sequence=m.sequence, step=m.step,
+        pose=(m.x_m, m.y_m, m.z_m, m.yaw_rad), covariance=list(m.covariance), objective=m.objective,
+        target_fire_id=m.target_fire_id, water_kg=m.water_kg, centroid_xy=(m.centroid_x_m, m.centroid_y_m),
+        alive_peers=list(m.alive_peers), crashed_peers=list(m.crashed_peers),
+        packets=(m.packets_received, m.packets_lost, m.packets_rejected), sent_per_topic=list(m.sent_per_topic),
+        final=m.final, fires_sequence=m.fires_sequence, fires=fires,
+    )  # fmt: skip
+
+
+def _same_msg(a, b, path: str = "msg") -> None:
+    """Assert two ROS messages equal slot for slot (floats by repr, so NaN equals NaN)."""
+    if hasattr(a, "get_fields_and_field_types"):
+        assert type(a) is type(b), path
+        for name in a.get_fields_and_field_types():
+            _same_msg(getattr(a, name), getattr(b, name), f"{path}.{name}")
+    elif isinstance(a, (list, tuple, bytes, np.ndarray)) or hasattr(a, "typecode"):
+        a, b = list(a), list(b)
+        assert len(a) == len(b), path
+        for k, (x, y) in enumerate(zip(a, b, strict=True)):
+            _same_msg(x, y, f"{path}[{k}]")
+    elif isinstance(a, (float, np.floating)) or isinstance(b, (float, np.floating)):
+        assert repr(float(a)) == repr(float(b)), f"{path}: {a!r} != {b!r}"
+    else:
+        assert a == b, f"{path}: {a!r} != {b!r}"
+
+
+@settings(max_examples=150, deadline=None)
+@given(written_states())
+def test_the_writer_writes_the_message(m):
+    """rclpy reads the bytes as the message, and they are as long as rclpy's own (whose padding
+    bytes are whatever the buffer held: they are not compared; the writer's are zeros)."""
+    data = _write(m)
+    assert len(data) == len(serialize_message(m))
+    _same_msg(deserialize_message(data, UavState), m)
+
+
+def test_the_agents_state_bytes_are_the_message_the_node_built() -> None:
+    """``outgoing.state_bytes`` of real agent outputs reads as the UavState the node built from them (``rclpy_reference.from_state`` / ``add_fires``), fires included."""
+    from fire_uav_agent.outgoing import sent_per_topic, state_bytes
+    from fire_uav_agent.testing.harness import Harness, scenario_path
+    from fire_uav_common.stamps import to_time_msg
+
+    h = Harness.from_file(scenario_path("ff_two_fires"), seed=3)
+    checked = fires = 0
+    for _ in range(120):
+        r = h.step()
+        for out in h.outputs:
+            if out is None:
+                continue
+            b = r.bundles[out.state.uav_id]
+            sent = sent_per_topic(out.perimeter is not None, out.front is not None)
+            m = rclpy_ref.add_fires(rclpy_ref.from_state(out, to_time_msg(b.stamp_ns, Time)), out)
+            m.sent_per_topic, m.final = sent, False
+            data = state_bytes(out, b.stamp_ns, sent, False)
+            assert len(data) == len(serialize_message(m))
+            _same_msg(deserialize_message(data, UavState), m)
+            checked += 1
+            fires += len(out.fires)
+    assert checked > 300 and fires > 0

@@ -13,6 +13,7 @@ pytest.importorskip("rclpy")
 
 from fire_uav_agent.agent_node import UavAgentNode
 from fire_uav_common import topics
+from fire_uav_common.cdr import CdrError
 from fire_uav_msgs.msg import UavState
 from rclpy.serialization import serialize_message
 
@@ -67,7 +68,7 @@ def test_a_peer_state_that_neither_reader_takes_is_counted_once(data):
 
 def test_a_state_the_fast_reader_refuses_still_reads_through_rclpy(monkeypatch):
     """Another encoding than XCDR1 little-endian (e.g. a big-endian peer) is read by rclpy's
-    deserialisation instead, to the same values."""
+    deserialisation and re-serialised for the codec, to the same values."""
     import fire_uav_agent.agent_node as node
 
     m = UavState(uav_id=3, step=9, sequence=4, x_m=1.5, fires_sequence=2, final=True)
@@ -76,8 +77,12 @@ def test_a_state_the_fast_reader_refuses_still_reads_through_rclpy(monkeypatch):
     stub, reasons, _ = _reading_stub()
     fast = UavAgentNode._read_state(stub, data)
 
-    def refuse(_data):
-        raise ValueError("not XCDR1 little-endian CDR (encapsulation 0000)")
+    real = node.read_uav_state
+
+    def refuse(d):  # the bytes as received are refused; rclpy's re-serialisation of them is read
+        if d is data:
+            raise CdrError("UavState: not XCDR1 little-endian CDR (encapsulation 0000)")
+        return real(d)
 
     monkeypatch.setattr(node, "read_uav_state", refuse)
     slow = UavAgentNode._read_state(stub, data)

@@ -15,14 +15,30 @@ import pytest
 
 rclpy = pytest.importorskip("rclpy")
 
-from fire_uav_agent.agent_node import _to_bundle, _to_peer_state  # noqa: E402
-from fire_uav_agent.bundle_wire import read_sensor_bundle  # noqa: E402
-from fire_uav_agent.state_wire import read_uav_state  # noqa: E402
 from fire_uav_agent.testing.compare import same  # noqa: E402
 from fire_uav_common import topics  # noqa: E402
+from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle  # noqa: E402
+from fire_uav_common.codecs.uav_state import read_uav_state  # noqa: E402
 from fire_uav_msgs.msg import FireDetection, FireEstimate, GpsFix, SensorBundle, UavState  # noqa: E402
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
 from sensor_msgs.msg import Imu, Range  # noqa: E402
+
+
+def _reference():
+    """``rclpy_reference.py`` beside this file (the tests are no package: loaded by path)."""
+    import importlib.util
+    from pathlib import Path
+
+    spec = importlib.util.spec_from_file_location(
+        "rclpy_reference", Path(__file__).with_name("rclpy_reference.py")
+    )
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+rclpy_ref = _reference()
 
 
 def _bundle(k: int) -> SensorBundle:
@@ -70,7 +86,7 @@ def test_bundles_published_as_messages_read_as_rclpy_reads_them(node_pair):
     assert any(len(serialize_message(_bundle(k))) % 4 for k in range(24))  # some need the padding
     for k, data in enumerate(got):
         w = read_sensor_bundle(data)
-        assert same(w.bundle, _to_bundle(deserialize_message(data, SensorBundle)))
+        assert same(w.bundle, rclpy_ref.to_bundle(deserialize_message(data, SensorBundle)))
         assert w.bundle.step == k
 
 
@@ -78,13 +94,13 @@ def test_states_published_as_messages_read_as_rclpy_reads_them(node_pair):
     got = _round_trip(node_pair, topics.FLEET_STATE_SPEC, _state, 12, uav_id=None)
     for k, data in enumerate(got):
         w = read_uav_state(data)
-        assert same(w.state, _to_peer_state(deserialize_message(data, UavState)))
+        assert same(w.state, rclpy_ref.to_peer_state(deserialize_message(data, UavState)))
         assert w.step == k
 
 
 def test_bundles_the_world_writes_as_bytes_arrive_as_written(node_pair):
     """As the world publishes them since session 13: its writer's bytes, published raw."""
-    from fire_world_sim.bundle_wire import write_sensor_bundle
+    from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
     from fire_world_sim.sensors import AltimeterSample, GyroSample
     from fire_world_sim.world import Bundle
 
@@ -97,4 +113,6 @@ def test_bundles_the_world_writes_as_bytes_arrive_as_written(node_pair):
     got = _round_trip(node_pair, topics.SENSORS_SPEC, make, 12, uav_id=1)
     for k, data in enumerate(got):
         assert same(read_sensor_bundle(data).bundle, read_sensor_bundle(make(k)).bundle)
-        assert same(read_sensor_bundle(data).bundle, _to_bundle(deserialize_message(data, SensorBundle)))
+        assert same(
+            read_sensor_bundle(data).bundle, rclpy_ref.to_bundle(deserialize_message(data, SensorBundle))
+        )

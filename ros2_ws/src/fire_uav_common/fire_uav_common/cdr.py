@@ -1,8 +1,7 @@
 """The CDR layout the fleet's hot messages are read and written in without rclpy's message objects.
 
-``fire_uav_agent.state_wire`` (a peer's UavState), ``fire_uav_agent.bundle_wire`` (the agent's
-SensorBundle) and ``fire_world_sim.bundle_wire`` (the world's SensorBundle) use these rules; every
-one of them is checked against ``rclpy.serialization`` in its tests (docs/profile.md, session 13).
+The codecs (:mod:`fire_uav_common.codecs`: ``sensor_bundle``, ``uav_state``) use these rules; each
+is checked against ``rclpy.serialization`` in its tests (docs/profile.md).
 
 The encoding is XCDR1 little-endian (``PLAIN_CDR``), the one rmw_fastrtps serialises ROS 2 messages
 in: a 4-byte encapsulation header ``00 01 00 00``, then the fields in order, each primitive aligned
@@ -19,10 +18,24 @@ from __future__ import annotations
 
 import struct
 
-__all__ = ["ENCAPSULATION", "U32", "align4", "align8", "check_encapsulation", "pad", "read_string_end"]
+__all__ = [
+    "ENCAPSULATION",
+    "U32",
+    "CdrError",
+    "align4",
+    "align8",
+    "check_encapsulation",
+    "pad",
+    "read_string_end",
+]
 
 ENCAPSULATION = b"\x00\x01\x00\x00"  # XCDR1 (PLAIN_CDR) little-endian, no options
 U32 = struct.Struct("<I")
+
+
+class CdrError(ValueError):
+    """Bytes that are not the CDR encoding a codec reads (truncated, a length past the end, another
+    encapsulation); the message names the type and the field."""
 
 
 def align4(i: int) -> int:
@@ -43,10 +56,10 @@ def pad(buf: bytearray, alignment: int) -> None:
 
 
 def check_encapsulation(data: bytes | bytearray | memoryview, what: str) -> None:
-    """ValueError unless ``data`` starts with the XCDR1 little-endian identifier (shorter data, too:
+    """:class:`CdrError` unless ``data`` starts with the XCDR1 little-endian identifier (shorter data, too:
     its slice differs; a header without a payload then fails its reader as truncated)."""
     if data[0:2] != ENCAPSULATION[0:2]:
-        raise ValueError(
+        raise CdrError(
             f"{what}: not XCDR1 little-endian CDR (encapsulation {bytes(data[0:2]).hex() or 'missing'})"
         )
 
@@ -56,5 +69,5 @@ def read_string_end(data: bytes | bytearray | memoryview, i: int, what: str) -> 
     (k,) = U32.unpack_from(data, i)
     end = i + 4 + k
     if k < 1 or end > len(data):
-        raise ValueError(f"{what} length {k} does not fit in {len(data)} bytes")
+        raise CdrError(f"{what} length {k} does not fit in {len(data)} bytes")
     return end

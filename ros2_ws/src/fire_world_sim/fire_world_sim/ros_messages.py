@@ -3,7 +3,7 @@
 ROS adapter module (it builds rclpy message objects): ``/world/truth`` (:func:`truth_msg`),
 ``/world/events`` (:func:`event_msg`, :func:`agent_lost_msg`), ``/viz/world``
 (:func:`marker_array`), ``/tf`` (:func:`tf_msg`) and ``/viz/fire_grid`` (:func:`grid_msg`). The
-SensorBundle is written as bytes elsewhere (``bundle_wire``).
+SensorBundle is written as bytes by ``fire_uav_common.codecs.sensor_bundle``.
 """
 
 from __future__ import annotations

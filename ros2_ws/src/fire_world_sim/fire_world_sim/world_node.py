@@ -18,6 +18,7 @@ import sys
 import rclpy
 from fire_uav_common import topics
 from fire_uav_common.auth import Authenticator
+from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
 from fire_uav_common.constants import EventType, PayloadAction, VehicleStatus
 from fire_uav_common.lockstep import offline_uavs
 from fire_uav_common.scenario import ScenarioError, load_scenario
@@ -35,7 +36,6 @@ from visualization_msgs.msg import MarkerArray
 
 from . import ros_messages as msgs
 from . import viz
-from .bundle_wire import write_sensor_bundle
 from .errors import ConfigError
 from .ros_messages import FRAME, stamp  # noqa: F401  (the SensorBundle writer's tests take them from here)
 from .step_answers import AnswerGate
@@ -369,7 +369,7 @@ class WorldNode(Node):
                 self.pub_grid.publish(msgs.grid_msg(grid, r.stamp_ns))
 
     def _bundle_bytes(self, b: Bundle) -> bytes:
-        """``b`` as a serialised SensorBundle (``bundle_wire``), published as it is."""
+        """``b`` as a serialised SensorBundle (``fire_uav_common.codecs.sensor_bundle``), published as it is."""
         return write_sensor_bundle(b, self.world.scenario.sensors.gyro.sigma_radps)
 
     # the header the SensorBundle writer's tests build their reference message with

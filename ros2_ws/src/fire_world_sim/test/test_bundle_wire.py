@@ -1,4 +1,4 @@
-"""``bundle_wire.write_sensor_bundle`` against the message the world node built and published
+"""``fire_uav_common.codecs.sensor_bundle.write_sensor_bundle`` against the message the world node built and published
 before it (``reference_bundle_msg`` below): rclpy must read the bytes as exactly that message.
 
 Generated world bundles (any number of each sample kind, raster cells or none, stamps and values
@@ -13,8 +13,8 @@ import pytest
 
 pytest.importorskip("fire_uav_msgs.msg")
 
+from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
 from fire_uav_msgs.msg import FireDetection, GpsFix, SensorBundle
-from fire_world_sim.bundle_wire import write_sensor_bundle
 from fire_world_sim.sensors import AltimeterSample, CellsSample, FireDetectionSample, GpsSample, GyroSample
 from fire_world_sim.world import Bundle
 from fire_world_sim.world_node import FRAME, WorldNode, stamp

@@ -6,12 +6,14 @@ caller (the ROS adapter) can catch the whole family in one place.
 
 from __future__ import annotations
 
-
-class SearchError(Exception):
-    """Base class of all coverage-search errors."""
+from ..errors import AgentError, ConfigError
 
 
-class SearchConfigError(SearchError, ValueError):
+class SearchError(AgentError):
+    """Base class of all coverage-search errors (part of the agent package's family)."""
+
+
+class SearchConfigError(SearchError, ConfigError):
     """A configuration value is out of range or inconsistent (raised at construction)."""
 
 

@@ -5,36 +5,40 @@ Test support only: the node never imports this module. :class:`Harness` builds
 per UAV from the same scenario, and steps them as the processes do in lockstep mode
 (docs/protocol.md): world step k -> one bundle per live vehicle -> each agent's step k (with the
 peers' step-(k-1) messages) -> commands and payload requests stamped t_{k+1} -> world step k+1.
-Peer messages (state, fires, perimeter) are delivered to every other running agent one step
-later; the injected loss is applied on receipt by each agent's own peer link (seeded rule of
-``fire_uav_agent.peer_link``), as in the node. A stopped agent (:meth:`Harness.stop`, a killed
-process) sends nothing more; the world lets its vehicle fall after the command timeout.
+Peer messages (state, fires, perimeter, front) go through each receiving agent's
+:class:`~fire_uav_agent.peer_gate.PeerGate`, the node's gate (admission, duplicates, the lockstep
+wait, the inbox order), and reach the agent with its next bundle; the injected loss is applied on
+receipt by each agent's own peer link (seeded rule of ``fire_uav_agent.peer_link``), as in the
+node. A stopped agent (:meth:`Harness.stop`, a killed process) sends nothing more and is no longer
+waited for; the world lets its vehicle fall after the command timeout.
 
-The conversions between the world's Python types and the agent's are :func:`agent_bundle`,
-:func:`world_command` and :func:`peer_messages`, one function each; they round what the ROS
-messages carry as float32 (water gauge, altimeter range, raster cells, perimeter arrays) the
-way the messages do, so a harness run sees the numbers a ROS run sees.
+The sensor bundle and the peer state travel as the bytes the nodes publish, through the same
+codecs (``fire_uav_common.codecs``), so a harness run sees the numbers a ROS run sees (float32
+fields, stamps of whole nanoseconds). The perimeter map and the front picture, which the node
+builds as rclpy messages, are rounded here as those messages round them (:func:`peer_messages`).
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle, write_sensor_bundle
+from fire_uav_common.codecs.uav_state import WireState, read_uav_state
+from fire_uav_common.constants import VehicleStatus
 from fire_uav_common.scenario import Scenario, load_scenario
-from fire_uav_common.stamps import ns_to_s, s_to_ns
 from fire_world_sim import world as wsim
 
 from ..agent_config import config_from_scenario
 from ..agent_core import Agent
 from ..agent_types import Bundle, PeerPerimeter, StepOutput
-from ..estimation import Samples
 from ..fire_front import FrontCells
 from ..front_consensus import PeerFront
-from ..peer_link import FireEntry, PeerFires, PeerState
+from ..outgoing import sent_per_topic, state_bytes
+from ..peer_gate import PeerGate, Rejected, RunStep
+from ..peer_link import PeerFires, PeerState
 
 __all__ = ["Harness", "agent_bundle", "peer_messages", "scenario_path", "world_command"]
 
@@ -57,38 +61,10 @@ def _f32(x: float) -> float:
     return float(np.float32(x))
 
 
-# --- conversions (the harness's counterpart of world_node._bundle_bytes and agent_node._to_*) ---
-def agent_bundle(b: wsim.Bundle) -> Bundle:
-    """World bundle -> agent bundle, as ``SensorBundle`` carries it (stamps [ns] -> [s])."""
-    gps = np.array([(ns_to_s(g.stamp_ns), g.x_m, g.y_m) for g in b.gps], dtype=float).reshape(-1, 3)
-    gps_var = np.array([g.variance_m2 for g in b.gps], dtype=float)
-    alt = np.array([(ns_to_s(a.stamp_ns), _f32(a.range_m)) for a in b.altimeter], dtype=float).reshape(-1, 2)
-    gyro = np.array([(ns_to_s(g.stamp_ns), g.omega_z_radps) for g in b.gyro], dtype=float).reshape(-1, 2)
-    fires = np.array([(ns_to_s(f.stamp_ns), f.x_m, f.y_m, f.extent_m) for f in b.fires], dtype=float).reshape(
-        -1, 4
-    )
-    c = b.cells
-    cells = None
-    cell_size_m = 0.0
-    if c is not None:
-        cell_size_m = _f32(c.cell_size_m)
-        if len(c.x_m) > 0 and len(c.x_m) == len(c.y_m) == len(c.state):
-            cells = (
-                np.asarray(c.x_m, dtype=np.float32).astype(float),
-                np.asarray(c.y_m, dtype=np.float32).astype(float),
-                np.asarray(c.state, dtype=np.uint8).astype(np.int64),
-            )
-    return Bundle(
-        step=int(b.step),
-        stamp_s=ns_to_s(b.stamp_ns),
-        samples=Samples(gps, gps_var, alt, gyro),
-        fires=fires,
-        water_kg=_f32(b.water_kg),
-        vehicle=int(b.vehicle_status),
-        control_period_s=float(b.control_period_s),
-        cells=cells,
-        cell_size_m=cell_size_m,
-    )
+# --- conversions -----------------------------------------------------------------------------------
+def agent_bundle(b: wsim.Bundle, gyro_sigma_radps: float) -> Bundle:
+    """World bundle -> agent bundle, through the bytes the world node publishes."""
+    return read_sensor_bundle(write_sensor_bundle(b, gyro_sigma_radps)).bundle
 
 
 def world_command(out: StepOutput) -> tuple[wsim.Command, list[int]]:
@@ -97,27 +73,12 @@ def world_command(out: StepOutput) -> tuple[wsim.Command, list[int]]:
     return wsim.Command(v, vz, om), [int(action) for action, _fire in out.payload_requests]
 
 
-def peer_messages(out: StepOutput, perimeter_sequence: int = 0) -> list[PeerMessage]:
-    """Agent output -> what its peers receive (``UavState`` with its fires, ``PerimeterMap``)."""
-    st = out.state.as_peer_state()
-    st = PeerState(**{**st.__dict__, "water_kg": _f32(st.water_kg)})
-    fires = tuple(
-        FireEntry(
-            e.fire_id,
-            e.active,
-            e.x_m,
-            e.y_m,
-            e.extent_m,
-            e.vx_mps,
-            e.vy_mps,
-            ns_to_s(s_to_ns(max(0.0, e.last_measurement_s) if math.isfinite(e.last_measurement_s) else 0.0)),
-            e.front_x_m,
-            e.front_y_m,
-            e.max_spread_rate_mps,
-        )  # fmt: skip
-        for e in out.fires
-    )
-    msgs: list[PeerMessage] = [st, PeerFires(out.state.uav_id, out.fires_sequence, out.step, fires)]
+def peer_messages(
+    out: StepOutput, stamp_ns: int, final: bool, perimeter_sequence: int = 0
+) -> tuple[bytes, list[PeerPerimeter | PeerFront]]:
+    """Agent output -> what its peers receive: the UavState's bytes (with the fire picture and the
+    count of the rest), and the perimeter map and front picture as their messages carry them."""
+    rest: list[PeerPerimeter | PeerFront] = []
     if out.perimeter is not None:
         fire_id, s = out.perimeter
         summary = {
@@ -127,10 +88,11 @@ def peer_messages(out: StepOutput, perimeter_sequence: int = 0) -> list[PeerMess
             "outer_visit_time_s": np.asarray(s["outer_visit_time_s"], dtype=np.float32).astype(float),
         }
         fid = int(fire_id) if fire_id < 2**31 else -1
-        msgs.append(PeerPerimeter(out.state.uav_id, perimeter_sequence, out.step, fid, summary))
+        rest.append(PeerPerimeter(out.state.uav_id, perimeter_sequence, out.step, fid, summary))
     if out.front is not None:
-        msgs.append(PeerFront(out.state.uav_id, out.state.sequence, out.step, front_as_sent(out.front)))  # type: ignore[arg-type]  # StepOutput.front is typed object (agent_types does not import fire_front)
-    return msgs
+        rest.append(PeerFront(out.state.uav_id, out.state.sequence, out.step, front_as_sent(out.front)))  # type: ignore[arg-type]  # StepOutput.front is typed object (agent_types does not import fire_front)
+    sent = sent_per_topic(out.perimeter is not None, out.front is not None)
+    return state_bytes(out, stamp_ns, sent, final), rest
 
 
 def front_as_sent(c: FrontCells) -> FrontCells:
@@ -178,8 +140,13 @@ class Harness:
         self.events: list[wsim.Event] = []
         self._commands: dict[int, wsim.Command | None] = {}
         self._payload: dict[int, list[int]] = {}
-        self._inbox: list[list[PeerMessage]] = [[] for _ in range(n)]
+        period_s = self.agents[0].cfg.control_period_s if n else 0.1
+        self.gates: list[PeerGate] = [
+            PeerGate(i, n, period_s, crash_threshold_steps=a.cfg.crash_threshold_steps)
+            for i, a in enumerate(self.agents)
+        ]
         self._perimeter_seq = [0] * n
+        self._gyro_sigma_radps = float(self.scenario.sensors.gyro.sigma_radps)
 
     @classmethod
     def from_file(
@@ -195,6 +162,9 @@ class Harness:
     def stop(self, uav_id: int) -> None:
         """The agent's process dies now: it is not stepped again and sends nothing more."""
         self.stopped.add(uav_id)
+        for g in self.gates:
+            if g.uav_id != uav_id:
+                g.mark_gone(uav_id)
 
     def step(self) -> wsim.StepResult:
         """One lockstep round: world step k, then every running agent's step k."""
@@ -206,8 +176,12 @@ class Harness:
         for uid, b in sorted(r.bundles.items()):
             if uid in self.stopped:
                 continue
-            inbox, self._inbox[uid] = self._inbox[uid], []
-            out = self.agents[uid].step(agent_bundle(b), inbox)
+            run = self._decide(uid, self.gates[uid].on_bundle(b.step, b))
+            if run is None:
+                raise RuntimeError(
+                    f"harness: agent {uid} would wait at step {b.step} for {self.gates[uid].wait.describe(b.step)}"
+                )
+            out = self.agents[uid].step(agent_bundle(run.bundle, self._gyro_sigma_radps), run.inbox)
             outs[uid] = out
             if out is None:
                 continue
@@ -217,12 +191,36 @@ class Harness:
                 continue
             if out.perimeter is not None:
                 self._perimeter_seq[uid] += 1
-            msgs = peer_messages(out, self._perimeter_seq[uid])
+            b = r.bundles[uid]
+            final = int(b.vehicle_status) == int(VehicleStatus.CRASHED)
+            data, rest = peer_messages(out, b.stamp_ns, final, self._perimeter_seq[uid])
+            wire = read_uav_state(data)
             for j in range(len(self.agents)):
                 if j != uid and j not in self.stopped:
-                    self._inbox[j] += msgs
+                    self._deliver(j, data, wire, rest)
         self.outputs = outs
         return r
+
+    def _deliver(self, j: int, data: bytes, wire: WireState, rest: list[PeerPerimeter | PeerFront]) -> None:
+        """One agent's step messages to agent ``j``'s gate, as the node hands them over (the state
+        first: it says what else was sent)."""
+        gate = self.gates[j]
+        self._decide(j, gate.on_state(data, wire.state, wire.fires, wire.sent_per_topic, wire.final))
+        for m in rest:
+            if isinstance(m, PeerPerimeter):
+                self._decide(j, gate.on_perimeter(b"", m))
+            elif isinstance(m, PeerFront):
+                self._decide(j, gate.on_front(m.uav_id, m.step, m))
+
+    def _decide(self, uid: int, decisions: list) -> RunStep | None:
+        """Count the gate's rejections in the agent's link (as the node does); the step to run, if any."""
+        run = None
+        for d in decisions:
+            if isinstance(d, Rejected):
+                self.agents[uid].link.count_rejection(d.reason)
+            elif isinstance(d, RunStep):
+                run = d
+        return run
 
     def run(self, steps: int | None = None) -> wsim.StepResult | None:
         """Step until the world reports the mission complete (or for ``steps`` steps)."""
@@ -239,4 +237,4 @@ class Harness:
 
     def messages_to(self, uav_id: int) -> Iterable[PeerMessage]:
         """Peer messages waiting for ``uav_id``'s next step (for tests)."""
-        return tuple(self._inbox[uav_id])
+        return tuple(self.gates[uav_id].inbox())

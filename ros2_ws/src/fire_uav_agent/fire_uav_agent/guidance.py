@@ -1,0 +1,201 @@
+"""Stage 5 of the agent's control step: the command for the objective (FF Eqs. 8-15), and the
+types the stages around it hand over (:class:`Situation` in, :class:`Guidance` out). ROS-free.
+
+Positions are [m; map frame], yaw [rad], speeds [m/s], times [s of sim time].
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+from fire_uav_common.constants import Objective, VehicleStatus
+from fire_uav_common.terrain import Lake
+
+from .agent_config import AgentConfig
+from .coverage import Grid, control_law, gaussian_density, mass_centroid
+from .mission import Decision
+from .peer_link import FireEntry, PeerLink
+from .planning import Planner, PlannerView
+from .raster_role import RasterSuppression
+from .separation import PeerAvoidance, hold_layer
+from .staleness_search import StalenessSearch
+from .tactics import direct_run_point, layer_height
+
+__all__ = ["Guidance", "Guide", "Situation"]
+
+
+@dataclass(frozen=True)
+class Situation:
+    """What :meth:`Agent._decide` found and :meth:`Agent._guide` acts on (one control step)."""
+
+    decision: Decision
+    aim: tuple[FireEntry, ...]  # active fires as suppression sees them (centred on known fronts)
+    lake: Lake | None  # nearest lake
+    view: PlannerView
+    cell: np.ndarray  # the own Voronoi cell on the grid (bool per grid point, FF Eqs. 6-7)
+    front_aim: tuple[float, float] | None = None  # raster: the aim point on the front (tactics)
+
+
+@dataclass(frozen=True)
+class Guidance:
+    """What :meth:`Agent._guide` produced: the command and the point it steers to.
+
+    ``target_xy`` None: no target this step (on the ground); the agent keeps the previous one, which
+    the next step's mission life-cycle reads as the centroid (FF Eq. 13) and the UavState carries.
+    """
+
+    command: tuple[float, float, float]  # v_lin [m/s], v_z [m/s], omega_z [rad/s]
+    target_xy: tuple[float, float] | None = None
+
+
+class Guide:
+    """Stage 5 with what it reads: the config, the grid, the planners, the raster tactic, the peer
+    link (peers' states near the landing point) and the avoidance of the peers."""
+
+    def __init__(
+        self,
+        cfg: AgentConfig,
+        grid: Grid,
+        planners: Mapping[int, Planner],
+        search: StalenessSearch,
+        raster: RasterSuppression,
+        link: PeerLink,
+        avoidance: PeerAvoidance,
+    ) -> None:
+        self.cfg, self.grid, self.planners, self.search = cfg, grid, planners, search
+        self.raster, self.link, self.avoidance = raster, link, avoidance
+        self.start_xy = np.array(cfg.start_pose[:2], dtype=float)
+
+    def run(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray, last_step: int) -> Guidance:
+        """Stage 5, FF Eqs. 8-15: the command (v_lin [m/s], v_z [m/s], omega_z [rad/s]) for the objective.
+
+        SUPPRESS: centroid of the fire density in the own cell (Eq. 13) or, on an attack run,
+        the target fire itself; REFILL: the lake density (Eq. 14), low and slow near the lake
+        (FF IV-D b); LAND: the start-point density (Eq. 15), descending inside
+        ``guidance.land_approach_radius_m``; SEARCH / MONITOR: the planner's waypoint or density.
+        The target goes through the control law (Eqs. 10-12) at the objective's height above
+        terrain. Zero on the ground before takeoff, after landing or a crash. ``last_step``: the step
+        the agent last ran (the peers' states are of the step before).
+        """
+        cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
+        dec, active, lake, pview, cell = sit.decision, sit.aim, sit.lake, sit.view, sit.cell
+        obj = dec.objective
+        if vehicle in (VehicleStatus.CRASHED, VehicleStatus.LANDED) or obj == Objective.LANDED:
+            return Guidance((0.0, 0.0, 0.0))
+        if obj == Objective.GROUNDED:
+            return Guidance((0.0, 0.0, 0.0))
+        if vehicle == VehicleStatus.ON_GROUND:  # takeoff slot reached: v >= v_stall and v_z > 0
+            return Guidance((lim.v_stall_mps, min(lim.vz_max_mps, cfg.gains.vz_cmd_max_mps), 0.0))
+        cruise = veh.flight_height_m
+        if self.raster.front is None:  # FF mode: altitude layers (GuidanceConfig.ff_layers)
+            cruise = layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m)
+        height = cruise
+        v_cap = None
+        pos = (float(s[0]), float(s[1]))
+        target: tuple[float, float]
+        if obj == Objective.SUPPRESS and active:
+            tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
+            if sit.front_aim is not None:  # raster: the aim point on the front (tactics)
+                target = sit.front_aim
+            elif dec.direct:
+                target = (tgt.x_m, tgt.y_m)
+                if self.raster.front is not None:
+                    # raster with no front left (contained): a direct run sent every stalled UAV
+                    # to the one track centre (two collided there); each flies at its own point
+                    # of a circle around it instead (tactics.direct_run_point)
+                    target = direct_run_point(target, cfg.uav_id, self.raster.tactic)
+            else:
+                dens = gaussian_density(
+                    self.grid, [(f.x_m, f.y_m) for f in active], [f.extent_m for f in active]
+                )  # Eq. 13
+                target = self._centroid_of(dens, (tgt.x_m, tgt.y_m), cell)
+        elif obj == Objective.REFILL and lake is not None:
+            lake_xy = (lake.x_m, lake.y_m)
+            if dec.direct:
+                target = lake_xy
+            else:
+                dens = gaussian_density(self.grid, [lake_xy], [cfg.mission.sigma_water_m])  # Eq. 14
+                target = self._centroid_of(dens, lake_xy, cell)
+            if (
+                math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m)
+                < lake.diameter_m / 2 + gd.lake_approach_margin_m
+            ):
+                height = gd.refill_height_fraction * veh.refill_height_m  # low ...
+                v_cap = (
+                    lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
+                )  # ... and slow
+        elif obj == Objective.LAND:
+            start = (float(self.start_xy[0]), float(self.start_xy[1]))
+            d = math.hypot(pos[0] - start[0], pos[1] - start[1])
+            r = gd.land_approach_radius_m
+            x0, x1, y0, y1 = cfg.area_m
+            home_in_area = x0 <= start[0] <= x1 and y0 <= start[1] <= y1
+            if d < r or not home_in_area:
+                target = start  # final approach: straight at the own takeoff point (FF IV-D d)
+            else:
+                dens = gaussian_density(self.grid, [start], [cfg.mission.sigma_landing_m])  # Eq. 15
+                target = self._centroid_of(dens, start, cell)
+            if d < r:
+                v_cap = lim.v_stall_mps
+                low = gd.land_height_fraction * veh.landing_height_m
+                flat = gd.land_flat_fraction
+                height = low + (cruise - low) * max(0.0, (d - flat * r) / ((1.0 - flat) * r))
+                below = [
+                    (p.x_m, p.y_m, p.z_m)
+                    for j, p in self.link.alive_states().items()
+                    if j < cfg.uav_id and p.objective not in (Objective.GROUNDED, Objective.LANDED)
+                ]
+                if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
+                    height = max(height, cruise)  # keep the layer over a landing right-of-way peer
+                agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
+                if agl < gd.touchdown_agl_fraction * veh.landing_height_m and d <= gd.touchdown_radius_m:
+                    return Guidance((0.0, -gd.touchdown_sink_mps, 0.0))  # below stall speed: it lands
+                bearing = math.atan2(start[1] - pos[1], start[0] - pos[0])
+                if d < gd.go_around_radius_m and abs(math.remainder(bearing - float(s[3]), math.tau)) > (
+                    gd.go_around_heading_rad
+                ):
+                    # not lined up this close: a unicycle at v_stall circles a point inside its turning
+                    # circle for ever, so fly straight out and come back lined up
+                    v, vz, _ = control_law(s, np.array(start), height, cfg.terrain, lim, cfg.gains, v_cap)
+                    cmd = (v, vz, 0.0)
+                    if cfg.avoidance:
+                        cmd = self._separate(s, cmd, start, last_step, straight=True)
+                    return Guidance(cmd, start)
+        else:  # SEARCH, MONITOR, or SUPPRESS/REFILL without fire/lake
+            planner = self.planners.get(int(obj)) or self.search
+            plan = planner.plan(dataclasses.replace(pview, target_fire_id=int(dec.target_fire_id)))
+            if plan is None:
+                plan = self.search.plan(pview)
+            assert plan is not None, "the staleness search always returns a target"
+            if plan.waypoint_xy is not None:
+                target = (float(plan.waypoint_xy[0]), float(plan.waypoint_xy[1]))
+            else:
+                target = self._centroid_of(np.asarray(plan.density, dtype=float), pos, cell)
+            if plan.height_m is not None:
+                height = plan.height_m
+            v_cap = plan.speed_cap_mps
+        if self.raster.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
+            height = self.raster.tactic.layer_height_m(cfg.uav_id)
+        cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
+        return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
+
+    def _separate(
+        self,
+        s: np.ndarray,
+        cmd: tuple[float, float, float],
+        target: tuple[float, float],
+        last_step: int,
+        straight: bool = False,
+    ) -> tuple[float, float, float]:
+        """Turn-rate-limited avoidance of the alive peers (:class:`.separation.PeerAvoidance`)."""
+        return self.avoidance.command(s, cmd, target, self.link.alive_states(), last_step, straight)
+
+    def _centroid_of(
+        self, density: np.ndarray, fallback_xy: tuple[float, float], cell: np.ndarray
+    ) -> tuple[float, float]:
+        _, c = mass_centroid(self.grid.points, density, cell, self.grid.cell_area_m2)
+        return (float(c[0]), float(c[1])) if c is not None else fallback_xy

@@ -1,0 +1,118 @@
+"""The agent's part over a raster fire: its front picture, the fronts it shares, and the aim point
+and release of the tactic (:mod:`.fire_front`, :mod:`.front_consensus`, :mod:`.tactics`). ROS-free.
+
+:class:`RasterSuppression` is made with the agent and stays idle until the first bundle with a
+cell size (FireCells): the analytic fires of FF carry none.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+from fire_uav_common.codecs.sensor_bundle import Bundle
+from fire_uav_common.constants import VehicleStatus
+
+from .agent_config import AgentConfig
+from .coverage import Grid, mass_centroid
+from .fire_front import FrontConfig, FrontPicture
+from .front_consensus import FrontSharing, PeerFront
+from .peer_link import FireEntry
+from .tactics import (
+    TacticConfig,
+    aim_on_front,
+    choose_anchor,
+    front_density,
+    front_weights,
+    raster_layers,
+    release_now,
+)
+
+__all__ = ["RasterSuppression"]
+
+
+class RasterSuppression:
+    """One agent's front picture, front sharing and tactic over a raster fire."""
+
+    def __init__(self, cfg: AgentConfig, grid: Grid) -> None:
+        self.cfg = cfg
+        self.grid = grid
+        self.front: FrontPicture | None = None  # made at the first FireCells with a cell size
+        self.sharing = FrontSharing()
+        layers, step, top = raster_layers(  # the altitude stack over a raster fire
+            cfg.vehicle.collision_radius_m,
+            cfg.sensors.altimeter.max_range_m,
+            cfg.guidance.refill_height_fraction * cfg.vehicle.refill_height_m,
+        )
+        self.tactic = TacticConfig(
+            tactic=cfg.mission.tactic,
+            release_radius_m=0.8 * cfg.drop_radius_m,
+            layers=layers,
+            layer_step_m=step,
+            layer_top_m=top,
+        )
+        self.peer_fronts: list[PeerFront] = []  # received since the last step
+        self.anchor: tuple[float, float] | None = None  # flank tactic: chosen once
+        self.fronts_received = 0
+
+    def fuse(self, bundle: Bundle, vehicle: VehicleStatus, t_s: float) -> None:
+        """Own FireCells (airborne) and the peers' shared fronts into this UAV's front picture."""
+        if self.front is None and bundle.cell_size_m > 0:
+            self.front = FrontPicture(FrontConfig(self.cfg.area_m, float(bundle.cell_size_m)))
+        if self.front is None:
+            self.peer_fronts.clear()
+            return
+        if vehicle == VehicleStatus.AIRBORNE and bundle.cells is not None:
+            self.front.observe(*bundle.cells, t_s)
+        for pf in self.peer_fronts:
+            try:
+                self.front.merge(pf.cells)
+                self.fronts_received += 1
+            except ValueError:
+                pass  # malformed peer message: ignored
+        self.peer_fronts.clear()
+
+    def target(
+        self, bundle: Bundle, s: np.ndarray, aim: tuple[FireEntry, ...], cell: np.ndarray, speed_mps: float
+    ) -> tuple[tuple[FireEntry, ...], bool | None, tuple[float, float] | None]:
+        """Aim point on the front (Eq. 13' density, Lloyd centroid in the own ``cell``, tactics), the
+        release verdict at ``speed_mps`` and the aim point (None: none). The active fire nearest
+        the aim point is re-centred there (extent 0)."""
+        assert self.front is not None
+        front = self.front.front(bundle.stamp_s)
+        if len(front) == 0 or not aim:
+            return aim, None if not aim else False, None
+        if self.tactic.tactic == "flank" and self.anchor is None:
+            self.anchor = choose_anchor(front)
+        w = front_weights(front, self.tactic, self.anchor)
+        dens = front_density(self.grid, front, w, self.tactic.sigma_m)
+        _, c = mass_centroid(self.grid.points, dens, cell, self.grid.cell_area_m2)
+        res = self.grid.resolution_m
+        ny, nx = self.grid.shape
+        gj = np.clip(np.floor((front.x_m - self.grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
+        gi = np.clip(np.floor((front.y_m - self.grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
+        in_cell = cell[gi * nx + gj]
+        near = (float(s[0]), float(s[1])) if c is None else (float(c[0]), float(c[1]))
+        xy = aim_on_front(near, front, w, in_cell)
+        if xy is None:
+            return aim, False, None
+        k = min(range(len(aim)), key=lambda n: math.hypot(aim[n].x_m - xy[0], aim[n].y_m - xy[1]))
+        aim = tuple(
+            dataclasses.replace(e, x_m=xy[0], y_m=xy[1], extent_m=0.0) if n == k else e
+            for n, e in enumerate(aim)
+        )
+        ok = release_now(
+            bundle.cells,
+            (float(s[0]), float(s[1])),
+            float(s[3]),
+            speed_mps * self.cfg.control_period_s,
+            self.tactic,
+        )
+        return aim, ok, xy
+
+    def message(self, bundle: Bundle):
+        """This step's FireFront payload (every ``front_every_steps`` steps), or None."""
+        if self.front is None or bundle.step % max(1, self.cfg.front_every_steps) != 0:
+            return None
+        return self.sharing.message(self.front, bundle.stamp_s)

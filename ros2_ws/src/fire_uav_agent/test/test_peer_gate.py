@@ -1,0 +1,275 @@
+"""The peer gate without ROS or DDS: arrivals in any order, duplicates, a resend, a crashed peer's
+final message, spoofed steps and tags, the re-sent bundle and the realtime mode."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+from fire_uav_agent.agent_types import PeerPerimeter
+from fire_uav_agent.errors import ConfigError
+from fire_uav_agent.fire_front import FrontCells
+from fire_uav_agent.front_consensus import PeerFront
+from fire_uav_agent.peer_gate import (
+    WAIT_REPORT_NS,
+    AskResend,
+    PeerGate,
+    PeerGone,
+    Rejected,
+    RepeatAnswer,
+    RunStep,
+    StartWaiting,
+    StillWaiting,
+    inbox_order,
+)
+from fire_uav_agent.peer_link import PeerFires, PeerState
+from fire_uav_common.lockstep import parse_schedule
+from fire_uav_common.topics import ALL_TOPICS, FLEET_FRONT_SPEC, FLEET_PERIMETER_SPEC
+
+S = 10**9  # [ns] one second of steady time
+
+
+def sent(perimeter: int = 0, front: int = 0) -> tuple[int, ...]:
+    c = [0] * (1 + max(s.loss_index for s in ALL_TOPICS if s.loss_index is not None))
+    c[0] = c[1] = 1
+    c[FLEET_PERIMETER_SPEC.loss_index] = perimeter
+    c[FLEET_FRONT_SPEC.loss_index] = front
+    return tuple(c)
+
+
+def state(j: int, step: int, seq: int | None = None) -> PeerState:
+    return PeerState(j, step + 1 if seq is None else seq, step, 10.0 * j, 0.0, 30.0, 0.0, 0)
+
+
+def fires(j: int, step: int) -> PeerFires:
+    return PeerFires(j, step + 1, step)
+
+
+def perimeter(j: int, step: int, seq: int = 1) -> PeerPerimeter:
+    return PeerPerimeter(j, seq, step, 7, {})
+
+
+def front(j: int, step: int) -> PeerFront:
+    z = np.zeros(1)
+    return PeerFront(j, 1, step, FrontCells(z, z, np.zeros(1, dtype=np.int64), z, z))
+
+
+def on_state(g: PeerGate, j: int, step: int, final: bool = False, perim: int = 0, fr: int = 0) -> list:
+    return g.on_state(b"", state(j, step), fires(j, step), sent(perim, fr), final)
+
+
+def runs(decisions: list) -> list[RunStep]:
+    return [d for d in decisions if isinstance(d, RunStep)]
+
+
+def gate(uid: int = 0, n: int = 3, **kw) -> PeerGate:
+    g: PeerGate = PeerGate(uid, n, 0.1, **kw)
+    assert runs(g.on_bundle(0, "b0"))  # step 0 waits for nobody
+    return g
+
+
+def test_step_0_runs_at_once_and_step_1_waits_for_every_live_peer() -> None:
+    g: PeerGate = PeerGate(0, 3, 0.1)
+    (d,) = g.on_bundle(0, "b0")
+    assert d == RunStep(0, "b0", ())
+    assert g.on_bundle(1, "b1", now_ns=5) == [StartWaiting(1)]
+    assert g.pending_step == 1
+    assert on_state(g, 1, 0) == []
+    (d,) = on_state(g, 2, 0)
+    assert isinstance(d, RunStep) and d.step == 1 and d.bundle == "b1"
+    assert d.inbox == (state(1, 0), fires(1, 0), state(2, 0), fires(2, 0))
+    assert g.pending_step is None and g.last_step == 1
+
+
+def test_out_of_order_arrivals_give_one_inbox_order() -> None:
+    """Whatever order DDS delivers them in (perimeter before the state that announces it, the
+    higher id first), the agent is handed the same inbox, in (step, sender, kind, sequence)."""
+    msgs = [
+        ("state", 1),
+        ("state", 2),
+        ("perimeter", 1),
+        ("front", 2),
+    ]
+    inboxes = set()
+    for order in itertools.permutations(msgs):
+        g = gate()
+        g.on_bundle(1, "b1")
+        got: list = []
+        for kind, j in order:
+            if kind == "state":
+                got += on_state(g, j, 0, perim=int(j == 1), fr=int(j == 2))
+            elif kind == "perimeter":
+                got += g.on_perimeter(b"", perimeter(j, 0))
+            else:
+                got += g.on_front(j, 0, front(j, 0))
+        (run,) = runs(got)
+        assert run.inbox == tuple(sorted(run.inbox, key=inbox_order))
+        inboxes.add(tuple((type(m).__name__, m.uav_id) for m in run.inbox))
+    assert inboxes == {
+        (
+            ("PeerState", 1),
+            ("PeerFires", 1),
+            ("PeerPerimeter", 1),
+            ("PeerState", 2),
+            ("PeerFires", 2),
+            ("PeerFront", 2),
+        )
+    }
+
+
+def test_messages_of_the_step_being_waited_on_stay_for_the_next_step() -> None:
+    g = gate(n=2)
+    on_state(g, 1, 0)
+    on_state(g, 1, 1)  # the peer is a step ahead (it got its bundle first)
+    (run,) = runs(g.on_bundle(1, "b1"))
+    assert [m.step for m in run.inbox] == [0, 0]
+    assert [m.step for m in g.inbox()] == [1, 1]
+    (run,) = runs(g.on_bundle(2, "b2"))
+    assert [m.step for m in run.inbox] == [1, 1]
+
+
+def test_a_duplicate_is_dropped_with_the_fires_it_carries() -> None:
+    g = gate()
+    g.on_bundle(1, "b1")
+    on_state(g, 1, 0, perim=1)
+    assert on_state(g, 1, 0, perim=1) == []  # a resent copy of the state: not counted twice
+    assert g.on_perimeter(b"", perimeter(1, 0)) == []
+    assert g.on_perimeter(b"", perimeter(1, 0)) == []
+    (run,) = runs(on_state(g, 2, 0))
+    assert [(type(m).__name__, m.uav_id) for m in run.inbox] == [
+        ("PeerState", 1), ("PeerFires", 1), ("PeerPerimeter", 1), ("PeerState", 2), ("PeerFires", 2)
+    ]  # fmt: skip
+    assert g.resend.copies_dropped == 2
+    # a copy that arrives after its step ran is older than the step run: rejected at admission
+    assert g.on_perimeter(b"", perimeter(1, 0)) == [Rejected("/fleet/perimeter", 1, 0, "stale step")]
+    assert list(g.inbox()) == []
+
+
+def test_a_blocked_step_asks_the_missing_peer_to_resend_once_per_interval() -> None:
+    g = gate()
+    g.on_bundle(1, "b1", now_ns=0)
+    on_state(g, 1, 0)
+    alive = lambda: {1, 2}  # noqa: E731
+    assert g.on_liveness(WAIT_REPORT_NS // 2, alive) == []  # not long enough to report
+    got = g.on_liveness(WAIT_REPORT_NS + 1, alive)
+    assert isinstance(got[0], StillWaiting) and got[0].step == 1 and "uav 2" in got[0].missing
+    assert got[1:] == [AskResend(2, 0, got[0].waited_s)]
+    assert [d for d in g.on_liveness(WAIT_REPORT_NS + S, alive) if isinstance(d, AskResend)] == []
+    later = g.on_liveness(2 * WAIT_REPORT_NS + 2, alive)
+    assert AskResend(2, 0, later[0].waited_s) in later  # asked again after the interval
+    (run,) = runs(on_state(g, 2, 0))  # the resent copy arrives
+    assert run.step == 1
+
+
+def test_the_sender_keeps_its_messages_and_resends_them_once_per_interval() -> None:
+    g = gate()
+    g.keep(3, ["state-3", "perimeter-3"])
+    assert g.to_resend(3, 0) == ["state-3", "perimeter-3"]
+    assert g.to_resend(3, S) is None  # one copy serves every peer that asked meanwhile
+    assert g.to_resend(3, 3 * S) == ["state-3", "perimeter-3"]
+    assert g.to_resend(2, 3 * S) is None  # never sent
+    for s in range(4, 8):
+        g.keep(s, [f"state-{s}"])
+    assert g.to_resend(3, 10 * S) is None  # too old
+
+
+def test_a_crashed_peers_final_message_ends_the_wait_for_it() -> None:
+    g = gate()
+    for k in (1, 2):
+        g.on_bundle(k, f"b{k}")
+        on_state(g, 1, k - 1)
+        final = k == 2
+        got = on_state(g, 2, k - 1, final=final)
+        assert runs(got)
+    # peer 2 sent its final state at step 1 (its vehicle crashed): step 3 waits for peer 1 only
+    assert g.on_bundle(3, "b3") == [StartWaiting(3)]
+    (run,) = runs(on_state(g, 1, 2))
+    assert run.step == 3 and {m.uav_id for m in run.inbox} == {1}
+
+
+def test_a_peer_whose_process_is_gone_is_no_longer_waited_for() -> None:
+    g = gate()
+    g.on_bundle(1, "b1")
+    on_state(g, 1, 0)
+    got = g.on_liveness(1, lambda: {1})
+    assert got[0] == PeerGone(2, 1) and runs(got)[0].step == 1
+    assert runs(g.on_bundle(2, "b2")) == [] and runs(on_state(g, 1, 1))  # 2 stays gone
+
+
+@pytest.mark.parametrize(
+    ("claimed_step", "reason"),
+    [(-1, "negative step"), (7, "implausible step"), (10**9, "implausible step")],
+)
+def test_a_spoofed_step_is_rejected_and_never_waited_for(claimed_step: int, reason: str) -> None:
+    """A forged state of a far step cannot make the agent wait for (or count) anything."""
+    g = gate(n=2)
+    g.on_bundle(1, "b1")
+    got = g.on_state(b"", state(1, claimed_step, seq=1), fires(1, claimed_step), sent(perimeter=5), False)
+    assert got == [Rejected("/fleet/state", 1, claimed_step, reason)]
+    (run,) = runs(on_state(g, 1, 0))  # the genuine one still runs the step
+    assert [m.step for m in run.inbox] == [0, 0] and list(g.inbox()) == []
+
+
+def test_a_stale_step_is_rejected_in_lockstep_only() -> None:
+    g = gate(n=2)
+    for k in (1, 2, 3):
+        g.on_bundle(k, f"b{k}")
+        on_state(g, 1, k - 1)
+    assert g.last_step == 3
+    assert g.on_state(b"", state(1, 1), fires(1, 1), sent(), False)[0].reason == "stale step"
+    rt: PeerGate = PeerGate(0, 2, 0.1, lockstep=False)
+    for k in (0, 1, 2, 3):
+        rt.on_bundle(k, f"b{k}")
+    assert rt.on_state(b"", state(1, 1), fires(1, 1), sent(), False) == []
+
+
+def test_the_tag_check_is_passed_in_and_runs_after_the_cheap_checks() -> None:
+    calls: list[tuple] = []
+
+    def check(data: bytes, topic: str, sender: int, auth_step: int) -> bool:
+        calls.append((data, topic, sender, auth_step))
+        return data == b"signed"
+
+    g = gate(n=2, check_tag=check)
+    g.on_bundle(1, "b1")
+    assert g.on_state(b"forged", state(1, 0), fires(1, 0), sent(), False) == [
+        Rejected("/fleet/state", 1, 0, "bad auth")
+    ]
+    assert g.on_state(b"x", state(5, 0), fires(5, 0), sent(), False)[0].reason == "unknown id"
+    assert calls == [(b"forged", "/fleet/state", 1, 0)]  # not asked for the unknown sender
+    (run,) = runs(g.on_state(b"signed", state(1, 0), fires(1, 0), sent(), False))
+    assert run.step == 1
+
+
+def test_a_scheduled_offline_agent_accepts_peers_that_ran_ahead() -> None:
+    """Agent 0 frozen for steps 10..14: its peers ran on, so their messages are up to 6 steps
+    ahead of its last step, and genuine."""
+    g: PeerGate = PeerGate(0, 2, 0.1, schedule=parse_schedule("0@1.0:1.5"))
+    g.on_bundle(0, "b0")
+    assert g.on_state(b"", state(1, 6), fires(1, 6), sent(), False) == []
+    assert g.on_state(b"", state(1, 8), fires(1, 8), sent(), False)[0].reason == "implausible step"
+
+
+def test_a_resent_bundle_of_the_answered_step_repeats_the_answer() -> None:
+    g = gate(n=2)
+    assert g.on_bundle(0, "b0 again") == [RepeatAnswer(0)]
+    g.on_bundle(1, "b1")
+    assert g.on_bundle(1, "b1 again") == []  # not answered yet: still waiting
+    runs(on_state(g, 1, 0))
+    assert g.on_bundle(1, "b1 again") == [RepeatAnswer(1)]
+    assert g.on_bundle(0, "old") == []  # only the newest bundle is answered
+
+
+def test_realtime_runs_every_newest_bundle_at_once() -> None:
+    g: PeerGate = PeerGate(0, 2, 0.1, lockstep=False)
+    assert [d.step for d in runs(g.on_bundle(0, "b0"))] == [0]
+    assert [d.step for d in runs(g.on_bundle(2, "b2"))] == [2]
+    assert g.on_bundle(1, "late") == []
+
+
+def test_bad_configuration_names_the_field() -> None:
+    with pytest.raises(ConfigError, match="uav_id 3 outside 0..2"):
+        PeerGate(3, 3, 0.1)
+    with pytest.raises(ConfigError, match="crash_threshold_steps must be >= 1, got 0"):
+        PeerGate(0, 3, 0.1, crash_threshold_steps=0)

@@ -1,0 +1,294 @@
+"""The ``fire_uav_msgs/UavState`` codec: an agent writes its state (with its fire picture), its
+peers (and the in-process harness) read it, from the same bytes.
+
+Why bytes: an agent receives 19 states a step at 20 UAVs. ``rclpy.serialization.deserialize_message``
+builds a Python ``UavState`` for each (its ``__init__`` first fills every field and sub-message
+with defaults, which the C conversion then replaces), and the agent uses a few fields of it.
+Reading those fields with ``struct`` skips that (docs/profile.md). It is the same information:
+every decoded field is compared against ``deserialize_message`` on generated messages, the bytes
+:func:`write_uav_state` writes against ``serialize_message`` of the same message
+(fire_uav_agent's test_state_wire.py), and the field lists of ``UavState.msg`` /
+``FireEstimate.msg`` are pinned there, so a change to the message fails that test instead of
+being misread here.
+
+The encoding is the one the fleet sends: XCDR1 little-endian, as rmw_fastrtps serialises ROS 2
+messages (its layout rules: :mod:`fire_uav_common.cdr`). Anything else (another encapsulation,
+bytes that do not end exactly with the 32-byte ``auth`` field) raises
+:class:`~fire_uav_common.cdr.CdrError`; the node then re-serialises what rclpy reads of them (any
+encoding rclpy reads) and reads that, or counts the bytes as undecodable. The reader is more
+lenient than rclpy in one way: it does not decode ``header.frame_id``, so it does not refuse one
+that is not UTF-8 (the agent never reads it, and a signed state's bytes are covered by its tag).
+:func:`write_uav_state` leaves ``auth`` zero: ``fire_uav_common.auth`` signs the bytes.
+
+ROS-free.
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ..cdr import ENCAPSULATION, U32, CdrError, align4, align8, check_encapsulation, pad, read_string_end
+
+__all__ = [
+    "FIREESTIMATE_FIELDS",
+    "UAVSTATE_FIELDS",
+    "FireEntry",
+    "PeerFires",
+    "PeerState",
+    "WireState",
+    "read_uav_state",
+    "write_uav_state",
+]
+
+
+@dataclass(frozen=True)
+class FireEntry:
+    """One fire estimate as exchanged in UavState.fires (FireEstimate.msg), units in names."""
+
+    fire_id: int
+    active: bool
+    x_m: float
+    y_m: float
+    extent_m: float
+    vx_mps: float = 0.0
+    vy_mps: float = 0.0
+    last_measurement_s: float = 0.0  # sim time of the newest measurement fused in
+    front_x_m: float = math.nan
+    front_y_m: float = math.nan
+    max_spread_rate_mps: float = 0.0
+
+
+@dataclass(frozen=True)
+class PeerState:
+    """A peer's UavState as the agent uses it, ROS-free. Positions [m; map], yaw [rad]."""
+
+    uav_id: int
+    sequence: int
+    step: int
+    x_m: float
+    y_m: float
+    z_m: float
+    yaw_rad: float
+    objective: int
+    target_fire_id: int = -1
+    water_kg: float = 0.0
+    centroid_x_m: float = math.nan
+    centroid_y_m: float = math.nan
+
+    def finite(self) -> bool:
+        return all(math.isfinite(v) for v in (self.x_m, self.y_m, self.z_m, self.yaw_rad, self.water_kg))
+
+
+@dataclass(frozen=True)
+class PeerFires:
+    """A peer's fire picture (UavState.fires, fires_sequence), ROS-free; its own loss draw and count."""
+
+    uav_id: int
+    sequence: int
+    step: int
+    fires: tuple[FireEntry, ...] = ()
+
+    def finite(self) -> bool:
+        for f in self.fires:
+            vals = (f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps, f.last_measurement_s)
+            if not all(math.isfinite(v) for v in vals):
+                return False
+        return True
+
+
+#: UavState.msg and FireEstimate.msg as this reader expects them (name, ROS type), in order
+UAVSTATE_FIELDS = (
+    ("header", "std_msgs/Header"), ("uav_id", "uint8"), ("sequence", "uint32"), ("step", "uint32"),
+    ("x_m", "double"), ("y_m", "double"), ("z_m", "double"), ("yaw_rad", "double"),
+    ("covariance", "double[16]"), ("objective", "uint8"), ("target_fire_id", "int32"),
+    ("water_kg", "float"), ("centroid_x_m", "double"), ("centroid_y_m", "double"),
+    ("alive_peers", "sequence<uint8>"), ("crashed_peers", "sequence<uint8>"),
+    ("packets_received", "uint32"), ("packets_lost", "uint32"), ("packets_rejected", "uint32"),
+    ("sent_per_topic", "sequence<uint16>"), ("final", "boolean"), ("fires_sequence", "uint32"),
+    ("fires", "sequence<fire_uav_msgs/FireEstimate>"), ("auth", "uint8[32]"),
+)  # fmt: skip
+FIREESTIMATE_FIELDS = (
+    ("fire_id", "uint32"), ("status", "uint8"), ("x_m", "double"), ("y_m", "double"),
+    ("extent_m", "double"), ("vx_mps", "double"), ("vy_mps", "double"),
+    ("last_measurement", "builtin_interfaces/Time"), ("front_x_m", "double"),
+    ("front_y_m", "double"), ("max_spread_rate_mps", "double"),
+)  # fmt: skip
+
+_STATUS_ACTIVE = 0  # FireEstimate.STATUS_ACTIVE
+_STATUS_EXTINGUISHED = 1  # FireEstimate.STATUS_EXTINGUISHED
+_AUTH_BYTES = 32
+_NS_PER_S = 1_000_000_000
+_IDS = struct.Struct("<II")  # sequence, step
+_POSE = struct.Struct("<4d")  # x, y, z, yaw; the 16 covariance doubles follow (not read)
+_OBJECTIVE_TAIL = struct.Struct("<if")  # target_fire_id, water_kg
+_CENTROID = struct.Struct("<2d")
+_COUNTERS = struct.Struct("<3I")  # packets received, lost, rejected (not read: the peer's own)
+_FIRE_HEAD = struct.Struct("<IB")  # fire_id, status
+# x, y, extent, vx, vy, last_measurement (sec, nanosec), front x, y, max spread rate
+_FIRE_BODY = struct.Struct("<5diI3d")
+_FIRE_MIN_BYTES = _FIRE_HEAD.size + _FIRE_BODY.size  # a FireEstimate without its alignment padding
+
+
+@dataclass(frozen=True, slots=True)
+class WireState:
+    """What an agent takes from a peer's UavState: the lockstep fields and the two inbox items."""
+
+    uav_id: int
+    step: int
+    sent_per_topic: tuple[int, ...]
+    final: bool
+    state: PeerState
+    fires: PeerFires
+
+
+def read_uav_state(data: bytes | bytearray | memoryview) -> WireState:
+    """A serialised ``fire_uav_msgs/UavState`` (as received raw) -> :class:`WireState`.
+
+    Raises :class:`CdrError` naming what is wrong: not XCDR1 little-endian, truncated, a length that
+    runs past the end, or bytes left after the ``auth`` field. The values are the message's, as
+    ``deserialize_message`` would give them (``water_kg`` is the float32 widened exactly; the fire's
+    ``last_measurement`` is seconds as ``stamps.stamp_to_s`` computes them).
+    """
+    n = len(data)
+    check_encapsulation(data, "UavState")
+    try:
+        i = read_string_end(data, 12, "UavState header.frame_id")  # after the stamp (sec, nanosec)
+        uav_id = data[i]
+        i = align4(i + 1)
+        sequence, step = _IDS.unpack_from(data, i)
+        i = align8(i + 8)
+        x, y, z, yaw = _POSE.unpack_from(data, i)
+        i += 20 * 8  # the pose and the 4x4 covariance
+        objective = data[i]
+        i = align4(i + 1)
+        target, water = _OBJECTIVE_TAIL.unpack_from(data, i)
+        i = align8(i + 8)
+        cx, cy = _CENTROID.unpack_from(data, i)
+        i += 16
+        for _ in range(2):  # alive_peers, crashed_peers: uint8[] (not read: the peer's own view)
+            (k,) = U32.unpack_from(data, i)
+            i += 4 + k
+            i = align4(i)
+        i += _COUNTERS.size
+        (k,) = U32.unpack_from(data, i)
+        i += 4
+        if i + 2 * k > n:
+            raise CdrError(f"sent_per_topic length {k} runs past the end of {n} bytes")
+        sent = struct.unpack_from(f"<{k}H", data, i)
+        i += 2 * k
+        final = data[i]
+        i = align4(i + 1)
+        fires_sequence, k = _IDS.unpack_from(data, i)
+        i += 8
+        if i + _FIRE_MIN_BYTES * k > n:
+            raise CdrError(f"fires length {k} runs past the end of {n} bytes")
+        fires = []
+        for _ in range(k):
+            i = align4(i)
+            fire_id, status = _FIRE_HEAD.unpack_from(data, i)
+            i = align8(i + 5)
+            fx, fy, ext, vx, vy, t_sec, t_nsec, frx, fry, rate = _FIRE_BODY.unpack_from(data, i)
+            i += _FIRE_BODY.size
+            t_s = (t_sec * _NS_PER_S + t_nsec) / _NS_PER_S
+            fires.append(
+                FireEntry(fire_id, status == _STATUS_ACTIVE, fx, fy, ext, vx, vy, t_s, frx, fry, rate)
+            )
+    except (struct.error, IndexError):
+        raise CdrError(f"UavState truncated: {n} bytes") from None
+    if i + _AUTH_BYTES != n:
+        raise CdrError(
+            f"UavState of {n} bytes: expected its auth field to end at byte {n}, not {i + _AUTH_BYTES}"
+        )
+    state = PeerState(uav_id, sequence, step, x, y, z, yaw, objective, target, water, cx, cy)
+    return WireState(
+        uav_id, step, sent, bool(final), state, PeerFires(uav_id, fires_sequence, step, tuple(fires))
+    )
+
+
+# --- writing ----------------------------------------------------------------------------------------
+_STAMP = struct.Struct("<iI")
+_U8 = struct.Struct("<B")
+_POSE_COV = struct.Struct("<20d")  # x, y, z, yaw and the 4x4 covariance
+_MAP = b"map\x00"
+
+
+def write_uav_state(
+    *,
+    stamp_ns: int,
+    uav_id: int,
+    sequence: int,
+    step: int,
+    pose: Sequence[float],
+    covariance: Sequence[float],
+    objective: int,
+    target_fire_id: int,
+    water_kg: float,
+    centroid_xy: tuple[float, float],
+    alive_peers: Sequence[int],
+    crashed_peers: Sequence[int],
+    packets: tuple[int, int, int],
+    sent_per_topic: Sequence[int],
+    final: bool,
+    fires_sequence: int,
+    fires: Sequence[FireEntry],
+) -> bytes:
+    """A UavState as CDR bytes, ``auth`` zero (to be signed); ``header.frame_id`` is ``map``.
+
+    ``stamp_ns``: the header stamp [ns] (the bundle stamp the state answers); ``pose``: x, y, z [m],
+    yaw [rad]; ``covariance``: its 16 values, row-major; ``packets``: received, lost, rejected. A
+    fire's ``last_measurement_s`` is written as a stamp of whole nanoseconds (0 when negative or
+    not finite), ``active`` as status ACTIVE / EXTINGUISHED. Values out of a field's range raise,
+    as rclpy's message setters do.
+    """
+    if stamp_ns < 0:
+        raise CdrError(f"UavState stamp must be >= 0 ns, got {stamp_ns}")
+    if len(pose) != 4 or len(covariance) != 16:
+        raise CdrError(
+            f"UavState pose needs 4 values and covariance 16, got {len(pose)} and {len(covariance)}"
+        )
+    buf = bytearray(ENCAPSULATION)
+    buf += _STAMP.pack(*divmod(int(stamp_ns), _NS_PER_S))
+    buf += U32.pack(len(_MAP)) + _MAP
+    buf += _U8.pack(uav_id)
+    pad(buf, 4)
+    buf += _IDS.pack(sequence, step)
+    pad(buf, 8)
+    buf += _POSE_COV.pack(*(float(v) for v in pose), *(float(v) for v in covariance))
+    buf += _U8.pack(objective)
+    pad(buf, 4)
+    buf += _OBJECTIVE_TAIL.pack(target_fire_id, float(water_kg))
+    pad(buf, 8)
+    buf += _CENTROID.pack(float(centroid_xy[0]), float(centroid_xy[1]))
+    for ids in (alive_peers, crashed_peers):
+        pad(buf, 4)
+        buf += U32.pack(len(ids)) + bytes(int(j) for j in ids)
+    pad(buf, 4)
+    buf += _COUNTERS.pack(*packets)
+    buf += U32.pack(len(sent_per_topic)) + struct.pack(f"<{len(sent_per_topic)}H", *sent_per_topic)
+    buf += _U8.pack(bool(final))
+    pad(buf, 4)
+    buf += _IDS.pack(fires_sequence, len(fires))
+    for f in fires:
+        pad(buf, 4)
+        buf += _FIRE_HEAD.pack(f.fire_id, _STATUS_ACTIVE if f.active else _STATUS_EXTINGUISHED)
+        pad(buf, 8)
+        t = f.last_measurement_s
+        t_ns = round(max(0.0, t) * _NS_PER_S) if math.isfinite(t) else 0
+        sec, nsec = divmod(t_ns, _NS_PER_S)
+        buf += _FIRE_BODY.pack(
+            f.x_m,
+            f.y_m,
+            f.extent_m,
+            f.vx_mps,
+            f.vy_mps,
+            sec,
+            nsec,
+            f.front_x_m,
+            f.front_y_m,
+            f.max_spread_rate_mps,
+        )
+    buf += bytes(_AUTH_BYTES)
+    return bytes(buf)
