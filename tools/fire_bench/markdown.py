@@ -303,11 +303,11 @@ def render(
             "",
             *_ran_on(r),
             f"Command: `{r['command']}`; {r['mission_time_s']:g} s of mission time per run. The skeleton "
-            "(`fire_bench.skeleton`, the ratio's reference since session 14) has the fleet's processes "
+            "(`fire_bench.skeleton --fidelity full`, the ratio's reference) has the fleet's processes "
             "(world, agents, the runner's subscriptions), topics and protocol (signed states and payload "
             "requests, the lockstep peer wait, /tf, markers, truth) with messages of the fleet's sizes and "
             "rates and no algorithms (`tests/system/test_skeleton_fidelity.py` holds it to the fleet's "
-            'traffic); "minimal": the skeleton of sessions 9-13 (bundles, one unsigned state, the command).',
+            'traffic); "minimal": `--fidelity minimal`, the bundles, one unsigned state and the command only.',
             "",
             *notes.before("scale"),
             _table(
@@ -338,7 +338,7 @@ def render(
         if t:
             lines += [
                 "",
-                f"Targets (issue [scale]): ratio to the skeleton >= {t['ratio_to_skeleton']:g}, agent RSS <= "
+                f"Targets: ratio to the skeleton >= {t['ratio_to_skeleton']:g}, agent RSS <= "
                 f"{t['agent_rss_mb']:g} MiB, >= {t['steps_per_s_at_20']:g} steps/s (real time) at 20 UAVs.",
                 "",
             ]

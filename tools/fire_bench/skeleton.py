@@ -507,7 +507,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     a = p.parse_args(argv)
     if a.peer_messages == 2 and a.wire == "bytes":
-        p.error("--peer-messages 2 (the protocol before issue [scale]) runs on --wire messages only")
+        p.error("--peer-messages 2 (the older two-message protocol) runs on --wire messages only")
     if a.wait_for_subscribers < 1:
         p.error(f"--wait-for-subscribers must be >= 1, got {a.wait_for_subscribers}")
     full = a.fidelity == "full"

@@ -411,7 +411,7 @@ def fig_faults(mission: Mission, out: Path, outages: list[tuple[float, float]] |
     )  # fmt: skip
 
 
-# --- raster suppression (issue [suppression]) -------------------------------------------------------
+# --- raster suppression -------------------------------------------------------
 GRID_COLORS = ListedColormap(["#f2efe6", "#8fc1e3", "#555555", "#ff6a00"])  # unburned, wet, burnt, burning
 
 

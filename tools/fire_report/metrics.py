@@ -313,7 +313,7 @@ def voronoi_labels(
     return xs, ys, np.argmin(d2, axis=-1)
 
 
-# --- suppression measures (issue [suppression]), recomputed from the bag ---------------------------
+# --- suppression measures, recomputed from the bag ---------------------------
 CONTAINMENT_WINDOW_S = 60.0  # [s] as fire_world_sim.measures.CONTAINMENT_WINDOW_S
 _CELLS_BURNING = re.compile(r"(\d+) of (\d+) cells burning")
 

@@ -44,7 +44,7 @@ class SyntheticMission:
     peer_crashed: tuple[float, int, int] | None = (0.8, 0, 1)  # UAV 0 declares UAV 1 crashed
     lost_final: tuple[int, ...] = (3, 4)  # last packets_lost per UAV (repeated if uav_count > 2)
     monitor: tuple[int, int] | None = (0, 1)  # UAV 0 monitors fire 1
-    # the fire picture inside UavState (the fleet since issue [scale]); False: on /fleet/fires (bags before)
+    # the fire picture inside UavState (the current protocol); False: on /fleet/fires (bags of the older protocol)
     fires_in_state: bool = True
     scenario_yaml: str = (
         "name: synthetic\nseed: 7\narea: {x_min_m: 0, x_max_m: 600, y_min_m: 0, y_max_m: 600}\n"
