@@ -420,7 +420,7 @@ def bench_scale(quick: bool) -> dict:
     for n in sizes:
         log(f"scale: skeleton with {n} UAVs (the fleet's processes, topics and protocol)")
         sk = _skeleton(n, int(duration * 10))
-        log(f"scale: minimal skeleton with {n} UAVs (the reference of sessions 9-13)")
+        log(f"scale: minimal skeleton with {n} UAVs")
         skm = _skeleton(n, int(duration * 10), fidelity="minimal")
         log(f"scale: fleet with {n} UAVs for {duration:g} s of mission time")
         probe = machine_probe()

@@ -107,7 +107,7 @@ def draw_plots(results: dict, out: Path) -> dict[str, str]:
                 xs,
                 [r.get("skeleton_minimal_steps_per_s") or float("nan") for r in sc],
                 "d-.",
-                label="minimal skeleton (sessions 9-13)",
+                label="minimal skeleton",
             )
         ax.axhline(10.0, color="grey", lw=0.8, label="real time (10 steps/s)")
         ax.set_xlabel("UAVs")

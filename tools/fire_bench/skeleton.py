@@ -481,7 +481,7 @@ def main(argv: list[str] | None = None) -> int:
         choices=["full", "minimal"],
         default="full",
         help="full: every process and topic of the fleet, signed, with the lockstep peer wait (default); "
-        "minimal: bundles, one unsigned state and the command (sessions 9-13)",
+        "minimal: bundles, one unsigned state and the command",
     )
     p.add_argument(
         "--peer-messages",

@@ -1,4 +1,4 @@
-"""An agent without a search role does not load scipy or scikit-learn (issue [scale]: memory).
+"""An agent without a search role does not load scipy or scikit-learn (agent memory).
 
 The agent node, its core and the search adapter import the heavy libraries only in the
 functions that use them, so a suppression-only agent stays small; a search run still loads
