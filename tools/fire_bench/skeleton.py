@@ -219,7 +219,7 @@ class SkeletonWorld(Node):
 
     def _bundle_bytes(self, i: int) -> bytes:
         s, t = self._sensors, step_to_ns(self.k, PERIOD_NS)
-        b = self._world.Bundle(i, self.k, t, CONTROL_PERIOD_S)
+        b = self._world.SensorBundleRecord(i, self.k, t, CONTROL_PERIOD_S)
         if self.full:  # the fleet's mean bundle (above)
             b.gyro = [s.GyroSample(t, 0.0) for _ in range(GYRO)]
             b.altimeter = [s.AltimeterSample(t, 0.0, 40.0) for _ in range(ALTIMETER)]

@@ -73,7 +73,7 @@ def run_inprocess(
     summary = LiveSummary(uav_count=n, raster=sc.fires.model == "raster")
     summary.home_xy = {i: (p[0], p[1]) for i, p in enumerate(sc.uav_start_poses(n))}
     if n >= 2:  # the agents apply the scenario's link outages themselves
-        summary.outages = [(o.from_, o.to, o.start_s, o.end_s) for o in sc.comms.outages]
+        summary.outages = [(o.from_id, o.to_id, o.start_s, o.end_s) for o in sc.comms.outages]
     steps = 0
     seen = 0
     events: list = []

@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from fire_uav_common.constants import EventType, FireStatus, VehicleStatus
+from fire_uav_common.scenario import LinkOutage
 from fire_uav_common.stamps import stamp_to_s
 
 from fire_mission.cli import OneLineParser
@@ -51,14 +52,6 @@ class Kill:
 @dataclass(frozen=True)
 class Freeze:
     uav: int
-    start_s: float
-    end_s: float
-
-
-@dataclass(frozen=True)
-class Outage:
-    src: int
-    dst: int
     start_s: float
     end_s: float
 
@@ -152,13 +145,13 @@ def signal_plan(args: argparse.Namespace, period_s: float) -> list[tuple[float, 
     return sorted(plan, key=lambda p: (p[0], p[1], p[3]))
 
 
-def _parse_outage(text: str) -> Outage:
+def _parse_outage(text: str) -> LinkOutage:
     m = re.fullmatch(r"(\d+)>(\d+)@([0-9.]+):([0-9.]+)", text)
     if not m or float(m[4]) <= float(m[3]):
         raise argparse.ArgumentTypeError(
             f"--outage expects A>B@T1:T2 (link from A to B, T2 > T1), got '{text}'"
         )
-    return Outage(int(m[1]), int(m[2]), float(m[3]), float(m[4]))
+    return LinkOutage(int(m[1]), int(m[2]), float(m[3]), float(m[4]))
 
 
 def applied_outages(
@@ -169,8 +162,8 @@ def applied_outages(
     if uav_count < 2:
         return []
     if args.outage:
-        return [(o.src, o.dst, o.start_s, o.end_s) for o in args.outage]
-    return [(o.from_, o.to, o.start_s, o.end_s) for o in scenario.comms.outages]
+        return [(o.from_id, o.to_id, o.start_s, o.end_s) for o in args.outage]
+    return [(o.from_id, o.to_id, o.start_s, o.end_s) for o in scenario.comms.outages]
 
 
 def _probability(text: str) -> float:
@@ -469,8 +462,8 @@ def write_params(
             "seed": seed,
             "scenario_file": str(scenario_path),
             "mode": args.mode,
-            "outage_from": [o.src for o in args.outage],
-            "outage_to": [o.dst for o in args.outage],
+            "outage_from": [o.from_id for o in args.outage],
+            "outage_to": [o.to_id for o in args.outage],
             "outage_start_s": [o.start_s for o in args.outage],
             "outage_end_s": [o.end_s for o in args.outage],
             "offline_schedule": schedule,
@@ -661,9 +654,9 @@ def run(args: argparse.Namespace) -> int:
         if not 0 <= k < uav_count:
             raise MissionError(f"fault names uav {k}, but the fleet is uavs 0..{uav_count - 1}")
     for o in args.outage:
-        if not (0 <= o.src < uav_count and 0 <= o.dst < uav_count) or o.src == o.dst:
+        if not (0 <= o.from_id < uav_count and 0 <= o.to_id < uav_count) or o.from_id == o.to_id:
             raise MissionError(
-                f"--outage {o.src}>{o.dst}: both ends must be distinct uavs in 0..{uav_count - 1}"
+                f"--outage {o.from_id}>{o.to_id}: both ends must be distinct uavs in 0..{uav_count - 1}"
             )
     if not 0 <= args.foxglove_port <= 65535:
         raise MissionError(f"--foxglove-port must be in 0..65535, got {args.foxglove_port}")

@@ -18,6 +18,8 @@ from collections.abc import Mapping
 import numpy as np
 from fire_uav_common.constants import FireStatus
 
+from .errors import ReportInputError
+
 __all__ = ["match_tracks_to_fires", "DEFAULT_GATE_M"]
 
 #: [m] a track whose median distance to every true fire exceeds this is unmatched
@@ -36,7 +38,7 @@ def match_tracks_to_fires(
     ``truth``: per fire id arrays t [s], x, y [m], status.
     """
     if not gate_m > 0:
-        raise ValueError(f"gate_m must be > 0, got {gate_m}")
+        raise ReportInputError(f"gate_m must be > 0, got {gate_m}")
     samples: dict[int, list[np.ndarray]] = {}
     for (_uav, tid), e in estimates.items():
         t = np.asarray(e.get("t", ()), dtype=float)

@@ -30,6 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .errors import ConfigError
 from .shape import convex_hull, polygon_radial_extent
 
 __all__ = [
@@ -176,9 +177,9 @@ def distance_error(
     monitor's map centre).
     """
     if not cell_size_m > 0:
-        raise ValueError(f"cell_size_m must be > 0, got {cell_size_m}")
+        raise ConfigError(f"cell_size_m must be > 0, got {cell_size_m}")
     if not all(math.isfinite(v) for v in center_xy_m):
-        raise ValueError(f"distance error centre must be finite, got {center_xy_m}")
+        raise ConfigError(f"distance error centre must be finite, got {center_xy_m}")
     truth = true_extent(fire_xy_m, cell_size_m, center_xy_m, n_angles)
     est = hull_extent(map_xy_m, cell_size_m, center_xy_m, n_angles)
     perfect = hull_extent(

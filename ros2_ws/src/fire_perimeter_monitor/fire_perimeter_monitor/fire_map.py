@@ -38,6 +38,8 @@ from dataclasses import dataclass
 import numpy as np
 from fire_uav_common.constants import CellState, PerimeterDirection
 
+from .errors import ConfigError, InputError
+
 __all__ = [
     "CellGrid",
     "CellState",
@@ -79,11 +81,11 @@ def as_cell_arrays(observed_cells) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     y = np.asarray(y, dtype=float).ravel()
     s = np.asarray(s).astype(np.int64).ravel()
     if not (x.shape == y.shape == s.shape):
-        raise ValueError(f"observed cells: x, y, state lengths differ ({x.size}, {y.size}, {s.size})")
+        raise InputError(f"observed cells: x, y, state lengths differ ({x.size}, {y.size}, {s.size})")
     if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-        raise ValueError("observed cells: non-finite cell coordinates")
+        raise InputError("observed cells: non-finite cell coordinates")
     if s.size and (s.min() < 0 or s.max() > 2):
-        raise ValueError(f"observed cells: state must be 0, 1 or 2, got values in [{s.min()}, {s.max()}]")
+        raise InputError(f"observed cells: state must be 0, 1 or 2, got values in [{s.min()}, {s.max()}]")
     return x, y, s
 
 
@@ -97,7 +99,7 @@ class CellGrid:
 
     def __post_init__(self) -> None:
         if not self.cell_size_m > 0:
-            raise ValueError(f"cell_size_m must be > 0, got {self.cell_size_m}")
+            raise ConfigError(f"cell_size_m must be > 0, got {self.cell_size_m}")
 
     def index(self, x_m, y_m) -> tuple[np.ndarray, np.ndarray]:
         """Integer cell indices of points [m] (vectorised)."""
@@ -193,17 +195,17 @@ class FireMap:
         cell_size_m: float = 1.0,
     ) -> None:
         if bin_count < 8:
-            raise ValueError(f"bin_count must be >= 8, got {bin_count}")
+            raise ConfigError(f"bin_count must be >= 8, got {bin_count}")
         if not revisit_gap_s >= 0:
-            raise ValueError(f"revisit_gap_s must be >= 0, got {revisit_gap_s}")
+            raise ConfigError(f"revisit_gap_s must be >= 0, got {revisit_gap_s}")
         if not ros_baseline_s >= 0:
-            raise ValueError(f"ros_baseline_s must be >= 0, got {ros_baseline_s}")
+            raise ConfigError(f"ros_baseline_s must be >= 0, got {ros_baseline_s}")
         if not ros_baseline_cells >= 0:
-            raise ValueError(f"ros_baseline_cells must be >= 0, got {ros_baseline_cells}")
+            raise ConfigError(f"ros_baseline_cells must be >= 0, got {ros_baseline_cells}")
         if not cell_size_m > 0:
-            raise ValueError(f"cell_size_m must be > 0, got {cell_size_m}")
+            raise ConfigError(f"cell_size_m must be > 0, got {cell_size_m}")
         if not (math.isfinite(center_x_m) and math.isfinite(center_y_m)):
-            raise ValueError(f"map centre must be finite, got ({center_x_m}, {center_y_m})")
+            raise ConfigError(f"map centre must be finite, got ({center_x_m}, {center_y_m})")
         self.center_x_m = float(center_x_m)
         self.center_y_m = float(center_y_m)
         self.bin_count = int(bin_count)

@@ -15,6 +15,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .errors import ConfigError, InputError
+
 __all__ = [
     "WindowImportance",
     "adjust_heterogeneity",
@@ -55,7 +57,7 @@ def time_since_visit(t_now_s: float, t_outer_s: np.ndarray) -> np.ndarray:
 def time_to_cell(d_to_cell_m: np.ndarray, speed_mps: float) -> np.ndarray:
     """Time to reach a cell along the constructed perimeter [s] (PM Eq. 3): ``d_toCell / speed``."""
     if not speed_mps > 0:
-        raise ValueError(f"UAV speed must be > 0 m/s, got {speed_mps}")
+        raise ConfigError(f"UAV speed must be > 0 m/s, got {speed_mps}")
     return np.asarray(d_to_cell_m, dtype=float) / speed_mps
 
 
@@ -77,7 +79,7 @@ def adjust_heterogeneity(ros_mps: np.ndarray, alpha: float) -> np.ndarray:
     makes every cell ``ROS_min`` (no heterogeneity), ``alpha = 1`` is the identity.
     """
     if not alpha >= 0:
-        raise ValueError(f"heterogeneity factor alpha must be >= 0, got {alpha}")
+        raise ConfigError(f"heterogeneity factor alpha must be >= 0, got {alpha}")
     ros = np.asarray(ros_mps, dtype=float)
     if ros.size == 0:
         return ros.copy()
@@ -125,7 +127,7 @@ def window_importance(
     ros = np.asarray(ros_mps, dtype=float)
     since = np.asarray(t_since_visit_s, dtype=float)
     if ros.shape != since.shape or ros.ndim != 1:
-        raise ValueError(f"ros and t_since must be equal 1-D arrays, got {ros.shape} and {since.shape}")
+        raise InputError(f"ros and t_since must be equal 1-D arrays, got {ros.shape} and {since.shape}")
     m = ros.size
     n = m // 2
     idx = np.arange(m, dtype=float)
@@ -203,9 +205,9 @@ def worst_angle_turn(
     ros = np.asarray(ros_mps, dtype=float)
     since = np.asarray(t_since_visit_s, dtype=float)
     if ros.shape != since.shape or ros.ndim != 1:
-        raise ValueError(f"ros and t_since must be equal 1-D arrays, got {ros.shape} and {since.shape}")
+        raise InputError(f"ros and t_since must be equal 1-D arrays, got {ros.shape} and {since.shape}")
     if not reach_m >= 0:
-        raise ValueError(f"reach_m must be >= 0, got {reach_m}")
+        raise ConfigError(f"reach_m must be >= 0, got {reach_m}")
     m = ros.size
     idx = np.arange(m, dtype=float)
     t_on = time_to_cell(np.maximum((m - idx) * spacing_m - reach_m, 0.0), speed_mps)

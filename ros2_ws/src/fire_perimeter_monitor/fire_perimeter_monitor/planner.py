@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .boundary import lookup_from_cells, nearest_boundary_cell, next_boundary_cell
+from .errors import ConfigError, InputError, SequenceError
 from .fire_map import (
     CellGrid,
     Direction,
@@ -79,24 +80,24 @@ class MonitorConfig:
 
     def __post_init__(self) -> None:
         if not self.cell_size_m > 0:
-            raise ValueError(f"cell_size_m must be > 0, got {self.cell_size_m}")
+            raise ConfigError(f"cell_size_m must be > 0, got {self.cell_size_m}")
         if not self.speed_mps > 0:
-            raise ValueError(f"speed_mps must be > 0, got {self.speed_mps}")
+            raise ConfigError(f"speed_mps must be > 0, got {self.speed_mps}")
         if not self.alpha >= 0:
-            raise ValueError(f"alpha must be >= 0, got {self.alpha}")
+            raise ConfigError(f"alpha must be >= 0, got {self.alpha}")
         if (self.center_x_m is None) != (self.center_y_m is None):
-            raise ValueError("give both center_x_m and center_y_m, or neither")
+            raise ConfigError("give both center_x_m and center_y_m, or neither")
         if self.min_run_cells < 0 or not 0 <= self.min_run_fraction <= 1 or not self.turn_margin >= 0:
-            raise ValueError(
+            raise ConfigError(
                 "min_run_cells must be >= 0, min_run_fraction in [0, 1], turn_margin >= 0; got "
                 f"{self.min_run_cells}, {self.min_run_fraction}, {self.turn_margin}"
             )
         if self.rule not in ("worst", "windows"):
-            raise ValueError(f"rule must be 'worst' or 'windows', got {self.rule!r}")
+            raise ConfigError(f"rule must be 'worst' or 'windows', got {self.rule!r}")
         if not self.reach_m >= 0:
-            raise ValueError(f"reach_m must be >= 0, got {self.reach_m}")
+            raise ConfigError(f"reach_m must be >= 0, got {self.reach_m}")
         if self.revisit_gap_s is not None and not self.revisit_gap_s >= 0:
-            raise ValueError(f"revisit_gap_s must be >= 0, got {self.revisit_gap_s}")
+            raise ConfigError(f"revisit_gap_s must be >= 0, got {self.revisit_gap_s}")
 
     @property
     def gap_s(self) -> float:
@@ -176,7 +177,7 @@ class PerimeterMonitor:
         x, y, s = as_cell_arrays(observed_cells)
         ux, uy = float(uav_pos_m[0]), float(uav_pos_m[1])
         if not (math.isfinite(ux) and math.isfinite(uy) and math.isfinite(t_s)):
-            raise ValueError(f"non-finite UAV position or time: ({ux}, {uy}) at {t_s}")
+            raise InputError(f"non-finite UAV position or time: ({ux}, {uy}) at {t_s}")
         if self.grid is None:
             if x.size == 0:
                 self.uav_xy, self.t_s = (ux, uy), float(t_s)
@@ -209,7 +210,7 @@ class PerimeterMonitor:
         """Centre [m] of the next cell to fly to along the perimeter in ``direction``."""
         if self.grid is None or self.cell is None or self._lookup is None:
             if self.uav_xy is None:
-                raise RuntimeError("next_waypoint() before any update()")
+                raise SequenceError("next_waypoint() before any update()")
             return self.uav_xy
         nxt = next_boundary_cell(self._lookup, self.cell, self.direction, self.prev_cell)
         if nxt is None:
@@ -294,11 +295,11 @@ class PerimeterMonitor:
             d = np.asarray(peer_summary["outer_distance_m"], dtype=float)
             tv = np.asarray(peer_summary["outer_visit_time_s"], dtype=float)
         except (KeyError, TypeError) as e:
-            raise ValueError(f"peer summary lacks a PerimeterMap field: {e}") from e
+            raise InputError(f"peer summary lacks a PerimeterMap field: {e}") from e
         if d.shape != tv.shape or d.ndim != 1 or d.size < 8:
-            raise ValueError(f"peer summary arrays must be equal 1-D of >= 8 bins, got {d.shape}, {tv.shape}")
+            raise InputError(f"peer summary arrays must be equal 1-D of >= 8 bins, got {d.shape}, {tv.shape}")
         if not (math.isfinite(cx) and math.isfinite(cy)):
-            raise ValueError("peer summary centre is not finite")
+            raise InputError("peer summary centre is not finite")
         th = (np.arange(d.size) + 0.5) * (2 * np.pi / d.size)
         px, py = cx + d * np.cos(th), cy + d * np.sin(th)
         taken = self.fire_map.merge_outer(px, py, tv) if self._lap.done or self.center_known else 0

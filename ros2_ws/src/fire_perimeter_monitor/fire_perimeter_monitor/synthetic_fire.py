@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .boundary import is_boundary_cell, lookup_from_grid
+from .errors import ConfigError, InputError
 from .fire_map import CellGrid, CellState
 from .planner import PerimeterMonitor
 from .shape import max_distance_error, polygon_radial_extent
@@ -135,7 +136,7 @@ def elliptical_ros(
 ) -> Callable[[np.ndarray], np.ndarray]:
     """Elliptical fire spread from the rear focus: ``R(phi) = R_head (1 - e) / (1 - e cos(phi - wind))``."""
     if not 0 <= eccentricity < 1:
-        raise ValueError(f"eccentricity must be in [0, 1), got {eccentricity}")
+        raise ConfigError(f"eccentricity must be in [0, 1), got {eccentricity}")
 
     def ros(phi: np.ndarray) -> np.ndarray:
         return head_mps * (1 - eccentricity) / (1 - eccentricity * np.cos(np.asarray(phi) - wind_to_rad))
@@ -187,7 +188,7 @@ def spread_fire(
     """
     ff = np.ones(shape) if fuel_factor is None else np.asarray(fuel_factor, dtype=float)
     if ff.shape != tuple(shape):
-        raise ValueError(f"fuel_factor shape {ff.shape} != grid shape {shape}")
+        raise InputError(f"fuel_factor shape {ff.shape} != grid shape {shape}")
     t = np.full(shape, np.inf)
     t[ignition_cell] = t0_s
     costs = []

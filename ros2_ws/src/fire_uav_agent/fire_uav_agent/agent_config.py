@@ -16,11 +16,11 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from fire_uav_common import scenario as sc
+from fire_uav_common.scenario import LinkOutage
 from fire_uav_common.terrain import Lake, Terrain
 
 from .coverage import ControlGains, VehicleLimits
 from .errors import ConfigError
-from .peer_link import Outage
 from .separation import SeparationConfig
 
 __all__ = ["DEFAULT_DROP_RADIUS_M", "AgentConfig", "GuidanceConfig", "config_from_scenario"]
@@ -84,7 +84,7 @@ class AgentConfig:
     sensors: sc.Sensors = field(default_factory=sc.Sensors)
     mission: sc.Mission = field(default_factory=sc.Mission)
     loss_probability: float = 0.05  # scenario comms.loss_probability, or the runner's override
-    outages: tuple[Outage, ...] = ()  # scenario comms.outages, or the runner's override
+    outages: tuple[LinkOutage, ...] = ()  # scenario comms.outages, or the runner's override
     drop_radius_m: float = (
         DEFAULT_DROP_RADIUS_M  # water footprint radius (world hits within max(this, sigma))
     )
@@ -155,8 +155,8 @@ class AgentConfig:
         return self.mission.search_first
 
 
-def _outage(o: Any) -> Outage:
-    return Outage(int(o.from_), int(o.to), float(o.start_s), float(o.end_s))
+def _outage(o: Any) -> LinkOutage:
+    return LinkOutage(int(o.from_id), int(o.to_id), float(o.start_s), float(o.end_s))
 
 
 def _pose4(p) -> tuple[float, float, float, float]:
@@ -171,7 +171,7 @@ def config_from_scenario(
     uav_count: int | None = None,
     seed: int | None = None,
     loss_probability: float | None = None,
-    outages: tuple[Outage, ...] | None = None,
+    outages: tuple[LinkOutage, ...] | None = None,
     crash_threshold_steps: int | None = None,
     monitors_per_fire: int | None = None,
     **agent_options: Any,

@@ -19,10 +19,10 @@ from typing import Any
 
 from fire_uav_common.auth import Authenticator, parse_key
 from fire_uav_common.lockstep import OfflineWindow, parse_schedule
+from fire_uav_common.scenario import LinkOutage
 
 from .agent_config import AgentConfig, config_from_scenario
 from .errors import ConfigError
-from .peer_link import Outage
 from .search_io import SearchParams
 
 __all__ = [
@@ -144,7 +144,7 @@ def _uav_id(value: int, namespace: str) -> int:
     return int(m.group(1))
 
 
-def _outages(ofrom: list, oto: list, ostart: list, oend: list) -> tuple[Outage, ...] | None:
+def _outages(ofrom: list, oto: list, ostart: list, oend: list) -> tuple[LinkOutage, ...] | None:
     if ofrom == [-1]:
         return None
     if not len(ofrom) == len(oto) == len(ostart) == len(oend):
@@ -153,7 +153,7 @@ def _outages(ofrom: list, oto: list, ostart: list, oend: list) -> tuple[Outage, 
             f"{len(ofrom)}/{len(oto)}/{len(ostart)}/{len(oend)}"
         )
     return tuple(
-        Outage(int(a), int(b), float(s), float(e))
+        LinkOutage(int(a), int(b), float(s), float(e))
         for a, b, s, e in zip(ofrom, oto, ostart, oend, strict=True)
     )
 

@@ -38,13 +38,13 @@ from enum import IntEnum
 from fire_uav_common import rng
 from fire_uav_common.codecs.uav_state import FireEntry, PeerFires, PeerState  # re-exported
 from fire_uav_common.constants import Objective
+from fire_uav_common.scenario import LinkOutage
 from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
 from .errors import ConfigError
 
 __all__ = [
     "FireEntry",
-    "Outage",
     "PeerFires",
     "PeerLink",
     "PeerState",
@@ -61,22 +61,6 @@ class Verdict(IntEnum):
     ACCEPTED = 0
     LOST = 1
     REJECTED = 2
-
-
-@dataclass(frozen=True)
-class Outage:
-    """Directed link ``from_id -> to_id`` down for sim time in [start_s, end_s)."""
-
-    from_id: int
-    to_id: int
-    start_s: float
-    end_s: float
-
-    def __post_init__(self) -> None:
-        if self.from_id < 0 or self.to_id < 0:
-            raise ConfigError(f"outage ids must be >= 0, got {self.from_id} -> {self.to_id}")
-        if not self.end_s >= self.start_s:
-            raise ConfigError(f"outage end_s {self.end_s} before start_s {self.start_s}")
 
 
 @dataclass
@@ -113,7 +97,7 @@ class PeerLink:
         loss_probability: float,
         control_period_s: float,
         crash_threshold_steps: int = 10,
-        outages: tuple[Outage, ...] = (),
+        outages: tuple[LinkOutage, ...] = (),
         max_step_lag: int | None = None,
     ) -> None:
         if not 0 <= uav_id < uav_count:

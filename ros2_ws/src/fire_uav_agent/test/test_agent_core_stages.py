@@ -874,8 +874,8 @@ def test_the_nearest_uav_monitors_the_fire_and_publishes_its_perimeter_every_n_s
 def test_loss_and_outages_follow_the_seeded_rule_of_the_peer_link():
     """peer_link doc: lost if rng.bernoulli(p, seed, "loss", j, i, s, topic) or (j -> i) is in an outage
     at (s + 1) T."""
-    from fire_uav_agent.peer_link import Outage
     from fire_uav_common import rng
+    from fire_uav_common.scenario import LinkOutage
     from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
     tis = (int(FLEET_STATE_SPEC.loss_index), int(FLEET_FIRES_SPEC.loss_index))
@@ -886,9 +886,9 @@ def test_loss_and_outages_follow_the_seeded_rule_of_the_peer_link():
                 (j, ti) for j in (0, 1, 3) for ti in tis if not rng.bernoulli(0.5, seed, "loss", j, 2, s, ti)
             }
             assert a.expected_peer_messages(s + 1) == want
-    down = Agent(_cfg(uid=0, n=2, outages=(Outage(1, 0, 0.0, 0.45),)))  # steps 0..3 stamped 0.1 .. 0.4
+    down = Agent(_cfg(uid=0, n=2, outages=(LinkOutage(1, 0, 0.0, 0.45),)))  # steps 0..3 stamped 0.1 .. 0.4
     assert [bool(down.expected_peer_messages(s + 1)) for s in range(6)] == [False] * 4 + [True] * 2
-    slow = Agent(_cfg(uid=0, n=2, outages=(Outage(1, 0, 0.0, 0.45),), timing=sc.Timing(control_period_s=0.2)))
+    slow = Agent(_cfg(uid=0, n=2, outages=(LinkOutage(1, 0, 0.0, 0.45),), timing=sc.Timing(control_period_s=0.2)))
     assert [bool(slow.expected_peer_messages(s + 1)) for s in range(3)] == [False, False, True]
 
 
@@ -1236,9 +1236,9 @@ def test_peer_perimeters_and_fronts_from_uav_0_count_and_one_lost_one_does_not_s
     from fire_uav_agent.agent_types import PeerPerimeter
     from fire_uav_agent.fire_front import FrontCells
     from fire_uav_agent.front_consensus import PeerFront
-    from fire_uav_agent.peer_link import Outage
+    from fire_uav_common.scenario import LinkOutage
 
-    a = Agent(_cfg(uid=2, n=4, outages=(Outage(1, 2, 0.0, 100.0),)))
+    a = Agent(_cfg(uid=2, n=4, outages=(LinkOutage(1, 2, 0.0, 100.0),)))
     msgs = [PeerPerimeter(1, 1, 4, 7, {}), PeerPerimeter(1, 2, 4, 8, {}), PeerPerimeter(0, 1, 4, 7, {}),
             PeerFront(0, 1, 4, FrontCells.empty()), _peer(3, 4, 10.0, 10.0)]  # fmt: skip
     a.last_step = 4
@@ -1418,7 +1418,7 @@ def test_peer_fronts_and_perimeters_count_one_each():
     from fire_uav_agent.agent_types import PeerPerimeter
     from fire_uav_agent.fire_front import FrontCells
     from fire_uav_agent.front_consensus import PeerFront
-    from fire_uav_agent.peer_link import Outage
+    from fire_uav_common.scenario import LinkOutage
 
     a = Agent(_cfg(n=3))
     _fly(a, 0, 50.0, 50.0, cells=_block(), cell_size=10.0)
@@ -1435,7 +1435,7 @@ def test_peer_fronts_and_perimeters_count_one_each():
     )
     assert a.fronts_received == 2
     m = Agent(_cfg(n=4, prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1),
-                   outages=(Outage(3, 0, 0.0, 9.0),)))  # fmt: skip
+                   outages=(LinkOutage(3, 0, 0.0, 9.0),)))  # fmt: skip
     for k in range(3):
         _fly(m, k, 60.0, 145.0, cells=_block(), cell_size=10.0)
     fid = m.mission.target_fire_id

@@ -5,12 +5,12 @@ import math
 import pytest
 from fire_uav_agent.peer_link import (
     FireEntry,
-    Outage,
     PeerFires,
     PeerLink,
     PeerState,
     Verdict,
 )
+from fire_uav_common.scenario import LinkOutage
 from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
 
@@ -42,7 +42,7 @@ def test_kept_draws_are_the_draws_whatever_the_order_and_eviction():
     from fire_uav_common import rng
 
     link = PeerLink(
-        2, 5, seed=9, loss_probability=0.4, control_period_s=0.1, outages=(Outage(3, 2, 1.0, 2.0),)
+        2, 5, seed=9, loss_probability=0.4, control_period_s=0.1, outages=(LinkOutage(3, 2, 1.0, 2.0),)
     )
     asks = [(j, k, t) for j in (0, 1, 3, 4) for k in range(40) for t in (0, 1, 2, 3)] * 2
     random.Random(4).shuffle(asks)
@@ -110,13 +110,13 @@ def test_crash_declared_at_exactly_threshold_and_rejoin():
 
 def test_outage_drops_link_in_window_only():
     link = PeerLink(
-        1, 2, seed=0, loss_probability=0.0, control_period_s=0.1, outages=(Outage(0, 1, 10.0, 20.0),)
+        1, 2, seed=0, loss_probability=0.0, control_period_s=0.1, outages=(LinkOutage(0, 1, 10.0, 20.0),)
     )
     verdicts = [link.receive_state(state(0, k + 1, k)) for k in range(300)]
     lost_steps = [k for k, v in enumerate(verdicts) if v == Verdict.LOST]
     assert lost_steps == list(range(99, 199))  # stamps (k+1) T in [10, 20)
     # the reverse link is untouched
-    assert not PeerLink(0, 2, 0, 0.0, 0.1, outages=(Outage(0, 1, 10.0, 20.0),)).in_outage(1, 150)
+    assert not PeerLink(0, 2, 0, 0.0, 0.1, outages=(LinkOutage(0, 1, 10.0, 20.0),)).in_outage(1, 150)
 
 
 def test_last_known_state_reused_while_lost():
@@ -231,9 +231,9 @@ def test_invalid_link_configuration_names_the_field():
     with pytest.raises(ValueError, match="seed must be >= 0"):
         PeerLink(0, 3, -1, 0.0, 0.1)
     with pytest.raises(ValueError, match="outage ids must be >= 0"):
-        Outage(-1, 0, 0.0, 1.0)
+        LinkOutage(-1, 0, 0.0, 1.0)
     with pytest.raises(ValueError, match="outage ids must be >= 0"):
-        Outage(0, -1, 0.0, 1.0)
+        LinkOutage(0, -1, 0.0, 1.0)
     with pytest.raises(ValueError, match="outage end_s 1.0 before start_s 2.0"):
-        Outage(0, 1, 2.0, 1.0)
-    assert Outage(0, 1, 1.0, 1.0).end_s == 1.0  # an empty window is allowed
+        LinkOutage(0, 1, 2.0, 1.0)
+    assert LinkOutage(0, 1, 1.0, 1.0).end_s == 1.0  # an empty window is allowed

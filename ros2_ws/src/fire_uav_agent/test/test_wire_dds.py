@@ -102,10 +102,10 @@ def test_bundles_the_world_writes_as_bytes_arrive_as_written(node_pair):
     """As the world publishes them since session 13: its writer's bytes, published raw."""
     from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
     from fire_world_sim.sensors import AltimeterSample, GyroSample
-    from fire_world_sim.world import Bundle
+    from fire_world_sim.world import SensorBundleRecord
 
     def make(k: int) -> bytes:
-        b = Bundle(1, k, 100_000_000 * (k + 1), 0.1, water_kg=float(k), vehicle_status=1)
+        b = SensorBundleRecord(1, k, 100_000_000 * (k + 1), 0.1, water_kg=float(k), vehicle_status=1)
         b.gyro = [GyroSample(10_000_000 * j, 0.01 * j) for j in range(k % 11)]
         b.altimeter = [AltimeterSample(0, float(j), 40.0) for j in range(k % 3)]
         return write_sensor_bundle(b, 0.3)

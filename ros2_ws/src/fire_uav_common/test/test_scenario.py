@@ -68,7 +68,7 @@ def test_documented_example_loads(tmp_path: Path) -> None:
     assert s.terrain.hills[0].height_m == 20.0
     assert s.fires.raster is not None and s.fires.raster.fuel_patches[0].fuel_model == 5
     assert s.fires.raster.wind[0].direction_deg == 90.0
-    assert s.comms.outages[0].from_ == 0 and s.comms.outages[0].to == 1
+    assert s.comms.outages[0].from_id == 0 and s.comms.outages[0].to_id == 1
 
 
 @pytest.mark.parametrize("path", sorted(SCENARIOS.glob("*.yaml")), ids=lambda p: p.name)

@@ -36,9 +36,7 @@ from .vehicle import Command, Status, VehicleSim
 
 __all__ = [
     "Action",
-    "Bundle",
     "Command",
-    "Event",
     "EventType",
     "MissionEventRecord",
     "SensorBundleRecord",
@@ -111,10 +109,6 @@ class StepResult:
     collisions: int = 0  # colliding pairs so far
 
 
-# The former names, still imported by the SensorBundle writer and the in-process harness of the
-# agent package; they go once those import the names above.
-Bundle = SensorBundleRecord
-Event = MissionEventRecord
 
 CLAMP_EVENT_PERIOD_S = 5.0  # throttle of COMMAND_CLAMPED events per vehicle [s sim]
 MISS_EVENT_EVERY = 10  # a COMMAND_MISSED event at the first miss and every N-th after

@@ -39,7 +39,7 @@ from . import viz
 from .errors import ConfigError
 from .ros_messages import FRAME, stamp  # noqa: F401  (the SensorBundle writer's tests take them from here)
 from .step_answers import AnswerGate
-from .world import Bundle, Command, SensorBundleRecord, StepResult, World
+from .world import Command, SensorBundleRecord, StepResult, World
 from .world_config import (
     PARAMETERS,
     ParameterSpec,
@@ -368,7 +368,7 @@ class WorldNode(Node):
             if grid is not None:
                 self.pub_grid.publish(msgs.grid_msg(grid, r.stamp_ns))
 
-    def _bundle_bytes(self, b: Bundle) -> bytes:
+    def _bundle_bytes(self, b: SensorBundleRecord) -> bytes:
         """``b`` as a serialised SensorBundle (``fire_uav_common.codecs.sensor_bundle``), published as it is."""
         return write_sensor_bundle(b, self.world.scenario.sensors.gyro.sigma_radps)
 

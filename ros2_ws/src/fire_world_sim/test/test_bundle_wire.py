@@ -16,7 +16,7 @@ pytest.importorskip("fire_uav_msgs.msg")
 from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
 from fire_uav_msgs.msg import FireDetection, GpsFix, SensorBundle
 from fire_world_sim.sensors import AltimeterSample, CellsSample, FireDetectionSample, GpsSample, GyroSample
-from fire_world_sim.world import Bundle
+from fire_world_sim.world import SensorBundleRecord
 from fire_world_sim.world_node import FRAME, WorldNode, stamp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -30,8 +30,8 @@ i32 = st.integers(-(2**31), 2**31 - 1)
 
 
 @st.composite
-def world_bundles(draw) -> Bundle:
-    b = Bundle(draw(st.integers(0, 255)), draw(st.integers(0, 2**32 - 1)), draw(ns), draw(f64))
+def world_bundles(draw) -> SensorBundleRecord:
+    b = SensorBundleRecord(draw(st.integers(0, 255)), draw(st.integers(0, 2**32 - 1)), draw(ns), draw(f64))
     b.gyro = [GyroSample(draw(ns), draw(f64)) for _ in range(draw(st.integers(0, 12)))]
     b.altimeter = [AltimeterSample(draw(ns), draw(f32), draw(f32)) for _ in range(draw(st.integers(0, 4)))]
     b.gps = [GpsSample(draw(ns), draw(f64), draw(f64), draw(f64)) for _ in range(draw(st.integers(0, 3)))]
@@ -51,7 +51,7 @@ def world_bundles(draw) -> Bundle:
 _hdr = WorldNode._hdr
 
 
-def reference_bundle_msg(b: Bundle, gyro_sigma_radps: float) -> SensorBundle:
+def reference_bundle_msg(b: SensorBundleRecord, gyro_sigma_radps: float) -> SensorBundle:
     """The SensorBundle the world built and published before ``bundle_wire`` (session 12's
     ``WorldNode._bundle_msg``, unchanged but for its arguments): the reference for the bytes."""
     m = SensorBundle()
@@ -135,7 +135,7 @@ def test_rclpy_reads_the_bytes_as_the_message_the_node_built(b, sigma):
 
 
 def test_a_hand_built_bundle():
-    b = Bundle(
+    b = SensorBundleRecord(
         3, 7, 1_200_000_000, 0.1, gyro=[GyroSample(1_110_000_000, 0.25)], water_kg=5.0, vehicle_status=1
     )
     b.altimeter = [AltimeterSample(1_140_000_000, 12.5, 40.0)]
@@ -161,12 +161,12 @@ def test_a_hand_built_bundle():
 
 def test_a_negative_stamp_is_refused_by_name():
     with pytest.raises(ValueError, match="stamp must be >= 0 ns, got -1"):
-        write_sensor_bundle(Bundle(0, 0, -1, 0.1), 0.3)
+        write_sensor_bundle(SensorBundleRecord(0, 0, -1, 0.1), 0.3)
 
 
 def test_float64_cell_centres_are_rounded_to_float32_as_the_message_type_does():
     """As the reference's float32[] conversion in rclpy (the world's own are float32 already)."""
     x = np.array([0.1, 1e-3, 12345.678])
     c = CellsSample(5, 2.5, x, -x, np.array([0, 1, 2], dtype=np.uint8))
-    b = Bundle(0, 1, 5, 0.1, cells=c)
+    b = SensorBundleRecord(0, 1, 5, 0.1, cells=c)
     _same(deserialize_message(write_sensor_bundle(b, 0.3), SensorBundle), reference_bundle_msg(b, 0.3))

@@ -8,7 +8,7 @@ Vector3 and three 9-element numpy arrays) and converting them for ``publish``, o
 waits for its bundle (docs/profile.md). The reader takes the fields the agent uses: per gyro sample
 the stamp and ``angular_velocity.z``, and so on.
 
-- :func:`write_sensor_bundle`: a world bundle (``fire_world_sim.world.Bundle``: stamps [ns], samples)
+- :func:`write_sensor_bundle`: a world bundle (``fire_world_sim.world.SensorBundleRecord``: stamps [ns], samples)
   -> the standard CDR of the message; any subscriber (the agents, the recorder, ``ros2 topic echo``)
   reads them as the message the world node built before (fire_world_sim's test_bundle_wire.py,
   with rclpy). The padding bytes are zeros.
@@ -43,7 +43,7 @@ __all__ = [
     "write_sensor_bundle",
 ]
 
-#: ``fire_world_sim.world.Bundle`` (duck-typed: this package sits below the world)
+#: ``fire_world_sim.world.SensorBundleRecord`` (duck-typed: this package sits below the world)
 WorldBundle = Any
 
 _STAMP = struct.Struct("<iI")  # builtin_interfaces/Time: sec, nanosec

@@ -144,16 +144,13 @@ def _comms(ctx: _Ctx, raw: Any, uav_count: int) -> Comms:
         op = f"comms.outages[{i}]"
         keys = {"from", "to", "start_s", "end_s"}
         od = _mapping(ctx, item, op, keys, keys)
-        o = LinkOutage(
-            from_=_int(ctx, od, "from", op, ge=0),
-            to=_int(ctx, od, "to", op, ge=0),
-            start_s=_num(ctx, od, "start_s", op, ge=0),
-            end_s=_num(ctx, od, "end_s", op),
-        )
-        if not o.end_s > o.start_s:
-            raise ctx.fail(f"{op}.end_s", f"must be > start_s ({o.start_s:g}), got {o.end_s:g}")
-        if o.from_ == o.to:
-            raise ctx.fail(f"{op}.to", f"must differ from 'from' ({o.from_})")
+        from_id, to_id = _int(ctx, od, "from", op, ge=0), _int(ctx, od, "to", op, ge=0)
+        start_s, end_s = _num(ctx, od, "start_s", op, ge=0), _num(ctx, od, "end_s", op)
+        if not end_s > start_s:
+            raise ctx.fail(f"{op}.end_s", f"must be > start_s ({start_s:g}), got {end_s:g}")
+        if from_id == to_id:
+            raise ctx.fail(f"{op}.to", f"must differ from 'from' ({from_id})")
+        o = LinkOutage(from_id=from_id, to_id=to_id, start_s=start_s, end_s=end_s)
         _check_outage_ids(ctx, i, o, uav_count)
         outages.append(o)
     return Comms(
@@ -163,7 +160,7 @@ def _comms(ctx: _Ctx, raw: Any, uav_count: int) -> Comms:
 
 def _check_outage_ids(ctx: _Ctx, i: int, o: LinkOutage, uav_count: int) -> None:
     """Both ends of outage ``i`` must be UAVs of a fleet of ``uav_count`` (ids 0..uav_count-1)."""
-    for key, uid in (("from", o.from_), ("to", o.to)):
+    for key, uid in (("from", o.from_id), ("to", o.to_id)):
         if uid >= uav_count:
             raise ctx.fail(
                 f"comms.outages[{i}].{key}", f"UAV {uid} does not exist: the fleet has ids 0..{uav_count - 1}"

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from fire_uav_common.errors import ArgumentError
+from fire_uav_common.errors import ArgumentError, ScheduleError
 from fire_uav_common.terrain import Lake, Terrain
 
 #: Anderson (1982) / Albini (1976) standard fuel model numbers the raster fire supports.
@@ -209,12 +209,20 @@ class Fires:
 
 @dataclass(frozen=True)
 class LinkOutage:
-    """Directed link outage ``from_ -> to`` between start_s and end_s [s] (YAML key ``from``)."""
+    """Directed link ``from_id -> to_id`` down for sim time in [start_s, end_s) [s]: the scenario's
+    ``comms.outages`` (YAML keys ``from``, ``to``), the runner's ``--outage`` and the agents' peer
+    link all hold this one type."""
 
-    from_: int
-    to: int
+    from_id: int
+    to_id: int
     start_s: float
     end_s: float
+
+    def __post_init__(self) -> None:
+        if self.from_id < 0 or self.to_id < 0:
+            raise ScheduleError(f"outage ids must be >= 0, got {self.from_id} -> {self.to_id}")
+        if not self.end_s >= self.start_s:
+            raise ScheduleError(f"outage end_s {self.end_s} before start_s {self.start_s}")
 
 
 @dataclass(frozen=True)
