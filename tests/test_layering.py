@@ -17,7 +17,12 @@ PACKAGES = [
     "fire_uav_recording",
 ]
 # tools/<package>: the modules that may import ROS (they run or talk to nodes); all others are ROS-free
-TOOLS_ROS_MODULES = {"fire_mission": {"runner.py"}, "fire_bench": {"skeleton.py"}, "fire_report": set()}
+TOOLS_ROS_MODULES = {
+    "fire_mission": {"runner.py"},
+    "fire_bench": {"skeleton.py"},
+    "fire_report": set(),
+    "fire_study": set(),
+}
 ROS_MODULES = (
     "rclpy",
     "fire_uav_msgs",
