@@ -101,3 +101,11 @@ def test_the_tactic_fleet_size_and_airframe_never_change_the_fire_of_a_seed(tmp_
     two = mission_overrides(s, "grass_running", "default", 3, "head", 2)
     assert one["fires.raster.wind"] != two["fires.raster.wind"]  # seeds vary the fire
     assert one["fires.raster.ignitions"] != two["fires.raster.ignitions"]
+
+
+def test_report_only_without_results_is_one_line_exit_2(tmp_path, capsys) -> None:
+    path = _write(tmp_path, GOOD)
+    assert main([path, "--out", str(tmp_path / "none"), "--report-only"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith("none/results.jsonl: no such results file: nothing to report") and "\n" not in err
+    assert not (tmp_path / "none").exists()

@@ -62,6 +62,8 @@ def main(argv: list[str] | None = None) -> int:
                 f"{rep.total} in the study ({rep.wall_s:.0f} s wall, {executor.name})",
                 file=sys.stderr,
             )
+        if a.report_only and not (out / "results.jsonl").exists():
+            raise StudyError(f"{out / 'results.jsonl'}: no such results file: nothing to report")
         store = ResultStore(out, study)
         if not store.rows:
             raise StudyError(f"{out / 'results.jsonl'}: no missions on file yet: nothing to report")
