@@ -123,6 +123,7 @@ def _fig_box(study: Study, rows: Sequence[dict], measure: str, path: Path) -> No
                     pos += 1
                 pos += 0.6
         ax.set_xticks(ticks, labels, fontsize=7)
+        ax.set_ylim(bottom=0)  # the differences against the whole, not magnified
         ax.set_title(sc)
         ax.set_ylabel(f"{MEASURES[measure][0]} [{unit}]")
         ax.set_xlabel("UAVs / tactic")
