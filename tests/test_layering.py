@@ -17,7 +17,12 @@ PACKAGES = [
     "fire_uav_recording",
 ]
 # tools/<package>: the modules that may import ROS (they run or talk to nodes); all others are ROS-free
-TOOLS_ROS_MODULES = {"fire_mission": {"runner.py"}, "fire_bench": {"skeleton.py"}, "fire_report": set()}
+TOOLS_ROS_MODULES = {
+    "fire_mission": {"runner.py"},
+    "fire_bench": {"skeleton.py"},
+    "fire_report": set(),
+    "fire_study": set(),
+}
 # ROS adapter modules besides the nodes: the spin loop, the agent's search adapter, the recording's
 # raw subscriptions, the world's message builders
 ROS_ADAPTERS = {"ros_io.py", "search_io.py", "agent_io.py", "raw_topics.py", "ros_messages.py"}

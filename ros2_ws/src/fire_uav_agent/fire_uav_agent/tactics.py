@@ -22,6 +22,25 @@ of the own cell nearest that centroid, so a UAV always flies at burning edge cel
   w_i = exp(-(d_i - d_min) / L) + w_min with d_i the distance from the anchor. Cells near the
   anchor are put out first, so the nearest live front moves up both flanks toward the head,
   the way crews "anchor and flank".
+* ``auto`` -- head or flank per fire (:func:`auto_choice`), from the fleet's own picture: the
+  front cells are grouped into fires (cells within ``auto_link_m`` of each other), and a fire
+  gets a head attack when the flame length at its head is below ``auto_max_flame_m``, else a
+  flank attack with its own anchor. The head's rate of spread R is the largest ROS the fleet
+  knows on that fire's front; Byram's fireline intensity I = H w R [kW/m] (H the fuel's heat
+  content, w the fuel consumed per area: the fleet's prior for the fuel, default Anderson's
+  fuel model 1, 0.74 t/acre = 0.166 kg/m^2) and Byram's flame length L = 0.0775 I^0.46 [m]
+  (Andrews & Rothermel 1982, "Charts for interpreting wildland fire behavior characteristics",
+  USDA FS GTR INT-131, Eq. for L). The limit is the fire services' guidance on direct attack
+  (NWCG Fireline Handbook / Fire Behavior Field Reference Guide PMS 437, "fire suppression
+  interpretations" after Andrews & Rothermel 1982): flame length < 4 ft (1.2 m) hand crews can
+  attack the head; 4-8 ft (1.2-2.4 m) too intense for hand crews at the head, but engines,
+  dozers and aircraft drops can be effective; > 8 ft control efforts at the head will probably
+  be ineffective. The fleet drops ~2 t per pass, an aircraft drop: the default limit is 8 ft
+  (2.44 m), i.e. for fuel model 1 a head slower than ~0.59 m/s. Until the fleet's picture has
+  a rate of spread (PM Eq. 1; before that ``fire_front`` orders the front by distance, scaled
+  to a nominal rate) the nominal rate decides; a fire whose front has no finite ROS gets a
+  flank attack (anchor and flank is the doctrine when the head is unknown). The flank anchor
+  of an ``auto`` fire is its slowest front cell at each step (the heel), not frozen once.
 
 **Release rule.** A UAV releases only when its own latest FireCells show at least
 ``min_burning_cells`` burning cells inside ``release_radius_m`` of its estimated position, and
@@ -48,6 +67,9 @@ __all__ = [
     "TACTICS",
     "TacticConfig",
     "aim_on_front",
+    "auto_choice",
+    "byram_flame_length_m",
+    "fire_groups",
     "burning_within",
     "choose_anchor",
     "direct_run_point",
@@ -64,7 +86,7 @@ _TRUNCATE = 3.0  # [sigma] Eq. 13' kernel cut-off
 
 @dataclass(frozen=True)
 class TacticConfig:
-    tactic: str = "head"  # head | flank
+    tactic: str = "head"  # head | flank | auto
     sigma_m: float = 10.0  # [m] Eq. 13' kernel width
     head_power: float = 2.0  # [-] head attack: w = (R / R_max)^p
     flank_scale_m: float = 60.0  # [m] flank attack: decay length L from the anchor
@@ -76,6 +98,11 @@ class TacticConfig:
     layers: int = 4  # [-] altitude layers of the fleet over a raster fire (raster_layers)
     layer_step_m: float = 8.0  # [m] between layers (raster_layers: 2 x 3 m radius + 2 m)
     layer_top_m: float = 36.0  # [m above terrain] the highest layer (raster_layers)
+    auto_max_flame_m: float = 2.44  # [m] auto: head attack below this head flame length (8 ft, NWCG)
+    auto_heat_kj_kg: float = 18_608.0  # [kJ/kg] auto: fuel heat content H (8000 BTU/lb, Rothermel 1972)
+    auto_fuel_kg_m2: float = 0.166  # [kg/m^2] auto: fuel consumed w (fuel model 1, 0.74 t/acre)
+    auto_link_m: float = 100.0  # [m] auto: front cells closer than this belong to one fire (a front
+    # broken up by drops stays one fire)
 
     def __post_init__(self) -> None:
         if self.tactic not in TACTICS:
@@ -92,6 +119,9 @@ class TacticConfig:
             raise ConfigError(f"tactic direct_points must be >= 1, got {self.direct_points}")
         if self.layers < 1:
             raise ConfigError(f"tactic layers must be >= 1, got {self.layers}")
+        for name in ("auto_max_flame_m", "auto_heat_kj_kg", "auto_fuel_kg_m2", "auto_link_m"):
+            if not getattr(self, name) > 0:
+                raise ConfigError(f"tactic {name} must be > 0, got {getattr(self, name)}")
         if not self.layer_step_m >= 0:
             raise ConfigError(f"tactic layer_step_m must be >= 0, got {self.layer_step_m}")
         bottom = self.layer_top_m - (self.layers - 1) * self.layer_step_m
@@ -176,13 +206,61 @@ def choose_anchor(front: FrontCells) -> tuple[float, float] | None:
     return float(front.x_m[k]), float(front.y_m[k])
 
 
+def byram_flame_length_m(ros_mps: float, cfg: TacticConfig) -> float:
+    """Flame length [m] of a head spreading at ``ros_mps``: Byram I = H w R [kW/m], L = 0.0775 I^0.46."""
+    intensity_kw_m = cfg.auto_heat_kj_kg * cfg.auto_fuel_kg_m2 * max(float(ros_mps), 0.0)
+    return 0.0775 * intensity_kw_m**0.46
+
+
+def fire_groups(front: FrontCells, link_m: float) -> np.ndarray:
+    """Label per front cell: cells chained by gaps < ``link_m`` [m] are one fire (0, 1, ... in order
+    of their first cell)."""
+    n = len(front)
+    if n == 0:
+        return np.zeros(0, dtype=np.int64)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(np.column_stack([front.x_m, front.y_m])).query_pairs(link_m, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, labels = connected_components(graph, directed=False)
+    _, first = np.unique(labels, return_index=True)
+    order = np.argsort(np.argsort(first))  # relabel by first appearance, independent of scipy's numbering
+    return order[labels].astype(np.int64)
+
+
+def auto_choice(ros_mps: np.ndarray, cfg: TacticConfig) -> str:
+    """``head`` or ``flank`` for one fire from its front's ROS [m/s] (NaN unknown; module doc)."""
+    ros = np.asarray(ros_mps, dtype=float)
+    if not np.isfinite(ros).any():
+        return "flank"
+    return "head" if byram_flame_length_m(float(np.nanmax(ros)), cfg) < cfg.auto_max_flame_m else "flank"
+
+
 def front_weights(
     front: FrontCells, cfg: TacticConfig, anchor_xy: tuple[float, float] | None = None
 ) -> np.ndarray:
-    """w_i of Eq. 13' for every front cell (module doc); unknown ROS counts as the mean of the known."""
+    """w_i of Eq. 13' for every front cell (module doc); unknown ROS counts as the mean of the known.
+
+    ``auto``: per fire (:func:`fire_groups`) the head or flank weights of :func:`auto_choice`, the
+    flank anchor being that fire's slowest front cell (``anchor_xy`` is not used)."""
     n = len(front)
     if n == 0:
         return np.zeros(0)
+    if cfg.tactic == "auto":
+        import dataclasses
+
+        w = np.zeros(n)
+        labels = fire_groups(front, cfg.auto_link_m)
+        for g in range(int(labels.max()) + 1):
+            sel = labels == g
+            part = FrontCells(
+                front.x_m[sel], front.y_m[sel], front.state[sel], front.t_obs_s[sel], front.ros_mps[sel]
+            )
+            sub = dataclasses.replace(cfg, tactic=auto_choice(part.ros_mps, cfg))
+            w[sel] = front_weights(part, sub, None)
+        return w
     if cfg.tactic == "head":
         ros = np.asarray(front.ros_mps, dtype=float)
         ok = np.isfinite(ros)

@@ -54,7 +54,7 @@ def front(x, y=None, ros=None) -> FrontCells:
         ({"layers": 0}, "tactic layers must be >= 1, got 0"),
         ({"layer_step_m": -0.5}, r"tactic layer_step_m must be >= 0, got -0.5"),
         ({"layers": 4, "layer_step_m": 12.0, "layer_top_m": 36.0}, "put the lowest at 0 m"),
-        ({"tactic": "tail"}, r"tactic must be one of \['head', 'flank'\], got 'tail'"),
+        ({"tactic": "tail"}, r"tactic must be one of \['head', 'flank', 'auto'\], got 'tail'"),
     ],
 )
 def test_each_bad_tactic_field_is_named(kw, msg) -> None:

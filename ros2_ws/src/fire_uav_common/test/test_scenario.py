@@ -262,7 +262,7 @@ def test_mission_tactic_head_by_default_flank_on_request_and_a_clear_error(tmp_p
     s = load_scenario(write(tmp_path, with_(mission={"tactic": "flank"})))
     assert s.mission.tactic == "flank"
     with pytest.raises(
-        ScenarioError, match=r"s\.yaml: mission\.tactic: must be one of \['head', 'flank'\], got 'tail'"
+        ScenarioError, match=r"s\.yaml: mission\.tactic: must be one of \['head', 'flank', 'auto'\], got 'tail'"
     ):
         load_scenario(write(tmp_path, with_(mission={"tactic": "tail"})))
 

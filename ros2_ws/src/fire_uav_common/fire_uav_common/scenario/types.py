@@ -18,8 +18,9 @@ FUEL_MODELS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13)
 WIND_LIMITS = ("behave", "andrews2013", "none")
 #: ``fires.model`` values
 FIRE_MODELS = ("analytic", "raster")
-#: ``mission.tactic`` values: head attack (fastest front first) or flank attack from an anchor
-TACTICS = ("head", "flank")
+#: ``mission.tactic`` values: head attack (fastest front first), flank attack from an anchor, or
+#: auto (head or flank per fire from the head's intensity: ``fire_uav_agent.tactics.auto_choice``)
+TACTICS = ("head", "flank", "auto")
 #: ``mission.prior_fires`` values
 PRIOR_FIRES_MODES = ("unknown", "known")
 
@@ -241,7 +242,7 @@ class Mission:
     safety_radius_m: float = 10.0
     monitors_per_fire: int = 0
     search_first: bool = False
-    tactic: str = "head"  # raster suppression: head | flank (TACTICS; fire_uav_agent.tactics)
+    tactic: str = "head"  # raster suppression: head | flank | auto (TACTICS; fire_uav_agent.tactics)
     prior_fires: str = "unknown"  # known: agents start with noisy estimates of every fire (FF III-C, IV-D c)
     prior_position_sigma_m: float = 10.0  # [m] noise of a known fire's initial centre estimate
     prior_extent_sigma_fraction: float = 0.2  # [-] relative noise of a known fire's initial extent
