@@ -7,6 +7,7 @@ import math
 
 import pytest
 from fire_bench.envelope import envelope_share, needed_bank_deg
+from fire_bench.errors import BenchError
 from fire_uav_common.constants import VehicleStatus
 from fire_uav_common.scenario.airframes import G_MPS2
 
@@ -29,5 +30,5 @@ def test_ff_limits_need_a_bank_near_ninety_degrees() -> None:
 
 def test_no_airborne_sample_is_no_share_and_a_bad_limit_is_refused() -> None:
     assert envelope_share([(GROUND, 0.0, 0.0)], 45.0).share == 0.0
-    with pytest.raises(ValueError, match="bank_max_deg"):
+    with pytest.raises(BenchError, match="bank_max_deg"):
         envelope_share([], 90.0)

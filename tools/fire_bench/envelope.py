@@ -14,6 +14,8 @@ from dataclasses import dataclass
 from fire_uav_common.constants import VehicleStatus
 from fire_uav_common.scenario.airframes import G_MPS2
 
+from .errors import BenchError
+
 __all__ = ["EnvelopeShare", "envelope_share", "needed_bank_deg"]
 
 
@@ -39,7 +41,7 @@ def envelope_share(samples: Iterable[tuple[int, float, float]], bank_max_deg: fl
     A sample is beyond the envelope when |omega| > g tan(bank_max) / v (with v > 0).
     """
     if not 0 < bank_max_deg < 90:
-        raise ValueError(f"bank_max_deg must be in (0, 90), got {bank_max_deg}")
+        raise BenchError(f"bank_max_deg must be in (0, 90), got {bank_max_deg}")
     limit = math.tan(math.radians(bank_max_deg))
     air = beyond = 0
     worst = 0.0
