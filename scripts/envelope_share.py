@@ -23,6 +23,7 @@ import sys
 import fire_uav_recording as bag_io
 import yaml
 from fire_bench.envelope import envelope_share
+from fire_mission.cli import OneLineParser
 from fire_mission.inprocess import run_inprocess
 from fire_uav_agent.testing.harness import scenario_path
 from fire_uav_common.scenario import Airframe, ScenarioError, load_scenario, scenario_from_dict
@@ -30,7 +31,7 @@ from fire_uav_common.topics import WORLD_TRUTH
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p = OneLineParser(prog="envelope_share.py", description=__doc__.split("\n\n")[0])
     p.add_argument("scenario", nargs="?", default="ff_two_fires")
     p.add_argument("--uavs", type=int, default=5)
     p.add_argument("--seed", type=int, default=1)
