@@ -85,6 +85,31 @@ def test_report_without_a_bag_is_one_line() -> None:
         (("no_such_scenario",), ["no scenario 'no_such_scenario'"]),
         (("tiny_test", "--set", "fires.model=bogus"), ["tiny_test.yaml", "fires.model", "'bogus'"]),
         (("tiny_test", "--uavs", "999"), ["uav_count must be in 0..255, got 999"]),
+        (("tiny_test", "--set", "uavs.vehicle_model=glider"), ["uavs.vehicle_model", "'glider'"]),
+        (
+            ("tiny_test", "--set", "uavs.vehicle_model=coordinated_turn", "--set", "uavs.airframe=blimp"),
+            ["uavs.airframe", "unknown airframe 'blimp'"],
+        ),
+        (
+            (
+                "tiny_test",
+                "--set",
+                "uavs.vehicle_model=coordinated_turn",
+                "--set",
+                "uavs.airframe.bank_max_deg=85",
+            ),
+            ["uavs.airframe.bank_max_deg", "(0, 80]", "85"],
+        ),
+        (
+            (
+                "tiny_test",
+                "--set",
+                "uavs.vehicle_model=coordinated_turn",
+                "--set",
+                "uavs.airframe.v_stall_mps=40",
+            ),
+            ["uavs.airframe.v_stall_mps", "must be < v_max_mps (30), got 40"],
+        ),
     ],
 )
 def test_inprocess_errors(args: tuple[str, ...], words: list[str]) -> None:

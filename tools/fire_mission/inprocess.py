@@ -18,7 +18,7 @@ from __future__ import annotations
 import json
 import sys
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -48,11 +48,13 @@ def run_inprocess(
     seed: int | None = None,
     overrides: Mapping[str, Any] | None = None,
     max_steps: int | None = None,
+    on_step: Callable[[Any], None] | None = None,
 ) -> dict:
     """Run one mission on the harness; returns its summary dict (``outcome`` complete / time_limit).
 
     ``uavs`` None: the scenario's fleet; 0: no fleet, the fire burns alone (the world with
-    ``no_fleet``, as the process runner starts it for ``--uavs 0``)."""
+    ``no_fleet``, as the process runner starts it for ``--uavs 0``). ``on_step`` is called with
+    every step's ``fire_world_sim.world.StepResult`` (the truth at the control rate)."""
     from fire_uav_agent.testing.harness import Harness
     from fire_world_sim.world import World
 
@@ -85,6 +87,8 @@ def run_inprocess(
             r = world.step({})
             events += r.events
         steps += 1
+        if on_step is not None:
+            on_step(r)
         for e in events[seen:]:
             summary.add(
                 Event(

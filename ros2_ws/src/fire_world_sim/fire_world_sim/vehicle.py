@@ -1,14 +1,18 @@
-"""Vehicle physics: FF Eq. 4 unicycle + altitude with process noise, limits, life-cycle, tank.
+"""One vehicle: limits, life-cycle and tank around a swappable flight model (``vehicles``).
 
 State ``(x_m, y_m, z_m, yaw_rad)`` in the map frame (x east, y north, z up above the datum,
 yaw ccw from +x wrapped to (-pi, pi]). Inputs ``u = (v_lin_mps, v_z_mps, omega_z_radps)``.
-One physics substep of length ``dt_s`` integrates (FF Eq. 4)::
+One physics substep of length ``dt_s`` is integrated by the vehicle model: by default FF Eq. 4
+(:class:`~fire_world_sim.vehicles.FfPaperModel`)::
 
     x += cos(yaw) * dt * (v_lin + nu_1);  y += sin(yaw) * dt * (v_lin + nu_1)
     z += dt * (v_z + nu_2);               yaw += dt * (omega_z + nu_3)
 
 with ``nu ~ N(0, process_noise_sigma^2 I)`` drawn per substep from the vehicle's own seeded
-stream. Life-cycle (docs/protocol.md "Commands"): ON_GROUND -> AIRBORNE on a takeoff
+stream. ``v_lin_mps``, ``v_z_mps``, ``omega_z_radps`` are the applied (clamped) command; the
+flown values (``airspeed_mps``, ``climb_mps``, ``bank_rad``, ``turn_rate_radps``,
+``yaw_rate_radps``) are the model's, which sensors and truth read.
+Life-cycle (docs/protocol.md "Commands"): ON_GROUND -> AIRBORNE on a takeoff
 command (v_lin >= v_stall and v_z > 0); AIRBORNE -> LANDED when below ``landing_height_m``
 above terrain and commanded v_lin < v_stall; any -> CRASHED when the agent is silent for
 ``command_timeout_s`` (a LANDED vehicle stays landed). Terrain is a floor.
@@ -16,7 +20,6 @@ above terrain and commanded v_lin < v_stall; any -> CRASHED when the agent is si
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,23 +28,13 @@ from fire_uav_common.constants import VehicleStatus
 from fire_uav_common.scenario import Vehicle as VehicleSpec
 from fire_uav_common.terrain import Lake, Terrain
 
+from .vehicles import Command, FfPaperModel, FlightState, VehicleModel
+
 __all__ = ["Command", "Status", "StepOutcome", "VehicleSim", "wrap_angle"]
 
 
 #: ``SensorBundle.VEHICLE_*`` (the one definition lives in fire_uav_common.constants)
 Status = VehicleStatus
-
-
-@dataclass(frozen=True)
-class Command:
-    """Control input (FF Eq. 2): v_lin [m/s], v_z [m/s], omega_z [rad/s]."""
-
-    v_lin_mps: float
-    v_z_mps: float
-    omega_z_radps: float
-
-    def is_finite(self) -> bool:
-        return all(math.isfinite(v) for v in (self.v_lin_mps, self.v_z_mps, self.omega_z_radps))
 
 
 @dataclass
@@ -67,8 +60,10 @@ class VehicleSim:
         terrain: Terrain,
         lakes: tuple[Lake, ...],
         rng: np.random.Generator,
+        model: VehicleModel | None = None,
     ) -> None:
         self.uav_id = uav_id
+        self.model: VehicleModel = model if model is not None else FfPaperModel(spec.process_noise_sigma)
         self.spec = spec
         self.terrain = terrain
         self.lakes = lakes
@@ -87,6 +82,8 @@ class VehicleSim:
         self.v_lin_mps = 0.0
         self.v_z_mps = 0.0
         self.omega_z_radps = 0.0
+        # flown values (the model's): airspeed, vertical speed, bank, noise-free turn rate
+        self.airspeed_mps = self.climb_mps = self.bank_rad = self.turn_rate_radps = 0.0
         self.yaw_rate_radps = 0.0  # true yaw rate of the last substep, noise included (gyro truth)
         self.last_command: Command | None = None
         self.commands_clamped = 0
@@ -121,7 +118,7 @@ class VehicleSim:
         height = self.z_m - water_level_m
         return (
             -1e-9 <= height <= self.spec.refill_height_m
-            and self.v_lin_mps <= self.spec.v_stall_mps + self.spec.refill_speed_margin_mps
+            and self.airspeed_mps <= self.spec.v_stall_mps + self.spec.refill_speed_margin_mps
         )
 
     # --- commands --------------------------------------------------------------------------
@@ -148,6 +145,7 @@ class VehicleSim:
             if cmd.v_lin_mps >= s.v_stall_mps and cmd.v_z_mps > 0:
                 self.status = Status.AIRBORNE
                 out.took_off = True
+                self._set_flight(self.model.launch(self._flight(), cmd))
         elif self.status == Status.AIRBORNE:
             if cmd.v_lin_mps < s.v_stall_mps and self.height_above_terrain_m() < s.landing_height_m:
                 self._land()
@@ -168,12 +166,15 @@ class VehicleSim:
         w = min(max(cmd.omega_z_radps, -s.omega_max_radps), s.omega_max_radps)
         clamped = (v, vz, w) != (cmd.v_lin_mps, cmd.v_z_mps, cmd.omega_z_radps)
         self.v_lin_mps, self.v_z_mps, self.omega_z_radps = float(v), float(vz), float(w)
+        if self.model.immediate:  # the unicycle flies its command from this instant
+            self.airspeed_mps, self.climb_mps, self.turn_rate_radps = float(v), float(vz), float(w)
         return clamped
 
     def _land(self) -> None:
         self.status = Status.LANDED
         self.z_m = float(self.terrain.elevation(self.x_m, self.y_m))
         self.v_lin_mps = self.v_z_mps = self.omega_z_radps = self.yaw_rate_radps = 0.0
+        self.airspeed_mps = self.climb_mps = self.bank_rad = self.turn_rate_radps = 0.0
         self.refilling = False
 
     def crash(self, reason: str) -> None:
@@ -181,26 +182,37 @@ class VehicleSim:
         self.crash_reason = reason
         self.z_m = float(self.terrain.elevation(self.x_m, self.y_m))
         self.v_lin_mps = self.v_z_mps = self.omega_z_radps = self.yaw_rate_radps = 0.0
+        self.airspeed_mps = self.climb_mps = self.bank_rad = self.turn_rate_radps = 0.0
         self.refilling = False
 
     # --- physics ---------------------------------------------------------------------------
-    def substep(self, dt_s: float) -> None:
-        """Integrate FF Eq. 4 over one physics substep (only when airborne)."""
+    def _flight(self) -> FlightState:
+        return FlightState(
+            self.x_m,
+            self.y_m,
+            self.z_m,
+            self.yaw_rad,
+            self.airspeed_mps,
+            self.climb_mps,
+            self.bank_rad,
+            self.turn_rate_radps,
+            self.yaw_rate_radps,
+            self.water_kg,
+        )
+
+    def _set_flight(self, f: FlightState) -> None:
+        self.x_m, self.y_m, self.z_m, self.yaw_rad = f.x_m, f.y_m, f.z_m, f.yaw_rad
+        self.airspeed_mps, self.climb_mps, self.bank_rad = f.airspeed_mps, f.climb_mps, f.bank_rad
+        self.turn_rate_radps, self.yaw_rate_radps = f.turn_rate_radps, f.yaw_rate_radps
+
+    def substep(self, dt_s: float, wind_mps: tuple[float, float] = (0.0, 0.0)) -> None:
+        """Integrate one physics substep with the vehicle model (only when airborne)."""
         if self.status != Status.AIRBORNE:
             self.yaw_rate_radps = 0.0
             return
-        nu = (
-            self.rng.normal(0.0, self.spec.process_noise_sigma, 3)
-            if self.spec.process_noise_sigma > 0
-            else (0, 0, 0)
-        )
-        v = self.v_lin_mps + nu[0]
-        c, sn = math.cos(self.yaw_rad), math.sin(self.yaw_rad)
-        self.x_m += c * dt_s * v
-        self.y_m += sn * dt_s * v
-        self.z_m += dt_s * (self.v_z_mps + nu[1])
-        self.yaw_rate_radps = self.omega_z_radps + nu[2]
-        self.yaw_rad = wrap_angle(self.yaw_rad + dt_s * self.yaw_rate_radps)
+        cmd = Command(self.v_lin_mps, self.v_z_mps, self.omega_z_radps)
+        (flown,) = self.model.step([self._flight()], [cmd], dt_s, [self.rng], wind_mps)
+        self._set_flight(flown)
         ground = float(self.terrain.elevation(self.x_m, self.y_m))
         if self.z_m < ground:
             self.z_m = ground  # terrain is a floor; landing needs a slow command

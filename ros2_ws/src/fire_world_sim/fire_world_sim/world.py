@@ -33,6 +33,7 @@ from .sensors import (
     samples_due,
 )
 from .vehicle import Command, Status, VehicleSim
+from .vehicles import make_vehicle_model
 
 __all__ = [
     "Action",
@@ -81,6 +82,9 @@ class SensorBundleRecord:
 
 @dataclass(frozen=True)
 class VehicleTruthRecord:
+    """One vehicle's truth after the step; speeds and turn rate are the flown ones (without the
+    process noise), which for FF's unicycle are its applied command."""
+
     uav_id: int
     status: int
     x_m: float
@@ -146,6 +150,7 @@ class World:
         self.dt_s = self.dt_ns * 1e-9
         self.control_period_s = self.period_ns * 1e-9
         self.max_steps = math.ceil(tm.max_duration_s / tm.control_period_s - 1e-9)
+        self.vehicle_model = make_vehicle_model(scenario)
         self.vehicles = [
             VehicleSim(
                 i,
@@ -154,6 +159,7 @@ class World:
                 scenario.terrain,
                 scenario.lakes,
                 stream(self.seed, "process_noise", i),
+                self.vehicle_model,
             )
             for i, pose in enumerate(scenario.uav_start_poses(self.uav_count))
         ]
@@ -214,13 +220,14 @@ class World:
             if v.status != Status.CRASHED
         }
         # 3. physics substeps + sensor sampling
+        wind = self.wind_mps(t0_s)
         for j in range(self.substeps):
             prev_ns = t0_ns + j * self.dt_ns
             now_ns = prev_ns + self.dt_ns
             for v in self.vehicles:
                 if v.status == Status.CRASHED:
                     continue
-                v.substep(self.dt_s)
+                v.substep(self.dt_s, wind)
                 taken = v.refill_tick(self.dt_s)
                 if taken > 0:
                     events.append(
@@ -298,6 +305,21 @@ class World:
             self.min_separation_m,
             self.collisions,
         )
+
+    def wind_mps(self, t_s: float) -> tuple[float, float]:
+        """The wind (east, north) [m/s] the vehicles drift with at ``t_s``: the raster fire's
+        piecewise-constant wind (``fires.raster.wind``, the speed it blows toward), else calm."""
+        raster = self.scenario.fires.raster
+        if self.scenario.fires.model != "raster" or raster is None:
+            return (0.0, 0.0)
+        current = None
+        for w in raster.wind:
+            if w.start_s <= t_s + 1e-9:
+                current = w
+        if current is None:
+            return (0.0, 0.0)
+        a = math.radians(current.direction_deg)
+        return (current.speed_mps * math.cos(a), current.speed_mps * math.sin(a))
 
     # --- helpers -----------------------------------------------------------------------------
     def _collisions(self, t_ns: int) -> list[MissionEventRecord]:
@@ -438,9 +460,9 @@ class World:
             v.y_m,
             v.z_m,
             v.yaw_rad,
-            v.v_lin_mps,
-            v.v_z_mps,
-            v.omega_z_radps,
+            v.airspeed_mps,
+            v.climb_mps,
+            v.turn_rate_radps,
             v.water_kg,
             v.commands_clamped,
             v.commands_missed,

@@ -12,6 +12,10 @@ and the dotted field path, e.g. ``scenarios/x.yaml: fires.analytic[1].sigma_m: m
 
 Extensions to docs/scenario.md (all optional, defaults keep the documented behaviour):
 
+- ``uavs.vehicle_model``: ``ff_paper`` (default, FF Eq. 4) or ``coordinated_turn``;
+  ``uavs.airframe``: a preset name or ``{preset: NAME, <field>: value}`` for the fixed-wing
+  models (default ``small_uav``); the preset replaces the envelope fields of ``vehicle``
+  (``airframes.envelope_vehicle``, docs/airframes.md).
 - ``fires.drop_radius_m``: radius [m] of a drop's footprint; ``null`` (default) means "the
   fire's sigma" for analytic fires (protocol "Payload") and 20 m for the raster fire.
 - ``fires.raster.wet_duration_s``: a wetted cell cannot ignite for this long (default 600 s).
@@ -34,6 +38,7 @@ from typing import Any
 import yaml
 
 from ..errors import ScenarioError
+from .airframes import AIRFRAMES, VEHICLE_MODELS, Airframe, envelope_vehicle
 from .fields import _Ctx, _int, _mapping, _str
 from .fires import _fires
 from .sections import (
@@ -79,6 +84,9 @@ from .types import (
 )
 
 __all__ = [
+    "AIRFRAMES",
+    "Airframe",
+    "VEHICLE_MODELS",
     "AltimeterSpec",
     "AnalyticFire",
     "Area",
@@ -168,7 +176,7 @@ def scenario_from_dict(
         terrain=_terrain(ctx, d.get("terrain")),
         lakes=_lakes(ctx, d.get("lakes")),
         timing=_timing(ctx, d.get("timing")),
-        vehicle=_vehicle(ctx, d.get("vehicle")),
+        vehicle=envelope_vehicle(_vehicle(ctx, d.get("vehicle")), uavs.airframe),
         uavs=uavs,
         sensors=_sensors(ctx, d.get("sensors")),
         fires=_fires(ctx, d.get("fires")),

@@ -11,6 +11,7 @@ from typing import Any
 
 from fire_uav_common.terrain import Hill, Lake, Terrain
 
+from .airframes import VEHICLE_MODELS, read_airframe
 from .fields import _bool, _choice, _Ctx, _int, _list, _mapping, _num, _record
 from .types import (
     PRIOR_FIRES_MODES,
@@ -97,10 +98,13 @@ def _vehicle(ctx: _Ctx, raw: Any) -> Vehicle:
 
 def _uavs(ctx: _Ctx, raw: Any) -> Uavs:
     p = "uavs"
-    d = _mapping(ctx, raw, p, {"count", "first", "spacing", "takeoff_interval_s"})
+    d = _mapping(
+        ctx, raw, p, {"count", "first", "spacing", "takeoff_interval_s", "vehicle_model", "airframe"}
+    )
     first = _record(ctx, d.get("first"), Pose, "uavs.first")
     spacing = _record(ctx, d.get("spacing"), Spacing, "uavs.spacing")
     count = _int(ctx, d, "count", p, 5, ge=1)
+    model = _choice(ctx, d, "vehicle_model", p, VEHICLE_MODELS, "ff_paper")
     if count > 255:
         raise ctx.fail("uavs.count", f"must be <= 255 (uint8 ids), got {count}")
     return Uavs(
@@ -108,6 +112,8 @@ def _uavs(ctx: _Ctx, raw: Any) -> Uavs:
         first=first,
         spacing=spacing,
         takeoff_interval_s=_num(ctx, d, "takeoff_interval_s", p, 2.0, ge=0),
+        vehicle_model=model,
+        airframe=read_airframe(ctx, d, model),
     )
 
 

@@ -21,6 +21,8 @@ FIRE_MODELS = ("analytic", "raster")
 #: ``mission.tactic`` values: head attack (fastest front first), flank attack from an anchor, or
 #: auto (head or flank per fire from the head's intensity: ``fire_uav_agent.tactics.auto_choice``)
 TACTICS = ("head", "flank", "auto")
+#: standard gravity [m/s^2]
+G_MPS2 = 9.80665
 #: ``mission.prior_fires`` values
 PRIOR_FIRES_MODES = ("unknown", "known")
 
@@ -78,6 +80,53 @@ class Vehicle:
 
 
 @dataclass(frozen=True)
+class Airframe:
+    """Envelope of a fixed-wing airframe for the ``coordinated_turn`` model (B&M ch. 9).
+
+    ``v_stall_mps`` is the 1 g stall speed at the full-load mass ``empty_mass_kg +
+    water_capacity_kg``; at mass m and load factor n the stall speed is
+    ``v_stall * sqrt(n m / m_full)`` (lift = n W at C_L,max). The autopilot never commands less
+    than ``min_speed_factor * v_stall_mps`` (the usual 1.3 V_S margin of approach speeds).
+    Time constants are those of the first-order responses of airspeed, flight-path angle and
+    bank (B&M Eq. 9.18-9.20 with their autopilot loops closed).
+    """
+
+    v_stall_mps: float
+    v_max_mps: float
+    bank_max_deg: float
+    roll_rate_max_degps: float
+    climb_max_mps: float
+    descent_max_mps: float
+    accel_max_mps2: float
+    tau_airspeed_s: float
+    tau_gamma_s: float
+    tau_bank_s: float
+    empty_mass_kg: float
+    water_capacity_kg: float
+    refill_rate_kgps: float
+    min_speed_factor: float = 1.3
+
+    @property
+    def v_min_mps(self) -> float:
+        """Lowest commanded airspeed [m/s] (the agents' v_stall)."""
+        return self.min_speed_factor * self.v_stall_mps
+
+    @property
+    def bank_max_rad(self) -> float:
+        return math.radians(self.bank_max_deg)
+
+    def turn_rate_max_radps(self, v_mps: float) -> float:
+        """Highest coordinated turn rate at airspeed ``v_mps``: g tan(phi_max) / v (B&M Eq. 9.14)."""
+        return G_MPS2 * math.tan(self.bank_max_rad) / max(v_mps, 1e-6)
+
+    def stall_speed_mps(self, water_kg: float, load_factor: float = 1.0) -> float:
+        """Stall speed [m/s] at the water load and load factor n (lift n W = q S C_L,max)."""
+        m_full = self.empty_mass_kg + self.water_capacity_kg
+        m = self.empty_mass_kg + max(0.0, water_kg)
+        return self.v_stall_mps * math.sqrt(max(load_factor, 0.0) * m / m_full)
+
+
+@dataclass(frozen=True)
 class Pose:
     """Start pose: position [m] map frame, yaw [rad] ccw from +x."""
 
@@ -99,6 +148,8 @@ class Uavs:
     first: Pose = field(default_factory=Pose)
     spacing: Spacing = field(default_factory=Spacing)
     takeoff_interval_s: float = 2.0
+    vehicle_model: str = "ff_paper"  # VEHICLE_MODELS (fire_uav_common.scenario.airframes)
+    airframe: Airframe | None = None  # the fixed-wing models' envelope; None for ff_paper
 
 
 @dataclass(frozen=True)

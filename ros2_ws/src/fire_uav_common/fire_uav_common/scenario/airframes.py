@@ -1,0 +1,140 @@
+"""Vehicle models and airframe presets of ``uavs.vehicle_model`` / ``uavs.airframe`` (docs/airframes.md).
+
+``ff_paper`` is FF's unicycle (FF Eq. 4) with the ``vehicle:`` section's limits, unchanged.
+``coordinated_turn`` is the kinematic fixed-wing guidance model of Beard & McLain, *Small
+Unmanned Aircraft* (2012), ch. 9, whose envelope an :class:`Airframe` preset fills. The preset
+also sets the limits the agents plan with (:func:`envelope_vehicle`): the lowest commanded
+speed, the highest, the climb rate and the turn rate ``g tan(phi_max) / v_min`` (B&M Eq. 9.14,
+the coordinated-turn condition), so that world and agents read one envelope.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+from .fields import _Ctx, _mapping, _num, _str
+from .types import G_MPS2, Airframe, Vehicle
+
+__all__ = [
+    "AIRFRAMES",
+    "DEFAULT_AIRFRAME",
+    "G_MPS2",
+    "VEHICLE_MODELS",
+    "Airframe",
+    "envelope_vehicle",
+    "read_airframe",
+]
+
+#: ``uavs.vehicle_model`` values (fire_world_sim.vehicles has one backend per name)
+VEHICLE_MODELS = ("ff_paper", "coordinated_turn")
+#: the preset a fixed-wing model flies when ``uavs.airframe`` is not given
+DEFAULT_AIRFRAME = "small_uav"
+
+
+#: Presets; their figures and sources are listed in docs/airframes.md.
+AIRFRAMES: dict[str, Airframe] = {
+    # A small fixed-wing UAV of the Aerosonde class (B&M appendix E: 13.5 kg, cruise 25 m/s)
+    # carrying a 10 kg water payload.
+    "small_uav": Airframe(
+        v_stall_mps=12.0,
+        v_max_mps=30.0,
+        bank_max_deg=45.0,
+        roll_rate_max_degps=90.0,
+        climb_max_mps=5.0,
+        descent_max_mps=5.0,
+        accel_max_mps2=3.0,
+        tau_airspeed_s=1.5,
+        tau_gamma_s=0.8,
+        tau_bank_s=0.3,
+        empty_mass_kg=15.0,
+        water_capacity_kg=10.0,
+        refill_rate_kgps=2.0,
+    ),
+    # An amphibious single-engine scooper of the AT-802F Fire Boss class: about 3,000 kg of
+    # water (800 US gal), scooped on a straight run.
+    "tanker": Airframe(
+        v_stall_mps=36.0,
+        v_max_mps=75.0,
+        bank_max_deg=45.0,
+        roll_rate_max_degps=30.0,
+        climb_max_mps=5.0,
+        descent_max_mps=8.0,
+        accel_max_mps2=1.0,
+        tau_airspeed_s=4.0,
+        tau_gamma_s=2.0,
+        tau_bank_s=1.0,
+        empty_mass_kg=4500.0,
+        water_capacity_kg=3000.0,
+        refill_rate_kgps=200.0,
+    ),
+}
+
+_FIELDS = tuple(f.name for f in dataclasses.fields(Airframe))
+
+
+def read_airframe(ctx: _Ctx, d: dict, model: str) -> Airframe | None:
+    """``uavs.airframe`` of the already-read ``uavs`` mapping ``d``: None for ``ff_paper``.
+
+    A preset name, or a mapping ``{preset: NAME, <field>: value, ...}`` whose fields replace
+    the preset's. Checks: known preset, every field > 0, ``v_stall_mps < v_max_mps``,
+    ``bank_max_deg`` in (0, 80], ``min_speed_factor`` >= 1.
+    """
+    raw = d.get("airframe")
+    if model == "ff_paper":
+        if raw is not None:
+            raise ctx.fail(
+                "uavs.airframe", "only with a fixed-wing uavs.vehicle_model (ff_paper keeps vehicle:)"
+            )
+        return None
+    if raw is None:
+        raw = DEFAULT_AIRFRAME
+    p = "uavs.airframe"
+    named = isinstance(raw, str)  # a bare preset name: errors name uavs.airframe itself
+    if named:
+        raw = {"preset": raw}
+    a = _mapping(ctx, raw, p, {"preset", *_FIELDS})
+    name = _str(ctx, a, "preset", p, DEFAULT_AIRFRAME)
+    if name not in AIRFRAMES:
+        raise ctx.fail(
+            p if named else f"{p}.preset", f"unknown airframe {name!r}; presets: {sorted(AIRFRAMES)}"
+        )
+    base = AIRFRAMES[name]
+    values: dict[str, Any] = {}
+    for f in _FIELDS:
+        values[f] = _num(ctx, a, f, p, getattr(base, f), gt=0)
+    af = Airframe(**values)
+    if not af.v_stall_mps < af.v_max_mps:
+        raise ctx.fail(f"{p}.v_stall_mps", f"must be < v_max_mps ({af.v_max_mps:g}), got {af.v_stall_mps:g}")
+    if not 0 < af.bank_max_deg <= 80:
+        raise ctx.fail(f"{p}.bank_max_deg", f"must be in (0, 80] deg, got {af.bank_max_deg:g}")
+    if af.min_speed_factor < 1:
+        raise ctx.fail(f"{p}.min_speed_factor", f"must be >= 1, got {af.min_speed_factor:g}")
+    if not af.v_min_mps < af.v_max_mps:
+        raise ctx.fail(
+            f"{p}.v_max_mps",
+            f"must exceed the lowest commanded speed min_speed_factor x v_stall_mps ({af.v_min_mps:g}), "
+            f"got {af.v_max_mps:g}",
+        )
+    return af
+
+
+def envelope_vehicle(vehicle: Vehicle, airframe: Airframe | None) -> Vehicle:
+    """The ``vehicle:`` limits the world's life-cycle and the agents use under ``airframe``.
+
+    ``v_stall_mps`` becomes the lowest commanded speed (takeoff and landing keep their meaning:
+    a command below it lands), ``vz_max_mps`` the smaller of climb and descent rate (the agents'
+    limit is symmetric), ``omega_max_radps`` the turn rate at the bank limit and the lowest speed;
+    tank and scoop rate come from the preset. Every other field stays the scenario's.
+    """
+    if airframe is None:
+        return vehicle
+    return dataclasses.replace(
+        vehicle,
+        v_stall_mps=airframe.v_min_mps,
+        v_max_mps=airframe.v_max_mps,
+        vz_max_mps=min(airframe.climb_max_mps, airframe.descent_max_mps),
+        omega_max_radps=airframe.turn_rate_max_radps(airframe.v_min_mps),
+        water_capacity_kg=airframe.water_capacity_kg,
+        refill_rate_kgps=airframe.refill_rate_kgps,
+    )

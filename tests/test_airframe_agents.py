@@ -1,0 +1,33 @@
+"""The agents plan within the envelope the world flies: their limits come from the same
+``uavs.airframe`` preset as the world's coordinated-turn model (docs/airframes.md)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from fire_uav_agent.agent_config import config_from_scenario
+from fire_uav_agent.testing.harness import scenario_path
+from fire_uav_common.scenario import AIRFRAMES, load_scenario
+from fire_uav_common.scenario.airframes import G_MPS2
+
+
+@pytest.mark.parametrize("preset", sorted(AIRFRAMES))
+def test_agent_limits_are_the_presets_envelope(preset: str) -> None:
+    sc = load_scenario(
+        scenario_path("ff_two_fires"),
+        overrides={"uavs.vehicle_model": "coordinated_turn", "uavs.airframe": preset},
+    )
+    af = AIRFRAMES[preset]
+    lim = config_from_scenario(sc, 0).limits
+    assert lim.v_stall_mps == pytest.approx(1.3 * af.v_stall_mps)
+    assert lim.v_max_mps == af.v_max_mps
+    assert lim.vz_max_mps == min(af.climb_max_mps, af.descent_max_mps)
+    # the tightest coordinated turn at the lowest speed: radius v^2 / (g tan phi_max)
+    radius = lim.v_stall_mps / lim.omega_max_radps
+    assert radius == pytest.approx(lim.v_stall_mps**2 / (G_MPS2 * math.tan(math.radians(af.bank_max_deg))))
+
+
+def test_ff_paper_agents_keep_ffs_limits() -> None:
+    lim = config_from_scenario(load_scenario(scenario_path("ff_two_fires")), 0).limits
+    assert (lim.v_stall_mps, lim.v_max_mps, lim.vz_max_mps, lim.omega_max_radps) == (44.7, 100.0, 100.0, 10.0)
