@@ -36,6 +36,7 @@ import yaml
 from ..errors import ScenarioError
 from .fields import _Ctx, _int, _mapping, _str
 from .fires import _fires
+from .placement import check_placement
 from .sections import (
     _area,
     _check_outage_ids,
@@ -160,7 +161,7 @@ def scenario_from_dict(
     d = _mapping(ctx, raw, "", _TOP, {"name", "area"})
     seed = _int(ctx, d, "seed", "", 0, ge=0)
     uavs = _uavs(ctx, d.get("uavs"))
-    return Scenario(
+    scenario = Scenario(
         name=_str(ctx, d, "name", ""),
         description=_str(ctx, d, "description", "", "") if d.get("description") is not None else "",
         seed=seed,
@@ -176,6 +177,8 @@ def scenario_from_dict(
         mission=_mission(ctx, d.get("mission")),
         path="" if file == "<dict>" else file,
     )
+    check_placement(ctx, scenario)
+    return scenario
 
 
 def load_scenario(path: str | os.PathLike, *, overrides: Mapping[str, Any] | None = None) -> Scenario:
