@@ -36,6 +36,7 @@ import yaml
 from ..errors import ScenarioError
 from .fields import _Ctx, _int, _mapping, _str
 from .fires import _fires
+from .ground import apply_landscape
 from .placement import check_placement
 from .sections import (
     _area,
@@ -67,9 +68,11 @@ from .types import (
     Ignition,
     LinkOutage,
     Mission,
+    Moistures,
     Origin,
     Pose,
     Raster,
+    RasterLandscape,
     Scenario,
     Sensors,
     Spacing,
@@ -94,7 +97,9 @@ __all__ = [
     "Origin",
     "LinkOutage",
     "Pose",
+    "Moistures",
     "Raster",
+    "RasterLandscape",
     "Scenario",
     "ScenarioError",
     "Sensors",
@@ -177,6 +182,7 @@ def scenario_from_dict(
         mission=_mission(ctx, d.get("mission")),
         path="" if file == "<dict>" else file,
     )
+    scenario = apply_landscape(ctx, scenario, terrain_given=d.get("terrain") is not None)
     check_placement(ctx, scenario)
     return scenario
 
