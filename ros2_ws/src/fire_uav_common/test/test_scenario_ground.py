@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -119,3 +120,21 @@ def test_a_path_relative_to_the_scenario_file_works(tmp_path: Path) -> None:
     (sub / "s.yaml").write_text(yaml.safe_dump(d))
     s = load_scenario(sub / "s.yaml")
     assert s.fires.raster.landscape.source == str(LANDSCAPE.resolve())
+
+
+def test_geo_summary_gives_worcester_in_degrees(scenario) -> None:
+    from fire_uav_common.scenario.ground import geo_summary
+
+    g = geo_summary(scenario)
+    assert g is not None and len(g["ignitions"]) == 1 and len(g["uav_homes"]) == scenario.uavs.count
+    ig = g["ignitions"][0]
+    # Worcester, Vermont: about 44.37 N, 72.55 W; the window is ~3.7 km wide
+    assert 44.3 < ig["lat_deg"] < 44.45 and -72.6 < ig["lon_deg"] < -72.45
+    home = g["uav_homes"][0]
+    # the distance on the sphere (haversine) is the map distance: Albers' scale is ~1 here
+    p1, p2 = math.radians(ig["lat_deg"]), math.radians(home["lat_deg"])
+    dl = math.radians(home["lon_deg"] - ig["lon_deg"])
+    h = math.sin((p2 - p1) / 2) ** 2 + math.cos(p1) * math.cos(p2) * math.sin(dl / 2) ** 2
+    sphere_m = 2 * 6371008.8 * math.asin(math.sqrt(h))
+    assert sphere_m == pytest.approx(math.hypot(home["x_m"] - ig["x_m"], home["y_m"] - ig["y_m"]), rel=0.01)
+    assert geo_summary(load_scenario(SCENARIO.parent / "grass_running.yaml")) is None

@@ -30,7 +30,7 @@ from ..terrain import GridTerrain, Lake, Terrain
 from .fields import _Ctx
 from .types import RasterLandscape, Scenario
 
-__all__ = ["OPEN_WATER", "apply_landscape", "landscape_of", "resolve_landscape_source", "water_lakes"]
+__all__ = ["OPEN_WATER", "apply_landscape", "geo_summary", "landscape_of", "resolve_landscape_source", "water_lakes"]
 
 OPEN_WATER = 98  # LANDFIRE FBFM13/FBFM40 code of open water
 
@@ -138,3 +138,25 @@ def apply_landscape(ctx: _Ctx, scenario: Scenario, *, terrain_given: bool) -> Sc
         lakes=(*scenario.lakes, *lakes),
         notes=(*scenario.notes, *notes),
     )
+
+
+def geo_summary(scenario: Scenario, uav_count: int | None = None) -> dict | None:
+    """WGS84 latitude / longitude [deg] of the ignitions and the UAV homes of a scenario on a
+    landscape (None without one), for the mission summary: people and map tools read degrees."""
+    raster = scenario.fires.raster
+    if raster is None or raster.landscape is None:
+        return None
+    land = raster.landscape
+    ox, oy = land.projected_origin
+    landscape = landscape_of(land)
+
+    def point(x_m: float, y_m: float) -> dict[str, float]:
+        lon, lat = landscape.lonlat(x_m + ox, y_m + oy)
+        return {"x_m": x_m, "y_m": y_m, "lat_deg": round(float(lat), 6), "lon_deg": round(float(lon), 6)}
+
+    return {
+        "landscape": land.name,
+        "projected_origin_m": [ox, oy],
+        "ignitions": [point(ig.x_m, ig.y_m) for ig in raster.ignitions],
+        "uav_homes": [point(x, y) for x, y, _, _ in scenario.uav_start_poses(uav_count)],
+    }
