@@ -29,12 +29,12 @@ def full():
 
 def test_the_grid_is_the_window_snapped_to_the_landscapes_cells(scenario, full) -> None:
     r = scenario.fires.raster
-    assert (r.cell_size_m, r.nx, r.ny) == (30.0, 125, 120)
+    assert (r.cell_size_m, r.nx, r.ny) == (30.0, 50, 40)
     ox, oy = r.landscape.projected_origin
     # the window's south-west corner, moved to a cell edge of the full raster
     x0, _, _, y1 = full.bounds
     assert (ox - x0) % 30.0 == 0 and (y1 - oy) % 30.0 == 0
-    assert abs(ox - 1846500.0) < 30.0 and abs(oy - 2601600.0) < 30.0
+    assert abs(ox - 1847865.0) < 30.0 and abs(oy - 2602815.0) < 30.0
 
 
 def test_terrain_is_the_elevation_layer_at_every_cell_centre(scenario, full) -> None:
@@ -43,7 +43,7 @@ def test_terrain_is_the_elevation_layer_at_every_cell_centre(scenario, full) -> 
     ox, oy = scenario.fires.raster.landscape.projected_origin
     rng = np.random.default_rng(0)
     for _ in range(20):
-        x, y = rng.uniform(15.0, 3700.0), rng.uniform(15.0, 3500.0)
+        x, y = rng.uniform(15.0, 1480.0), rng.uniform(15.0, 1180.0)
         x, y = (np.floor(x / 30.0) + 0.5) * 30.0, (np.floor(y / 30.0) + 0.5) * 30.0  # a cell centre
         row, col = full.cell_of(x + ox, y + oy)
         if full.has_data[row, col]:
@@ -61,8 +61,14 @@ def test_the_pond_is_a_lake_whose_disc_is_all_water(scenario, full) -> None:
     xs, ys = full.cell_center(*np.indices(full.shape))
     inside = (xs - ox - lake.x_m) ** 2 + (ys - oy - lake.y_m) ** 2 <= (lake.diameter_m / 2) ** 2
     assert inside.sum() > 30 and np.all(full.fuel[inside] == 98)
-    # the two one-cell ponds of the window are left out, each with a note
-    assert len(scenario.notes) == 2 and all("too small" not in n and "refill pass" in n for n in scenario.notes)
+    assert scenario.notes == ()
+
+
+def test_water_too_narrow_for_a_refill_pass_is_left_out_with_a_note() -> None:
+    s = load_scenario(SCENARIO, overrides={"fires.raster.landscape.min_lake_diameter_m": 300.0})
+    assert s.lakes == ()
+    (note,) = s.notes
+    assert "its widest disc (270 m) is narrower than a refill pass needs (300 m)" in note
 
 
 def _with(tmp_path: Path, **raster_edits: object) -> Path:
@@ -81,7 +87,7 @@ def _with(tmp_path: Path, **raster_edits: object) -> Path:
     ("edits", "pattern"),
     [
         # the pond's centre: open water
-        ({"ignitions": [{"x_m": 2685.0, "y_m": 1845.0}]}, r"w\.yaml: fires\.raster\.ignitions\[0\]: .*non-burnable fuel code 98"),
+        ({"ignitions": [{"x_m": 1305.0, "y_m": 645.0}]}, r"w\.yaml: fires\.raster\.ignitions\[0\]: .*non-burnable fuel code 98"),
         (
             {"landscape": {"source": "worcester_vt", "window": {"x_min_m": 0, "y_min_m": 0, "x_max_m": 10, "y_max_m": 10}}},
             r"w\.yaml: fires\.raster\.landscape: .*window .* lies outside the raster bounds",
@@ -101,10 +107,10 @@ def test_bad_landscape_input_names_the_field(tmp_path: Path, edits: dict, patter
 
 
 def test_ignition_outside_the_window_names_the_ignition(tmp_path: Path) -> None:
-    # inside the area (widened) but beyond the window's 3750 m
-    p = _with(tmp_path, ignitions=[{"x_m": 3900.0, "y_m": 1785.0}])
+    # inside the area (widened) but beyond the window's 1500 m
+    p = _with(tmp_path, ignitions=[{"x_m": 1600.0, "y_m": 585.0}])
     with pytest.raises(ScenarioError, match=r"fires\.raster\.ignitions\[0\]: .*outside the landscape"):
-        load_scenario(p, overrides={"area.x_max_m": 4000.0})
+        load_scenario(p, overrides={"area.x_max_m": 2000.0})
 
 
 def test_a_terrain_section_beside_a_landscape_is_refused(tmp_path: Path) -> None:
