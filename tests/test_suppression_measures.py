@@ -19,6 +19,7 @@ PLOT = {
     "name": "plot",
     "area": {"x_min_m": 0, "x_max_m": 150, "y_min_m": 0, "y_max_m": 100},
     "timing": {"max_duration_s": 600.0},
+    "uavs": {"first": {"x_m": 10.0, "y_m": 10.0}, "spacing": {"dx_m": 10.0, "dy_m": 0.0}},
     "fires": {
         "model": "raster",
         "raster": {

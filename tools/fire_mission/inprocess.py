@@ -24,6 +24,7 @@ from typing import Any
 
 from fire_uav_common.constants import FireStatus, VehicleStatus
 from fire_uav_common.scenario import Scenario, load_scenario
+from fire_uav_common.scenario.ground import geo_summary
 
 from .cli import OneLineParser
 from .errors import MissionError
@@ -116,6 +117,9 @@ def run_inprocess(
     d["seed"] = world.seed
     d["scenario"] = sc.name
     d["runner"] = "inprocess"
+    geo = geo_summary(sc, uavs)
+    if geo is not None:  # a scenario on a landscape: positions in degrees too
+        d["geo"] = geo
     return d
 
 

@@ -633,6 +633,7 @@ class Progress:
 
 def run(args: argparse.Namespace) -> int:
     from fire_uav_common.scenario import ScenarioError, check_fleet_size, load_scenario
+    from fire_uav_common.scenario.ground import geo_summary
 
     scenario_path = resolve_scenario(args.scenario)
     overrides = parse_sets(args.set)
@@ -790,6 +791,9 @@ def run(args: argparse.Namespace) -> int:
             "control_period_s": scenario.timing.control_period_s,
         }
     )
+    geo = geo_summary(scenario, uav_count)
+    if geo is not None:  # a scenario on a landscape: positions in degrees too
+        result["geo"] = geo
     (out / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
     print("\nMission summary\n" + table(result) + f"\n\n  written: {out / 'summary.json'}", file=sys.stderr)
     if not args.no_record and not args.no_report:

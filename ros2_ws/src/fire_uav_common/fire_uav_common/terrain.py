@@ -1,6 +1,9 @@
 """Terrain elevation E(x, y) (FF Eq. 12), shared by the world (truth) and the agents (a priori map).
 
-A terrain is a base plane plus Gaussian hills; lakes are flat discs at the local elevation.
+Two kinds behind one interface (``elevation(x_m, y_m)``, ``gradient(x_m, y_m)``, map frame
+metres): :class:`Terrain`, a base plane plus Gaussian hills, and :class:`GridTerrain`, a raster
+of elevations (a landscape's elevation layer) interpolated bilinearly between cell centres.
+Lakes are flat discs at the local elevation.
 """
 
 from __future__ import annotations
@@ -11,7 +14,7 @@ import numpy as np
 
 from .errors import ArgumentError
 
-__all__ = ["Hill", "Lake", "Terrain"]
+__all__ = ["GridTerrain", "Hill", "Lake", "Terrain"]
 
 
 @dataclass(frozen=True)
@@ -78,3 +81,53 @@ class Terrain:
             slope_y=float(d.get("slope_y", 0.0)),
             hills=hills,
         )
+
+
+@dataclass(frozen=True, eq=False)
+class GridTerrain(Terrain):
+    """Elevation from a raster [m]: ``elevation_m[i, j]`` is the height at the centre of the cell
+    whose south-west corner is ``(x0_m + j cell_m, y0_m + i cell_m)`` (row 0 is the SOUTHERN row).
+
+    Bilinear between cell centres, clamped to the outermost centres beyond them (a vehicle
+    outside the raster sees the edge's height). ``source`` names where the grid came from; two
+    grid terrains are equal when they are the same object (the arrays are not compared).
+    """
+
+    elevation_m: np.ndarray = field(default_factory=lambda: np.zeros((1, 1)))
+    x0_m: float = 0.0
+    y0_m: float = 0.0
+    cell_m: float = 1.0
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        e = np.asarray(self.elevation_m, dtype=float)
+        if e.ndim != 2 or e.size == 0 or not np.all(np.isfinite(e)):
+            raise ArgumentError(f"grid terrain {self.source!r}: elevation must be a finite 2-D array")
+        if not self.cell_m > 0:
+            raise ArgumentError(f"grid terrain {self.source!r}: cell_m must be > 0, got {self.cell_m}")
+        e.flags.writeable = False
+        object.__setattr__(self, "elevation_m", e)
+
+    def elevation(self, x_m: float | np.ndarray, y_m: float | np.ndarray) -> float | np.ndarray:
+        """Ground height [m] at (x_m, y_m), map frame; vectorised over arrays."""
+        e = self.elevation_m
+        ny, nx = e.shape
+        fx = np.clip((np.asarray(x_m, dtype=float) - self.x0_m) / self.cell_m - 0.5, 0.0, nx - 1)
+        fy = np.clip((np.asarray(y_m, dtype=float) - self.y0_m) / self.cell_m - 0.5, 0.0, ny - 1)
+        j0 = np.minimum(np.floor(fx).astype(int), max(nx - 2, 0))
+        i0 = np.minimum(np.floor(fy).astype(int), max(ny - 2, 0))
+        j1 = np.minimum(j0 + 1, nx - 1)
+        i1 = np.minimum(i0 + 1, ny - 1)
+        tx, ty = fx - j0, fy - i0
+        out = (e[i0, j0] * (1 - tx) + e[i0, j1] * tx) * (1 - ty) + (e[i1, j0] * (1 - tx) + e[i1, j1] * tx) * ty
+        return float(out) if out.ndim == 0 else out
+
+    def gradient(self, x_m: float, y_m: float, eps_m: float | None = None) -> tuple[float, float]:
+        """(dE/dx, dE/dy) [m/m] by central differences over half a cell."""
+        return super().gradient(x_m, y_m, 0.5 * self.cell_m if eps_m is None else eps_m)
+
+    def __eq__(self, other: object) -> bool:
+        return self is other
+
+    def __hash__(self) -> int:
+        return id(self)

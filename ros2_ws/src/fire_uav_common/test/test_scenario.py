@@ -12,7 +12,8 @@ from fire_uav_common.terrain import Lake, Terrain
 
 SCENARIOS = Path(__file__).resolve().parents[2] / "fire_world_sim" / "scenarios"
 
-MINIMAL = {"name": "m", "area": {"x_min_m": 0, "x_max_m": 100, "y_min_m": 0, "y_max_m": 50}}
+# tall enough for the default fleet's starts (x = 50, y = 250 + 30 k, k < 5)
+MINIMAL = {"name": "m", "area": {"x_min_m": 0, "x_max_m": 100, "y_min_m": 0, "y_max_m": 400}}
 
 
 def write(tmp_path: Path, data: object, name: str = "s.yaml") -> Path:
@@ -30,7 +31,7 @@ def with_(**sections: object) -> dict:
 def test_minimal_defaults(tmp_path: Path) -> None:
     s = load_scenario(write(tmp_path, MINIMAL))
     assert isinstance(s, Scenario)
-    assert s.area.x_max_m == 100.0 and s.area.width_m == 100.0 and s.area.height_m == 50.0
+    assert s.area.x_max_m == 100.0 and s.area.width_m == 100.0 and s.area.height_m == 400.0
     assert s.seed == 0 and s.description == ""
     assert s.terrain == Terrain() and s.lakes == ()
     assert s.timing.control_period_s == 0.1 and s.timing.physics_period_s == 0.01
@@ -270,7 +271,7 @@ def test_mission_tactic_head_by_default_flank_on_request_and_a_clear_error(tmp_p
 def test_prior_fires_mode_is_validated_and_defaults_to_unknown():
     from fire_uav_common.scenario import ScenarioError, scenario_from_dict
 
-    base = {"name": "x", "area": {"x_min_m": 0, "x_max_m": 100, "y_min_m": 0, "y_max_m": 100}}
+    base = {"name": "x", "area": {"x_min_m": 0, "x_max_m": 100, "y_min_m": 0, "y_max_m": 400}}
     assert scenario_from_dict(base).mission.prior_fires == "unknown"
     assert scenario_from_dict({**base, "mission": {"prior_fires": "known"}}).mission.prior_fires == "known"
     with pytest.raises(
@@ -293,3 +294,48 @@ def test_outage_ids_are_checked_against_the_fleet_actually_flown(tmp_path: Path)
         match=r"s\.yaml: comms\.outages\[1\]\.to: UAV 3 does not exist: the fleet has ids 0\.\.2$",
     ):
         check_fleet_size(s, 3)
+
+
+FF_TWO_FIRES = SCENARIOS / "ff_two_fires.yaml"
+
+
+@pytest.mark.parametrize(
+    ("overrides", "pattern"),
+    [
+        # the analytic fire at x = 3000 m in ff_two_fires' 600 m area: no UAV could ever find it
+        (
+            {"fires.analytic": [{"x_m": 3000.0, "y_m": 400.0, "sigma_m": 50.0}]},
+            r"ff_two_fires\.yaml: fires\.analytic\[0\]: fire centre \(3000, 400\) m is outside the area "
+            r"x 0\.\.600, y 0\.\.600 m$",
+        ),
+        ({"lakes": [{"x_m": 50.0, "y_m": -100.0, "diameter_m": 90.0}]}, r": lakes\[0\]: lake centre \(50, -100\) m is outside"),
+        ({"uavs.first": {"x_m": 700.0, "y_m": 250.0}}, r": uavs\.first: UAV 0 starts at \(700, 250\) m is outside"),
+        # the fifth UAV of the line: 250 + 4 x 100 = 650 m
+        ({"uavs.spacing": {"dx_m": 0.0, "dy_m": 100.0}}, r": uavs\.spacing: UAV 4 starts at \(50, 650\) m is outside"),
+    ],
+)
+def test_positions_outside_the_area_are_named(overrides: dict, pattern: str) -> None:
+    with pytest.raises(ScenarioError, match=pattern):
+        load_scenario(FF_TWO_FIRES, overrides=overrides)
+
+
+def test_raster_ignition_outside_the_area_or_in_a_lake_is_named(tmp_path: Path) -> None:
+    area = {"x_min_m": 0, "x_max_m": 400, "y_min_m": 0, "y_max_m": 400}
+    raster = {"cell_size_m": 5.0, "nx": 200, "ny": 200, "ignitions": [{"x_m": 900.0, "y_m": 300.0}]}
+    d = {"name": "r", "area": area, "fires": {"model": "raster", "raster": raster}}
+    # inside the raster grid (0..1000 m), outside the area (0..400 m)
+    with pytest.raises(ScenarioError, match=r"fires\.raster\.ignitions\[0\]: ignition \(900, 300\) m is outside the area"):
+        load_scenario(write(tmp_path, d))
+    raster["ignitions"] = [{"x_m": 110.0, "y_m": 95.0}]
+    d["lakes"] = [{"x_m": 100.0, "y_m": 100.0, "diameter_m": 40.0}]
+    with pytest.raises(ScenarioError, match=r"fires\.raster\.ignitions\[0\]: ignition \(110, 95\) m is in lakes\[0\]: a non-burnable cell"):
+        load_scenario(write(tmp_path, d))
+    raster["ignitions"] = [{"x_m": 130.0, "y_m": 95.0}]  # just outside the lake's 20 m radius
+    assert load_scenario(write(tmp_path, d)).fires.raster is not None
+
+
+def test_every_shipped_scenario_places_everything_inside_its_area() -> None:
+    for f in sorted(SCENARIOS.glob("*.yaml")):
+        s = load_scenario(f)
+        for x, y, _, _ in s.uav_start_poses():
+            assert s.area.contains(x, y), f.name

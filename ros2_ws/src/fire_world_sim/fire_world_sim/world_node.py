@@ -82,6 +82,8 @@ class WorldNode(Node):
             f"scenario {scenario.name!r} ({self.cfg.scenario_file}), seed {seed}, {self.n} UAVs, "
             f"fires {scenario.fires.model}, mode {self.cfg.mode}"
         )
+        for note in scenario.notes:  # e.g. water bodies of a landscape too small to refill from
+            self.get_logger().info(note)
         self.gate = AnswerGate(lockstep=self.cfg.mode == "lockstep")
         self.done = Future()
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)

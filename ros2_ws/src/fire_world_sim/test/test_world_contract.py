@@ -55,7 +55,11 @@ def test_bad_arguments_are_refused_with_one_line(kwargs: dict, match: str) -> No
 
 
 def test_largest_fleet_and_no_fleet_are_accepted() -> None:
-    assert World(scenario(count=2), uav_count=255).uav_count == 255
+    # 255 UAVs 3 m apart in a line all start inside the 1000 m area
+    line = make_scenario(
+        uavs={"count": 2, "first": {"x_m": 100.0, "y_m": 100.0}, "spacing": {"dx_m": 0, "dy_m": 3}}, fires=FAR_FIRE
+    )
+    assert World(line, uav_count=255).uav_count == 255
     w = World(scenario(count=3), no_fleet=True)
     assert w.uav_count == 0 and w.vehicles == [] and w.step({}).bundles == {}
 
@@ -222,7 +226,15 @@ def test_world_advances_the_raster_fire_like_the_model_alone() -> None:
 
 
 def test_a_lake_under_the_ignition_keeps_the_world_fire_out() -> None:
-    w = World(_raster_scenario(lake_on_fire=True), seed=0)
+    """The loader rejects such a scenario; a world given one anyway (built in code) keeps its
+    lake cells unburnable."""
+    from fire_uav_common.scenario import ScenarioError
+    from fire_uav_common.terrain import Lake
+
+    with pytest.raises(ScenarioError, match=r"fires\.raster\.ignitions\[0\]: .* is in lakes\[0\]"):
+        _raster_scenario(lake_on_fire=True)
+    sc = dataclasses.replace(_raster_scenario(), lakes=(Lake(62.5, 62.5, 60.0),))
+    w = World(sc, seed=0)
     for _ in range(20):
         r = w.step({})
     assert r.fires[0].area_m2 == 0.0

@@ -41,6 +41,8 @@ from ..errors import ScenarioError
 from .airframes import AIRFRAMES, VEHICLE_MODELS, Airframe, envelope_vehicle
 from .fields import _Ctx, _int, _mapping, _str
 from .fires import _fires
+from .ground import apply_landscape
+from .placement import check_placement
 from .sections import (
     _area,
     _check_outage_ids,
@@ -71,9 +73,11 @@ from .types import (
     Ignition,
     LinkOutage,
     Mission,
+    Moistures,
     Origin,
     Pose,
     Raster,
+    RasterLandscape,
     Scenario,
     Sensors,
     Spacing,
@@ -101,7 +105,9 @@ __all__ = [
     "Origin",
     "LinkOutage",
     "Pose",
+    "Moistures",
     "Raster",
+    "RasterLandscape",
     "Scenario",
     "ScenarioError",
     "Sensors",
@@ -168,7 +174,7 @@ def scenario_from_dict(
     d = _mapping(ctx, raw, "", _TOP, {"name", "area"})
     seed = _int(ctx, d, "seed", "", 0, ge=0)
     uavs = _uavs(ctx, d.get("uavs"))
-    return Scenario(
+    scenario = Scenario(
         name=_str(ctx, d, "name", ""),
         description=_str(ctx, d, "description", "", "") if d.get("description") is not None else "",
         seed=seed,
@@ -184,6 +190,9 @@ def scenario_from_dict(
         mission=_mission(ctx, d.get("mission")),
         path="" if file == "<dict>" else file,
     )
+    scenario = apply_landscape(ctx, scenario, terrain_given=d.get("terrain") is not None)
+    check_placement(ctx, scenario)
+    return scenario
 
 
 def load_scenario(path: str | os.PathLike, *, overrides: Mapping[str, Any] | None = None) -> Scenario:

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from .fields import _choice, _Ctx, _int, _list, _mapping, _num, _record
+from .fields import _choice, _Ctx, _int, _list, _mapping, _num, _record, _str
+from .ground import resolve_landscape_source
 from .types import (
+    CROWN_METHODS,
     FIRE_MODELS,
     FUEL_MODELS,
     WIND_LIMITS,
@@ -13,10 +15,15 @@ from .types import (
     Fires,
     FuelPatch,
     Ignition,
+    Moistures,
     Origin,
     Raster,
+    RasterLandscape,
     Wind,
 )
+
+#: fields of ``fires.raster`` that a landscape sets (its grid) and the scenario may not repeat
+_GRID_FIELDS = ("cell_size_m", "nx", "ny", "origin", "fuel_model", "fuel_patches", "moisture")
 
 
 def _fuel_patch(ctx: _Ctx, item: Any, pp: str) -> FuelPatch:
@@ -44,9 +51,45 @@ def _winds(ctx: _Ctx, d: dict, p: str) -> list[Wind]:
     return winds
 
 
+def _landscape(ctx: _Ctx, raw: Any, p: str) -> RasterLandscape:
+    """``fires.raster.landscape``: the landscape (a shipped name or a path relative to the scenario
+    file), its window in projected metres, the cell size and the fuel moistures."""
+    keys = {"source", "window", "cell_size_m", "moisture", "foliar_moisture", "crown", "min_lake_diameter_m"}
+    d = _mapping(ctx, raw, p, keys, {"source"})
+    name = _str(ctx, d, "source", p)
+    source = resolve_landscape_source(ctx, name, f"{p}.source")
+    window = None
+    if d.get("window") is not None:
+        wk = ("x_min_m", "y_min_m", "x_max_m", "y_max_m")
+        wd = _mapping(ctx, d["window"], f"{p}.window", set(wk), set(wk))
+        x0, y0, x1, y1 = (_num(ctx, wd, k, f"{p}.window") for k in wk)
+        if not (x1 > x0 and y1 > y0):
+            raise ctx.fail(f"{p}.window", "must have x_max_m > x_min_m and y_max_m > y_min_m")
+        window = (x0, y0, x1, y1)
+    cell = _num(ctx, d, "cell_size_m", p, gt=0) if d.get("cell_size_m") is not None else None
+    moisture = _record(
+        ctx, d.get("moisture"), Moistures, f"{p}.moisture", bounds=dict.fromkeys(Moistures.__dataclass_fields__, {"gt": 0, "le": 5})
+    )
+    return RasterLandscape(
+        source=source,
+        name=name,
+        window=window,
+        cell_size_m=cell,
+        moisture=moisture,
+        foliar_moisture=_num(ctx, d, "foliar_moisture", p, 1.0, gt=0, le=5),
+        crown=_choice(ctx, d, "crown", p, CROWN_METHODS, "finney"),
+        min_lake_diameter_m=_num(ctx, d, "min_lake_diameter_m", p, 60.0, ge=0),
+    )
+
+
 def _raster(ctx: _Ctx, raw: Any) -> Raster:
     p = "fires.raster"
     d = _mapping(ctx, raw, p, set(Raster.__dataclass_fields__))
+    land = _landscape(ctx, d["landscape"], f"{p}.landscape") if d.get("landscape") is not None else None
+    if land is not None:
+        for k in _GRID_FIELDS:
+            if k in d:
+                raise ctx.fail(f"{p}.{k}", "set by fires.raster.landscape: remove it")
     dflt = Raster()
     origin = _record(ctx, d.get("origin"), Origin, f"{p}.origin")
     fuel = _choice(ctx, d, "fuel_model", p, FUEL_MODELS, dflt.fuel_model)
@@ -80,7 +123,10 @@ def _raster(ctx: _Ctx, raw: Any) -> Raster:
         wet_duration_s=_num(ctx, d, "wet_duration_s", p, dflt.wet_duration_s, ge=0),
         spread_factor=_num(ctx, d, "spread_factor", p, dflt.spread_factor, gt=0),
         wind_limit=_choice(ctx, d, "wind_limit", p, WIND_LIMITS, dflt.wind_limit),
+        landscape=land,
     )
+    if land is not None:
+        return r  # the grid comes from the landscape (scenario.ground checks the ignitions there)
     x_max = r.origin.x_m + r.nx * r.cell_size_m
     y_max = r.origin.y_m + r.ny * r.cell_size_m
     for i, ig in enumerate(r.ignitions):

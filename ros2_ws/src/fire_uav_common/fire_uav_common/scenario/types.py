@@ -12,8 +12,19 @@ from dataclasses import dataclass, field
 from fire_uav_common.errors import ArgumentError, ScheduleError
 from fire_uav_common.terrain import Lake, Terrain
 
-#: Anderson (1982) / Albini (1976) standard fuel model numbers the raster fire supports.
-FUEL_MODELS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13)
+#: Standard fuel model numbers the raster fire supports: Anderson (1982) / Albini (1976) 1-13
+#: and Scott & Burgan (2005) 40 (101-204).
+FUEL_MODELS = (
+    *range(1, 14),
+    *range(101, 110),
+    *range(121, 125),
+    *range(141, 150),
+    *range(161, 166),
+    *range(181, 190),
+    *range(201, 205),
+)
+#: ``fires.raster.landscape.crown`` values (fire_world_sim.fires.behavior.CROWN_METHODS)
+CROWN_METHODS = ("none", "finney")
 #: ``fires.raster.wind_limit`` values (fire_world_sim.fires.rothermel reads them from here)
 WIND_LIMITS = ("behave", "andrews2013", "none")
 #: ``fires.model`` values
@@ -235,6 +246,39 @@ class Ignition:
 
 
 @dataclass(frozen=True)
+class Moistures:
+    """Fuel moisture by class [fraction of dry mass] (1 h, 10 h, 100 h dead; live herbaceous, woody)."""
+
+    m_1h: float = 0.06
+    m_10h: float = 0.08
+    m_100h: float = 0.10
+    m_herb: float = 0.75
+    m_woody: float = 0.60
+
+
+@dataclass(frozen=True)
+class RasterLandscape:
+    """The raster fire's ground from a LANDFIRE landscape (``fires.raster.landscape``).
+
+    ``source``: the landscape file or directory (absolute). ``window``: (x_min, y_min, x_max,
+    y_max) in the landscape's projected metres, or None for all of it. The map frame's origin is
+    the window's (or the landscape's) south-west corner, ``projected_origin`` in projected metres:
+    map (x, y) = projected (x, y) - projected_origin. Wind entries are then the 20-ft wind;
+    each cell's midflame wind is it times the cell's wind adjustment factor.
+    """
+
+    source: str
+    name: str = ""
+    window: tuple[float, float, float, float] | None = None
+    cell_size_m: float | None = None
+    projected_origin: tuple[float, float] = (0.0, 0.0)
+    moisture: Moistures = field(default_factory=Moistures)
+    foliar_moisture: float = 1.0
+    crown: str = "finney"
+    min_lake_diameter_m: float = 60.0
+
+
+@dataclass(frozen=True)
 class Raster:
     cell_size_m: float = 5.0
     nx: int = 200
@@ -248,6 +292,7 @@ class Raster:
     wet_duration_s: float = 600.0
     spread_factor: float = 1.0
     wind_limit: str = "behave"  # behave | andrews2013 | none (fire_world_sim.fires.rothermel)
+    landscape: RasterLandscape | None = None  # the grid, fuels, terrain and water from a landscape
 
 
 @dataclass(frozen=True)
@@ -317,6 +362,7 @@ class Scenario:
     comms: Comms = field(default_factory=Comms)
     mission: Mission = field(default_factory=Mission)
     path: str = ""
+    notes: tuple[str, ...] = field(default=(), compare=False)  # what the loader left out, for the log
 
     def uav_start_poses(self, count: int | None = None) -> list[tuple[float, float, float, float]]:
         """Start poses (x_m, y_m, z_m, yaw_rad) of UAVs 0..count-1 (default ``uavs.count``)."""

@@ -131,6 +131,8 @@ class FireBehavior:
     heat_per_area_kjpm2: np.ndarray
     midflame_wind_mps: np.ndarray
     waf: np.ndarray
+    effective_wind_mps: np.ndarray  # surface fire's effective midflame wind (wind + slope) [m/s]
+    residence_s: np.ndarray  # flame residence time 384/sigma min (Anderson 1969) [s]
 
 
 def _param_grid(codes: np.ndarray, moistures: FuelMoistures, fuel_index: np.ndarray) -> tuple[SpreadParams, np.ndarray]:
@@ -236,7 +238,7 @@ def fire_behavior(
     aspect = np.asarray(aspect_deg, dtype=float)
     slope_tan = np.where(aspect < 0, 0.0, slope_tan)
     upslope = _compass_to_math_rad(aspect + 180.0)
-    ros, direction, _ = head_spread_cells(params, midflame, wind_to, slope_tan, upslope, wind_limit=wind_limit)
+    ros, direction, ueff = head_spread_cells(params, midflame, wind_to, slope_tan, upslope, wind_limit=wind_limit)
     spread_dir = (90.0 - np.degrees(direction)) % 360.0
 
     sigma = np.asarray(params.sigma_per_ft, dtype=float)
@@ -273,4 +275,6 @@ def fire_behavior(
         heat_per_area_kjpm2=heat_per_area,
         midflame_wind_mps=midflame,
         waf=waf,
+        effective_wind_mps=np.asarray(ueff, dtype=float),
+        residence_s=residence_min * 60.0,
     )

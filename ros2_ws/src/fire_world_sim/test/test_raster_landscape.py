@@ -1,0 +1,65 @@
+"""The raster fire on a landscape (worcester_vt): per-cell fuels, wind adjustment, crown fire."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from fire_uav_common.scenario import load_scenario
+from fire_world_sim.fires.crown import FireType
+from fire_world_sim.fires.raster import PAD, RasterFireModel
+
+from .conftest import SCENARIOS
+
+
+def model(**overrides: object) -> RasterFireModel:
+    s = load_scenario(SCENARIOS / "worcester_vt.yaml", overrides=overrides)
+    return RasterFireModel(s.fires.raster, s.terrain, lakes=s.lakes, drop_radius_m=s.fires.drop_radius_m)
+
+
+@pytest.fixture(scope="module")
+def running() -> RasterFireModel:
+    return model()  # pre-burnt 600 s to t = 0
+
+
+def test_only_burnable_cells_ever_ignite(running: RasterFireModel) -> None:
+    inner = running._inner
+    ignited = np.isfinite(running.t_ign[inner])
+    assert ignited.sum() > 20
+    assert not (ignited & ~running.burnable[inner]).any()
+    # water (98), the other non-burnable codes and the cells outside the data never burn
+    assert not (ignited & ((running.fuel == 0) | (running.fuel >= 91) & (running.fuel <= 99))).any()
+
+
+def test_the_head_runs_at_the_cells_rate_of_spread(running: RasterFireModel) -> None:
+    """Along the grass (GR2) row east of the ignition, with the wind blowing east and the
+    ground nearly flat, the arrival times grow by cell / head rate (the cells' own head rate)."""
+    ig = running.spec.ignitions[0]
+    i = PAD + math.floor(ig.y_m / running.cs)
+    j = PAD + math.floor(ig.x_m / running.cs)
+    cols = [c for c in range(j + 2, j + 7) if running.fuel[i - PAD, c - PAD] == 102]
+    assert len(cols) >= 4
+    t = running.t_ign[i, cols]
+    assert np.all(np.isfinite(t))
+    head = running._head[i, cols]
+    along = np.cos(running._head_dir[i, cols])  # the head's east component
+    expected = running.cs / (head * along)
+    assert np.diff(t) == pytest.approx(expected[1:], rel=0.2)
+
+
+def test_the_fire_goes_where_the_wind_blows() -> None:
+    east = model().truth()[0]
+    west = model(**{"fires.raster.wind": [{"start_s": -600.0, "speed_mps": 8.0, "direction_deg": 180.0}]}).truth()[0]
+    x0 = 285.0  # the ignition
+    assert east.x_m > x0 + 50.0 and west.x_m < x0 - 10.0
+
+
+def test_fire_type_per_cell_includes_crown_fire_under_the_scenarios_weather(running: RasterFireModel) -> None:
+    ft = running.fire_type
+    assert ft.shape == (running.ny, running.nx)
+    counts = np.bincount(ft.ravel(), minlength=4)
+    assert counts[FireType.SURFACE] > 1000 and counts[FireType.PASSIVE] + counts[FireType.ACTIVE] > 0
+    assert np.all(ft[~running.burnable[running._inner]] == FireType.UNBURNABLE)
+    no_crown = model(**{"fires.raster.landscape.crown": "none"}).fire_type
+    assert not np.isin(no_crown, [FireType.PASSIVE, FireType.ACTIVE]).any()
