@@ -62,7 +62,7 @@ def _f32(x: float) -> float:
 
 
 # --- conversions -----------------------------------------------------------------------------------
-def agent_bundle(b: wsim.Bundle, gyro_sigma_radps: float) -> Bundle:
+def agent_bundle(b: wsim.SensorBundleRecord, gyro_sigma_radps: float) -> Bundle:
     """World bundle -> agent bundle, through the bytes the world node publishes."""
     return read_sensor_bundle(write_sensor_bundle(b, gyro_sigma_radps)).bundle
 
@@ -137,7 +137,7 @@ class Harness:
         self.stopped: set[int] = set()
         self.outputs: list[StepOutput | None] = [None] * n
         self.result: wsim.StepResult | None = None
-        self.events: list[wsim.Event] = []
+        self.events: list[wsim.MissionEventRecord] = []
         self._commands: dict[int, wsim.Command | None] = {}
         self._payload: dict[int, list[int]] = {}
         period_s = self.agents[0].cfg.control_period_s if n else 0.1
