@@ -17,7 +17,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from fire_uav_common.auth import Authenticator, parse_key
+from fire_uav_common.auth import Authenticator, authenticator_from
 from fire_uav_common.lockstep import OfflineWindow, parse_schedule
 from fire_uav_common.scenario import LinkOutage
 
@@ -170,16 +170,7 @@ def _prior_fires(flat: list[float]) -> tuple[tuple[float, float, float], ...]:
 
 def _authenticator(auth: bool, key: str) -> Authenticator | None:
     """``auth`` / ``fleet_key`` (docs/security.md); None when authentication is off."""
-    if not auth:
-        return None
-    if not key:
-        raise ConfigError(
-            "parameter fleet_key is required when auth is true (the runner writes one per mission)"
-        )
-    try:
-        return Authenticator(parse_key(key))
-    except ValueError as e:
-        raise ConfigError(f"parameter fleet_key: {e}") from None
+    return authenticator_from(auth, key, ConfigError)
 
 
 def node_config(values: Mapping[str, Any], namespace: str) -> NodeConfig:

@@ -30,7 +30,7 @@ import struct
 
 from .errors import FleetKeyError
 
-__all__ = ["KEY_BYTES", "TAG_BYTES", "Authenticator", "new_key_hex", "parse_key"]
+__all__ = ["KEY_BYTES", "TAG_BYTES", "Authenticator", "authenticator_from", "new_key_hex", "parse_key"]
 
 KEY_BYTES = 32  # [B] key length: the SHA-256 block is 64 B; 32 B of entropy is the usual choice
 TAG_BYTES = 32  # [B] a full SHA-256 tag (no truncation)
@@ -100,3 +100,19 @@ class Authenticator:
             return False
         data = bytes(data)
         return hmac.compare_digest(self.tag(topic, sender, step, data[:-TAG_BYTES]), data[-TAG_BYTES:])
+
+
+def authenticator_from(
+    auth: bool, key: str, error: type[Exception] = FleetKeyError
+) -> Authenticator | None:
+    """The ``auth`` / ``fleet_key`` parameters of a node (docs/security.md) as an Authenticator;
+    None when authentication is off. A missing or malformed key raises ``error`` (the calling
+    package's configuration error) naming the parameter."""
+    if not auth:
+        return None
+    if not key:
+        raise error("parameter fleet_key is required when auth is true (the runner writes one per mission)")
+    try:
+        return Authenticator(parse_key(key))
+    except ValueError as e:
+        raise error(f"parameter fleet_key: {e}") from None

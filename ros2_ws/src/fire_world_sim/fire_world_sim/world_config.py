@@ -14,7 +14,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from fire_uav_common.auth import Authenticator, parse_key
+from fire_uav_common.auth import Authenticator
+from fire_uav_common.auth import authenticator_from as auth_from_parameters
 from fire_uav_common.lockstep import OfflineWindow, parse_schedule
 
 from .errors import ConfigError
@@ -140,14 +141,6 @@ def config_from_parameters(values: Mapping[str, Any]) -> WorldNodeConfig:
 
 
 def authenticator_from(auth: bool, key: str) -> Authenticator | None:
-    """``auth`` / ``fleet_key`` (docs/security.md): None when authentication is off."""
-    if not auth:
-        return None
-    if not key:
-        raise ConfigError(
-            "parameter fleet_key is required when auth is true (the runner writes one per mission)"
-        )
-    try:
-        return Authenticator(parse_key(key))
-    except ValueError as e:
-        raise ConfigError(f"parameter fleet_key: {e}") from None
+    """``auth`` / ``fleet_key`` (docs/security.md): None when authentication is off; a bad key is
+    this package's ConfigError."""
+    return auth_from_parameters(auth, key, ConfigError)
