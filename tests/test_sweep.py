@@ -167,9 +167,12 @@ def test_same_results_locally_and_on_two_workers(
     err = capsys.readouterr().err
     assert local["tiny"]["executor"] == "local"
     assert remote["tiny"]["executor"] == f"dask {cluster.scheduler_address}"
+    # the recorded command says how the section was run (the scheduler is part of it)
+    assert local["tiny"]["command"] == "scripts/bench --only tiny"
+    assert remote["tiny"]["command"] == f"scripts/bench --only tiny --scheduler {cluster.scheduler_address}"
     for r in (local, remote):
         r.pop("machine")
-        for k in RUN_FIELDS:
+        for k in (*RUN_FIELDS, "command"):
             r["tiny"].pop(k)
     assert remote == local
     missions = local["tiny"]["missions"]
