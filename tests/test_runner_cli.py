@@ -117,3 +117,21 @@ def test_fleet_key_per_mission_private_and_only_where_needed(tmp_path):
     )
     p = yaml.safe_load(off["agent_0"].read_text())["/**"]["ros__parameters"]
     assert p["auth"] is False and "fleet_key" not in p
+
+
+@pytest.mark.parametrize(
+    ("outcome", "uavs", "user_limit", "status"),
+    [
+        ("complete", 5, None, 0),
+        ("time_limit", 5, None, 1),  # the fleet ran out of the scenario's own time: a failure
+        ("time_limit", 5, 20.0, 0),  # stopped where the user asked
+        ("time_limit", 0, None, 0),  # the fire alone burns until the limit by design
+        ("aborted", 5, 20.0, 1),
+    ],
+)
+def test_exit_status_says_whether_the_mission_ended_as_asked(
+    outcome: str, uavs: int, user_limit: float | None, status: int
+) -> None:
+    from fire_mission.runner import mission_exit_status
+
+    assert mission_exit_status(outcome, uavs, user_limit) == status

@@ -273,7 +273,11 @@ def build_parser() -> argparse.ArgumentParser:
         "/world/truth messages of the two bags; exit 0 only if they are identical",
     )
     p.add_argument(
-        "--max-duration", type=float, default=None, help="mission time limit [s] (default: scenario)"
+        "--max-duration",
+        type=float,
+        default=None,
+        help="stop the mission after this many seconds (default: the scenario's time limit); "
+        "a mission stopped here exits 0, one that runs out of the scenario's own limit exits 1",
     )
     p.add_argument(
         "--wall-timeout", type=float, default=1800.0, help="wall-clock limit for the whole run [s]"
@@ -806,8 +810,20 @@ def run(args: argparse.Namespace) -> int:
             print(
                 f"  report failed (exit {rep.returncode}); the bag is kept at {out / 'bag'}", file=sys.stderr
             )
-    if outcome == "complete" or (uav_count == 0 and outcome == "time_limit"):
-        return 0  # with no fleet the fire burns until the time limit: that is the run's purpose
+    return mission_exit_status(outcome, uav_count, args.max_duration)
+
+
+def mission_exit_status(outcome: str, uav_count: int, user_max_duration_s: float | None) -> int:
+    """0 when the mission ended as asked, 1 when the fleet ran out of the scenario's own time.
+
+    A mission the user cut short with ``--max-duration`` ended where it was asked to (a quick
+    look, an example, a smoke test); a fleet that did not finish within the scenario's own time
+    limit failed. With no fleet the fire burns until the limit: that is the run's purpose.
+    """
+    if outcome == "complete":
+        return 0
+    if outcome == "time_limit" and (uav_count == 0 or user_max_duration_s is not None):
+        return 0
     return 1
 
 
