@@ -172,7 +172,9 @@ class Agent:
         self.avoidance = PeerAvoidance(
             cfg.uav_id, cfg.control_period_s, cfg.separation, lim.v_stall_mps, lim.v_max_mps, lim.omega_max_radps
         )  # fmt: skip
-        self.guide = Guide(cfg, self.grid, self.planners, self.search, self.raster, self.link, self.avoidance)
+        self.guide = Guide(
+            cfg, self.grid, self.planners, self.search, self.raster, self.link, self.avoidance, self.flown
+        )
 
     # --- views of the parts (read by tests and benchmarks) -----------------------------------------
     @property

@@ -165,3 +165,77 @@ class FlownInput:
         self.state = OnboardState(v, climb, phi)
         n = float(self.substeps)
         return np.array([sum_g / n, sum_z / n, sum_w / n])
+
+
+def final_approach_course(
+    start_xy: tuple[float, float], area_m: tuple[float, float, float, float], start_yaw_rad: float
+) -> float:
+    """The course [rad] of the final leg to the takeoff point: from the area's centre toward the
+    takeoff point, snapped to a multiple of 90 deg so that neighbours' takeoff points in a row get
+    parallel finals (the entry lies inside the area); the takeoff heading when the point is the centre."""
+    cx, cy = 0.5 * (area_m[0] + area_m[1]), 0.5 * (area_m[2] + area_m[3])
+    dx, dy = start_xy[0] - cx, start_xy[1] - cy
+    if math.hypot(dx, dy) < 1.0:
+        return start_yaw_rad
+    b = math.atan2(dy, dx)
+    return math.remainder(round(b / (0.5 * math.pi)) * 0.5 * math.pi, math.tau)
+
+
+@dataclass(frozen=True)
+class FinalApproach:
+    """A landing approach lined up with the takeoff point (the threshold): a straight final leg of
+    ``length_m`` on ``course_rad``, entered from behind, for an airframe turning on ``turn_radius_m``.
+
+    Captured (behind the threshold within ``length_m`` + 3 r, within 3 r of the centre line, heading
+    within 90 deg of the course), the vehicle follows the line with Beard & McLain's straight-line
+    vector field (*Small Unmanned Aircraft*, 2012, Eq. 10.8): course chi_c = chi_q - chi_inf (2/pi)
+    atan(k e), e the cross-track error, chi_inf = 60 deg, k = 1 / r. Otherwise it flies to the entry
+    point, ``length_m`` + r behind the threshold; within 2 r of it and heading the wrong way, it
+    turns at its limit toward the course, on the side of the line (the turn ends captured).
+    """
+
+    threshold_xy: tuple[float, float]
+    course_rad: float
+    length_m: float
+    turn_radius_m: float
+    approach_angle_rad: float = math.radians(60.0)  # chi_inf of B&M Eq. 10.8
+
+    @property
+    def entry_xy(self) -> tuple[float, float]:
+        d = self.length_m + self.turn_radius_m
+        return (
+            self.threshold_xy[0] - d * math.cos(self.course_rad),
+            self.threshold_xy[1] - d * math.sin(self.course_rad),
+        )
+
+    def frame(self, xy: tuple[float, float]) -> tuple[float, float]:
+        """(along [m], cross [m]): along the course from the threshold (< 0 before it), left of the line > 0."""
+        ex, ey = xy[0] - self.threshold_xy[0], xy[1] - self.threshold_xy[1]
+        c, s = math.cos(self.course_rad), math.sin(self.course_rad)
+        return ex * c + ey * s, -ex * s + ey * c
+
+    def captured(self, pose: tuple[float, float, float]) -> bool:
+        along, cross = self.frame((pose[0], pose[1]))
+        r = self.turn_radius_m
+        return (
+            -(self.length_m + 3.0 * r) <= along <= 0.5 * r
+            and abs(cross) <= 3.0 * r
+            and abs(math.remainder(pose[2] - self.course_rad, math.tau)) <= 0.5 * math.pi
+        )
+
+    def line_course(self, xy: tuple[float, float]) -> float:
+        """B&M Eq. 10.8: the course that brings the vehicle onto the line."""
+        _, cross = self.frame(xy)
+        k = 1.0 / max(self.turn_radius_m, 1e-3)
+        return self.course_rad - self.approach_angle_rad * (2.0 / math.pi) * math.atan(k * cross)
+
+    def turn_side(self, pose: tuple[float, float, float]) -> float:
+        """+1 (left) or -1 (right): the turn whose circle centre lies nearer the centre line."""
+        best, side = math.inf, 1.0
+        for sd in (1.0, -1.0):
+            cx = pose[0] - sd * self.turn_radius_m * math.sin(pose[2])
+            cy = pose[1] + sd * self.turn_radius_m * math.cos(pose[2])
+            d = abs(self.frame((cx, cy))[1])
+            if d < best:
+                best, side = d, sd
+        return side

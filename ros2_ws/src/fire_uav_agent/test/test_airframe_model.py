@@ -11,7 +11,13 @@ import math
 
 import numpy as np
 import pytest
-from fire_uav_agent.airframe_model import FlownInput, inside_turn_circle, turn_radius_m
+from fire_uav_agent.airframe_model import (
+    FinalApproach,
+    FlownInput,
+    final_approach_course,
+    inside_turn_circle,
+    turn_radius_m,
+)
 from fire_uav_agent.coverage import VehicleLimits
 from fire_uav_common import scenario as sc
 from fire_uav_common.constants import VehicleStatus
@@ -101,3 +107,67 @@ def test_points_inside_the_turn_circles_are_found():
     assert inside_turn_circle(pose, (5.0, -20.0), r)
     assert not inside_turn_circle(pose, (60.0, 0.0), r)
     assert not inside_turn_circle(pose, (-30.0, 0.0), r)  # behind: reachable by a turn
+    north = (0.0, 0.0, math.pi / 2)  # circles centred at (-25, 0) and (25, 0)
+    assert inside_turn_circle(north, (20.0, 5.0), r) and inside_turn_circle(north, (-40.0, -3.0), r)
+    assert not inside_turn_circle(north, (0.0, 40.0), r)
+
+
+def test_the_final_leg_points_from_the_area_centre_to_the_takeoff_point_in_90_degree_steps():
+    area = (0.0, 600.0, 0.0, 600.0)
+    # FF's takeoff column at x = 50: every UAV gets the same westward final, so the finals are parallel
+    west = [
+        math.remainder(final_approach_course((50.0, y), area, -1.0) - math.pi, math.tau)
+        for y in (250.0, 370.0)
+    ]
+    assert west == [pytest.approx(0.0, abs=1e-12)] * 2
+    assert final_approach_course((300.0, 590.0), area, -1.0) == pytest.approx(math.pi / 2)
+    assert final_approach_course((300.0, 300.0), area, -1.0) == -1.0  # at the centre: the takeoff heading
+
+
+def test_the_approach_captures_from_behind_and_steers_onto_the_line():
+    ap = FinalApproach((50.0, 250.0), math.pi, 200.0, 25.0)  # final westward to (50, 250)
+    assert ap.entry_xy == pytest.approx((275.0, 250.0))
+    assert ap.frame((150.0, 260.0)) == pytest.approx((-100.0, -10.0))  # 100 m before, 10 m to the right
+    assert ap.captured((150.0, 260.0, math.pi))
+    assert not ap.captured((150.0, 260.0, 0.0))  # heading away from the threshold
+    assert not ap.captured((10.0, 250.0, math.pi))  # past the threshold (more than half a radius)
+    # right of the line: the commanded course turns left toward it, at most 60 deg off, less when close
+    far = math.remainder(ap.line_course((150.0, 300.0)) - math.pi, math.tau)
+    near = math.remainder(ap.line_course((150.0, 252.0)) - math.pi, math.tau)
+    assert 0.0 < near < far <= math.radians(60.0)
+    on = ap.line_course((150.0, 250.0))
+    assert math.remainder(on - math.pi, math.tau) == pytest.approx(0.0)
+
+
+def test_a_vehicle_flying_the_approach_lands_lined_up_at_the_threshold():
+    """Fly the world's own coordinated-turn model from the wrong side of the field, steered by the
+    approach (turn-rate command as the guidance's Eq. 11 law): it reaches the threshold on the line."""
+    af = SMALL
+    r = turn_radius_m(af, af.v_min_mps)
+    ap = FinalApproach((50.0, 250.0), math.pi, 200.0, r)
+    model = CoordinatedTurnModel(af, 0.0)
+    rng = np.random.default_rng(0)
+    st = model.launch(FlightState(-40.0, 150.0, 30.0, 0.0, water_kg=0.0), Command(af.v_min_mps, 0.0, 0.0))
+    best = math.inf
+    for _ in range(1200):  # 120 s
+        pose = (st.x_m, st.y_m, st.yaw_rad)
+        if ap.captured(pose):
+            want = ap.line_course((st.x_m, st.y_m))
+        else:
+            e = ap.entry_xy
+            to_e = math.hypot(e[0] - st.x_m, e[1] - st.y_m)
+            if to_e < 2 * r and abs(math.remainder(st.yaw_rad - ap.course_rad, math.tau)) > math.pi / 2:
+                want = st.yaw_rad + ap.turn_side(pose)
+            else:
+                want = math.atan2(e[1] - st.y_m, e[0] - st.x_m)
+        w = max(
+            -LIM.omega_max_radps, min(LIM.omega_max_radps, 5.0 * math.remainder(want - st.yaw_rad, math.tau))
+        )
+        for _ in range(10):
+            (st,) = model.step([st], [Command(af.v_min_mps, 0.0, w)], 0.01, [rng])
+        along, cross = ap.frame((st.x_m, st.y_m))
+        if -2.0 <= along <= 2.0 and ap.captured((st.x_m, st.y_m, st.yaw_rad)):
+            best = min(best, abs(cross))
+            head_err = abs(math.remainder(st.yaw_rad - ap.course_rad, math.tau))
+            break
+    assert best < 2.0 and head_err < math.radians(10.0)
