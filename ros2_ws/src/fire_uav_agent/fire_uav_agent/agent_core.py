@@ -169,8 +169,10 @@ class Agent:
         self._situation: Situation | None = None  # the last step's (for tests and benchmarks)
         self.raster = RasterSuppression(cfg, self.grid)  # idle until a bundle carries FireCells
         lim = cfg.limits
+        af = cfg.airframe
         self.avoidance = PeerAvoidance(
-            cfg.uav_id, cfg.control_period_s, cfg.separation, lim.v_stall_mps, lim.v_max_mps, lim.omega_max_radps
+            cfg.uav_id, cfg.control_period_s, cfg.separation, lim.v_stall_mps, lim.v_max_mps, lim.omega_max_radps,
+            None if af is None else (lambda v: min(lim.omega_max_radps, af.turn_rate_max_radps(v))),
         )  # fmt: skip
         self.guide = Guide(
             cfg, self.grid, self.planners, self.search, self.raster, self.link, self.avoidance, self.flown
