@@ -43,7 +43,7 @@ from fire_uav_common.topics import FLEET_FRONT_SPEC, FLEET_PERIMETER_SPEC
 
 from .agent_config import AgentConfig, GuidanceConfig, config_from_scenario
 from .agent_types import AgentEvent, Bundle, MarkersData, OwnState, PeerPerimeter, StepOutput
-from .airframe_model import FlownInput
+from .airframe_model import FlownInput, usable_lakes
 from .consensus import ConsensusConfig, FireConsensus
 from .coverage import gaussian_density, make_grid, own_cell_on_grid
 from .estimation import EkfConfig, StateEkf
@@ -106,6 +106,9 @@ class Agent:
             cfg.terrain,
         )
         self.flown = FlownInput(cfg.airframe, cfg.limits, cfg.physics_period_s, cfg.control_period_s)
+        # a fixed-wing refills only where the lake is long enough for its scoop run; the node logs
+        # ``lakes_refused``, one line per lake left out
+        self.lakes, self.lakes_refused = usable_lakes(cfg.lakes, cfg.airframe)
         self.link = PeerLink(
             cfg.uav_id,
             cfg.uav_count,
@@ -555,9 +558,9 @@ class Agent:
 
     # --- helpers --------------------------------------------------------------------------------
     def _nearest_lake(self, pos: np.ndarray) -> Lake | None:
-        if not self.cfg.lakes:
+        if not self.lakes:
             return None
-        return min(self.cfg.lakes, key=lambda lk: math.hypot(lk.x_m - pos[0], lk.y_m - pos[1]))
+        return min(self.lakes, key=lambda lk: math.hypot(lk.x_m - pos[0], lk.y_m - pos[1]))
 
     def _markers(self, dec: Decision, cell: np.ndarray) -> MarkersData:
         ny, nx = self.grid.shape

@@ -15,7 +15,9 @@ world flies. Two uses, both ROS-free:
   command as the world clamps it (FF Eq. 5), exactly as before.
 * **Turn geometry** (:func:`turn_radius_m`, :func:`inside_turn_circle`): the smallest radius
   r = v^2 / (g tan(phi_max)) (B&M Eq. 9.14 with psi_dot = v / r) that guidance and separation
-  plan with.
+  plan with, and the lined-up landing approach (:class:`FinalApproach`).
+* **Scoop run** (:func:`usable_lakes`): a fixed-wing scoops on a straight run over the water; a
+  lake too short for the run that fills the tank is not used.
 
 Units: [m], [s], [m/s], [rad], [kg]; positions in the map frame.
 """
@@ -23,16 +25,27 @@ Units: [m], [s], [m/s], [rad], [kg]; positions in the map frame.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from fire_uav_common.constants import VehicleStatus
 from fire_uav_common.scenario import Airframe
 from fire_uav_common.scenario.airframes import G_MPS2
+from fire_uav_common.terrain import Lake
 
 from .coverage import VehicleLimits
 
-__all__ = ["FlownInput", "OnboardState", "inside_turn_circle", "turn_radius_m"]
+__all__ = [
+    "FinalApproach",
+    "FlownInput",
+    "OnboardState",
+    "final_approach_course",
+    "inside_turn_circle",
+    "scoop_run_m",
+    "turn_radius_m",
+    "usable_lakes",
+]
 
 
 def _clip(x: float, lo: float, hi: float) -> float:
@@ -47,6 +60,34 @@ def turn_radius_m(airframe: Airframe, speed_mps: float, water_kg: float | None =
     """
     v = max(speed_mps, 1e-3)
     return v * v / (G_MPS2 * max(math.tan(bank_limit_rad(airframe, v, water_kg)), 1e-9))
+
+
+def scoop_run_m(airframe: Airframe) -> float:
+    """The straight run [m] over water that fills the empty tank: the scoop time
+    water_capacity / refill_rate at the lowest commanded speed (the slowest the airframe flies)."""
+    return airframe.v_min_mps * airframe.water_capacity_kg / airframe.refill_rate_kgps
+
+
+def usable_lakes(
+    lakes: Sequence[Lake], airframe: Airframe | None
+) -> tuple[tuple[Lake, ...], tuple[str, ...]]:
+    """The lakes a fixed-wing can scoop from, and one line for each lake it cannot use.
+
+    A disc lake's longest straight run is its diameter; a lake shorter than :func:`scoop_run_m`
+    cannot fill the tank on one pass and is not used. Without an airframe (FF's unicycle hovers
+    over the water as long as it needs) every lake is usable.
+    """
+    if airframe is None:
+        return tuple(lakes), ()
+    need = scoop_run_m(airframe)
+    ok = tuple(lk for lk in lakes if lk.diameter_m >= need)
+    refused = tuple(
+        f"lake at ({lk.x_m:g}, {lk.y_m:g}) m not used for refills: its longest run {lk.diameter_m:g} m "
+        f"is shorter than the {need:.0f} m scoop run of this airframe"
+        for lk in lakes
+        if lk.diameter_m < need
+    )
+    return ok, refused
 
 
 def bank_limit_rad(airframe: Airframe, speed_mps: float, water_kg: float | None = None) -> float:

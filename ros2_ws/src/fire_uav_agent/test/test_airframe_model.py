@@ -171,3 +171,28 @@ def test_a_vehicle_flying_the_approach_lands_lined_up_at_the_threshold():
             head_err = abs(math.remainder(st.yaw_rad - ap.course_rad, math.tau))
             break
     assert best < 2.0 and head_err < math.radians(10.0)
+
+
+def test_a_lake_shorter_than_the_scoop_run_is_not_used_and_said_so():
+    from fire_uav_agent.airframe_model import scoop_run_m, usable_lakes
+    from fire_uav_common.terrain import Lake
+
+    # small_uav: 10 kg at 2 kg/s = 5 s at 15.6 m/s = 78 m; tanker: 15 s at 46.8 m/s = 702 m
+    assert scoop_run_m(SMALL) == pytest.approx(78.0)
+    assert scoop_run_m(AIRFRAMES["tanker"]) == pytest.approx(702.0)
+    ff_lake, pond = Lake(300.0, 400.0, 90.0), Lake(100.0, 100.0, 60.0)
+    ok, refused = usable_lakes((ff_lake, pond), SMALL)
+    assert ok == (ff_lake,) and len(refused) == 1 and "(100, 100)" in refused[0] and "60 m" in refused[0]
+    assert usable_lakes((ff_lake,), AIRFRAMES["tanker"])[0] == ()
+    assert usable_lakes((ff_lake, pond), None) == ((ff_lake, pond), ())
+
+
+def test_the_agent_refills_only_at_a_lake_long_enough():
+    from fire_uav_agent.agent_core import Agent, AgentConfig
+    from fire_uav_common.terrain import Lake
+
+    lakes = (Lake(300.0, 400.0, 60.0), Lake(500.0, 100.0, 90.0))
+    a = Agent(AgentConfig(uav_id=0, uav_count=1, lakes=lakes, airframe=SMALL))
+    assert a._nearest_lake(np.array([300.0, 400.0])) == lakes[1] and len(a.lakes_refused) == 1
+    b = Agent(AgentConfig(uav_id=0, uav_count=1, lakes=lakes))
+    assert b._nearest_lake(np.array([300.0, 400.0])) == lakes[0] and b.lakes_refused == ()
