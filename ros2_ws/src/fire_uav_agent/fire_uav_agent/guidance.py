@@ -215,9 +215,9 @@ class Guide:
             v_cap = plan.speed_cap_mps
         if self.raster.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
             height = self.raster.tactic.layer_height_m(cfg.uav_id)
-        cmd = self._within_turn(
-            s, control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap), target
-        )
+        cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
+        if self.raster.front is None:  # analytic fires only (_within_turn)
+            cmd = self._within_turn(s, cmd, target)
         return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
 
     def _home_in_area(self) -> bool:
@@ -230,7 +230,10 @@ class Guide:
         """A fixed-wing does not turn toward a point inside its turn circles (it would circle it for
         ever): it flies straight until the point is outside them, then turns (a Dubins path's
         straight-then-turn). The radius is v^2 / (g tan phi_max) at the faster of the commanded and
-        the modelled airspeed. Unchanged without an airframe."""
+        the modelled airspeed. Unchanged without an airframe. Not applied over a raster fire: the
+        tactic's aim point on the front moves with the UAV and stayed inside its turn circle, so it
+        flew straight on (grass_running, 3 UAVs, seed 1: no drop in 150 s, against 4 without the
+        rule)."""
         af = self.cfg.airframe
         if af is None:
             return cmd
