@@ -5,7 +5,12 @@ Runs the mission in one process (``fire_mission.inprocess``: the real World and 
 and, from the world's truth at every control step, counts the airborne samples that turn harder
 than a bank limit allows (|omega| > g tan(phi_max) / v; Beard & McLain Eq. 9.14). Prints
 completion, collisions, closest approach, landing error, fires out, and the share beyond 60 deg
-and beyond the airframe's own bank limit (when it has one). Prints, no asserts.
+and beyond the airframe's own bank limit (when it has one). Also, over the airborne samples: the
+error between the commanded turn rate (as the world clamps it) and the flown one, and the agents'
+EKF consistency, the normalised estimation error squared NEES = e^T P^-1 e of s = (x, y, z, yaw)
+against the truth (mean 4 for a consistent filter; Bar-Shalom, Li & Kirubarajan, *Estimation with
+Applications to Tracking and Navigation*, 2001, sec. 5.4), and the largest horizontal estimation
+error. Prints, no asserts.
 
 With ``--bag RUN/bag`` it reads the samples from a recorded mission's ``/world/truth`` instead
 (the bank figures only; its scenario from the bag for the airframe's own limit).
@@ -18,14 +23,20 @@ Usage: .venv/bin/python scripts/envelope_share.py [SCENARIO] [--uavs 5] [--seed 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 
+import fire_uav_agent.testing.harness as harness_mod
 import fire_uav_recording as bag_io
+import numpy as np
 import yaml
 from fire_bench.envelope import envelope_share
 from fire_mission.cli import OneLineParser
 from fire_mission.inprocess import run_inprocess
 from fire_uav_agent.testing.harness import scenario_path
+from fire_uav_common.constants import VehicleStatus
 from fire_uav_common.scenario import Airframe, ScenarioError, load_scenario, scenario_from_dict
 from fire_uav_common.topics import WORLD_TRUTH
 
@@ -52,12 +63,15 @@ def main(argv: list[str] | None = None) -> int:
     except (FileNotFoundError, ScenarioError) as e:
         p.error(str(e))
     samples: list[tuple[int, float, float]] = []
-    s = run_inprocess(
-        sc,
-        uavs=a.uavs,
-        seed=a.seed,
-        on_step=lambda r: samples.extend((v.status, v.v_lin_mps, v.omega_z_radps) for v in r.vehicles),
-    )
+    kept: list[harness_mod.Harness] = []
+    est = EstimateStats()
+
+    def on_step(r) -> None:
+        samples.extend((v.status, v.v_lin_mps, v.omega_z_radps) for v in r.vehicles)
+        est.add(r, kept[0])
+
+    with keep_harness(kept):
+        s = run_inprocess(sc, uavs=a.uavs, seed=a.seed, on_step=on_step)
     fires_out = s["fires_total"] - s["fires_active_at_end"]
     land = s["landing_error_m"]
     print(f"scenario {sc.name}, model {sc.uavs.vehicle_model}, uavs {a.uavs}, seed {a.seed}")
@@ -70,7 +84,60 @@ def main(argv: list[str] | None = None) -> int:
         f"landed {len(s['landed'])}/{a.uavs}, landing error max {max(land.values(), default=float('nan')):.2f} m"
     )
     print_shares(samples, a.bank_deg, sc.uavs.airframe)
+    est.print()
     return 0
+
+
+@contextmanager
+def keep_harness(kept: list) -> Iterator[None]:
+    """The in-process runner's harness, appended to ``kept`` when it is made (its agents' EKFs)."""
+    base = harness_mod.Harness
+
+    class Kept(base):  # type: ignore[misc, valid-type]
+        def __post_init__(self) -> None:
+            super().__post_init__()
+            kept.append(self)
+
+    harness_mod.Harness = Kept  # type: ignore[misc]
+    try:
+        yield
+    finally:
+        harness_mod.Harness = base  # type: ignore[misc]
+
+
+class EstimateStats:
+    """Turn-rate error and EKF consistency over the airborne truth samples (module doc)."""
+
+    def __init__(self) -> None:
+        self.turn_err: list[float] = []
+        self.nees: list[float] = []
+        self.pos_err = 0.0
+
+    def add(self, r, h: harness_mod.Harness) -> None:
+        for v in r.vehicles:
+            if v.status != VehicleStatus.AIRBORNE:
+                continue
+            self.turn_err.append(abs(h.world.vehicles[v.uav_id].omega_z_radps - v.omega_z_radps))
+            ekf = h.agents[v.uav_id].ekf
+            e = np.array([v.x_m, v.y_m, v.z_m, v.yaw_rad]) - ekf.s
+            e[3] = math.remainder(float(e[3]), math.tau)
+            self.nees.append(float(e @ np.linalg.solve(ekf.P, e)))
+            self.pos_err = max(self.pos_err, math.hypot(e[0], e[1]))
+
+    def print(self) -> None:
+        if not self.nees:
+            return
+        te = np.array(self.turn_err)
+        ne = np.array(self.nees)
+        print(
+            f"commanded - flown turn rate: rms {math.sqrt(float(np.mean(te**2))):.3f} rad/s, "
+            f"max {te.max():.3f} rad/s over {te.size} airborne samples"
+        )
+        print(
+            f"EKF NEES (x, y, z, yaw): mean {ne.mean():.2f} (4 if consistent), "
+            f"{100 * float(np.mean(ne > 9.49)):.1f} % above the 95 % chi2(4) bound 9.49; "
+            f"largest horizontal error {self.pos_err:.2f} m"
+        )
 
 
 def print_shares(samples: list[tuple[int, float, float]], bank_deg: float, airframe: Airframe | None) -> None:

@@ -83,6 +83,7 @@ class AgentConfig:
     vehicle: sc.Vehicle = field(default_factory=sc.Vehicle)
     sensors: sc.Sensors = field(default_factory=sc.Sensors)
     mission: sc.Mission = field(default_factory=sc.Mission)
+    airframe: sc.Airframe | None = None  # scenario uavs.airframe: the fixed-wing envelope (None: ff_paper)
     loss_probability: float = 0.05  # scenario comms.loss_probability, or the runner's override
     outages: tuple[LinkOutage, ...] = ()  # scenario comms.outages, or the runner's override
     drop_radius_m: float = (
@@ -178,7 +179,7 @@ def config_from_scenario(
 ) -> AgentConfig:
     """Build the agent's a-priori config from a ``fire_uav_common.scenario.Scenario``.
 
-    Reads only area, terrain, lakes, timing, vehicle, sensors, uavs (own start pose), comms,
+    Reads only area, terrain, lakes, timing, vehicle, sensors, uavs (own start pose, airframe), comms,
     mission and the drop footprint -- never the fires. Arguments not None override the scenario
     (runner flags); ``agent_options`` are further :class:`AgentConfig` fields (monitor_alpha, ...).
     """
@@ -205,6 +206,7 @@ def config_from_scenario(
         vehicle=scenario.vehicle,
         sensors=scenario.sensors,
         mission=mission,
+        airframe=scenario.uavs.airframe,
         loss_probability=float(
             loss_probability if loss_probability is not None else scenario.comms.loss_probability
         ),

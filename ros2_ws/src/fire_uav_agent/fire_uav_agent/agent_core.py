@@ -43,6 +43,7 @@ from fire_uav_common.topics import FLEET_FRONT_SPEC, FLEET_PERIMETER_SPEC
 
 from .agent_config import AgentConfig, GuidanceConfig, config_from_scenario
 from .agent_types import AgentEvent, Bundle, MarkersData, OwnState, PeerPerimeter, StepOutput
+from .airframe_model import FlownInput, usable_lakes
 from .consensus import ConsensusConfig, FireConsensus
 from .coverage import gaussian_density, make_grid, own_cell_on_grid
 from .estimation import EkfConfig, StateEkf
@@ -104,6 +105,10 @@ class Agent:
             np.array(cfg.start_pose, dtype=float),
             cfg.terrain,
         )
+        self.flown = FlownInput(cfg.airframe, cfg.limits, cfg.physics_period_s, cfg.control_period_s)
+        # a fixed-wing refills only where the lake is long enough for its scoop run; the node logs
+        # ``lakes_refused``, one line per lake left out
+        self.lakes, self.lakes_refused = usable_lakes(cfg.lakes, cfg.airframe)
         self.link = PeerLink(
             cfg.uav_id,
             cfg.uav_count,
@@ -167,10 +172,14 @@ class Agent:
         self._situation: Situation | None = None  # the last step's (for tests and benchmarks)
         self.raster = RasterSuppression(cfg, self.grid)  # idle until a bundle carries FireCells
         lim = cfg.limits
+        af = cfg.airframe
         self.avoidance = PeerAvoidance(
-            cfg.uav_id, cfg.control_period_s, cfg.separation, lim.v_stall_mps, lim.v_max_mps, lim.omega_max_radps
+            cfg.uav_id, cfg.control_period_s, cfg.separation, lim.v_stall_mps, lim.v_max_mps, lim.omega_max_radps,
+            None if af is None else (lambda v: min(lim.omega_max_radps, af.turn_rate_max_radps(v))),
         )  # fmt: skip
-        self.guide = Guide(cfg, self.grid, self.planners, self.search, self.raster, self.link, self.avoidance)
+        self.guide = Guide(
+            cfg, self.grid, self.planners, self.search, self.raster, self.link, self.avoidance, self.flown
+        )
 
     # --- views of the parts (read by tests and benchmarks) -----------------------------------------
     @property
@@ -208,18 +217,6 @@ class Agent:
         """(peer, loss_index) of step ``step - 1`` the node should wait for before step ``step``."""
         return self.link.expected(step - 1) if step >= 1 else set()
 
-    def _world_applied(self, cmd: np.ndarray, airborne: bool) -> np.ndarray:
-        """The command as the world applies it (clamped to the limits) for the EKF prediction."""
-        lim = self.cfg.limits
-        v = float(np.clip(cmd[0], lim.v_stall_mps, lim.v_max_mps)) if airborne else float(cmd[0])
-        return np.array(
-            [
-                v,
-                float(np.clip(cmd[1], -lim.vz_max_mps, lim.vz_max_mps)),
-                float(np.clip(cmd[2], -lim.omega_max_radps, lim.omega_max_radps)),
-            ]
-        )
-
     # --- one control step -----------------------------------------------------------------------
     def step(
         self,
@@ -246,7 +243,8 @@ class Agent:
         """Stage 1, FF III-B: EKF over the step's samples; returns the estimate s = (x, y, z [m], yaw [rad]).
 
         Predicts with the command sent for the previous step as the world applied it (clamped,
-        Eq. 5; zero speed and turn rate if the vehicle touched down during the step) at the
+        Eq. 5; zero speed and turn rate if the vehicle touched down during the step) and, on a
+        fixed-wing, as the airframe flew it (:class:`.airframe_model.FlownInput`), at the
         physics period (Eqs. 4, 16-17), and applies the GPS / altimeter / gyro samples in time
         order at their own rates (sequential updates, Eqs. 18-25), from t_k = t_{k+1} - T to
         t_{k+1} = ``bundle.stamp_s`` [s].
@@ -254,9 +252,7 @@ class Agent:
         t1 = bundle.stamp_s
         was_airborne = self._last_vehicle == VehicleStatus.AIRBORNE
         moving = vehicle == VehicleStatus.AIRBORNE or was_airborne
-        u = self._world_applied(self.last_command, was_airborne)
-        if vehicle in (VehicleStatus.LANDED, VehicleStatus.ON_GROUND) and was_airborne:
-            u = np.array([0.0, u[1], 0.0])  # touched down during the step
+        u = self.flown.input(self.last_command, was_airborne, vehicle, float(bundle.water_kg))
         self.ekf.process(bundle.samples, u, t1 - self.cfg.control_period_s, t1, moving=moving)
         return self.ekf.s.copy()
 
@@ -562,9 +558,9 @@ class Agent:
 
     # --- helpers --------------------------------------------------------------------------------
     def _nearest_lake(self, pos: np.ndarray) -> Lake | None:
-        if not self.cfg.lakes:
+        if not self.lakes:
             return None
-        return min(self.cfg.lakes, key=lambda lk: math.hypot(lk.x_m - pos[0], lk.y_m - pos[1]))
+        return min(self.lakes, key=lambda lk: math.hypot(lk.x_m - pos[0], lk.y_m - pos[1]))
 
     def _markers(self, dec: Decision, cell: np.ndarray) -> MarkersData:
         ny, nx = self.grid.shape

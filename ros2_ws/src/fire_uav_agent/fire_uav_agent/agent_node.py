@@ -87,6 +87,8 @@ class UavAgentNode(Node):
             f"uav {uid}/{self.cfg.uav_count} mode={self.mode} loss={self.cfg.loss_probability} "
             f"outages={len(self.cfg.outages)} crash_threshold={self.cfg.crash_threshold_steps}"
         )
+        for line in self.agent.lakes_refused:
+            self.get_logger().warning(line)
         # per-vehicle topics: relative names under the /uav_<id> namespace, absolute if launched without it
         own = None if self.get_namespace().rstrip("/") == topics.uav_namespace(uid) else uid
         self.pub_cmd = topics.publisher(self, topics.CMD_SPEC, own)

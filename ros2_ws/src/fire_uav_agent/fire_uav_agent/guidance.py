@@ -16,6 +16,13 @@ from fire_uav_common.constants import Objective, VehicleStatus
 from fire_uav_common.terrain import Lake
 
 from .agent_config import AgentConfig
+from .airframe_model import (
+    FinalApproach,
+    FlownInput,
+    final_approach_course,
+    inside_turn_circle,
+    turn_radius_m,
+)
 from .coverage import Grid, control_law, gaussian_density, mass_centroid
 from .mission import Decision
 from .peer_link import FireEntry, PeerLink
@@ -65,10 +72,36 @@ class Guide:
         raster: RasterSuppression,
         link: PeerLink,
         avoidance: PeerAvoidance,
+        flown: FlownInput | None = None,
     ) -> None:
         self.cfg, self.grid, self.planners, self.search = cfg, grid, planners, search
         self.raster, self.link, self.avoidance = raster, link, avoidance
         self.start_xy = np.array(cfg.start_pose[:2], dtype=float)
+        self.flown = flown  # the airframe's modelled flight state (its airspeed sets the turn radius)
+        self.approach: FinalApproach | None = None  # a fixed-wing's lined-up landing approach
+        af = cfg.airframe
+        if af is not None:
+            start = (float(self.start_xy[0]), float(self.start_xy[1]))
+            lim, gd, veh = cfg.limits, cfg.guidance, cfg.vehicle
+            r = turn_radius_m(af, lim.v_stall_mps)
+            course = final_approach_course(start, cfg.area_m, float(cfg.start_pose[3]))
+            # the final leg: long enough for the turn onto it (4 r) and for the descent from the
+            # highest layer at half the climb-rate limit (the height loop then tracks, not saturates)
+            top = max(
+                veh.flight_height_m,
+                layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m),
+            )
+            descent = (
+                2.0
+                * lim.v_stall_mps
+                * (top - gd.land_height_fraction * veh.landing_height_m)
+                / lim.vz_max_mps
+            )
+            self.approach = FinalApproach(start, course, max(gd.land_approach_radius_m, 4.0 * r, descent), r)
+            # the height loop of Eq. 12 around the lagging flight-path angle (B&M Eq. 9.19: tau_gamma)
+            # is a second-order loop, damped 0.7 at K_z = 1 / (2 tau_gamma); FF's K_z = 5 1/s rings
+            # +-0.7 m around the 0.5 m approach height and never passes below the touchdown height
+            self.land_gains = dataclasses.replace(cfg.gains, kz=min(cfg.gains.kz, 0.5 / af.tau_gamma_s))
 
     def run(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray, last_step: int) -> Guidance:
         """Stage 5, FF Eqs. 8-15: the command (v_lin [m/s], v_z [m/s], omega_z [rad/s]) for the objective.
@@ -128,6 +161,8 @@ class Guide:
                 v_cap = (
                     lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
                 )  # ... and slow
+        elif obj == Objective.LAND and self.approach is not None and self._home_in_area():
+            return self._land_lined_up(s, cruise, last_step)
         elif obj == Objective.LAND:
             start = (float(self.start_xy[0]), float(self.start_xy[1]))
             d = math.hypot(pos[0] - start[0], pos[1] - start[1])
@@ -181,7 +216,82 @@ class Guide:
         if self.raster.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
             height = self.raster.tactic.layer_height_m(cfg.uav_id)
         cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
+        if self.raster.front is None:  # analytic fires only (_within_turn)
+            cmd = self._within_turn(s, cmd, target)
         return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
+
+    def _home_in_area(self) -> bool:
+        x0, x1, y0, y1 = self.cfg.area_m
+        return bool(x0 <= self.start_xy[0] <= x1 and y0 <= self.start_xy[1] <= y1)
+
+    def _within_turn(
+        self, s: np.ndarray, cmd: tuple[float, float, float], target: tuple[float, float]
+    ) -> tuple[float, float, float]:
+        """A fixed-wing does not turn toward a point inside its turn circles (it would circle it for
+        ever): it flies straight until the point is outside them, then turns (a Dubins path's
+        straight-then-turn). The radius is v^2 / (g tan phi_max) at the faster of the commanded and
+        the modelled airspeed. Unchanged without an airframe. Not applied over a raster fire: the
+        tactic's aim point on the front moves with the UAV and stayed inside its turn circle, so it
+        flew straight on (grass_running, 3 UAVs, seed 1: no drop in 150 s, against 4 without the
+        rule)."""
+        af = self.cfg.airframe
+        if af is None:
+            return cmd
+        v = max(cmd[0], self.flown.state.airspeed_mps if self.flown is not None else 0.0)
+        if inside_turn_circle((float(s[0]), float(s[1]), float(s[3])), target, turn_radius_m(af, v)):
+            return (cmd[0], cmd[1], 0.0)
+        return cmd
+
+    def _land_lined_up(self, s: np.ndarray, cruise: float, last_step: int) -> Guidance:
+        """LAND on a fixed-wing: the final leg lined up with the takeoff point
+        (:class:`.airframe_model.FinalApproach`), at the lowest commanded speed, descending along it
+        as FF IV-D d's approach does by distance (``guidance.land_*``), touching down at the point."""
+        cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
+        ap = self.approach
+        assert ap is not None
+        pos = (float(s[0]), float(s[1]))
+        pose = (pos[0], pos[1], float(s[3]))
+        start = ap.threshold_xy
+        r = ap.turn_radius_m
+        below = [
+            (p.x_m, p.y_m, p.z_m)
+            for j, p in self.link.alive_states().items()
+            if j < cfg.uav_id and p.objective not in (Objective.GROUNDED, Objective.LANDED)
+        ]
+        if ap.captured(pose):
+            along, _ = ap.frame(pos)
+            dist = max(-along, 0.0)
+            low = gd.land_height_fraction * veh.landing_height_m
+            flat = gd.land_flat_fraction
+            length = ap.length_m
+            height = low + (cruise - low) * min(
+                1.0, max(0.0, (dist - flat * length) / ((1.0 - flat) * length))
+            )
+            if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
+                height = max(height, cruise)  # keep the layer over a landing right-of-way peer
+            agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
+            d = math.hypot(pos[0] - start[0], pos[1] - start[1])
+            if agl < gd.touchdown_agl_fraction * veh.landing_height_m and d <= gd.touchdown_radius_m:
+                return Guidance((0.0, -gd.touchdown_sink_mps, 0.0))  # below stall speed: it lands
+            chi = ap.line_course(pos)
+            aim = (pos[0] + 4.0 * r * math.cos(chi), pos[1] + 4.0 * r * math.sin(chi))
+            cmd = control_law(s, np.array(aim), height, cfg.terrain, lim, self.land_gains, lim.v_stall_mps)
+            return Guidance(self._separate(s, cmd, aim, last_step) if cfg.avoidance else cmd, start)
+        entry = ap.entry_xy
+        to_entry = math.hypot(pos[0] - entry[0], pos[1] - entry[1])
+        height = cruise
+        if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
+            height = cruise
+        v_cap = lim.v_stall_mps if to_entry < 4.0 * r else None
+        v, vz, om = control_law(s, np.array(entry), height, cfg.terrain, lim, cfg.gains, v_cap)
+        if to_entry < 2.0 * r and abs(math.remainder(pose[2] - ap.course_rad, math.tau)) > 0.5 * math.pi:
+            # at the entry heading the wrong way: a full-rate turn toward the course, ending captured
+            cmd = (v, vz, ap.turn_side(pose) * lim.omega_max_radps)
+            return Guidance(
+                self._separate(s, cmd, entry, last_step, straight=True) if cfg.avoidance else cmd, entry
+            )
+        cmd = self._within_turn(s, (v, vz, om), entry)
+        return Guidance(self._separate(s, cmd, entry, last_step) if cfg.avoidance else cmd, entry)
 
     def _separate(
         self,

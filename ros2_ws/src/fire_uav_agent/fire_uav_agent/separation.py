@@ -39,7 +39,7 @@ instead of 31 s; 160 s instead of 89 s): the UAVs that yield need them, the othe
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -57,6 +57,7 @@ __all__ = [
     "closest_approach_m",
     "hold_layer",
     "peer_rows",
+    "turning_approach_m",
 ]
 
 
@@ -150,6 +151,55 @@ def peer_rows(
     return rows
 
 
+def turning_approach_m(
+    rel_pos_m: np.ndarray,
+    peer_vel_mps: np.ndarray,
+    speed_mps: float,
+    heading_rad: float,
+    candidates_rad: np.ndarray,
+    turn_rate_radps: float,
+    horizon_s: float,
+    dt_s: float = 0.1,
+) -> np.ndarray:
+    """Closest approach [m] to any peer per candidate heading, (h,), for a vehicle that turns.
+
+    Own motion: from heading ``heading_rad`` at ``speed_mps``, a coordinated turn at
+    ``turn_rate_radps`` toward the candidate (the shorter way), then straight on it; peers (rows
+    of ``rel_pos_m`` relative to us, ``peer_vel_mps``) straight. Sampled every ``dt_s`` over
+    [0, ``horizon_s``].
+    """
+    t = np.arange(0.0, horizon_s + 1e-9, dt_s)  # (m,)
+    cand = np.asarray(candidates_rad, dtype=float).reshape(-1)
+    delta = np.remainder(cand - heading_rad + math.pi, math.tau) - math.pi  # (h,)
+    w = max(turn_rate_radps, 1e-6)
+    t_turn = np.abs(delta) / w
+    sgn = np.sign(delta)
+    tt = np.minimum(t[None, :], t_turn[:, None])  # (h, m) time spent turning
+    th = heading_rad + sgn[:, None] * w * tt  # heading at the end of the turn part
+    # arc: integral of v (cos, sin)(theta0 + s w t) dt; straight: v (cos, sin)(candidate)(t - t_turn)
+    turning = sgn[:, None] != 0.0
+    safe = np.where(turning, sgn[:, None] * w, 1.0)
+    ax = np.where(
+        turning,
+        speed_mps * (np.sin(th) - math.sin(heading_rad)) / safe,
+        speed_mps * math.cos(heading_rad) * tt,
+    )
+    ay = np.where(
+        turning,
+        -speed_mps * (np.cos(th) - math.cos(heading_rad)) / safe,
+        speed_mps * math.sin(heading_rad) * tt,
+    )
+    rest = t[None, :] - tt
+    ox = ax + speed_mps * np.cos(cand)[:, None] * rest  # (h, m)
+    oy = ay + speed_mps * np.sin(cand)[:, None] * rest
+    r = np.asarray(rel_pos_m, dtype=float).reshape(-1, 2)
+    v = np.asarray(peer_vel_mps, dtype=float).reshape(-1, 2)
+    px = r[:, 0][None, :, None] + v[:, 0][None, :, None] * t[None, None, :]  # (1, n, m)
+    py = r[:, 1][None, :, None] + v[:, 1][None, :, None] * t[None, None, :]
+    d = np.hypot(px - ox[:, None, :], py - oy[:, None, :])  # (h, n, m)
+    return d.min(axis=(1, 2))
+
+
 def avoid_heading(
     own_xyz_m: tuple[float, float, float],
     speed_mps: float,
@@ -159,8 +209,15 @@ def avoid_heading(
     margin_m: float = 0.0,
     prefer_heading_rad: float | None = None,
     yield_to: np.ndarray | None = None,
+    turn_rate_radps: float | None = None,
+    heading_rad: float = 0.0,
 ) -> tuple[float, bool, bool]:
     """Heading [rad] to fly, whether it differs from the desired one, and whether it is clear.
+
+    ``turn_rate_radps`` (a fixed-wing's achievable rate, g tan(phi_max) / v): own motion toward a
+    candidate heading is predicted as a turn from ``heading_rad`` at that rate, then straight
+    (:func:`turning_approach_m`), over at least the time of a quarter turn; None: the heading is
+    taken at once (FF's unicycle turns at 10 rad/s), as before.
 
     ``margin_m`` raises the clearance the desired heading needs (:class:`Avoider`'s hysteresis);
     ``prefer_heading_rad`` (default: the desired heading) is what a deviation stays nearest to.
@@ -192,6 +249,11 @@ def avoid_heading(
 
     def worst(heading: np.ndarray) -> np.ndarray:
         """Closest approach to any peer [m] per candidate heading, (h,)."""
+        if turn_rate_radps is not None:
+            horizon = max(cfg.horizon_s, 0.5 * math.pi / max(turn_rate_radps, 1e-6))
+            return turning_approach_m(
+                rel, p[:, 3:5], speed_mps, heading_rad, heading, turn_rate_radps, horizon
+            )
         u = speed_mps * np.column_stack([np.cos(heading), np.sin(heading)])  # (h, 2)
         w = (p[None, :, 3:5] - u[:, None, :]).reshape(-1, 2)  # (h * n, 2) relative velocities
         r = np.broadcast_to(rel[None], (heading.shape[0], *rel.shape)).reshape(-1, 2)
@@ -236,11 +298,14 @@ class Avoider:
         desired_heading_rad: float,
         peers: np.ndarray,
         yield_to: np.ndarray | None = None,
+        turn_rate_radps: float | None = None,
+        heading_rad: float = 0.0,
     ) -> tuple[float, bool, bool]:
         margin = 0.0 if self.heading_rad is None else self.cfg.release_margin_m
         head, changed, clear = avoid_heading(
-            own_xyz_m, speed_mps, desired_heading_rad, peers, self.cfg, margin, self.heading_rad, yield_to
-        )
+            own_xyz_m, speed_mps, desired_heading_rad, peers, self.cfg, margin, self.heading_rad, yield_to,
+            turn_rate_radps, heading_rad,
+        )  # fmt: skip
         self.heading_rad = head if changed else None
         return head, changed, clear
 
@@ -262,8 +327,10 @@ class PeerAvoidance:
         v_stall_mps: float,
         v_max_mps: float,
         omega_max_radps: float,
+        turn_rate_at: Callable[[float], float] | None = None,
     ) -> None:
         self.uav_id, self.period_s, self.cfg = uav_id, period_s, cfg
+        self.turn_rate_at = turn_rate_at  # a fixed-wing's achievable turn rate [rad/s] at speed v [m/s]
         self.v_stall_mps, self.v_max_mps, self.omega_max_radps = v_stall_mps, v_max_mps, omega_max_radps
         self.avoider = Avoider(cfg)
         self.steps_changed = 0  # control steps the filter changed the heading
@@ -317,12 +384,15 @@ class PeerAvoidance:
             return cmd
         v, vz, om = cmd
         want = float(s[3]) if straight else math.atan2(target[1] - s[1], target[0] - s[0])
+        speed = max(v, self.v_stall_mps)
         head, changed, clear = self.avoider.step(
             (float(s[0]), float(s[1]), float(s[2])),
-            max(v, self.v_stall_mps),
+            speed,
             want,
             np.array(rows),
             np.array(right_of_way, bool),
+            None if self.turn_rate_at is None else self.turn_rate_at(speed),
+            float(s[3]),
         )
         if not changed:
             return cmd

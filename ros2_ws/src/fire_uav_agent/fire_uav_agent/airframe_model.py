@@ -1,0 +1,282 @@
+"""The agent's own model of its airframe: how the commands it sends are flown, and how tight it can turn.
+
+An agent on a fixed-wing (scenario ``uavs.airframe``) knows its envelope from the same preset the
+world flies. Two uses, both ROS-free:
+
+* **The EKF's input as flown** (:class:`FlownInput`). FF's EKF (Eqs. 16-17) predicts with the
+  command, which FF's unicycle flies at once. A fixed-wing does not: airspeed, flight-path angle
+  and bank follow their commands as first-order responses, the bank is limited, and the turn
+  rate is g tan(phi) / v (Beard & McLain, *Small Unmanned Aircraft*, 2012, ch. 9, Eqs. 9.14,
+  9.18-9.20). Predicting with the command made one UAV's estimate drift 14 m from the truth
+  while reporting a standard deviation below 1 m. So the agent runs that first-order model on
+  board, from the commands it sent, over each control period at the physics rate, and hands the
+  EKF the mean flown (horizontal speed, vertical speed, turn rate) of the period; the gyro still
+  corrects the turn rate at every substep. Without an airframe (``ff_paper``) the input is the
+  command as the world clamps it (FF Eq. 5), exactly as before.
+* **Turn geometry** (:func:`turn_radius_m`, :func:`inside_turn_circle`): the smallest radius
+  r = v^2 / (g tan(phi_max)) (B&M Eq. 9.14 with psi_dot = v / r) that guidance and separation
+  plan with, and the lined-up landing approach (:class:`FinalApproach`).
+* **Scoop run** (:func:`usable_lakes`): a fixed-wing scoops on a straight run over the water; a
+  lake too short for the run that fills the tank is not used.
+
+Units: [m], [s], [m/s], [rad], [kg]; positions in the map frame.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from fire_uav_common.constants import VehicleStatus
+from fire_uav_common.scenario import Airframe
+from fire_uav_common.scenario.airframes import G_MPS2
+from fire_uav_common.terrain import Lake
+
+from .coverage import VehicleLimits
+
+__all__ = [
+    "FinalApproach",
+    "FlownInput",
+    "OnboardState",
+    "final_approach_course",
+    "inside_turn_circle",
+    "scoop_run_m",
+    "turn_radius_m",
+    "usable_lakes",
+]
+
+
+def _clip(x: float, lo: float, hi: float) -> float:
+    return lo if x < lo else hi if x > hi else x
+
+
+def turn_radius_m(airframe: Airframe, speed_mps: float, water_kg: float | None = None) -> float:
+    """Smallest turn radius [m] at airspeed ``speed_mps``: v^2 / (g tan(phi_lim)) (B&M Eq. 9.14).
+
+    phi_lim is the bank limit, or less where a turn at load factor 1 / cos(phi) would stall at the
+    water load ``water_kg`` (None: full tank, the worst case).
+    """
+    v = max(speed_mps, 1e-3)
+    return v * v / (G_MPS2 * max(math.tan(bank_limit_rad(airframe, v, water_kg)), 1e-9))
+
+
+def scoop_run_m(airframe: Airframe) -> float:
+    """The straight run [m] over water that fills the empty tank: the scoop time
+    water_capacity / refill_rate at the lowest commanded speed (the slowest the airframe flies)."""
+    return airframe.v_min_mps * airframe.water_capacity_kg / airframe.refill_rate_kgps
+
+
+def usable_lakes(
+    lakes: Sequence[Lake], airframe: Airframe | None
+) -> tuple[tuple[Lake, ...], tuple[str, ...]]:
+    """The lakes a fixed-wing can scoop from, and one line for each lake it cannot use.
+
+    A disc lake's longest straight run is its diameter; a lake shorter than :func:`scoop_run_m`
+    cannot fill the tank on one pass and is not used. Without an airframe (FF's unicycle hovers
+    over the water as long as it needs) every lake is usable.
+    """
+    if airframe is None:
+        return tuple(lakes), ()
+    need = scoop_run_m(airframe)
+    ok = tuple(lk for lk in lakes if lk.diameter_m >= need)
+    refused = tuple(
+        f"lake at ({lk.x_m:g}, {lk.y_m:g}) m not used for refills: its longest run {lk.diameter_m:g} m "
+        f"is shorter than the {need:.0f} m scoop run of this airframe"
+        for lk in lakes
+        if lk.diameter_m < need
+    )
+    return ok, refused
+
+
+def bank_limit_rad(airframe: Airframe, speed_mps: float, water_kg: float | None = None) -> float:
+    """The bank limit at airspeed v: bank_max, or acos((V_S(m) / v)^2) where that is lower (stall)."""
+    w = airframe.water_capacity_kg if water_kg is None else water_kg
+    ratio = (airframe.stall_speed_mps(w) / max(speed_mps, 1e-6)) ** 2
+    stall_lim = math.acos(ratio) if ratio < 1.0 else 0.0
+    return min(airframe.bank_max_rad, stall_lim)
+
+
+def inside_turn_circle(
+    pose: tuple[float, float, float], point_xy: tuple[float, float], radius_m: float
+) -> bool:
+    """Whether ``point_xy`` lies inside either of the two turn circles of radius ``radius_m``
+    tangent to the heading at ``pose`` (x, y, yaw): a vehicle at that turn radius cannot reach it
+    by turning toward it (a Dubins path has to fly away first)."""
+    x, y, th = pose
+    for side in (1.0, -1.0):
+        cx = x - side * radius_m * math.sin(th)
+        cy = y + side * radius_m * math.cos(th)
+        if math.hypot(point_xy[0] - cx, point_xy[1] - cy) < radius_m - 1e-9:
+            return True
+    return False
+
+
+@dataclass
+class OnboardState:
+    """The modelled flight state: airspeed [m/s], vertical speed [m/s], bank [rad]."""
+
+    airspeed_mps: float = 0.0
+    climb_mps: float = 0.0
+    bank_rad: float = 0.0
+
+    @property
+    def turn_rate_radps(self) -> float:
+        return G_MPS2 * math.tan(self.bank_rad) / max(self.airspeed_mps, 1e-3)
+
+
+class FlownInput:
+    """The EKF's input over one control period: the command as the airframe flies it (module doc).
+
+    ``airframe`` None: FF's unicycle, which flies the clamped command at once. ``limits``: the
+    ``vehicle:`` limits the world clamps every command to (FF Eq. 5; under an airframe they come
+    from the same preset). ``physics_period_s`` / ``control_period_s``: the world's substep and
+    step [s].
+    """
+
+    def __init__(
+        self,
+        airframe: Airframe | None,
+        limits: VehicleLimits,
+        physics_period_s: float,
+        control_period_s: float,
+    ) -> None:
+        self.af, self.lim = airframe, limits
+        self.dt_s = physics_period_s
+        self.substeps = max(1, int(round(control_period_s / physics_period_s)))
+        self.state = OnboardState()
+
+    def clamped(self, cmd: np.ndarray, airborne: bool) -> np.ndarray:
+        """The command as the world applies it (clamped to the limits, FF Eq. 5)."""
+        lim = self.lim
+        v = float(np.clip(cmd[0], lim.v_stall_mps, lim.v_max_mps)) if airborne else float(cmd[0])
+        return np.array(
+            [
+                v,
+                float(np.clip(cmd[1], -lim.vz_max_mps, lim.vz_max_mps)),
+                float(np.clip(cmd[2], -lim.omega_max_radps, lim.omega_max_radps)),
+            ]
+        )
+
+    def input(
+        self, cmd: np.ndarray, was_airborne: bool, vehicle: VehicleStatus, water_kg: float
+    ) -> np.ndarray:
+        """(v_lin [m/s], v_z [m/s], omega [rad/s]) for the EKF over the period the command ``cmd``
+        (sent at the previous step) was flown: ``was_airborne`` the status at the previous step,
+        ``vehicle`` the status now, ``water_kg`` the load aboard (stall speed)."""
+        now_flying = vehicle == VehicleStatus.AIRBORNE
+        touched_down = vehicle in (VehicleStatus.LANDED, VehicleStatus.ON_GROUND) and was_airborne
+        u = self.clamped(cmd, was_airborne)
+        if self.af is not None and now_flying:
+            if not was_airborne:  # took off at the start of the period: wings level, at speed
+                self.state = OnboardState(_clip(u[0], self.af.v_min_mps, self.af.v_max_mps), 0.0, 0.0)
+            u = self._fly(self.clamped(cmd, True), water_kg)
+        elif self.af is not None:
+            self.state = OnboardState()
+        if touched_down:
+            u = np.array([0.0, u[1], 0.0])  # touched down during the step
+        return u
+
+    def _fly(self, u: np.ndarray, water_kg: float) -> np.ndarray:
+        """Integrate B&M Eqs. 9.14, 9.18-9.20 over the period; the mean (ground speed, climb, turn rate)."""
+        af = self.af
+        assert af is not None
+        dt, st = self.dt_s, self.state
+        v, climb, phi = st.airspeed_mps, st.climb_mps, st.bank_rad
+        v_c = _clip(float(u[0]), af.v_min_mps, af.v_max_mps)
+        vz_c = _clip(float(u[1]), -af.descent_max_mps, af.climb_max_mps)
+        p_max = math.radians(af.roll_rate_max_degps)
+        sum_g = sum_z = sum_w = 0.0
+        for _ in range(self.substeps):
+            v_old = max(v, 1e-3)
+            dv = _clip((v_c - v) / af.tau_airspeed_s, -af.accel_max_mps2, af.accel_max_mps2)
+            v = max(v + dt * dv, 1e-3)
+            gamma = math.asin(_clip(climb / v_old, -1.0, 1.0))
+            gamma_c = math.asin(_clip(vz_c / v, -1.0, 1.0))
+            gamma += dt * (gamma_c - gamma) / af.tau_gamma_s
+            climb = _clip(v * math.sin(gamma), -af.descent_max_mps, af.climb_max_mps)
+            lim = bank_limit_rad(af, v, water_kg)
+            phi_c = _clip(math.atan(float(u[2]) * v / G_MPS2), -lim, lim)
+            dphi = _clip((phi_c - phi) / af.tau_bank_s, -p_max, p_max)
+            phi = _clip(phi + dt * dphi, -lim, lim)
+            sum_g += math.sqrt(max(v * v - climb * climb, 0.0))
+            sum_z += climb
+            sum_w += G_MPS2 * math.tan(phi) / v
+        self.state = OnboardState(v, climb, phi)
+        n = float(self.substeps)
+        return np.array([sum_g / n, sum_z / n, sum_w / n])
+
+
+def final_approach_course(
+    start_xy: tuple[float, float], area_m: tuple[float, float, float, float], start_yaw_rad: float
+) -> float:
+    """The course [rad] of the final leg to the takeoff point: from the area's centre toward the
+    takeoff point, snapped to a multiple of 90 deg so that neighbours' takeoff points in a row get
+    parallel finals (the entry lies inside the area); the takeoff heading when the point is the centre."""
+    cx, cy = 0.5 * (area_m[0] + area_m[1]), 0.5 * (area_m[2] + area_m[3])
+    dx, dy = start_xy[0] - cx, start_xy[1] - cy
+    if math.hypot(dx, dy) < 1.0:
+        return start_yaw_rad
+    b = math.atan2(dy, dx)
+    return math.remainder(round(b / (0.5 * math.pi)) * 0.5 * math.pi, math.tau)
+
+
+@dataclass(frozen=True)
+class FinalApproach:
+    """A landing approach lined up with the takeoff point (the threshold): a straight final leg of
+    ``length_m`` on ``course_rad``, entered from behind, for an airframe turning on ``turn_radius_m``.
+
+    Captured (behind the threshold within ``length_m`` + 3 r, within 3 r of the centre line, heading
+    within 90 deg of the course), the vehicle follows the line with Beard & McLain's straight-line
+    vector field (*Small Unmanned Aircraft*, 2012, Eq. 10.8): course chi_c = chi_q - chi_inf (2/pi)
+    atan(k e), e the cross-track error, chi_inf = 60 deg, k = 1 / r. Otherwise it flies to the entry
+    point, ``length_m`` + r behind the threshold; within 2 r of it and heading the wrong way, it
+    turns at its limit toward the course, on the side of the line (the turn ends captured).
+    """
+
+    threshold_xy: tuple[float, float]
+    course_rad: float
+    length_m: float
+    turn_radius_m: float
+    approach_angle_rad: float = math.radians(60.0)  # chi_inf of B&M Eq. 10.8
+
+    @property
+    def entry_xy(self) -> tuple[float, float]:
+        d = self.length_m + self.turn_radius_m
+        return (
+            self.threshold_xy[0] - d * math.cos(self.course_rad),
+            self.threshold_xy[1] - d * math.sin(self.course_rad),
+        )
+
+    def frame(self, xy: tuple[float, float]) -> tuple[float, float]:
+        """(along [m], cross [m]): along the course from the threshold (< 0 before it), left of the line > 0."""
+        ex, ey = xy[0] - self.threshold_xy[0], xy[1] - self.threshold_xy[1]
+        c, s = math.cos(self.course_rad), math.sin(self.course_rad)
+        return ex * c + ey * s, -ex * s + ey * c
+
+    def captured(self, pose: tuple[float, float, float]) -> bool:
+        along, cross = self.frame((pose[0], pose[1]))
+        r = self.turn_radius_m
+        return (
+            -(self.length_m + 3.0 * r) <= along <= 0.5 * r
+            and abs(cross) <= 3.0 * r
+            and abs(math.remainder(pose[2] - self.course_rad, math.tau)) <= 0.5 * math.pi
+        )
+
+    def line_course(self, xy: tuple[float, float]) -> float:
+        """B&M Eq. 10.8: the course that brings the vehicle onto the line."""
+        _, cross = self.frame(xy)
+        k = 1.0 / max(self.turn_radius_m, 1e-3)
+        return self.course_rad - self.approach_angle_rad * (2.0 / math.pi) * math.atan(k * cross)
+
+    def turn_side(self, pose: tuple[float, float, float]) -> float:
+        """+1 (left) or -1 (right): the turn whose circle centre lies nearer the centre line."""
+        best, side = math.inf, 1.0
+        for sd in (1.0, -1.0):
+            cx = pose[0] - sd * self.turn_radius_m * math.sin(pose[2])
+            cy = pose[1] + sd * self.turn_radius_m * math.cos(pose[2])
+            d = abs(self.frame((cx, cy))[1])
+            if d < best:
+                best, side = d, sd
+        return side

@@ -1,0 +1,198 @@
+"""The agent's model of its airframe (fire_uav_agent.airframe_model) against the world's own backend.
+
+The world's ``coordinated_turn`` backend (Beard & McLain ch. 9) is the truth the on-board model
+must reproduce: fed the same commands from the same state without process noise, the EKF input
+it gives must be the mean of what the world flew over each control period.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from fire_uav_agent.airframe_model import (
+    FinalApproach,
+    FlownInput,
+    final_approach_course,
+    inside_turn_circle,
+    turn_radius_m,
+)
+from fire_uav_agent.coverage import VehicleLimits
+from fire_uav_common import scenario as sc
+from fire_uav_common.constants import VehicleStatus
+from fire_uav_common.scenario import AIRFRAMES
+from fire_world_sim.vehicles.base import Command, FlightState
+from fire_world_sim.vehicles.coordinated_turn import CoordinatedTurnModel
+
+AIR, GROUND, LANDED = VehicleStatus.AIRBORNE, VehicleStatus.ON_GROUND, VehicleStatus.LANDED
+SMALL = AIRFRAMES["small_uav"]
+LIM = VehicleLimits.of(sc.airframes.envelope_vehicle(sc.Vehicle(), SMALL))
+
+
+def _world_means(commands: list[tuple[float, float, float]], water_kg: float) -> list[np.ndarray]:
+    """The world's flown (ground speed, climb, turn rate), averaged per control period of 10 substeps."""
+    model = CoordinatedTurnModel(SMALL, 0.0)
+    rng = np.random.default_rng(0)
+    st = FlightState(0.0, 0.0, 30.0, 0.0, water_kg=water_kg)
+    out = []
+    for k, (v, vz, w) in enumerate(commands):
+        c = Command(
+            min(max(v, LIM.v_stall_mps), LIM.v_max_mps),
+            min(max(vz, -LIM.vz_max_mps), LIM.vz_max_mps),
+            min(max(w, -LIM.omega_max_radps), LIM.omega_max_radps),
+        )
+        if k == 0:
+            st = model.launch(st, Command(v, vz, w))
+        acc = np.zeros(3)
+        for _ in range(10):
+            (st,) = model.step([st], [c], 0.01, [rng])
+            acc += (math.sqrt(st.airspeed_mps**2 - st.climb_mps**2), st.climb_mps, st.turn_rate_radps)
+        out.append(acc / 10)
+    return out
+
+
+def test_the_ekf_input_is_the_turn_the_world_flies_not_the_command():
+    cmds = [(16.0, 3.0, 0.0)] + [(30.0, 5.0, 1.0)] * 15 + [(15.0, -5.0, -0.6)] * 20 + [(22.0, 0.0, 0.2)] * 10
+    truth = _world_means(cmds, water_kg=6.0)
+    f = FlownInput(SMALL, LIM, 0.01, 0.1)
+    prev = GROUND
+    worst = 0.0
+    for cmd, want in zip(cmds, truth, strict=True):
+        u = f.input(np.array(cmd), prev == AIR, AIR, 6.0)
+        worst = max(worst, float(np.max(np.abs(u - want))))
+        prev = AIR
+    assert worst < 1e-9
+    # and the command itself is far from it: the first second of a turn lags by the bank response
+    f2 = FlownInput(SMALL, LIM, 0.01, 0.1)
+    u0 = f2.input(np.array(cmds[0]), False, AIR, 6.0)
+    u1 = f2.input(np.array(cmds[1]), True, AIR, 6.0)
+    assert u0[2] == 0.0 and 0.0 < u1[2] < 0.5 * LIM.omega_max_radps
+
+
+def test_without_an_airframe_the_input_is_the_clamped_command_as_before():
+    lim = VehicleLimits.of(sc.Vehicle())
+    f = FlownInput(None, lim, 0.01, 0.1)
+    assert list(f.input(np.array([150.0, 150.0, 30.0]), True, AIR, 0.0)) == [
+        lim.v_max_mps, lim.vz_max_mps, lim.omega_max_radps,
+    ]  # fmt: skip
+    assert list(f.input(np.array([10.0, 150.0, 0.0]), False, AIR, 0.0)) == [10.0, lim.vz_max_mps, 0.0]
+    assert list(f.input(np.array([50.0, -0.5, 3.0]), True, LANDED, 0.0)) == [0.0, -0.5, 0.0]
+
+
+def test_a_touchdown_stops_the_prediction_and_a_new_takeoff_starts_wings_level():
+    f = FlownInput(SMALL, LIM, 0.01, 0.1)
+    f.input(np.array([16.0, 3.0, 0.0]), False, AIR, 0.0)
+    for _ in range(10):
+        f.input(np.array([25.0, 0.0, 0.5]), True, AIR, 0.0)
+    assert f.state.bank_rad > 0.2
+    assert list(f.input(np.array([0.0, -0.5, 0.0]), True, LANDED, 0.0)) == [0.0, -0.5, 0.0]
+    u = f.input(np.array([16.0, 3.0, 0.0]), False, AIR, 0.0)
+    assert u[2] == 0.0 and u[0] == pytest.approx(16.0, abs=0.1)  # at the commanded speed
+
+
+def test_the_turn_radius_is_v_squared_over_g_tan_bank():
+    # docs/airframes.md: small_uav at its lowest commanded speed, full bank: 24.8 m
+    assert turn_radius_m(SMALL, SMALL.v_min_mps, 0.0) == pytest.approx(24.8, abs=0.05)
+    assert turn_radius_m(AIRFRAMES["tanker"], 45.0, 0.0) == pytest.approx(206.4, abs=0.1)
+    # just above stall with a full tank the stall limits the bank below 45 deg: a wider turn
+    v = 1.05 * SMALL.v_stall_mps
+    assert turn_radius_m(SMALL, v) > v * v / 9.80665 * 1.5
+
+
+def test_points_inside_the_turn_circles_are_found():
+    r = 25.0
+    pose = (0.0, 0.0, 0.0)  # heading +x: circles centred at (0, +25) and (0, -25)
+    assert inside_turn_circle(pose, (0.0, 30.0), r)
+    assert inside_turn_circle(pose, (5.0, -20.0), r)
+    assert not inside_turn_circle(pose, (60.0, 0.0), r)
+    assert not inside_turn_circle(pose, (-30.0, 0.0), r)  # behind: reachable by a turn
+    north = (0.0, 0.0, math.pi / 2)  # circles centred at (-25, 0) and (25, 0)
+    assert inside_turn_circle(north, (20.0, 5.0), r) and inside_turn_circle(north, (-40.0, -3.0), r)
+    assert not inside_turn_circle(north, (0.0, 40.0), r)
+
+
+def test_the_final_leg_points_from_the_area_centre_to_the_takeoff_point_in_90_degree_steps():
+    area = (0.0, 600.0, 0.0, 600.0)
+    # FF's takeoff column at x = 50: every UAV gets the same westward final, so the finals are parallel
+    west = [
+        math.remainder(final_approach_course((50.0, y), area, -1.0) - math.pi, math.tau)
+        for y in (250.0, 370.0)
+    ]
+    assert west == [pytest.approx(0.0, abs=1e-12)] * 2
+    assert final_approach_course((300.0, 590.0), area, -1.0) == pytest.approx(math.pi / 2)
+    assert final_approach_course((300.0, 300.0), area, -1.0) == -1.0  # at the centre: the takeoff heading
+
+
+def test_the_approach_captures_from_behind_and_steers_onto_the_line():
+    ap = FinalApproach((50.0, 250.0), math.pi, 200.0, 25.0)  # final westward to (50, 250)
+    assert ap.entry_xy == pytest.approx((275.0, 250.0))
+    assert ap.frame((150.0, 260.0)) == pytest.approx((-100.0, -10.0))  # 100 m before, 10 m to the right
+    assert ap.captured((150.0, 260.0, math.pi))
+    assert not ap.captured((150.0, 260.0, 0.0))  # heading away from the threshold
+    assert not ap.captured((10.0, 250.0, math.pi))  # past the threshold (more than half a radius)
+    # right of the line: the commanded course turns left toward it, at most 60 deg off, less when close
+    far = math.remainder(ap.line_course((150.0, 300.0)) - math.pi, math.tau)
+    near = math.remainder(ap.line_course((150.0, 252.0)) - math.pi, math.tau)
+    assert 0.0 < near < far <= math.radians(60.0)
+    on = ap.line_course((150.0, 250.0))
+    assert math.remainder(on - math.pi, math.tau) == pytest.approx(0.0)
+
+
+def test_a_vehicle_flying_the_approach_lands_lined_up_at_the_threshold():
+    """Fly the world's own coordinated-turn model from the wrong side of the field, steered by the
+    approach (turn-rate command as the guidance's Eq. 11 law): it reaches the threshold on the line."""
+    af = SMALL
+    r = turn_radius_m(af, af.v_min_mps)
+    ap = FinalApproach((50.0, 250.0), math.pi, 200.0, r)
+    model = CoordinatedTurnModel(af, 0.0)
+    rng = np.random.default_rng(0)
+    st = model.launch(FlightState(-40.0, 150.0, 30.0, 0.0, water_kg=0.0), Command(af.v_min_mps, 0.0, 0.0))
+    best = math.inf
+    for _ in range(1200):  # 120 s
+        pose = (st.x_m, st.y_m, st.yaw_rad)
+        if ap.captured(pose):
+            want = ap.line_course((st.x_m, st.y_m))
+        else:
+            e = ap.entry_xy
+            to_e = math.hypot(e[0] - st.x_m, e[1] - st.y_m)
+            if to_e < 2 * r and abs(math.remainder(st.yaw_rad - ap.course_rad, math.tau)) > math.pi / 2:
+                want = st.yaw_rad + ap.turn_side(pose)
+            else:
+                want = math.atan2(e[1] - st.y_m, e[0] - st.x_m)
+        w = max(
+            -LIM.omega_max_radps, min(LIM.omega_max_radps, 5.0 * math.remainder(want - st.yaw_rad, math.tau))
+        )
+        for _ in range(10):
+            (st,) = model.step([st], [Command(af.v_min_mps, 0.0, w)], 0.01, [rng])
+        along, cross = ap.frame((st.x_m, st.y_m))
+        if -2.0 <= along <= 2.0 and ap.captured((st.x_m, st.y_m, st.yaw_rad)):
+            best = min(best, abs(cross))
+            head_err = abs(math.remainder(st.yaw_rad - ap.course_rad, math.tau))
+            break
+    assert best < 2.0 and head_err < math.radians(10.0)
+
+
+def test_a_lake_shorter_than_the_scoop_run_is_not_used_and_said_so():
+    from fire_uav_agent.airframe_model import scoop_run_m, usable_lakes
+    from fire_uav_common.terrain import Lake
+
+    # small_uav: 10 kg at 2 kg/s = 5 s at 15.6 m/s = 78 m; tanker: 15 s at 46.8 m/s = 702 m
+    assert scoop_run_m(SMALL) == pytest.approx(78.0)
+    assert scoop_run_m(AIRFRAMES["tanker"]) == pytest.approx(702.0)
+    ff_lake, pond = Lake(300.0, 400.0, 90.0), Lake(100.0, 100.0, 60.0)
+    ok, refused = usable_lakes((ff_lake, pond), SMALL)
+    assert ok == (ff_lake,) and len(refused) == 1 and "(100, 100)" in refused[0] and "60 m" in refused[0]
+    assert usable_lakes((ff_lake,), AIRFRAMES["tanker"])[0] == ()
+    assert usable_lakes((ff_lake, pond), None) == ((ff_lake, pond), ())
+
+
+def test_the_agent_refills_only_at_a_lake_long_enough():
+    from fire_uav_agent.agent_core import Agent, AgentConfig
+    from fire_uav_common.terrain import Lake
+
+    lakes = (Lake(300.0, 400.0, 60.0), Lake(500.0, 100.0, 90.0))
+    a = Agent(AgentConfig(uav_id=0, uav_count=1, lakes=lakes, airframe=SMALL))
+    assert a._nearest_lake(np.array([300.0, 400.0])) == lakes[1] and len(a.lakes_refused) == 1
+    b = Agent(AgentConfig(uav_id=0, uav_count=1, lakes=lakes))
+    assert b._nearest_lake(np.array([300.0, 400.0])) == lakes[0] and b.lakes_refused == ()
