@@ -80,7 +80,7 @@ def _round_trip(node_pair, spec, make, count: int, uav_id: int | None) -> list[b
     while pub.get_subscription_count() == 0 and time.monotonic() < end:
         spin()
     for k in range(count):
-        pub.publish(make(k))  # as a message, the way the world published its bundles until session 13
+        pub.publish(make(k))  # as a message, the way the world published its bundles before its codec
         spin()
     end = time.monotonic() + 10
     while len(got) < count and time.monotonic() < end:
@@ -107,7 +107,7 @@ def test_states_published_as_messages_read_as_rclpy_reads_them(node_pair):
 
 
 def test_bundles_the_world_writes_as_bytes_arrive_as_written(node_pair):
-    """As the world publishes them since session 13: its writer's bytes, published raw."""
+    """As the world publishes them: its writer's bytes, published raw."""
     from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
     from fire_world_sim.sensors import AltimeterSample, GyroSample
     from fire_world_sim.world import SensorBundleRecord
