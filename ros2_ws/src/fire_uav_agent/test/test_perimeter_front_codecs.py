@@ -273,8 +273,9 @@ def _samples() -> list[tuple[str, bytes]]:
 READERS = {"PerimeterMap": read_perimeter_map, "FireFront": read_fire_front}
 
 
-@pytest.mark.parametrize("name,data", _samples())
-def test_every_truncation_and_a_byte_left_over_are_value_errors_naming_the_message(name, data):
+@pytest.mark.parametrize("name", sorted(READERS))  # by name: rclpy's padding bytes vary per run
+def test_every_truncation_and_a_byte_left_over_are_value_errors_naming_the_message(name):
+    data = dict(_samples())[name]
     read = READERS[name]
     for n in range(len(data)):
         with pytest.raises(ValueError, match=f"{name}|CDR"):
