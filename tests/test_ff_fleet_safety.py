@@ -1,5 +1,5 @@
-"""The FF fleet in process (real World, real Agents, lockstep harness): the safety figures of the
-issue on the FF scenario, measured by the world (collisions, separation) and the summary."""
+"""The FF fleet in process (real World, real Agents, lockstep harness): the fleet's safety figures
+on the FF scenario, measured by the world (collisions, separation) and the summary."""
 
 import math
 

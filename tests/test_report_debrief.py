@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 from fire_mission.summary import LiveSummary
-from fire_report.data import Event, Mission
+from fire_report.data import Mission, RecordedEvent
 from fire_report.debrief import (
     Fault,
     fire_rows,
@@ -37,8 +37,8 @@ SCENARIO = {
 }
 
 
-def _ev(t, type_, uav=-1, peer=-1, fire=-1, value=0.0, detail="", x=NAN, y=NAN, source="world") -> Event:
-    return Event(t, type_, uav, peer, fire, x, y, value, detail, source)
+def _ev(t, type_, uav=-1, peer=-1, fire=-1, value=0.0, detail="", x=NAN, y=NAN, source="world") -> RecordedEvent:
+    return RecordedEvent(t, type_, uav, peer, fire, x, y, value, detail, source)
 
 
 def _fire(x: float, y: float, out_at: float | None, t_end: float = 60.0) -> dict[str, np.ndarray]:
@@ -51,7 +51,7 @@ def _fire(x: float, y: float, out_at: float | None, t_end: float = 60.0) -> dict
             "area": np.full(n, 1256.0), "status": status, "drops": np.zeros(n, int)}  # fmt: skip
 
 
-def _mission(world: list[Event], fleet: list[Event], **kw) -> Mission:
+def _mission(world: list[RecordedEvent], fleet: list[RecordedEvent], **kw) -> Mission:
     m = Mission(path="mem", custom_data={"fire_uav.uav_count": "4", "fire_uav.seed": "1"},
                 scenario=kw.pop("scenario", SCENARIO), warnings=[], topics={})  # fmt: skip
     m.world_events = sorted(world, key=lambda e: e.t_s)

@@ -134,7 +134,7 @@ def test_wrap_angle():
 
 
 # --- the pure pieces on in-memory data (fast; what the mutation run of fire_report.metrics needs) ---
-from fire_report.data import Event, Mission  # noqa: E402
+from fire_report.data import Mission, RecordedEvent  # noqa: E402
 from fire_report.metrics import (  # noqa: E402
     baseline_area,
     burned_area_series,
@@ -157,7 +157,7 @@ def _mission(**kw) -> Mission:
 
 
 def _drop(t, fire_id, kg, detail="", uav=0):
-    return Event(t, EventType.DROP, uav, -1, fire_id, 0.0, 0.0, kg, detail, "world")
+    return RecordedEvent(t, EventType.DROP, uav, -1, fire_id, 0.0, 0.0, kg, detail, "world")
 
 
 def test_containment_from_area_is_sixty_quiet_seconds_after_the_last_growth():
@@ -203,7 +203,7 @@ def test_drop_outcomes_raster_and_analytic():
         _drop(3.0, 0, 0.0, "empty tank, 3 of 40 cells burning"),  # released nothing: no drop
         _drop(4.0, 1, 500.0, "hit fires [1], 5 of 5 cells burning"),
         _drop(5.0, 1, 400.0, "no footprint, 0 of 0 cells burning"),
-        Event(6.0, EventType.EXTINGUISHED, 0, -1, 1, 0.0, 0.0, 1.0, "", "world"),
+        RecordedEvent(6.0, EventType.EXTINGUISHED, 0, -1, 1, 0.0, 0.0, 1.0, "", "world"),
     ]
     r = drop_outcomes(events, is_raster=True)
     assert r == {
@@ -282,7 +282,7 @@ def test_true_outer_distance_per_bin_is_the_farthest_ignited_cell():
 
 def test_outcome_names_the_last_completion_event():
     def done(v):
-        return Event(9.0, EventType.MISSION_COMPLETE, -1, -1, -1, 0, 0, v, f"value {v}", "world")
+        return RecordedEvent(9.0, EventType.MISSION_COMPLETE, -1, -1, -1, 0, 0, v, f"value {v}", "world")
 
     assert outcome(_mission(world_events=[done(1.0)])) == ("complete", "value 1.0")
     assert outcome(_mission(world_events=[done(0.0)])) == ("time_limit", "value 0.0")

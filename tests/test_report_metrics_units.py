@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from fire_report.data import Event, Mission
+from fire_report.data import Mission, RecordedEvent
 from fire_report.metrics import (
     _percentiles,
     compute_metrics,
@@ -33,7 +33,7 @@ def _mission(**kw) -> Mission:
 
 
 def _event(t, type_, uav=0, fire_id=-1, value=0.0, detail="", source="world", peer=-1):
-    return Event(t, type_, uav, peer, fire_id, 0.0, 0.0, value, detail, source)
+    return RecordedEvent(t, type_, uav, peer, fire_id, 0.0, 0.0, value, detail, source)
 
 
 def test_voronoi_labels_against_brute_force():

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from fire_report.data import Event, Mission
+from fire_report.data import Mission, RecordedEvent
 from fire_report.figures import fig_burned_area, fig_perimeter, fig_raster_front
 from fire_report.metrics import perimeter_distance_error_raster, suppression_metrics, true_outer_distance
 from fire_uav_common.constants import EventType, FireStatus
@@ -56,7 +56,7 @@ def mission() -> Mission:
         0: [{"t": 50.0, "x": np.array([135.0]), "y": np.array([100.0]), "state": np.array([1], np.uint8)}]
     }
     m.world_events = [
-        Event(
+        RecordedEvent(
             20.0,
             EventType.DROP,
             0,
@@ -68,7 +68,7 @@ def mission() -> Mission:
             "hit fires [0], 10 of 40 cells burning",
             "world",
         ),
-        Event(40.0, EventType.DROP, 1, -1, -1, 10.0, 10.0, 2000.0, "missed, 0 of 40 cells burning", "world"),
+        RecordedEvent(40.0, EventType.DROP, 1, -1, -1, 10.0, 10.0, 2000.0, "missed, 0 of 40 cells burning", "world"),
     ]
     m.t_last_s = 300.0
     return m

@@ -4,12 +4,12 @@ separation, landing at home. Events are written by hand; expected numbers are co
 import math
 
 import pytest
-from fire_mission.summary import Event, LiveSummary
+from fire_mission.summary import LiveEvent, LiveSummary
 from fire_uav_common.constants import EventType
 
 
 def ev(t, typ, uav=0, fire=-1, value=0.0, x=math.nan, y=math.nan):
-    return Event(t, int(typ), uav, -1, fire, value, "", x, y)
+    return LiveEvent(t, int(typ), uav, -1, fire, value, "", x, y)
 
 
 def test_one_refill_cycle_of_three_passes_counts_as_one_cycle_and_three_passes():

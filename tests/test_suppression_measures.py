@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from fire_mission.summary import Event, LiveSummary
+from fire_mission.summary import LiveEvent, LiveSummary
 from fire_report.metrics import containment_from_area, drop_outcomes
 from fire_uav_common.constants import EventType, FireStatus
 from fire_uav_common.scenario import scenario_from_dict
@@ -59,9 +59,9 @@ def test_containment_from_area_is_none_while_growing_and_resets_on_a_breach() ->
 
 def test_hit_rate_and_water_on_burning_cells_from_drop_events() -> None:
     ev = [
-        Event(1.0, EventType.DROP, 0, -1, 0, 2000.0, "hit fires [0], 12 of 48 cells burning"),
-        Event(2.0, EventType.DROP, 1, -1, -1, 2000.0, "missed, 0 of 48 cells burning"),
-        Event(3.0, EventType.DROP, 1, -1, -1, 0.0, "tank empty"),  # no water: not a drop
+        LiveEvent(1.0, EventType.DROP, 0, -1, 0, 2000.0, "hit fires [0], 12 of 48 cells burning"),
+        LiveEvent(2.0, EventType.DROP, 1, -1, -1, 2000.0, "missed, 0 of 48 cells burning"),
+        LiveEvent(3.0, EventType.DROP, 1, -1, -1, 0.0, "tank empty"),  # no water: not a drop
     ]
     d = drop_outcomes(ev, is_raster=True)
     assert (d["drops"], d["hits"], d["hit_rate"]) == (2, 1, 0.5)

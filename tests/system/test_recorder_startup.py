@@ -5,7 +5,7 @@ The world starts stepping once ``/world/truth`` has its subscribers (recorder an
 every agent said AGENT_READY; nothing waits for the recorder's other subscriptions. A recorder
 that subscribed only once its graph poll found a topic's publisher was still subscribing to ~90
 topics at step 0 of a 20-UAV mission: late-followed vehicles lost their first 1-7 steps on
-``/uav_k/sensors``, ``cmd``, ``payload`` and ``viz`` (2026-12: ~40 topics short in one run).
+``/uav_k/sensors``, ``cmd``, ``payload`` and ``viz`` (~40 topics short in one measured run).
 
 Here a stand-in for the world (this file run as a script) waits for the recorder on
 ``/world/truth`` as the world does, then makes its per-vehicle publishers and publishes from

@@ -704,7 +704,7 @@ def _run(a: argparse.Namespace, names: list[str], executor: Executor) -> int:
         r["quick"] = a.quick
         r["command"] = r.get("command") or run_command(a, n, sweep=isinstance(made, Sweep))
         # each section names the machine, commit and date it ran on: an --only run on another
-        # day (sessions here run on AMD EPYC or Intel Xeon hosts) must not relabel the others
+        # day (runs land on AMD EPYC or Intel Xeon hosts here) must not relabel the others
         r["machine"] = here
         results[n] = r
         results_path.write_text(json.dumps(results, indent=2, default=str) + "\n")

@@ -28,7 +28,7 @@ from fire_uav_common.scenario.ground import geo_summary
 
 from .cli import OneLineParser
 from .errors import MissionError
-from .summary import Event, LiveSummary, table
+from .summary import LiveEvent, LiveSummary, table
 
 __all__ = ["run_inprocess", "main"]
 
@@ -92,7 +92,7 @@ def run_inprocess(
             on_step(r)
         for e in events[seen:]:
             summary.add(
-                Event(
+                LiveEvent(
                     e.stamp_ns * 1e-9, int(e.type), e.uav_id, -1, e.fire_id, e.value, e.detail, e.x_m, e.y_m
                 )
             )

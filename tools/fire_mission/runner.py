@@ -33,7 +33,7 @@ from fire_mission.cli import OneLineParser
 from fire_mission.errors import MissionError
 from fire_mission.procs import ProcessGroup, claim_domain, ros_run_argv
 from fire_mission.procstat import sample as proc_sample
-from fire_mission.summary import Event, LiveSummary, table
+from fire_mission.summary import LiveEvent, LiveSummary, table
 
 if TYPE_CHECKING:
     from fire_uav_common.scenario import Scenario
@@ -588,7 +588,7 @@ class Supervisor:
     def _on_event(self, msg) -> None:
         t = stamp_to_s(msg.header.stamp)
         self.summary.add(
-            Event(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail, msg.x_m, msg.y_m)
+            LiveEvent(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail, msg.x_m, msg.y_m)
         )
         if msg.type == EventType.MISSION_COMPLETE:
             self.done = True

@@ -25,7 +25,10 @@ AGENT_EVENTS = frozenset(
 
 
 @dataclass
-class Event:
+class LiveEvent:
+    """One MissionEvent as the runner's live summary counts it while the mission runs (t_s: sim
+    time [s]); the report's reading of the recorded events is ``fire_report.data.RecordedEvent``."""
+
     t_s: float
     type: int
     uav_id: int
@@ -42,7 +45,7 @@ class LiveSummary:
     """Accumulates what the supervisor observes; :meth:`as_dict` gives summary.json."""
 
     uav_count: int
-    events: list[Event] = field(default_factory=list)
+    events: list[LiveEvent] = field(default_factory=list)
     mission_time_s: float = 0.0
     fires_active: int | None = None
     fires_total: int | None = None
@@ -126,7 +129,7 @@ class LiveSummary:
             self.last_state_t[uav] = t
             self.packets[uav], self.alive_view[uav], self.objective[uav] = kept[t]
 
-    def add(self, ev: Event) -> None:
+    def add(self, ev: LiveEvent) -> None:
         self.events.append(ev)
         if ev.type == EventType.LANDED and math.isfinite(ev.x_m) and math.isfinite(ev.y_m):
             self.touchdown_xy.setdefault(ev.uav_id, (ev.x_m, ev.y_m))
@@ -134,14 +137,14 @@ class LiveSummary:
             self.complete_detail = ev.detail
             self.complete_success = ev.value >= 1.0
 
-    def of(self, type_: int) -> list[Event]:
+    def of(self, type_: int) -> list[LiveEvent]:
         """Events of one type in a total order (time, then fields: DDS delivers one step's events in any order)."""
         return sorted(
             (e for e in self.events if e.type == type_),
             key=lambda e: (e.t_s, e.uav_id, e.peer_id, e.fire_id, e.value, e.detail),
         )
 
-    def drops(self) -> list[Event]:
+    def drops(self) -> list[LiveEvent]:
         """Drops that released water (a drop request with an empty tank is not a drop)."""
         return [e for e in self.of(EventType.DROP) if e.value > 0]
 
@@ -170,7 +173,7 @@ class LiveSummary:
         drops = self.drops()
         return sum(e.fire_id >= 0 for e in drops) / len(drops) if drops else None
 
-    def lake_passes(self) -> list[Event]:
+    def lake_passes(self) -> list[LiveEvent]:
         """REFILL events: one per spell over a lake that took water (a pass, full or part-filled)."""
         return [e for e in self.of(EventType.REFILL) if e.value > 0]
 

@@ -38,8 +38,9 @@ TYPE_NAMES: dict[int, str] = {int(e): e.name.lower() for e in EventType}
 
 
 @dataclass(frozen=True)
-class Event:
-    """One MissionEvent. ``source``: "world" or "fleet"; t_s: sim time [s]."""
+class RecordedEvent:
+    """One MissionEvent read from the recording. ``source``: "world" or "fleet" (the topic it was
+    recorded on); t_s: sim time [s]. The runner's live counterpart: ``fire_mission.summary.LiveEvent``."""
 
     t_s: float
     type: int
@@ -78,8 +79,8 @@ class Mission:
     fire_estimates: dict[tuple[int, int], dict[str, np.ndarray]] = field(default_factory=dict)
     # per (uav, fire_id) (PerimeterMap): t, center (n,2), outer (n,bins)
     perimeters: dict[tuple[int, int], dict[str, np.ndarray]] = field(default_factory=dict)
-    world_events: list[Event] = field(default_factory=list)
-    fleet_events: list[Event] = field(default_factory=list)
+    world_events: list[RecordedEvent] = field(default_factory=list)
+    fleet_events: list[RecordedEvent] = field(default_factory=list)
     # raster fire (/viz/fire_grid), one per FIRE_GRID_EVERY_S: t [s], origin (x, y) [m], resolution [m],
     # data (ny, nx) int8 as the world publishes it (unburned 0, wet 20, burnt 60, burning 100)
     fire_grids: list[dict[str, Any]] = field(default_factory=list)
@@ -110,8 +111,8 @@ def _arrays(rows: list[dict[str, Any]]) -> dict[str, np.ndarray]:
     return {k: np.asarray([r[k] for r in rows]) for k in rows[0]} if rows else {}
 
 
-def _event(msg: Any, source: str) -> Event:
-    return Event(
+def _event(msg: Any, source: str) -> RecordedEvent:
+    return RecordedEvent(
         _stamp_s(msg),
         int(msg.type),
         int(msg.uav_id),

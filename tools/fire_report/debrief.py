@@ -21,7 +21,7 @@ import numpy as np
 import yaml
 from fire_uav_common.constants import EventType, FireStatus
 
-from fire_report.data import Event, Mission
+from fire_report.data import Mission, RecordedEvent
 from fire_report.matching import match_tracks_to_fires
 
 DETECTION_GATE_M = 150.0  # a first sighting this close to a burning fire is that fire [m]
@@ -211,7 +211,7 @@ def track_to_fire(mission: Mission) -> dict[int, int]:
     )
 
 
-def _fire_at(mission: Mission, e: Event, tracks: dict[int, int]) -> int | None:
+def _fire_at(mission: Mission, e: RecordedEvent, tracks: dict[int, int]) -> int | None:
     """The true fire a FIRE_DETECTED event is about: its track's match, else the nearest burning
     fire within ``DETECTION_GATE_M`` of where it was seen."""
     if e.fire_id in tracks:
@@ -265,7 +265,7 @@ def flare_ups(mission: Mission) -> list[tuple[int, float]]:
     return sorted(out, key=lambda x: (x[1], x[0]))
 
 
-def _drops(mission: Mission) -> list[Event]:
+def _drops(mission: Mission) -> list[RecordedEvent]:
     return [e for e in mission.world_events if e.type == EventType.DROP and e.value > 0]
 
 
@@ -370,7 +370,7 @@ def _declarations(mission: Mission) -> list[Entry]:
         (e for e in mission.fleet_events if e.type == EventType.PEER_CRASHED),
         key=lambda e: (e.peer_id, e.t_s),
     )
-    group: list[Event] = []
+    group: list[RecordedEvent] = []
 
     def flush() -> None:
         if group:

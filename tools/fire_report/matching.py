@@ -1,4 +1,4 @@
-"""Which true fire each fleet fire track estimates, by position (issue 16).
+"""Which true fire each fleet fire track estimates, by position.
 
 The fleet's track ids (``(uav_id << 16) | n`` for a detection, ``PRIOR_FIRE_ID_BASE + k`` for a
 briefed fire) are not the world's fire numbers, so the report matches them by where they are.

@@ -1,19 +1,17 @@
 """The agent node's ROS side that is not the node: the declaration of its parameters (listed in
-``agent_params``), the conversions of the messages that have no codec yet (PerimeterMap,
-FireFront: peers' messages in, this agent's out), the markers, the tf of the estimate, mission
-events, and the spin loop. The node (``agent_node``) wires them up.
+``agent_params``), the markers, the tf of the estimate, mission events, and the spin loop. The
+node (``agent_node``) wires them up; the fleet messages go through the codecs (``incoming``,
+``outgoing``).
 """
 
 from __future__ import annotations
 
 import math
 
-import numpy as np
 import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common.constants import EventType
-from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_step
-from fire_uav_msgs.msg import FireFront, MissionEvent, PerimeterMap
+from fire_uav_msgs.msg import MissionEvent
 from geometry_msgs.msg import Point
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.node import Node
@@ -28,88 +26,19 @@ from .agent_params import (
     node_config,
     unknown_parameters,
 )
-from .agent_types import AgentEvent, PeerPerimeter, StepOutput
+from .agent_types import AgentEvent, StepOutput
 from .errors import ConfigError
-from .fire_front import FrontCells
-from .front_consensus import PeerFront
 
 __all__ = [
     "event_msg",
     "log_event",
     "read_node_config",
-    "front_msg",
     "make_executor",
     "markers_msg",
-    "perimeter_msg",
     "profiled",
     "spin_through_bad_messages",
     "tf_estimate_msg",
-    "to_peer_front",
-    "to_peer_perimeter",
 ]
-
-
-def to_peer_perimeter(m: PerimeterMap, control_period_s: float) -> PeerPerimeter:
-    """A peer's PerimeterMap; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
-    summary = {
-        "center_x_m": float(m.center_x_m),
-        "center_y_m": float(m.center_y_m),
-        "outer_distance_m": np.asarray(m.outer_distance_m, dtype=float),
-        "outer_visit_time_s": np.asarray(m.outer_visit_time_s, dtype=float),
-    }
-    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
-    return PeerPerimeter(int(m.uav_id), int(m.sequence), step, int(m.fire_id), summary)
-
-
-def perimeter_msg(out: StepOutput, stamp: TimeMsg, seq: int) -> PerimeterMap | None:
-    if out.perimeter is None:
-        return None
-    fire_id, s = out.perimeter
-    m = PerimeterMap()
-    m.header.stamp = stamp
-    m.header.frame_id = "map"
-    m.uav_id, m.sequence, m.fire_id = out.state.uav_id, seq, int(fire_id) if fire_id < 2**31 else -1
-    m.center_x_m, m.center_y_m = s["center_x_m"], s["center_y_m"]
-    m.outer_distance_m = s["outer_distance_m"].astype(np.float32).tolist()
-    m.outer_visit_time_s = s["outer_visit_time_s"].astype(np.float32).tolist()
-    m.spread_rate_mps = s["spread_rate_mps"].astype(np.float32).tolist()
-    m.importance = s["importance"].astype(np.float32).tolist()
-    m.direction, m.direction_changes = int(s["direction"]), int(s["direction_changes"])
-    return m
-
-
-def to_peer_front(m: FireFront, control_period_s: float) -> PeerFront:
-    """A peer's FireFront; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
-    state = (
-        np.frombuffer(bytes(m.state), dtype=np.uint8)
-        if isinstance(m.state, (bytes, bytearray))
-        else np.asarray(m.state, dtype=np.uint8)
-    )
-    cells = FrontCells(
-        np.asarray(m.x_m, dtype=float),
-        np.asarray(m.y_m, dtype=float),
-        state.astype(np.int64),
-        np.asarray(m.observed_s, dtype=float),
-        np.asarray(m.spread_rate_mps, dtype=float),
-    )  # raises ValueError on unequal lengths: the caller drops the message
-    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
-    return PeerFront(int(m.uav_id), int(m.sequence), step, cells)
-
-
-def front_msg(out: StepOutput, stamp: TimeMsg, seq: int, cell_size_m: float) -> FireFront | None:
-    c = out.front
-    if not isinstance(c, FrontCells):
-        return None
-    m = FireFront()
-    m.header.stamp = stamp
-    m.header.frame_id = "map"
-    m.uav_id, m.sequence, m.cell_size_m = out.state.uav_id, seq, float(cell_size_m)
-    m.x_m = np.asarray(c.x_m, dtype=np.float32).tolist()
-    m.y_m = np.asarray(c.y_m, dtype=np.float32).tolist()
-    m.state = np.asarray(c.state, dtype=np.uint8).tobytes()
-    m.observed_s = np.asarray(c.t_obs_s, dtype=float).tolist()
-    m.spread_rate_mps = np.asarray(c.ros_mps, dtype=np.float32).tolist()
-    return m
 
 
 def markers_msg(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:

@@ -4,8 +4,9 @@ One process per UAV in namespace ``/uav_<id>`` (docs/protocol.md "Agent, on Sens
 This module owns the endpoints, the timers and the publishing; it hands every bundle and peer
 message to the :class:`~fire_uav_agent.peer_gate.PeerGate` and carries out its decisions. The
 parameters are listed in ``agent_params`` (declared by ``agent_io.read_node_config``), the sensor
-bundle and the peer state are read and written by the codecs (``fire_uav_common.codecs``), the
-other messages converted in ``agent_io``; all decisions are in the pure modules.
+bundle, the peer state, the perimeter map and the front picture are read and written by the codecs
+(``fire_uav_common.codecs``, through ``incoming`` / ``outgoing``), the other messages built in
+``agent_io``; all decisions are in the pure modules.
 """
 
 from __future__ import annotations
@@ -16,10 +17,12 @@ import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
 from fire_uav_common.cdr import CdrError
+from fire_uav_common.codecs.fire_front import read_fire_front
+from fire_uav_common.codecs.perimeter_map import read_perimeter_map
 from fire_uav_common.codecs.sensor_bundle import WireBundle, read_sensor_bundle
-from fire_uav_common.codecs.uav_state import WireState, read_uav_state
+from fire_uav_common.codecs.uav_state import read_uav_state
 from fire_uav_common.constants import EventType, PayloadAction, VehicleStatus
-from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_step
+from fire_uav_common.stamps import stamp_to_ns
 from fire_uav_msgs.msg import (
     FireFront,
     MissionEvent,
@@ -37,21 +40,18 @@ from rclpy.serialization import deserialize_message, serialize_message
 from .agent_core import Agent
 from .agent_io import (
     event_msg,
-    front_msg,
     log_event,
     make_executor,
     markers_msg,
-    perimeter_msg,
     profiled,
     read_node_config,
     spin_through_bad_messages,
     tf_estimate_msg,
-    to_peer_front,
-    to_peer_perimeter,
 )
 from .agent_types import StepOutput
 from .errors import ConfigError
-from .outgoing import sent_per_topic, state_bytes
+from .incoming import message_step, peer_front, peer_perimeter
+from .outgoing import front_bytes, perimeter_bytes, sent_per_topic, state_bytes
 from .peer_gate import (
     AskResend,
     PeerGate,
@@ -104,7 +104,9 @@ class UavAgentNode(Node):
         )
         self.pub_front = topics.publisher(self, topics.FLEET_FRONT_SPEC)
         self._front_seq = 0
-        self.sub_front = topics.subscription(self, topics.FLEET_FRONT_SPEC, self._on_front, drain=True)
+        self.sub_front = topics.subscription(
+            self, topics.FLEET_FRONT_SPEC, self._on_front, drain=True, raw=True
+        )
         self.sub_sensors = topics.subscription(self, topics.SENSORS_SPEC, self._on_bundle, own, raw=True)
         self.sub_state = topics.subscription(
             self, topics.FLEET_STATE_SPEC, self._on_state, drain=True, raw=True
@@ -172,43 +174,39 @@ class UavAgentNode(Node):
                 )
 
     # --- peer traffic ---------------------------------------------------------------------------------
-    def _read_state(self, data: bytes) -> WireState | None:
-        """A raw peer UavState -> :class:`WireState` (the ``uav_state`` codec); an encoding the codec
-        does not take (not XCDR1 little-endian) is read by ``deserialize_message`` and re-serialised
-        for the codec; None (counted as ``undecodable``) if neither reads it."""
+    def _read(self, data: bytes, read, msg_type: type, spec: topics.TopicSpec):
+        """Raw peer bytes through their codec's ``read``; an encoding the codec does not take (not
+        XCDR1 little-endian) is read by ``deserialize_message`` and re-serialised for the codec;
+        None (counted as ``undecodable``) if neither reads it."""
         try:
-            return read_uav_state(data)
+            return read(data)
         except CdrError:
             pass
-        msg = self._decode(data, UavState, topics.FLEET_STATE_SPEC)
-        if msg is None:
-            return None
-        return read_uav_state(serialize_message(msg))
+        msg = self._decode(data, msg_type, spec)
+        return None if msg is None else read(serialize_message(msg))
 
     def _on_state(self, data: bytes) -> None:
-        w = self._read_state(data)
+        w = self._read(data, read_uav_state, UavState, topics.FLEET_STATE_SPEC)
         if w is None or w.uav_id == self.cfg.uav_id:
             return  # undecodable, or our own broadcast
         self._act(self.gate.on_state(data, w.state, w.fires, w.sent_per_topic, w.final))
 
     def _on_perimeter(self, data: bytes) -> None:
-        msg = self._decode(data, PerimeterMap, topics.FLEET_PERIMETER_SPEC)
-        if msg is None or msg.uav_id == self.cfg.uav_id:
+        w = self._read(data, read_perimeter_map, PerimeterMap, topics.FLEET_PERIMETER_SPEC)
+        if w is None or w.uav_id == self.cfg.uav_id:
             return
-        self._act(self.gate.on_perimeter(data, to_peer_perimeter(msg, self.cfg.control_period_s)))
+        self._act(self.gate.on_perimeter(data, peer_perimeter(w, self.cfg.control_period_s)))
 
-    def _on_front(self, msg: FireFront) -> None:
-        if msg.uav_id == self.cfg.uav_id:
+    def _on_front(self, data: bytes) -> None:
+        w = self._read(data, read_fire_front, FireFront, topics.FLEET_FRONT_SPEC)
+        if w is None or w.uav_id == self.cfg.uav_id:
             return
-        step = stamp_to_step(stamp_to_ns(msg.header.stamp), s_to_ns(self.cfg.control_period_s))
         front = None
         try:
-            front = to_peer_front(msg, self.cfg.control_period_s)
+            front = peer_front(w, self.cfg.control_period_s)
         except ValueError as err:  # malformed: counted as arrived, its content dropped
-            self.get_logger().warning(
-                f"FireFront from uav {msg.uav_id} dropped: {err}", throttle_duration_sec=5.0
-            )
-        self._act(self.gate.on_front(int(msg.uav_id), step, front))
+            self.get_logger().warning(f"FireFront from uav {w.uav_id} dropped: {err}", throttle_duration_sec=5.0)
+        self._act(self.gate.on_front(w.uav_id, message_step(w.stamp_ns, self.cfg.control_period_s), front))
 
     # --- resend: recovery from a message the transport lost (docs/protocol.md "Resend") ----------
     def _ask_resend(self, d: AskResend) -> None:
@@ -338,23 +336,21 @@ class UavAgentNode(Node):
     def _publish(self, out: StepOutput, stamp: TimeMsg, coverage: list, final: bool) -> None:
         """Publish step ``out.step``: the state first (it tells peers what else to wait for)."""
         uid = self.cfg.uav_id
-        pm = None
-        if out.perimeter is not None:
-            self._perimeter_seq += 1
-            pm = perimeter_msg(out, stamp, self._perimeter_seq)
+        stamp_ns = stamp_to_ns(stamp)
+        self._perimeter_seq += out.perimeter is not None
+        pm = perimeter_bytes(out, stamp_ns, self._perimeter_seq)
         fm = None
-        if out.front is not None and self.agent.front is not None:
-            self._front_seq += 1
-            fm = front_msg(out, stamp, self._front_seq, self.agent.front.cfg.cell_size_m)
+        if self.agent.front is not None:
+            self._front_seq += out.front is not None
+            fm = front_bytes(out, stamp_ns, self._front_seq, self.agent.front.cfg.cell_size_m)
         counts = None if self.search_link is None else self.search_link.counts(coverage)
         sent = sent_per_topic(pm is not None, fm is not None, counts)
-        stamp_ns = stamp_to_ns(stamp)
         state = state_bytes(out, stamp_ns, sent, final)
         if self.auth is not None:  # signed: the bytes that go out (auth.sign_serialized), kept as sent
             state = self.auth.sign_serialized(state, topics.FLEET_STATE_SPEC.name, uid, out.step)
             if pm is not None:
-                pm_step = stamp_to_step(stamp_ns, s_to_ns(self.cfg.control_period_s))
-                pm = self._signed(pm, topics.FLEET_PERIMETER_SPEC.name, pm_step)
+                pm_step = message_step(stamp_ns, self.cfg.control_period_s)
+                pm = self.auth.sign_serialized(pm, topics.FLEET_PERIMETER_SPEC.name, uid, pm_step)
         self.pub_state.publish(state)
         log = [(self.pub_state, state)]
         answer = []  # what the world waits for: kept to answer a re-sent bundle (_on_bundle)

@@ -1,6 +1,6 @@
 """The reference conversions of rclpy messages, for the codec tests: what the agent node did with
 ``deserialize_message`` before the codecs (``fire_uav_common.codecs``), and how it built its
-UavState message. The codecs must read and write exactly these values and bytes.
+UavState, PerimeterMap and FireFront messages. The codecs must read and write exactly these values and bytes.
 """
 
 from __future__ import annotations
@@ -9,14 +9,26 @@ import math
 
 import numpy as np
 from builtin_interfaces.msg import Time as TimeMsg
-from fire_uav_agent.agent_types import Bundle, StepOutput
+from fire_uav_agent.agent_types import Bundle, PeerPerimeter, StepOutput
 from fire_uav_agent.estimation import Samples
+from fire_uav_agent.fire_front import FrontCells
+from fire_uav_agent.front_consensus import PeerFront
 from fire_uav_agent.peer_link import FireEntry, PeerFires, PeerState
 from fire_uav_common.constants import FireStatus
-from fire_uav_common.stamps import s_to_ns, stamp_to_s, to_time_msg
-from fire_uav_msgs.msg import FireEstimate, SensorBundle, UavState
+from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
+from fire_uav_msgs.msg import FireEstimate, FireFront, PerimeterMap, SensorBundle, UavState
 
-__all__ = ["add_fires", "from_state", "to_bundle", "to_peer_fires", "to_peer_state"]
+__all__ = [
+    "add_fires",
+    "front_msg",
+    "from_state",
+    "perimeter_msg",
+    "to_bundle",
+    "to_peer_fires",
+    "to_peer_front",
+    "to_peer_perimeter",
+    "to_peer_state",
+]
 
 
 def to_bundle(msg: SensorBundle) -> Bundle:
@@ -113,4 +125,67 @@ def add_fires(m: UavState, out: StepOutput) -> UavState:
         )
         f.front_x_m, f.front_y_m, f.max_spread_rate_mps = e.front_x_m, e.front_y_m, e.max_spread_rate_mps
         m.fires.append(f)
+    return m
+
+
+def to_peer_perimeter(m: PerimeterMap, control_period_s: float) -> PeerPerimeter:
+    """A peer's PerimeterMap; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
+    summary = {
+        "center_x_m": float(m.center_x_m),
+        "center_y_m": float(m.center_y_m),
+        "outer_distance_m": np.asarray(m.outer_distance_m, dtype=float),
+        "outer_visit_time_s": np.asarray(m.outer_visit_time_s, dtype=float),
+    }
+    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
+    return PeerPerimeter(int(m.uav_id), int(m.sequence), step, int(m.fire_id), summary)
+
+
+def perimeter_msg(out: StepOutput, stamp: TimeMsg, seq: int) -> PerimeterMap | None:
+    if out.perimeter is None:
+        return None
+    fire_id, s = out.perimeter
+    m = PerimeterMap()
+    m.header.stamp = stamp
+    m.header.frame_id = "map"
+    m.uav_id, m.sequence, m.fire_id = out.state.uav_id, seq, int(fire_id) if fire_id < 2**31 else -1
+    m.center_x_m, m.center_y_m = s["center_x_m"], s["center_y_m"]
+    m.outer_distance_m = s["outer_distance_m"].astype(np.float32).tolist()
+    m.outer_visit_time_s = s["outer_visit_time_s"].astype(np.float32).tolist()
+    m.spread_rate_mps = s["spread_rate_mps"].astype(np.float32).tolist()
+    m.importance = s["importance"].astype(np.float32).tolist()
+    m.direction, m.direction_changes = int(s["direction"]), int(s["direction_changes"])
+    return m
+
+
+def to_peer_front(m: FireFront, control_period_s: float) -> PeerFront:
+    """A peer's FireFront; its stamp is the bundle stamp (k + 1) T of the step k it answers."""
+    state = (
+        np.frombuffer(bytes(m.state), dtype=np.uint8)
+        if isinstance(m.state, (bytes, bytearray))
+        else np.asarray(m.state, dtype=np.uint8)
+    )
+    cells = FrontCells(
+        np.asarray(m.x_m, dtype=float),
+        np.asarray(m.y_m, dtype=float),
+        state.astype(np.int64),
+        np.asarray(m.observed_s, dtype=float),
+        np.asarray(m.spread_rate_mps, dtype=float),
+    )
+    step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
+    return PeerFront(int(m.uav_id), int(m.sequence), step, cells)
+
+
+def front_msg(out: StepOutput, stamp: TimeMsg, seq: int, cell_size_m: float) -> FireFront | None:
+    c = out.front
+    if not isinstance(c, FrontCells):
+        return None
+    m = FireFront()
+    m.header.stamp = stamp
+    m.header.frame_id = "map"
+    m.uav_id, m.sequence, m.cell_size_m = out.state.uav_id, seq, float(cell_size_m)
+    m.x_m = np.asarray(c.x_m, dtype=np.float32).tolist()
+    m.y_m = np.asarray(c.y_m, dtype=np.float32).tolist()
+    m.state = np.asarray(c.state, dtype=np.uint8).tobytes()
+    m.observed_s = np.asarray(c.t_obs_s, dtype=float).tolist()
+    m.spread_rate_mps = np.asarray(c.ros_mps, dtype=np.float32).tolist()
     return m

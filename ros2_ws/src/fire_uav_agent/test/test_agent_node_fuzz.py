@@ -1,4 +1,4 @@
-"""Fuzz of the agent's readers (the codecs, ``agent_io.to_peer_perimeter``) and the peer link behind them.
+"""Fuzz of the agent's readers (the codecs, ``incoming.peer_perimeter``) and the peer link behind them.
 
 Random field values within the message types' ranges (NaN, inf, huge arrays, any id, any enum
 value, any step and sequence): a conversion never raises, and the peer link then accepts or
@@ -12,9 +12,10 @@ import pytest
 pytest.importorskip("fire_uav_msgs.msg")
 
 from builtin_interfaces.msg import Time
-from fire_uav_agent.agent_io import to_peer_perimeter as _to_peer_perimeter
+from fire_uav_agent.incoming import peer_perimeter
 from fire_uav_agent.peer_gate import step_verdict as _step_verdict
 from fire_uav_agent.peer_link import PeerLink, Verdict
+from fire_uav_common.codecs.perimeter_map import read_perimeter_map
 from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle
 from fire_uav_common.codecs.uav_state import read_uav_state
 from fire_uav_msgs.msg import FireEstimate, PerimeterMap, SensorBundle, UavState
@@ -88,7 +89,7 @@ def test_fuzzed_states_and_their_fires_convert_and_are_counted(msgs, now):
 @settings(max_examples=60, deadline=None)
 @given(perimeters(), st.sampled_from([0.05, 0.1, 0.2]))
 def test_fuzzed_perimeter_converts(m, period_s):
-    p = _to_peer_perimeter(m, period_s)
+    p = peer_perimeter(read_perimeter_map(serialize_message(m)), period_s)
     assert p.uav_id == m.uav_id and isinstance(p.step, int)
 
 

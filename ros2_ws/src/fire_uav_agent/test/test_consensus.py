@@ -123,7 +123,7 @@ def test_predict_moves_active_fires_by_their_drift_and_leaves_extinguished_ones(
     assert after[9] == before[9]
 
 
-# --- no extinction from stale estimates or an own drop alone (issue 16, item 4) -------------------
+# --- no extinction from stale estimates or an own drop alone --------------------
 def test_flying_over_a_stale_estimate_without_seeing_the_fire_does_not_put_it_out():
     """Briefed at (300, 400) at t = 0; the fire drifts at 1 m/s and the briefing was 15 m off, so at
     t = 60 s it burns 75 m from the estimate, beyond the 70 m sensor range. A UAV that circles the
@@ -178,7 +178,7 @@ def test_drift_fit_recovers_a_known_drift_from_noisy_detections(seed):
     assert math.hypot(e.vx_mps - v[0], e.vy_mps - v[1]) < 0.25, (e.vx_mps, e.vy_mps)
 
 
-# --- freshness weights, gates, negative evidence, merging (mutation testing, issue 17) ---------
+# --- freshness weights, gates, negative evidence, merging (mutation testing) -------------------
 def _peer_reports(entries_by_peer: dict[int, FireEntry], step: int) -> dict[int, PeerFires]:
     return {j: _pf(j, step, [e]) for j, e in entries_by_peer.items()}
 

@@ -67,7 +67,7 @@ def test_control_law_points_toward_centroid_and_respects_limits():
     assert vz > 5.0
 
 
-# --- analytic cells, Lloyd, grid, density, guidance (mutation testing, issue 17) -------------
+# --- analytic cells, Lloyd, grid, density, guidance (mutation testing) -----------------------
 import pytest  # noqa: E402
 from fire_uav_agent.coverage import virtual_positions  # noqa: E402
 from fire_uav_common.scenario import Vehicle  # noqa: E402

@@ -1,4 +1,4 @@
-"""The raster front picture, its sharing, and the targeting rules (issue [suppression]).
+"""The raster front picture, its sharing, and the targeting rules.
 
 Truth used: hand-built cell layouts whose front is known by construction, Rothermel's head rate
 (``fire_world_sim.fires.rothermel.head_spread``, itself checked against Behave) for the PM

@@ -1,4 +1,4 @@
-"""FrontPicture against independent truth (issue 17, mutation testing of fire_front).
+"""FrontPicture against independent truth (mutation testing of fire_front).
 
 Truths: a brute-force loop over hand-drawn and random rasters for the active front (module doc:
 burning cells seen within ``max_age_s`` with an UNBURNED or UNKNOWN 8-neighbour inside the grid),

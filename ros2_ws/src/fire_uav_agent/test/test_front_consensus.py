@@ -1,4 +1,4 @@
-"""Front sharing (front_consensus) against independent truth (issue 17, mutation testing).
+"""Front sharing (front_consensus) against independent truth (mutation testing).
 
 Truths: the module doc's message contents (the active front, then the cells sent last time that
 left it, with their newer state and time), checked on hand-built rasters; and its convergence

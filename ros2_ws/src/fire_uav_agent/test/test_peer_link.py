@@ -134,7 +134,7 @@ def test_invalid_configuration():
         PeerLink(0, 3, 0, 1.5, 0.1)
 
 
-# --- boundaries of each rule (docs/protocol.md "Peer link"; mutation testing, issue 17) ------
+# --- boundaries of each rule (docs/protocol.md "Peer link"; mutation testing) ----------------
 def fires(j: int, seq: int, step: int, *entries: FireEntry) -> PeerFires:
     return PeerFires(j, seq, step, tuple(entries))
 

@@ -1,4 +1,4 @@
-"""Peer link under random hostile messages (issue "hardening"): a property test, kept in its own
+"""Peer link under random hostile messages: a property test, kept in its own
 file because it takes seconds (the mutation run of peer_link uses the deterministic tests)."""
 
 from fire_uav_agent.peer_link import FireEntry, PeerFires, PeerLink, PeerState, Verdict

@@ -1,6 +1,6 @@
-"""Peer link against hostile and corrupted messages (issue "hardening").
+"""Peer link against hostile and corrupted messages.
 
-Truth is the issue's attack and properties of the protocol, not the implementation's rules: a
+Truth is the attack and properties of the protocol, not the implementation's rules: a
 genuine peer sends one state per step with sequence step + 1 (docs/protocol.md), so whatever else
 arrives, its message of the step being looked at must be accepted, and a peer heard every step
 must never be declared crashed.
@@ -19,7 +19,7 @@ def genuine(j: int, step: int, x: float = 1.0) -> PeerState:
 
 
 def test_issue_attack_forged_max_sequence_does_not_shut_a_peer_out():
-    """The issue's replay: one UavState for UAV 1 with sequence 2**32-1 mid-mission."""
+    """A replay: one UavState for UAV 1 with sequence 2**32-1 mid-mission."""
     link = PeerLink(0, 5, seed=1, loss_probability=0.0, control_period_s=0.1)
     rejected_genuine = 0
     for k in range(1, 400):

@@ -1,4 +1,4 @@
-"""The algorithm modules must not import rclpy (DESIGN "Layout")."""
+"""The algorithm modules must not import rclpy (the layering: algorithms stay free of ROS)."""
 
 import ast
 from pathlib import Path

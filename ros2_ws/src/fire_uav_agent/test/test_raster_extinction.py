@@ -1,4 +1,4 @@
-"""A raster fire is not declared out over its burnt-out centre while its edge still burns (issue 15).
+"""A raster fire is not declared out over its burnt-out centre while its edge still burns.
 
 Constructed case: a burnt disc of radius 150 m around (500, 500) with a burning arc at its east
 edge (the remnant of a flank attack). The world's fire sensor reports the fire's centroid and the

@@ -31,7 +31,7 @@ def test_uavs_on_different_layers_cannot_come_within_the_collision_radius(n):
     for i, j in itertools.combinations(range(n), 2):
         if h[i] != h[j]:
             assert abs(h[i] - h[j]) - 2 * TRACKING_ERROR_M > r, (i, j, h[i], h[j])
-            assert abs(h[i] - h[j]) >= 2 * r + TRACKING_ERROR_M  # the rule: 2 R + e
+            assert abs(h[i] - h[j]) >= 2 * r + TRACKING_ERROR_M  # the layering rule: 2 R + e
     assert len(set(h)) == min(n, agents[0].tactic.layers)  # every layer used once the fleet has them
 
 

@@ -1,4 +1,4 @@
-"""StalenessSearch.plan and staleness against hand-computed answers (issue 17, mutation testing).
+"""StalenessSearch.plan and staleness against hand-computed answers (mutation testing).
 
 Truths: the class doc (staleness = time since seen / horizon, saturating at 1; the waypoint is
 the nearest of the points within ``stale_band`` of the stalest in the own cell; it is kept until

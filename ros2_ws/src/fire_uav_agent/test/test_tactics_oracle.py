@@ -1,4 +1,4 @@
-"""Tactics against independent truth (issue 17, mutation testing of tactics).
+"""Tactics against independent truth (mutation testing of tactics).
 
 Truths: the module doc's definitions (head weights ordered by ROS with the fastest at 1 + w_min,
 unknown ROS worth the mean of the known; flank weights decaying by e per ``flank_scale_m`` from

@@ -1,5 +1,5 @@
 """Raw subscriptions (signed topics, docs/security.md): bytes that are no message of the topic's
-type are a counted rejection, not an exception. The agent's ``_decode`` and ``_read_state`` on a
+type are a counted rejection, not an exception. The agent's ``_decode`` and ``_read`` on a
 stand-in for its node (only what the methods touch); the world's side is fire_world_sim's
 test_payload_undecodable.py."""
 
@@ -59,38 +59,51 @@ def _reading_stub():
     return stub, reasons, log
 
 
+def _readers():
+    from fire_uav_common.codecs.fire_front import read_fire_front
+    from fire_uav_common.codecs.perimeter_map import read_perimeter_map
+    from fire_uav_common.codecs.uav_state import read_uav_state
+    from fire_uav_msgs.msg import FireFront, PerimeterMap
+
+    state = UavState(uav_id=3, step=9, sequence=4, x_m=1.5, fires_sequence=2, final=True)
+    state.sent_per_topic = [1, 0, 1]
+    pm = PerimeterMap(uav_id=3, sequence=4, fire_id=2, center_x_m=1.5)
+    pm.outer_distance_m = [10.0, 12.5]
+    ff = FireFront(uav_id=3, sequence=4, cell_size_m=5.0)
+    ff.x_m, ff.y_m, ff.state, ff.observed_s, ff.spread_rate_mps = [1.5], [2.5], b"\x02", [8.25], [0.5]
+    return [
+        (read_uav_state, UavState, topics.FLEET_STATE_SPEC, state),
+        (read_perimeter_map, PerimeterMap, topics.FLEET_PERIMETER_SPEC, pm),
+        (read_fire_front, FireFront, topics.FLEET_FRONT_SPEC, ff),
+    ]
+
+
+@pytest.mark.parametrize("reader", _readers(), ids=lambda r: r[1].__name__)
 @pytest.mark.parametrize("data", GARBAGE)
-def test_a_peer_state_that_neither_reader_takes_is_counted_once(data):
+def test_a_peer_message_that_neither_reader_takes_is_counted_once(data, reader):
+    read, msg_type, spec, _ = reader
     stub, reasons, log = _reading_stub()
-    assert UavAgentNode._read_state(stub, data) is None
+    assert UavAgentNode._read(stub, data, read, msg_type, spec) is None
     assert reasons == ["undecodable"] and len(log.lines) == 1
+    assert f"on {spec.name} that are no {msg_type.__name__}" in log.lines[0]
 
 
-def test_a_state_the_fast_reader_refuses_still_reads_through_rclpy(monkeypatch):
+@pytest.mark.parametrize("reader", _readers(), ids=lambda r: r[1].__name__)
+def test_a_message_the_codec_refuses_still_reads_through_rclpy(reader):
     """Another encoding than XCDR1 little-endian (e.g. a big-endian peer) is read by rclpy's
     deserialisation and re-serialised for the codec, to the same values."""
-    import fire_uav_agent.agent_node as node
+    from fire_uav_agent.testing.compare import same
 
-    m = UavState(uav_id=3, step=9, sequence=4, x_m=1.5, fires_sequence=2, final=True)
-    m.sent_per_topic = [1, 0, 1]
+    read, msg_type, spec, m = reader
     data = serialize_message(m)
     stub, reasons, _ = _reading_stub()
-    fast = UavAgentNode._read_state(stub, data)
-
-    real = node.read_uav_state
+    fast = UavAgentNode._read(stub, data, read, msg_type, spec)
 
     def refuse(d):  # the bytes as received are refused; rclpy's re-serialisation of them is read
         if d is data:
-            raise CdrError("UavState: not XCDR1 little-endian CDR (encapsulation 0000)")
-        return real(d)
+            raise CdrError(f"{msg_type.__name__}: not XCDR1 little-endian CDR (encapsulation 0000)")
+        return read(d)
 
-    monkeypatch.setattr(node, "read_uav_state", refuse)
-    slow = UavAgentNode._read_state(stub, data)
-    assert slow == fast and reasons == []
-    assert (slow.uav_id, slow.step, slow.sent_per_topic, slow.final, slow.state.x_m) == (
-        3,
-        9,
-        (1, 0, 1),
-        True,
-        1.5,
-    )
+    slow = UavAgentNode._read(stub, data, refuse, msg_type, spec)
+    assert same(slow, fast) and reasons == []
+    assert (slow.uav_id, slow.sequence if hasattr(slow, "sequence") else slow.state.sequence) == (3, 4)

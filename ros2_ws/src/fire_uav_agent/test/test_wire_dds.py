@@ -1,4 +1,4 @@
-"""The byte readers (``state_wire``, ``bundle_wire``) on what Fast DDS actually delivers.
+"""The codecs' readers (``fire_uav_common.codecs``) on what Fast DDS actually delivers.
 
 A message published as a message (as the world published its SensorBundle) reaches a raw subscription padded to
 a multiple of 4 bytes, which ``serialize_message`` does not do: a reader tested only on
@@ -19,7 +19,15 @@ from fire_uav_agent.testing.compare import same  # noqa: E402
 from fire_uav_common import topics  # noqa: E402
 from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle  # noqa: E402
 from fire_uav_common.codecs.uav_state import read_uav_state  # noqa: E402
-from fire_uav_msgs.msg import FireDetection, FireEstimate, GpsFix, SensorBundle, UavState  # noqa: E402
+from fire_uav_msgs.msg import (  # noqa: E402
+    FireDetection,
+    FireEstimate,
+    FireFront,
+    GpsFix,
+    PerimeterMap,
+    SensorBundle,
+    UavState,
+)
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
 from sensor_msgs.msg import Imu, Range  # noqa: E402
 
@@ -72,7 +80,7 @@ def _round_trip(node_pair, spec, make, count: int, uav_id: int | None) -> list[b
     while pub.get_subscription_count() == 0 and time.monotonic() < end:
         spin()
     for k in range(count):
-        pub.publish(make(k))  # as a message, the way the world published its bundles until session 13
+        pub.publish(make(k))  # as a message, the way the world published its bundles before its codec
         spin()
     end = time.monotonic() + 10
     while len(got) < count and time.monotonic() < end:
@@ -99,7 +107,7 @@ def test_states_published_as_messages_read_as_rclpy_reads_them(node_pair):
 
 
 def test_bundles_the_world_writes_as_bytes_arrive_as_written(node_pair):
-    """As the world publishes them since session 13: its writer's bytes, published raw."""
+    """As the world publishes them: its writer's bytes, published raw."""
     from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
     from fire_world_sim.sensors import AltimeterSample, GyroSample
     from fire_world_sim.world import SensorBundleRecord
@@ -116,3 +124,41 @@ def test_bundles_the_world_writes_as_bytes_arrive_as_written(node_pair):
         assert same(
             read_sensor_bundle(data).bundle, rclpy_ref.to_bundle(deserialize_message(data, SensorBundle))
         )
+
+
+def _perimeter(k: int) -> PerimeterMap:
+    m = PerimeterMap(uav_id=3, sequence=k + 1, fire_id=k - 2, center_x_m=0.5 * k)
+    m.header.frame_id = "map"[: k % 4]
+    m.outer_distance_m = [float(j) for j in range(k % 7)]
+    m.importance = [0.25] * (k % 3)
+    return m
+
+
+def _front(k: int) -> FireFront:
+    m = FireFront(uav_id=3, sequence=k + 1, cell_size_m=5.0)
+    m.header.frame_id = "map"[: k % 4]
+    n = k % 4
+    m.x_m, m.y_m, m.state, m.spread_rate_mps = [1.5] * n, [2.5] * n, bytes([2] * n), [0.5] * n
+    m.observed_s = [float(k)] * n  # n = 0: an empty double sequence (Fast CDR's tail)
+    return m
+
+
+@pytest.mark.parametrize("as_bytes", [False, True], ids=["as messages", "as the codec's bytes"])
+def test_perimeter_maps_and_fronts_arrive_readable(node_pair, as_bytes):
+    """Published as messages (as the agent did before the codecs) or as the writers' bytes (as it
+    does now): what arrives reads as rclpy reads it."""
+    from fire_uav_agent.incoming import peer_front, peer_perimeter
+    from fire_uav_common.codecs.fire_front import read_fire_front
+    from fire_uav_common.codecs.perimeter_map import read_perimeter_map
+
+    def written(make):
+        return (lambda k: bytes(serialize_message(make(k)))) if as_bytes else make
+
+    got = _round_trip(node_pair, topics.FLEET_PERIMETER_SPEC, written(_perimeter), 12, uav_id=None)
+    for k, data in enumerate(got):
+        want = rclpy_ref.to_peer_perimeter(deserialize_message(data, PerimeterMap), 0.1)
+        assert same(peer_perimeter(read_perimeter_map(data), 0.1), want) and want.sequence == k + 1
+    got = _round_trip(node_pair, topics.FLEET_FRONT_SPEC, written(_front), 12, uav_id=None)
+    for k, data in enumerate(got):
+        want = rclpy_ref.to_peer_front(deserialize_message(data, FireFront), 0.1)
+        assert same(peer_front(read_fire_front(data), 0.1), want) and want.sequence == k + 1

@@ -33,7 +33,7 @@ publisher is, volatile unless every publisher is transient local.
 Start-up: the world starts stepping once ``/world/truth`` has ``wait_for_subscribers``
 subscribers (recorder and runner) and every agent said AGENT_READY. Nothing waits for the
 recorder's other subscriptions, and one made only when the graph poll finds its publisher misses
-what that publisher sent before (2026-12: a 20-UAV mission began while the recorder was still
+what that publisher sent before (measured: a 20-UAV mission began while the recorder was still
 subscribing to ~90 topics; ~40 per-vehicle topics lost their first 1-7 steps). So before
 anything else the recorder subscribes to every fleet topic it can name (:func:`up_front_topics`:
 ``fire_uav_common.topics.ALL_TOPICS``, the per-vehicle ones for vehicles ``0 .. uav_count - 1``,
@@ -61,7 +61,7 @@ Keeping up: at 20 UAVs ``/fleet/state`` and ``/tf`` each get ~20 messages per st
 spins on the project's :class:`fire_uav_common.ros_io.LeanExecutor` (wait set built once, not
 rebuilt in Python over ~90 subscriptions at every wake) and every subscription is drained (one
 callback takes the topic's whole queue, ``topics.drain_queue``); with rclpy's executor, one
-message per topic per wake, the recorder fell ever further behind (2026-12: 804 of 3000
+message per topic per wake, the recorder fell ever further behind (measured: 804 of 3000
 ``/fleet/state`` messages of a 20-UAV, 150-step mission).
 
 Stopping: SIGINT/SIGTERM only count (rclpy's own signal handlers are not installed: they shut

@@ -12,10 +12,10 @@ receipt by each agent's own peer link (seeded rule of ``fire_uav_agent.peer_link
 node. A stopped agent (:meth:`Harness.stop`, a killed process) sends nothing more and is no longer
 waited for; the world lets its vehicle fall after the command timeout.
 
-The sensor bundle and the peer state travel as the bytes the nodes publish, through the same
-codecs (``fire_uav_common.codecs``), so a harness run sees the numbers a ROS run sees (float32
-fields, stamps of whole nanoseconds). The perimeter map and the front picture, which the node
-builds as rclpy messages, are rounded here as those messages round them (:func:`peer_messages`).
+Every message travels as the bytes the nodes publish (sensor bundle, peer state, perimeter map,
+front picture), written and read by the same codecs (``fire_uav_common.codecs``, through the
+agent's ``outgoing`` and ``incoming``), so a harness run sees the numbers a ROS run sees (float32
+fields, stamps of whole nanoseconds) and rounds nothing itself.
 """
 
 from __future__ import annotations
@@ -24,7 +24,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
+from fire_uav_common.codecs.fire_front import read_fire_front
+from fire_uav_common.codecs.perimeter_map import read_perimeter_map
 from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle, write_sensor_bundle
 from fire_uav_common.codecs.uav_state import WireState, read_uav_state
 from fire_uav_common.constants import VehicleStatus
@@ -34,13 +35,13 @@ from fire_world_sim import world as wsim
 from ..agent_config import config_from_scenario
 from ..agent_core import Agent
 from ..agent_types import Bundle, PeerPerimeter, StepOutput
-from ..fire_front import FrontCells
 from ..front_consensus import PeerFront
-from ..outgoing import sent_per_topic, state_bytes
+from ..incoming import peer_front, peer_perimeter
+from ..outgoing import front_bytes, perimeter_bytes, sent_per_topic, state_bytes
 from ..peer_gate import PeerGate, Rejected, RunStep
 from ..peer_link import PeerFires, PeerState
 
-__all__ = ["Harness", "agent_bundle", "peer_messages", "scenario_path", "world_command"]
+__all__ = ["Harness", "PeerBytes", "agent_bundle", "peer_messages", "scenario_path", "world_command"]
 
 PeerMessage = PeerState | PeerFires | PeerPerimeter | PeerFront
 
@@ -57,10 +58,6 @@ def scenario_path(name: str) -> Path:
     raise FileNotFoundError(f"no scenario {name!r} under {root}")
 
 
-def _f32(x: float) -> float:
-    return float(np.float32(x))
-
-
 # --- conversions -----------------------------------------------------------------------------------
 def agent_bundle(b: wsim.SensorBundleRecord, gyro_sigma_radps: float) -> Bundle:
     """World bundle -> agent bundle, through the bytes the world node publishes."""
@@ -73,37 +70,29 @@ def world_command(out: StepOutput) -> tuple[wsim.Command, list[int]]:
     return wsim.Command(v, vz, om), [int(action) for action, _fire in out.payload_requests]
 
 
+@dataclass(frozen=True)
+class PeerBytes:
+    """What one agent sends its peers at a step, as the node publishes it: the UavState (with the
+    fire picture and the count of the rest), and the PerimeterMap and FireFront if any."""
+
+    state: bytes
+    perimeter: bytes | None = None
+    front: bytes | None = None
+
+
 def peer_messages(
-    out: StepOutput, stamp_ns: int, final: bool, perimeter_sequence: int = 0
-) -> tuple[bytes, list[PeerPerimeter | PeerFront]]:
-    """Agent output -> what its peers receive: the UavState's bytes (with the fire picture and the
-    count of the rest), and the perimeter map and front picture as their messages carry them."""
-    rest: list[PeerPerimeter | PeerFront] = []
-    if out.perimeter is not None:
-        fire_id, s = out.perimeter
-        summary = {
-            "center_x_m": float(s["center_x_m"]),
-            "center_y_m": float(s["center_y_m"]),
-            "outer_distance_m": np.asarray(s["outer_distance_m"], dtype=np.float32).astype(float),
-            "outer_visit_time_s": np.asarray(s["outer_visit_time_s"], dtype=np.float32).astype(float),
-        }
-        fid = int(fire_id) if fire_id < 2**31 else -1
-        rest.append(PeerPerimeter(out.state.uav_id, perimeter_sequence, out.step, fid, summary))
-    if out.front is not None:
-        rest.append(PeerFront(out.state.uav_id, out.state.sequence, out.step, front_as_sent(out.front)))  # type: ignore[arg-type]  # StepOutput.front is typed object (agent_types does not import fire_front)
-    sent = sent_per_topic(out.perimeter is not None, out.front is not None)
-    return state_bytes(out, stamp_ns, sent, final), rest
-
-
-def front_as_sent(c: FrontCells) -> FrontCells:
-    """Front cells as ``FireFront`` carries them (float32 centres and rates, float64 times)."""
-    return FrontCells(
-        np.asarray(c.x_m, dtype=np.float32).astype(float),
-        np.asarray(c.y_m, dtype=np.float32).astype(float),
-        np.asarray(c.state, dtype=np.uint8).astype(np.int64),
-        np.asarray(c.t_obs_s, dtype=float),
-        np.asarray(c.ros_mps, dtype=np.float32).astype(float),
-    )
+    out: StepOutput,
+    stamp_ns: int,
+    final: bool,
+    perimeter_sequence: int = 0,
+    front_sequence: int = 0,
+    cell_size_m: float = 0.0,
+) -> PeerBytes:
+    """Agent output -> the bytes its peers receive (the node's ``outgoing`` writers)."""
+    pm = perimeter_bytes(out, stamp_ns, perimeter_sequence)
+    fm = front_bytes(out, stamp_ns, front_sequence, cell_size_m)
+    sent = sent_per_topic(pm is not None, fm is not None)
+    return PeerBytes(state_bytes(out, stamp_ns, sent, final), pm, fm)
 
 
 # --- the harness --------------------------------------------------------------------------------
@@ -146,6 +135,7 @@ class Harness:
             for i, a in enumerate(self.agents)
         ]
         self._perimeter_seq = [0] * n
+        self._front_seq = [0] * n
         self._gyro_sigma_radps = float(self.scenario.sensors.gyro.sigma_radps)
 
     @classmethod
@@ -189,26 +179,39 @@ class Harness:
         for uid, out in enumerate(outs):
             if out is None:
                 continue
-            if out.perimeter is not None:
-                self._perimeter_seq[uid] += 1
+            front = self.agents[uid].front
+            self._perimeter_seq[uid] += out.perimeter is not None
+            self._front_seq[uid] += front is not None and out.front is not None
             b = r.bundles[uid]
             final = int(b.vehicle_status) == int(VehicleStatus.CRASHED)
-            data, rest = peer_messages(out, b.stamp_ns, final, self._perimeter_seq[uid])
-            wire = read_uav_state(data)
+            cell_size_m = 0.0 if front is None else front.cfg.cell_size_m
+            sent = peer_messages(
+                out, b.stamp_ns, final, self._perimeter_seq[uid], self._front_seq[uid], cell_size_m
+            )
+            wire = read_uav_state(sent.state)
+            rest: list[PeerPerimeter | PeerFront] = []
+            period_s = self.agents[uid].cfg.control_period_s
+            if sent.perimeter is not None:
+                rest.append(peer_perimeter(read_perimeter_map(sent.perimeter), period_s))
+            if sent.front is not None:
+                rest.append(peer_front(read_fire_front(sent.front), period_s))
             for j in range(len(self.agents)):
                 if j != uid and j not in self.stopped:
-                    self._deliver(j, data, wire, rest)
+                    self._deliver(j, sent, wire, rest)
         self.outputs = outs
         return r
 
-    def _deliver(self, j: int, data: bytes, wire: WireState, rest: list[PeerPerimeter | PeerFront]) -> None:
+    def _deliver(
+        self, j: int, sent: PeerBytes, wire: WireState, rest: list[PeerPerimeter | PeerFront]
+    ) -> None:
         """One agent's step messages to agent ``j``'s gate, as the node hands them over (the state
-        first: it says what else was sent)."""
+        first: it says what else was sent); ``rest``: the perimeter map and front read from
+        ``sent`` (once: every receiver reads the same bytes)."""
         gate = self.gates[j]
-        self._decide(j, gate.on_state(data, wire.state, wire.fires, wire.sent_per_topic, wire.final))
+        self._decide(j, gate.on_state(sent.state, wire.state, wire.fires, wire.sent_per_topic, wire.final))
         for m in rest:
             if isinstance(m, PeerPerimeter):
-                self._decide(j, gate.on_perimeter(b"", m))
+                self._decide(j, gate.on_perimeter(sent.perimeter or b"", m))
             elif isinstance(m, PeerFront):
                 self._decide(j, gate.on_front(m.uav_id, m.step, m))
 

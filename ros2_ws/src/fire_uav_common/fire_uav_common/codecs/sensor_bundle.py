@@ -10,11 +10,11 @@ the stamp and ``angular_velocity.z``, and so on.
 
 - :func:`write_sensor_bundle`: a world bundle (``fire_world_sim.world.SensorBundleRecord``: stamps [ns], samples)
   -> the standard CDR of the message; any subscriber (the agents, the recorder, ``ros2 topic echo``)
-  reads them as the message the world node built before (fire_world_sim's test_bundle_wire.py,
+  reads them as the message the world node built before (fire_world_sim's test_sensor_bundle_writer.py,
   with rclpy). The padding bytes are zeros.
 - :func:`read_sensor_bundle`: those bytes -> :class:`WireBundle` (:class:`Bundle`, the agent's
   ROS-free view, and the header stamp the agent's answers echo). Compared with rclpy's
-  deserialisation on generated bundles (fire_uav_agent's test_bundle_wire.py), which also pins the
+  deserialisation on generated bundles (fire_uav_agent's test_sensor_bundle_reader.py), which also pins the
   field lists of every message type involved. Another encapsulation, truncated bytes or bytes left
   after ``vehicle_status`` (beyond the padding to 4 bytes that Fast DDS adds on the wire) raise
   :class:`~fire_uav_common.cdr.CdrError`. The ``frame_id`` strings are not decoded.
@@ -111,7 +111,7 @@ def _count(buf: bytearray, k: int) -> None:
 
 
 def write_sensor_bundle(b: WorldBundle, gyro_sigma_radps: float) -> bytes:
-    """``b`` as the CDR bytes of its SensorBundle (fire_world_sim test_bundle_wire.py: ``reference_bundle_msg``).
+    """``b`` as the CDR bytes of its SensorBundle (fire_world_sim's test_sensor_bundle_writer.py: ``reference_bundle_msg``).
 
     ``gyro_sigma_radps``: the gyro's noise, reported as ``angular_velocity_covariance[8]`` (its
     square). Values out of a field's range raise (struct.error), as rclpy's message setters do.

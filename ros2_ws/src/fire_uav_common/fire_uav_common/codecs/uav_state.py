@@ -7,7 +7,7 @@ with defaults, which the C conversion then replaces), and the agent uses a few f
 Reading those fields with ``struct`` skips that (docs/profile.md). It is the same information:
 every decoded field is compared against ``deserialize_message`` on generated messages, the bytes
 :func:`write_uav_state` writes against ``serialize_message`` of the same message
-(fire_uav_agent's test_state_wire.py), and the field lists of ``UavState.msg`` /
+(fire_uav_agent's test_uav_state_codec.py), and the field lists of ``UavState.msg`` /
 ``FireEstimate.msg`` are pinned there, so a change to the message fails that test instead of
 being misread here.
 

@@ -1,4 +1,4 @@
-"""``state_wire.read_uav_state`` against rclpy's own deserialisation (the reference it replaces).
+"""``fire_uav_common.codecs.uav_state.read_uav_state`` against rclpy's own deserialisation (the reference it replaces).
 
 Generated UavStates (every field random, frame ids of every length mod 8 so that each alignment
 rule is exercised, up to 6 fires) are serialised by ``rclpy.serialization.serialize_message``

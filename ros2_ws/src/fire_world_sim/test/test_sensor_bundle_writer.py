@@ -52,7 +52,7 @@ _hdr = WorldNode._hdr
 
 
 def reference_bundle_msg(b: SensorBundleRecord, gyro_sigma_radps: float) -> SensorBundle:
-    """The SensorBundle the world built and published before ``bundle_wire`` (session 12's
+    """The SensorBundle the world built and published before it wrote bytes (its former
     ``WorldNode._bundle_msg``, unchanged but for its arguments): the reference for the bytes."""
     m = SensorBundle()
     m.header.stamp = stamp(b.stamp_ns)
