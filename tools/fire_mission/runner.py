@@ -725,7 +725,8 @@ def run(args: argparse.Namespace) -> int:
                         "fire_uav_recording",
                         "foxglove_bridge",
                         # the scenario: on a landscape the bridge also serves the Map panel's view
-                        ["-p", f"port:={args.foxglove_port}", "-p", f"scenario_file:={scenario_path}"],
+                        ["-p", f"port:={args.foxglove_port}", "-p", f"scenario_file:={scenario_path}",
+                         "-p", f"uav_count:={uav_count}"],  # fmt: skip
                     ),
                 )
                 _wait_for_node(sup, "foxglove_bridge", 20.0, procs)

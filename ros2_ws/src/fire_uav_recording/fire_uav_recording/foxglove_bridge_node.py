@@ -16,6 +16,9 @@ Parameters (all read once at start-up):
   ``sensor_msgs/NavSatFix`` on ``/uav_<k>/geo/truth_fix`` (from ``/world/truth``) and the burned
   and burning area as ``foxglove.GeoJSON`` on ``/geo/fire_area`` (from ``/viz/fire_grid``, at
   most once per ``fire_area_period_s`` (1.0) sim seconds). Both source topics must be served.
+  ``uav_count`` (-1: the scenario's, or the bag's): the NavSatFix channels made at start-up, before
+  any client connects (a channel made while a client is connected can be advertised to it before
+  the server takes subscriptions to it: foxglove-sdk 0.30 then answers "Unknown channel ID").
 
 Discovery, the QoS rule and the schema text are the recorder's
 (:mod:`fire_uav_recording.raw_topics`): a Foxglove channel is announced with
@@ -49,6 +52,7 @@ from fire_uav_recording.geo import (
     GeoView,
     geo_frame_of_bag,
     geo_frame_of_scenario_file,
+    truth_fix_topic,
 )
 from fire_uav_recording.raw_topics import (
     RawTopic,
@@ -72,6 +76,7 @@ class BridgeConfig:
     scenario_file: str = ""
     bag: str = ""
     fire_area_period_s: float = 1.0
+    uav_count: int = -1
 
     def wants(self, topic: str) -> bool:
         """Whether ``topic`` is served (full-match an include pattern and no exclude pattern)."""
@@ -93,6 +98,11 @@ class FoxgloveBridgeNode(Node):
         self.geo = self._geo_view()
         self._geo_channels: dict[str, foxglove.Channel] = {}
         self._area_channel: foxglove.channels.GeoJsonChannel | None = None
+        if self.geo is not None:  # before the server: see uav_count in the module docstring
+            n = self.config.uav_count if self.config.uav_count >= 0 else self.geo.frame.uav_count
+            for k in range(n):
+                self._fix_channel(truth_fix_topic(k))
+            self._area_channel = foxglove.channels.GeoJsonChannel(FIRE_AREA_TOPIC)
         try:
             self.server = foxglove.start_server(
                 name="fire_uav",
@@ -127,6 +137,10 @@ class FoxgloveBridgeNode(Node):
         self.declare_parameter("scenario_file", "", ro)
         self.declare_parameter("bag", "", ro)
         self.declare_parameter("fire_area_period_s", 1.0, ro)
+        self.declare_parameter(
+            "uav_count", -1,
+            ParameterDescriptor(read_only=True, integer_range=[IntegerRange(from_value=-1, to_value=255)]),
+        )  # fmt: skip
         g = self.get_parameter
         period = float(g("discovery_period_wall_s").value)
         if not 0.01 <= period <= 60.0:
@@ -149,6 +163,7 @@ class FoxgloveBridgeNode(Node):
             scenario_file=scenario_file,
             bag=bag,
             fire_area_period_s=area_period,
+            uav_count=int(g("uav_count").value),
             host=host,
             port=int(g("port").value),
             include=compile_patterns("topics", include, ConfigError),
@@ -177,6 +192,20 @@ class FoxgloveBridgeNode(Node):
         )
         return GeoView(self._typestore, frame, cfg.fire_area_period_s)
 
+    def _fix_channel(self, name: str) -> foxglove.Channel:
+        """The NavSatFix channel ``name`` (made on first use)."""
+        ch = self._geo_channels.get(name)
+        if ch is None:
+            ch = self._geo_channels[name] = foxglove.Channel(
+                name,
+                message_encoding="cdr",
+                schema=foxglove.Schema(
+                    name=NAVSAT_TYPE, encoding="ros2msg", data=schema_text(self._typestore, NAVSAT_TYPE).encode()
+                ),
+                metadata={"topic_type_hash": self._typestore.hash_rihs01(NAVSAT_TYPE)},
+            )
+        return ch
+
     def _log_geo(self, source: str, data: bytes, now_ns: int) -> None:
         """The map view's messages derived from one message of ``source``."""
         geo = self.geo
@@ -184,19 +213,7 @@ class FoxgloveBridgeNode(Node):
         try:
             if source == topics.WORLD_TRUTH:
                 for name, cdr in geo.on_truth(data):
-                    ch = self._geo_channels.get(name)
-                    if ch is None:
-                        ch = self._geo_channels[name] = foxglove.Channel(
-                            name,
-                            message_encoding="cdr",
-                            schema=foxglove.Schema(
-                                name=NAVSAT_TYPE,
-                                encoding="ros2msg",
-                                data=schema_text(self._typestore, NAVSAT_TYPE).encode(),
-                            ),
-                            metadata={"topic_type_hash": self._typestore.hash_rihs01(NAVSAT_TYPE)},
-                        )
-                    ch.log(cdr, log_time=now_ns)
+                    self._fix_channel(name).log(cdr, log_time=now_ns)
                     self.messages_sent += 1
             else:
                 text = geo.on_fire_grid(data)

@@ -23,6 +23,7 @@ it returns; the recorder writes the same fixes into the bag (``docs/recording.md
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from collections.abc import Mapping
@@ -67,6 +68,7 @@ class GeoFrame:
     crs_wkt: str
     projected_origin: tuple[float, float]  # [m] in the landscape's CRS
     landscape: str = ""
+    uav_count: int = 0  # the fleet the scenario (or the bag) names
 
     def latlon(self, x_m: Any, y_m: Any) -> tuple[np.ndarray, np.ndarray]:
         """WGS84 (latitude, longitude) [deg] of map points."""
@@ -105,7 +107,7 @@ def geo_frame_of_scenario(raw: Mapping[str, Any], file: str = "") -> GeoFrame | 
     assert land is not None
     window = landscape_of(land)
     ox, oy = land.projected_origin
-    return GeoFrame(window.crs_wkt, (float(ox), float(oy)), land.name)
+    return GeoFrame(window.crs_wkt, (float(ox), float(oy)), land.name, int(scenario.uavs.count))
 
 
 def geo_frame_of_scenario_file(path: str | Path) -> GeoFrame | None:
@@ -126,7 +128,11 @@ def geo_frame_of_bag(path: str | Path) -> GeoFrame | None:
         custom = dict(bag.custom_data)
     text = custom.get(rec.KEY_SCENARIO_YAML, "")
     raw = yaml.safe_load(text) if text else None
-    return geo_frame_of_scenario(raw if isinstance(raw, Mapping) else {}, custom.get(rec.KEY_SCENARIO_FILE, ""))
+    frame = geo_frame_of_scenario(raw if isinstance(raw, Mapping) else {}, custom.get(rec.KEY_SCENARIO_FILE, ""))
+    try:  # the fleet that flew (the runner's --uavs), not the scenario's default
+        return dataclasses.replace(frame, uav_count=int(custom[rec.KEY_UAV_COUNT])) if frame else None
+    except (KeyError, ValueError):
+        return frame
 
 
 def truth_fixes(typestore: Any, truth: Any, frame: GeoFrame) -> list[tuple[str, bytes]]:
