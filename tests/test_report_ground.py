@@ -159,9 +159,11 @@ def test_places_give_every_position_in_degrees_as_the_summary_does(worcester):
     assert ground is not None
     rows = places(m, ground)
     kinds = [r["kind"] for r in rows]
-    assert kinds == ["fire", "lake", "home", "home", "drop", "loss"]
+    assert kinds == ["ignition", "fire", "lake", "home", "home", "drop", "loss"]
     ign = geo_summary(load_scenario(WORCESTER))["ignitions"][0]  # type: ignore[index]
-    assert (rows[0]["lat_deg"], rows[0]["lon_deg"]) == (ign["lat_deg"], ign["lon_deg"])  # fire 0 at the ignition
+    assert (rows[0]["x_m"], rows[0]["y_m"], rows[0]["t_s"]) == (285.0, 585.0, -600.0)
+    assert (rows[0]["lat_deg"], rows[0]["lon_deg"]) == (ign["lat_deg"], ign["lon_deg"])
+    assert (rows[1]["lat_deg"], rows[1]["lon_deg"]) == (ign["lat_deg"], ign["lon_deg"])  # fire 0 recorded there
     loss = rows[-1]
     assert (loss["x_m"], loss["y_m"]) == (800.0, 450.0)  # no crash position: where its truth was last
     html = places_html(rows, "worcester_vt")

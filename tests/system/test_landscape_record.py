@@ -64,7 +64,11 @@ def test_worcester_bag_has_a_fix_per_truth_and_vehicle_and_the_report_its_ground
     metrics = json.loads((out / "report" / "metrics.json").read_text())
     assert metrics["figures"][0] == "landscape.png" and (out / "report" / "landscape.png").is_file()
     places = metrics["geo"]["places"]
-    assert {p["kind"] for p in places} >= {"fire", "lake", "home"}
+    assert {p["kind"] for p in places} >= {"ignition", "fire", "lake", "home"}
+    ign = [p for p in places if p["kind"] == "ignition"]
+    assert [(p["lat_deg"], p["lon_deg"]) for p in ign] == [
+        (g["lat_deg"], g["lon_deg"]) for g in summary["geo"]["ignitions"]
+    ]
     homes = [p for p in places if p["kind"] == "home"]
     assert [(p["lat_deg"], p["lon_deg"]) for p in homes] == [
         (h["lat_deg"], h["lon_deg"]) for h in summary["geo"]["uav_homes"]

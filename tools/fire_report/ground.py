@@ -131,6 +131,7 @@ class Ground:
     projected_origin: tuple[float, float]  # the map origin in the landscape's CRS [m]
     crs_wkt: str
     lakes: tuple[tuple[float, float, float], ...] = ()  # refill lakes: x, y, diameter [m]
+    ignitions: tuple[tuple[float, float, float], ...] = ()  # raster ignitions: x, y [m], start [s]
 
     def latlon(self, x_m: Any, y_m: Any) -> tuple[Any, Any]:
         """WGS84 (latitude, longitude) [deg] of map points (arrays or scalars)."""
@@ -201,6 +202,10 @@ def mission_ground(mission: Mission) -> tuple[Ground | None, str | None]:
             projected_origin=(float(land.projected_origin[0]), float(land.projected_origin[1])),
             crs_wkt=window.crs_wkt,
             lakes=lakes,
+            ignitions=tuple(
+                (float(ig.x_m), float(ig.y_m), float(ig.start_s))
+                for ig in (scenario.fires.raster.ignitions if scenario.fires.raster else ())
+            ),
         ),
         None,
     )
@@ -213,13 +218,17 @@ def _place(ground: Ground, what: str, t_s: float | None, x: float, y: float, **e
 
 
 def places(mission: Mission, ground: Ground) -> list[dict[str, Any]]:
-    """Where things were, with latitude and longitude: each fire's ignition, each refill lake,
-    each UAV's home, each drop and each UAV lost (where its vehicle fell). Rows ``{what, t_s,
-    x_m, y_m, lat_deg, lon_deg, ...}``; ``kind`` is one of "fire", "lake", "home", "drop", "loss"."""
+    """Where things were, with latitude and longitude: each ignition of the scenario, each fire's
+    centre when first recorded, each refill lake, each UAV's home, each drop and each UAV lost
+    (where its vehicle fell). Rows ``{what, t_s, x_m, y_m, lat_deg, lon_deg, kind}``; ``kind`` is
+    one of "ignition", "fire", "lake", "home", "drop", "loss"."""
     out: list[dict[str, Any]] = []
+    for i, (x, y, t) in enumerate(ground.ignitions):
+        out.append(_place(ground, f"ignition {i}", t, x, y, kind="ignition"))
     for fid, f in sorted(mission.truth_fires.items()):
         if f and f["x"].size:
-            out.append(_place(ground, f"fire {fid}", float(f["t"][0]), f["x"][0], f["y"][0], kind="fire"))
+            what = f"fire {fid}, its centre when first recorded"
+            out.append(_place(ground, what, float(f["t"][0]), f["x"][0], f["y"][0], kind="fire"))
     for i, (x, y, d) in enumerate(ground.lakes):
         what = f"lake {i}" + (f" (refill disc {d:.0f} m across)" if d > 0 else "")
         out.append(_place(ground, what, None, x, y, kind="lake"))

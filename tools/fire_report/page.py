@@ -197,6 +197,8 @@ def fires_html(rows: list[dict[str, Any]], raster: bool) -> str:
         "first drop [s]",
         "out at [s]",
     ]
+    if any(r.get("lat_deg") is not None for r in rows):
+        head[1] = "position x, y [m] (latitude, longitude [\u00b0])"
     if raster:
         head.append("burned [ha]")
     head.append("at the end")
