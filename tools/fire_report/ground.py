@@ -134,27 +134,16 @@ class Ground:
     ignitions: tuple[tuple[float, float, float], ...] = ()  # raster ignitions: x, y [m], start [s]
 
     def latlon(self, x_m: Any, y_m: Any) -> tuple[Any, Any]:
-        """WGS84 (latitude, longitude) [deg] of map points (arrays or scalars)."""
-        t = _transformer(self.crs_wkt)
-        ox, oy = self.projected_origin
-        lon, lat = t.transform(np.asarray(x_m, dtype=float) + ox, np.asarray(y_m, dtype=float) + oy)
-        return lat, lon
+        """WGS84 (latitude, longitude) [deg] of map points (arrays or scalars), the conversion
+        the live view and the recorder use (:class:`fire_uav_recording.geo.GeoFrame`)."""
+        from fire_uav_recording.geo import GeoFrame
+
+        return GeoFrame(self.crs_wkt, self.projected_origin).latlon(x_m, y_m)
 
     def classes_present(self) -> list[int]:
         """The fuel classes found in the window, in :data:`FUEL_CLASSES` order."""
         found = set(np.unique(fuel_class(self.fuel)).tolist())
         return [k for k in range(len(FUEL_CLASSES)) if k in found]
-
-
-_TRANSFORMERS: dict[str, Any] = {}
-
-
-def _transformer(crs_wkt: str) -> Any:
-    from pyproj import CRS, Transformer
-
-    if crs_wkt not in _TRANSFORMERS:
-        _TRANSFORMERS[crs_wkt] = Transformer.from_crs(CRS.from_wkt(crs_wkt), "EPSG:4326", always_xy=True)
-    return _TRANSFORMERS[crs_wkt]
 
 
 def _has_landscape(scenario: dict[str, Any]) -> bool:

@@ -234,7 +234,7 @@ MAX_PLACE_DROPS = 40  # more drops than this: their positions only in metrics.js
 
 def places_html(rows: list[dict[str, Any]], landscape: str) -> str:
     """The places of a mission on a landscape (``fire_report.ground.places``) with latitude and
-    longitude: fires, lakes, UAV homes, drops, UAVs lost."""
+    longitude: ignitions, fires, lakes, UAV homes, drops, UAVs lost."""
     drops = [r for r in rows if r.get("kind") == "drop"]
     shown = [r for r in rows if r.get("kind") != "drop" or len(drops) <= MAX_PLACE_DROPS]
     body = [
