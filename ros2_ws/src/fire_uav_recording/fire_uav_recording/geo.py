@@ -280,10 +280,16 @@ def _signed_area(ring: list[tuple[int, int]]) -> float:
 
 
 def _contains_points(ring: list[tuple[int, int]], pts: np.ndarray) -> np.ndarray:
-    """Which of ``pts`` (cell centres: never on an edge) lie inside ``ring``."""
-    from matplotlib.path import Path as _Path
-
-    return np.asarray(_Path(np.asarray(ring, dtype=float), closed=False).contains_points(pts))
+    """Which of ``pts`` (n, 2) lie inside ``ring`` (even-odd rule, counting the edges a ray to
+    +x crosses; the points are cell centres, never on an edge)."""
+    v = np.asarray(ring, dtype=float)
+    x0, y0 = v[:, 0], v[:, 1]
+    x1, y1 = np.roll(x0, -1), np.roll(y0, -1)
+    px, py = pts[:, 0:1], pts[:, 1:2]
+    spans = (y0 > py) != (y1 > py)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cross = px < x0 + (py - y0) * (x1 - x0) / (y1 - y0)
+    return np.asarray(np.count_nonzero(spans & cross, axis=1) % 2 == 1)
 
 
 def _multipolygon(
