@@ -530,14 +530,15 @@ def fig_landscape(mission: Mission, out: Path, ground: Ground | None) -> list[Fi
         if burned.any():
             xs, ys = ox + (np.arange(nx) + 0.5) * r, oy + (np.arange(ny) + 0.5) * r
             ax.contourf(xs, ys, burned, levels=[0.5, 1.5], colors=["#202020"], alpha=0.35)
-            ax.contour(xs, ys, burned, levels=[0.5], colors=["#d7191c"], linewidths=1.6)
+            # above the tracks: a monitor circling the fire would hide its edge
+            ax.contour(xs, ys, burned, levels=[0.5], colors=["#d7191c"], linewidths=1.8, zorder=4)
             handles.append(plt.Line2D([], [], color="#d7191c", lw=1.6, label=f"burned by {g['t']:.0f} s"))
     ids = sorted(mission.truth_vehicles)
     colors = _colors(len(ids))
     for k, u in enumerate(ids):
         v = mission.truth_vehicles[u]
         if v and v["x"].size:
-            ax.plot(v["x"], v["y"], "-", color=colors[k], lw=0.7, alpha=0.9)
+            ax.plot(v["x"], v["y"], "-", color=colors[k], lw=0.6, alpha=0.7)
             ax.plot(v["x"][0], v["y"][0], "^", color=colors[k], markeredgecolor="k", ms=7)
     if ids:
         handles.append(plt.Line2D([], [], color="k", lw=0.7, marker="^", ms=6, label="UAV tracks, homes"))
@@ -546,10 +547,12 @@ def fig_landscape(mission: Mission, out: Path, ground: Ground | None) -> list[Fi
             ax.add_patch(plt.Circle((x, y), d / 2, fill=False, ls="--", color="k", lw=1.0))
     if any(d > 0 for _, _, d in ground.lakes):
         handles.append(plt.Line2D([], [], color="k", ls="--", lw=1.0, label="refill disc"))
-    for fid, f in sorted(mission.truth_fires.items()):
-        if f and f["x"].size:
-            ax.plot(f["x"][0], f["y"][0], "*", color="#d7191c", markeredgecolor="k", ms=12)
-            ax.annotate(f"fire {fid}", (f["x"][0], f["y"][0]), fontsize=8, xytext=(6, 4), textcoords="offset points")
+    starts = [(x, y, f"ignition {i}") for i, (x, y, _) in enumerate(ground.ignitions)] or [
+        (float(f["x"][0]), float(f["y"][0]), f"fire {fid}") for fid, f in sorted(mission.truth_fires.items()) if f
+    ]  # a raster fire's ignitions, else where each fire was first recorded
+    for x, y, label in starts:
+        ax.plot(x, y, "*", color="#d7191c", markeredgecolor="k", ms=12, zorder=5)
+        ax.annotate(label, (x, y), fontsize=8, xytext=(6, 4), textcoords="offset points", zorder=5)
     _draw_crashes(ax, mission, math.inf)
     (x0, x1), (y0, y1) = _area(mission)
     ax.set_xlim(x0, x1)
