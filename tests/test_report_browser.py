@@ -16,10 +16,13 @@ import json
 import re
 import shutil
 import subprocess
+from pathlib import Path
 
 import pytest
 from fire_report.report import write_report
-from fire_report.synthetic import write_synthetic_mission
+from fire_report.synthetic import SyntheticMission, write_synthetic_mission
+
+ROOT = Path(__file__).resolve().parents[1]
 
 PROBE_SCRIPT = """<pre id="probe-out">pending</pre><script>
 window.addEventListener('load', function () {
@@ -113,9 +116,23 @@ def kill_report(tmp_path_factory):
     return root / "report"
 
 
+@pytest.fixture(scope="module")
+def landscape_report(tmp_path_factory):
+    """The same synthetic mission flown on the worcester_vt landscape: the ground under the maps,
+    the landscape map and the table of places in latitude and longitude."""
+    root = tmp_path_factory.mktemp("browser_landscape")
+    scenario = ROOT / "ros2_ws" / "src" / "fire_world_sim" / "scenarios" / "worcester_vt.yaml"
+    write_synthetic_mission(root / "bag", SyntheticMission(scenario_yaml=scenario.read_text()))
+    metrics = write_report(root / "bag", root / "report")
+    assert metrics["figures"][0] == "landscape.png" and metrics["geo"]["places"]
+    return root / "report"
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("width", [1366, 760])
-def test_no_text_lies_over_a_figure_at_a_laptop_and_a_narrow_width(kill_report, width, tmp_path):
+@pytest.mark.parametrize("report", ["kill_report", "landscape_report"])
+def test_no_text_lies_over_a_figure_at_a_laptop_and_a_narrow_width(report, width, tmp_path, request):
+    kill_report = request.getfixturevalue(report)
     layout = _probe(kill_report, LAYOUT_SCRIPT, width)
     assert isinstance(layout, dict) and layout["width"] == width
     assert len(layout["imgs"]) >= 5 and len(layout["texts"]) > 50, layout["width"]
@@ -123,7 +140,7 @@ def test_no_text_lies_over_a_figure_at_a_laptop_and_a_narrow_width(kill_report, 
     assert layout["scrollWidth"] <= width, f"the page is {layout['scrollWidth']} px wide in a {width} px window"
     for img in layout["imgs"]:
         assert img["box"]["r"] <= width and img["box"]["r"] - img["box"]["l"] > 100, img
-    shot = tmp_path / f"report_{width}.png"
+    shot = tmp_path / f"{report}_{width}.png"
     cmd = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
            f"--window-size={width},1400", "--virtual-time-budget=15000", f"--screenshot={shot}",
            (kill_report / "index.html").as_uri()]  # fmt: skip

@@ -34,6 +34,26 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
+def _geojson_text(data: bytes) -> str:
+    """foxglove.GeoJSON as protobuf: field 1 (``geojson``), a length-delimited UTF-8 string."""
+    assert data[0] == 0x0A, data[:8]
+    n, shift, i = 0, 0, 1
+    while True:  # the length as a base-128 varint
+        b = data[i]
+        n |= (b & 0x7F) << shift
+        shift, i = shift + 7, i + 1
+        if not b & 0x80:
+            break
+    return data[i : i + n].decode()
+
+
+def _decoder(ch: dict):
+    if ch["schemaEncoding"] == "protobuf":
+        assert ch["schemaName"] == "foxglove.GeoJSON", ch["schemaName"]
+        return _geojson_text
+    return generate_dynamic(ch["schemaName"], ch["schema"])[ch["schemaName"]]
+
+
 async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[dict, dict]:
     """(advertised channels by topic, decoded messages by topic) once each topic has its count."""
     while True:
@@ -67,9 +87,7 @@ async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[di
                         if ch["topic"] in want and ch["topic"] not in subs.values():
                             sid = len(subs) + 1
                             subs[sid] = ch["topic"]
-                            decoders[ch["topic"]] = generate_dynamic(ch["schemaName"], ch["schema"])[
-                                ch["schemaName"]
-                            ]
+                            decoders[ch["topic"]] = _decoder(ch)
                             new.append({"id": sid, "channelId": ch["id"]})
                     if new:
                         await ws.send(json.dumps({"op": "subscribe", "subscriptions": new}))
@@ -141,3 +159,40 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
         return deserialize_message(data, cls)
 
     assert check_bag(tmp_path / "run" / "bag", deserialize=rclpy_deserialize) == []
+
+
+def test_a_landscape_mission_serves_navsat_fixes_and_the_burned_area_for_the_map_panel(ros_env, tmp_path):
+    """worcester_vt: each UAV's true position as NavSatFix and the burned area as GeoJSON, in
+    degrees near Worcester, Vermont, beside the raw topics."""
+    port = _free_port()
+    env = dict(ros_env)
+    env["PYTHONPATH"] = str(ROOT / "tools") + os.pathsep + env.get("PYTHONPATH", "")
+    env.pop("ROS_DOMAIN_ID", None)
+    cmd = [sys.executable, "-m", "fire_mission.runner", "worcester_vt", "--uavs", "2", "--mode", "realtime",
+           "--rtf", "1", "--max-duration", "40", "--foxglove", "--foxglove-port", str(port),
+           "--out", str(tmp_path / "run"), "--quiet", "--no-report", "--no-record"]  # fmt: skip
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        want = {"/uav_0/geo/truth_fix": 5, "/uav_1/geo/truth_fix": 5, "/geo/fire_area": 2}
+        channels, got = asyncio.run(_collect(port, want, time.monotonic() + 120))
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            out, _ = proc.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, _ = proc.communicate()
+    msgs = got["messages"]
+    assert all(len(v) == want[k] for k, v in msgs.items()), f"{ {k: len(v) for k, v in msgs.items()} }\n{out[-3000:]}"
+    ch = channels["/uav_0/geo/truth_fix"]
+    assert (ch["encoding"], ch["schemaName"], ch["schemaEncoding"]) == ("cdr", "sensor_msgs/msg/NavSatFix", "ros2msg")
+    assert (channels["/geo/fire_area"]["encoding"], channels["/geo/fire_area"]["schemaName"]) == ("protobuf", "foxglove.GeoJSON")
+    for k in (0, 1):
+        for fix in msgs[f"/uav_{k}/geo/truth_fix"]:
+            assert fix.header.frame_id == f"uav_{k}" and fix.status.status == 0
+            assert 44.3 < fix.latitude < 44.4 and -72.6 < fix.longitude < -72.5 and 300 < fix.altitude < 800
+    doc = json.loads(msgs["/geo/fire_area"][-1])
+    burned = doc["features"][0]
+    assert burned["properties"]["name"] == "burned area" and burned["properties"]["area_m2"] > 2e4  # about 3 ha lit
+    lon, lat = zip(*(p for poly in burned["geometry"]["coordinates"] for ring in poly for p in ring), strict=True)
+    assert 44.3 < min(lat) and max(lat) < 44.4 and -72.6 < min(lon) and max(lon) < -72.5

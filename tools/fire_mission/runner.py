@@ -726,7 +726,11 @@ def run(args: argparse.Namespace) -> int:
                 procs.start(
                     "foxglove_bridge",
                     ros_run_argv(
-                        "fire_uav_recording", "foxglove_bridge", ["-p", f"port:={args.foxglove_port}"]
+                        "fire_uav_recording",
+                        "foxglove_bridge",
+                        # the scenario: on a landscape the bridge also serves the Map panel's view
+                        ["-p", f"port:={args.foxglove_port}", "-p", f"scenario_file:={scenario_path}",
+                         "-p", f"uav_count:={uav_count}"],  # fmt: skip
                     ),
                 )
                 _wait_for_node(sup, "foxglove_bridge", 20.0, procs)

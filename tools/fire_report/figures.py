@@ -5,6 +5,7 @@ A figure whose data is not in the bag is skipped (returns []), never an error.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import matplotlib
@@ -19,6 +20,7 @@ from matplotlib.ticker import MaxNLocator
 from fire_report.data import (
     Mission,
 )
+from fire_report.ground import Ground, draw_ground, fuel_legend_handles
 from fire_report.matching import match_tracks_to_fires
 from fire_report.metrics import (
     baseline_area,
@@ -131,7 +133,7 @@ def _draw_world(ax: plt.Axes, mission: Mission, t: float) -> None:
             ax.annotate(f"F{fid}", (f["x"][i], f["y"][i]), fontsize=7)
 
 
-def fig_voronoi(mission: Mission, out: Path) -> list[Figure]:
+def fig_voronoi(mission: Mission, out: Path, ground: Ground | None = None) -> list[Figure]:
     phases = phase_times(mission)
     if not phases:
         return []
@@ -144,16 +146,21 @@ def fig_voronoi(mission: Mission, out: Path) -> list[Figure]:
         pos = _positions_at(mission, t)
         sites = np.asarray([pos[u] for u in ids if u in pos])
         xs, ys, lab = voronoi_labels(sites, (x0, x1), (y0, y1), res)
-        ax.imshow(
-            lab,
-            origin="lower",
-            extent=(x0, x1, y0, y1),
-            cmap=ListedColormap(colors),
-            alpha=0.25,
-            interpolation="nearest",
-            vmin=0,
-            vmax=max(len(ids) - 1, 1),
-        )
+        if ground is not None:  # the cells' borders only: a tint would muddy the fuel colours
+            draw_ground(ax, ground)
+            if len(sites) > 1:
+                ax.contour(xs, ys, lab, levels=np.arange(len(sites) - 1) + 0.5, colors="w", linewidths=0.8)
+        else:
+            ax.imshow(
+                lab,
+                origin="lower",
+                extent=(x0, x1, y0, y1),
+                cmap=ListedColormap(colors),
+                alpha=0.25,
+                interpolation="nearest",
+                vmin=0,
+                vmax=max(len(ids) - 1, 1),
+            )
         _draw_world(ax, mission, t)
         _draw_crashes(ax, mission, t)
         for k, u in enumerate(ids):
@@ -172,7 +179,8 @@ def fig_voronoi(mission: Mission, out: Path) -> list[Figure]:
         "voronoi_phases.png",
         "The fleet at takeoff, while fighting the fires and at landing: each UAV (triangle, its own "
         "position estimate) and the area it covers (the part of the map nearest to it); red: the fires, "
-        "blue: lakes, black cross: a UAV lost (as in FF Fig. 11).",
+        "blue: lakes, black cross: a UAV lost (as in FF Fig. 11)."
+        + (" On a landscape the white lines bound the areas, over the ground's fuel types." if ground else ""),
     )
 
 
@@ -228,12 +236,17 @@ def fig_ekf(mission: Mission, out: Path) -> list[Figure]:
     return res
 
 
-def fig_tracks(mission: Mission, out: Path) -> list[Figure]:
+def fig_tracks(mission: Mission, out: Path, ground: Ground | None = None) -> list[Figure]:
     ids = [u for u in mission.uav_ids if u in mission.states and u in mission.truth_vehicles]
     if not ids:
         return []
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
     colors = _colors(len(ids))
+    if ground is not None:  # the fleet over its ground, in the scenario's area
+        draw_ground(axes[0], ground)
+        (x0, x1), (y0, y1) = _area(mission)
+        axes[0].set_xlim(x0, x1)
+        axes[0].set_ylim(y0, y1)
     for k, u in enumerate(ids):
         s, v = mission.states[u], mission.truth_vehicles[u]
         axes[0].plot(v["x"], v["y"], "-", color=colors[k], lw=1.0)
@@ -419,9 +432,10 @@ def _grid_index(data: np.ndarray) -> np.ndarray:
     return np.select([data >= 100, data >= 60, data >= 20], [3, 2, 1], 0)
 
 
-def fig_raster_front(mission: Mission, out: Path) -> list[Figure]:
+def fig_raster_front(mission: Mission, out: Path, ground: Ground | None = None) -> list[Figure]:
     """FF Fig. 11 for a raster fire: the true grid at four times with the fleet's shared front
-    (/fleet/front), the drops so far (hit: filled, missed: open) and the UAVs' Voronoi cells."""
+    (/fleet/front), the drops so far (hit: filled, missed: open) and the UAVs' Voronoi cells.
+    On a landscape the unburned cells are left clear over the ground's fuel types and hillshade."""
     grids = mission.fire_grids
     if not grids:
         return []
@@ -435,7 +449,11 @@ def fig_raster_front(mission: Mission, out: Path) -> list[Figure]:
         ny, nx = g["data"].shape
         r = g["resolution"]
         ox, oy = g["origin"]
-        ax.imshow(_grid_index(g["data"]), origin="lower", cmap=GRID_COLORS, vmin=0, vmax=3,
+        index = _grid_index(g["data"])
+        if ground is not None:
+            draw_ground(ax, ground)
+            index = np.ma.masked_equal(index, 0)
+        ax.imshow(index, origin="lower", cmap=GRID_COLORS, vmin=0, vmax=3,
                   extent=(ox, ox + nx * r, oy, oy + ny * r), interpolation="nearest")  # fmt: skip
         pos = _positions_at(mission, t)
         if pos:
@@ -458,11 +476,13 @@ def fig_raster_front(mission: Mission, out: Path) -> list[Figure]:
         ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
         ax.set_title(f"t = {t:.0f} s", fontsize=9)
-    return _save(
-        fig, out, "raster_front.png",
+    cap = (
         "Raster fire (grey burnt, orange burning, blue wet) with the fleet's shared front (magenta), drops "
-        "(filled: wet a burning cell) and the UAVs' Voronoi cells.",
-    )  # fmt: skip
+        "(filled: wet a burning cell) and the UAVs' Voronoi cells."
+    )
+    if ground is not None:
+        cap += " Under it, the ground's fuel types and terrain (see the landscape map)."
+    return _save(fig, out, "raster_front.png", cap)
 
 
 def fig_burned_area(mission: Mission, out: Path, baseline: Mission | None = None) -> list[Figure]:
@@ -488,6 +508,70 @@ def fig_burned_area(mission: Mission, out: Path, baseline: Mission | None = None
     return _save(fig, out, "burned_area.png", cap)
 
 
+def _deg(lat: float, lon: float) -> str:
+    return f"{abs(lat):.4f}\u00b0 {'N' if lat >= 0 else 'S'}, {abs(lon):.4f}\u00b0 {'E' if lon >= 0 else 'W'}"
+
+
+def fig_landscape(mission: Mission, out: Path, ground: Ground | None) -> list[Figure]:
+    """The mission's ground: fuel types shaded by the terrain (``fire_report.ground``), the area
+    burned by the end (the last fire grid's burnt and burning cells, outlined), the ignitions,
+    the UAVs' true tracks and homes, the refill lakes and the UAVs lost."""
+    if ground is None:
+        return []
+    fig, (ax, lax) = plt.subplots(1, 2, figsize=(9.4, 6.0), width_ratios=(4.2, 1.0))
+    lax.axis("off")
+    draw_ground(ax, ground)
+    handles = fuel_legend_handles(ground)
+    if mission.fire_grids:
+        g = mission.fire_grids[-1]
+        ny, nx = g["data"].shape
+        r, (ox, oy) = g["resolution"], g["origin"]
+        burned = (g["data"] >= 60).astype(float)
+        if burned.any():
+            xs, ys = ox + (np.arange(nx) + 0.5) * r, oy + (np.arange(ny) + 0.5) * r
+            ax.contourf(xs, ys, burned, levels=[0.5, 1.5], colors=["#202020"], alpha=0.35)
+            # above the tracks: a monitor circling the fire would hide its edge
+            ax.contour(xs, ys, burned, levels=[0.5], colors=["#d7191c"], linewidths=1.8, zorder=4)
+            handles.append(plt.Line2D([], [], color="#d7191c", lw=1.6, label=f"burned by {g['t']:.0f} s"))
+    ids = sorted(mission.truth_vehicles)
+    colors = _colors(len(ids))
+    for k, u in enumerate(ids):
+        v = mission.truth_vehicles[u]
+        if v and v["x"].size:
+            ax.plot(v["x"], v["y"], "-", color=colors[k], lw=0.6, alpha=0.7)
+            ax.plot(v["x"][0], v["y"][0], "^", color=colors[k], markeredgecolor="k", ms=7)
+    if ids:
+        handles.append(plt.Line2D([], [], color="k", lw=0.7, marker="^", ms=6, label="UAV tracks, homes"))
+    for x, y, d in ground.lakes:
+        if d > 0:
+            ax.add_patch(plt.Circle((x, y), d / 2, fill=False, ls="--", color="k", lw=1.0))
+    if any(d > 0 for _, _, d in ground.lakes):
+        handles.append(plt.Line2D([], [], color="k", ls="--", lw=1.0, label="refill disc"))
+    starts = [(x, y, f"ignition {i}") for i, (x, y, _) in enumerate(ground.ignitions)] or [
+        (float(f["x"][0]), float(f["y"][0]), f"fire {fid}") for fid, f in sorted(mission.truth_fires.items()) if f
+    ]  # a raster fire's ignitions, else where each fire was first recorded
+    for x, y, label in starts:
+        ax.plot(x, y, "*", color="#d7191c", markeredgecolor="k", ms=12, zorder=5)
+        ax.annotate(label, (x, y), fontsize=8, xytext=(6, 4), textcoords="offset points", zorder=5)
+    _draw_crashes(ax, mission, math.inf)
+    (x0, x1), (y0, y1) = _area(mission)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (east) [m]")
+    ax.set_ylabel("y (north) [m]")
+    lax.legend(handles=handles, fontsize=8, loc="upper left", borderaxespad=0.0, frameon=False)
+    sw, ne = ground.latlon([x0, x1], [y0, y1])
+    corners = f"south-west corner {_deg(float(sw[0]), float(ne[0]))}, north-east {_deg(float(sw[1]), float(ne[1]))}"
+    return _save(
+        fig, out, "landscape.png",
+        f"The ground of the mission, landscape {ground.name}: fuel types (the 53 standard fuel models in "
+        "Scott & Burgan's families) shaded by the terrain (sun from the north-west), the area burned by "
+        "the end (outlined red), the ignitions (stars), each UAV's true track from its home (triangle) "
+        f"and the lakes the fleet refills from; {corners} (WGS84).",
+    )  # fmt: skip
+
+
 ALL_FIGURES = (
     fig_voronoi, fig_tracks, fig_ekf, fig_fire_estimates, fig_drops, fig_perimeter, fig_faults,
     fig_raster_front, fig_burned_area,
@@ -499,12 +583,16 @@ def make_figures(
     out: Path,
     baseline: Mission | None = None,
     outages: list[tuple[float, float]] | None = None,
+    ground: Ground | None = None,
 ) -> list[Figure]:
     """Write every figure the bag has data for into ``out``; return [(file, caption)].
-    ``outages``: every link outage's (start, end) [s] for the faults figure (default: the scenario's)."""
-    figs: list[Figure] = []
+    ``outages``: every link outage's (start, end) [s] for the faults figure (default: the scenario's);
+    ``ground``: the mission's landscape (``fire_report.ground.mission_ground``), drawn under the maps."""
+    figs: list[Figure] = fig_landscape(mission, out, ground)
     for fn in ALL_FIGURES:
-        if fn is fig_burned_area:
+        if fn in (fig_voronoi, fig_tracks, fig_raster_front):
+            figs += fn(mission, out, ground)  # type: ignore[operator]
+        elif fn is fig_burned_area:
             figs += fig_burned_area(mission, out, baseline)
         elif fn is fig_faults:
             figs += fig_faults(mission, out, outages)

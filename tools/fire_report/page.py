@@ -197,6 +197,8 @@ def fires_html(rows: list[dict[str, Any]], raster: bool) -> str:
         "first drop [s]",
         "out at [s]",
     ]
+    if any(r.get("lat_deg") is not None for r in rows):
+        head[1] = "position x, y [m] (latitude, longitude [\u00b0])"
     if raster:
         head.append("burned [ha]")
     head.append("at the end")
@@ -204,6 +206,8 @@ def fires_html(rows: list[dict[str, Any]], raster: bool) -> str:
     for r in rows:
         seen = DASH if r["detected_s"] is None else f"{r['detected_s']:.1f} (UAV {r['detected_by']})"
         pos = DASH if r["x_m"] is None else f"{r['x_m']:.0f}, {r['y_m']:.0f}"
+        if r.get("lat_deg") is not None:  # a mission on a landscape: where it is on the Earth too
+            pos += f" ({latlon_text(r['lat_deg'], r['lon_deg'])})"
         row = [
             str(r["fire"]),
             pos,
@@ -218,6 +222,37 @@ def fires_html(rows: list[dict[str, Any]], raster: bool) -> str:
         row.append("burning" if r["burning_at_end"] else "out")
         body.append(row)
     return _table(head, body, numeric={2, 4, 5, 6})
+
+
+def latlon_text(lat: float, lon: float) -> str:
+    """WGS84 degrees for people: "44.372100, -72.558300" (latitude first, as map tools take it)."""
+    return f"{lat:.6f}, {lon:.6f}"
+
+
+MAX_PLACE_DROPS = 40  # more drops than this: their positions only in metrics.json
+
+
+def places_html(rows: list[dict[str, Any]], landscape: str) -> str:
+    """The places of a mission on a landscape (``fire_report.ground.places``) with latitude and
+    longitude: ignitions, fires, lakes, UAV homes, drops, UAVs lost."""
+    drops = [r for r in rows if r.get("kind") == "drop"]
+    shown = [r for r in rows if r.get("kind") != "drop" or len(drops) <= MAX_PLACE_DROPS]
+    body = [
+        [r["what"], fmt(r["t_s"]), f"{r['x_m']:.0f}, {r['y_m']:.0f}", f"{r['lat_deg']:.6f}", f"{r['lon_deg']:.6f}"]
+        for r in shown
+    ]
+    lead = (
+        f"<p class=lead>The mission flew on the landscape {e(landscape)}: each position in metres on the "
+        "scenario's map and in WGS84 latitude and longitude (degrees; north and east positive), for "
+        "map tools and people on the ground.</p>"
+    )
+    note = (
+        f"<p>{len(drops)} drops: their positions are in metrics.json (geo.places).</p>"
+        if len(drops) > MAX_PLACE_DROPS
+        else ""
+    )
+    head = ["what", "time [s]", "x, y [m]", "latitude [\u00b0]", "longitude [\u00b0]"]
+    return lead + _table(head, body, numeric={1, 3, 4}) + note
 
 
 def uavs_html(rows: list[dict[str, Any]]) -> str:
@@ -329,8 +364,11 @@ def render_page(
     sections: list[Section],
     raster: bool,
     collision_radius_m: float | None,
+    places: list[dict[str, Any]] | None = None,
+    landscape: str | None = None,
 ) -> str:
-    """The whole page. ``figures``: PNGs per part of the page ("maps", "fires", "faults", "diagnostics")."""
+    """The whole page. ``figures``: PNGs per part of the page ("maps", "fires", "faults", "diagnostics");
+    ``places`` and ``landscape``: a mission on a landscape (positions in latitude and longitude too)."""
     title = f"Mission debrief: {m.get('scenario') or 'unnamed scenario'}"
     n = m.get("uav_count") or 0
     sub = [f"{n} UAV{'s' * (n != 1)}" if n else "no fleet (fire alone)"]
@@ -355,6 +393,8 @@ def render_page(
     parts.append(
         ("fires", "Fires", fires_html(fires, raster) + "".join(_figure(*f) for f in figures.get("fires", [])))
     )
+    if places and landscape:
+        parts.append(("places", "Where on the ground", places_html(places, landscape)))
     if uavs:
         parts.append(("uavs", "UAVs", uavs_html(uavs)))
         parts.append(("safety", "Safety", safety_html(m, collision_radius_m)))
@@ -391,6 +431,9 @@ def render_page(
         f"<p>Bag: <code>{e(str(m.get('bag')))}</code> &middot; every number of this page: "
         f'<a href="metrics.json">metrics.json</a></p>' + meta,
     )
+    geo_note = (
+        f", and latitude, longitude in WGS84 degrees from the landscape {e(landscape)}" if landscape else ""
+    )
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><meta name="viewport" content="width=device-width, initial-scale=1">
 <title>{e(title)}</title><style>{STYLE}</style></head>
@@ -398,6 +441,6 @@ def render_page(
 <nav>{nav}</nav></div></header>
 <main class="wrap">{body}</main>
 <footer class="wrap">Times are simulated mission seconds from the start; positions are metres east (x) and
-north (y) on the scenario's map.</footer>
+north (y) on the scenario's map{geo_note}.</footer>
 </body></html>
 """

@@ -10,6 +10,7 @@ from fire_report import debrief
 from fire_report.data import Mission, load_mission
 from fire_report.errors import ReportError
 from fire_report.figures import make_figures
+from fire_report.ground import Ground, mission_ground, places
 from fire_report.metrics import compute_metrics, suppression_metrics
 from fire_report.page import render_page
 from fire_report.sections import Figure, Section, cp, pm
@@ -17,6 +18,7 @@ from fire_report.sections.bagdata import load_section_data
 
 #: which part of the page shows a figure (by file name prefix); the rest go to the diagnostics
 FIGURE_PLACES = (
+    ("landscape", "maps"),
     ("voronoi_phases", "maps"),
     ("raster_front", "maps"),
     ("drops", "fires"),
@@ -77,6 +79,30 @@ def collision_radius_m(mission: Mission) -> float | None:
         return None
 
 
+def with_latlon(rows: list[dict[str, Any]], ground: Ground) -> list[dict[str, Any]]:
+    """Table rows with ``x_m``/``y_m`` given ``lat_deg``/``lon_deg`` too (WGS84, 6 decimals)."""
+    out = []
+    for r in rows:
+        r = dict(r)
+        if r.get("x_m") is not None and r.get("y_m") is not None:
+            lat, lon = ground.latlon(r["x_m"], r["y_m"])
+            r["lat_deg"], r["lon_deg"] = round(float(lat), 6), round(float(lon), 6)
+        out.append(r)
+    return out
+
+
+def geo_metrics(mission: Mission, ground: Ground, metrics: dict[str, Any]) -> list[dict[str, Any]]:
+    """The places of a landscape mission (``ground.places``), stored in ``metrics["geo"]`` with
+    the landscape and its map origin, and returned for the page."""
+    rows = places(mission, ground)
+    metrics["geo"] = {
+        "landscape": ground.name,
+        "projected_origin_m": list(ground.projected_origin),
+        "places": rows,
+    }
+    return rows
+
+
 def write_report(
     bag: str | Path, out_dir: str | Path, *, salvage: bool = True, baseline: str | Path | None = None
 ) -> dict[str, Any]:
@@ -106,24 +132,33 @@ def write_report(
         for f in faults
     ]  # fmt: skip
     outages = [(f.t_s, f.end_s) for f in faults if f.kind == "outage" and f.end_s is not None]
-    figures = make_figures(mission, out, base, outages)
+    ground, ground_warning = mission_ground(mission)
+    if ground_warning:
+        metrics.setdefault("warnings", []).append(ground_warning)
+    where = geo_metrics(mission, ground, metrics) if ground is not None else []
+    figures = make_figures(mission, out, base, outages, ground)
     sections = make_sections(mission, out, salvage=salvage)
     metrics["figures"] = [name for name, _ in figures] + [name for s in sections for name, _ in s.figures]
     metrics["sections"] = {s.key: s.metrics for s in sections}
     raster = _scenario_value(mission.scenario, "fires", "model") == "raster"
     radius = collision_radius_m(mission)
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2, default=str) + "\n", encoding="utf8")
+    fires = debrief.fire_rows(mission, metrics, raster)
+    if ground is not None:
+        fires = with_latlon(fires, ground)
     page = render_page(
         metrics,
         mission.custom_data,
         entries=debrief.timeline(mission, metrics, faults, known=known),
-        fires=debrief.fire_rows(mission, metrics, raster),
+        fires=fires,
         uavs=debrief.uav_rows(mission, metrics, faults, known=known),
         faults=faults,
         figures=place_figures(figures),
         sections=sections,
         raster=raster,
         collision_radius_m=radius,
+        places=where,
+        landscape=ground.name if ground is not None else None,
     )
     (out / "index.html").write_text(page, encoding="utf8")
     return metrics

@@ -17,6 +17,11 @@ Parameters (all read once at start-up):
   queued [s, wall], in [0, 60] (a bound for publishers that go on publishing).
 - ``compress`` (true): zstd-compressed MCAP chunks.
 - ``use_sim_time`` (true): bag timestamps are sim time (``/clock``) at receipt.
+- ``geo_fixes`` (true): on a scenario with a landscape, each ``/world/truth`` message written is
+  followed by one ``sensor_msgs/NavSatFix`` per vehicle on ``/uav_<k>/geo/truth_fix`` (its TRUE
+  position in WGS84, :func:`fire_uav_recording.geo.truth_fixes`), at the same bag time, so the
+  bag opened in Foxglove shows the fleet on the Map panel. Derived in the recorder from every
+  truth message it writes: none is lost that the truth has.
 - ``stamp_wall_epoch`` (false): add the wall-clock epoch of the recorder's start (whole
   seconds) to every bag timestamp, so tools that show log times (Foxglove, ``ros2 bag info``)
   show the real date instead of 1970; the offset is stored as ``fire_uav.log_time_offset_ns``
@@ -103,6 +108,7 @@ from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, Qo
 
 import fire_uav_recording as rec
 from fire_uav_recording.errors import ConfigError
+from fire_uav_recording.geo import NAVSAT_TYPE, GeoView, geo_frame_of_scenario_file
 from fire_uav_recording.raw_topics import (  # noqa: F401  (re-exported: the recorder's QoS rule)
     MIN_DEPTH,
     RawTopic,
@@ -136,6 +142,7 @@ class RecorderConfig:
     stop_drain_wall_s: float
     stamp_wall_epoch: bool
     max_pending_bytes: int = 64 * 2**20  # [B] written since the last flush before messages are dropped
+    geo_fixes: bool = True
 
     def wants(self, topic: str) -> bool:
         """Whether ``topic`` is recorded (full-match an include pattern and no exclude pattern)."""
@@ -207,6 +214,8 @@ class RecorderNode(Node):
         self.messages_written = 0
         self.messages_dropped: dict[str, int] = {}  # per topic, over the memory budget (a flood)
         self._pending_bytes = 0  # [B] written since the last flush
+        self._geo = self._geo_view()  # before the subscriptions: the world waits for them, not for this
+        self._fix_connections: dict[str, object] = {}
         self._follower = RawTopicFollower(self, self.config.wants, self._typestore, self._on_topic)
         # before anything else the world waits for: see up_front_topics
         n = self._follower.follow(up_front_topics(self.config.uav_count))
@@ -237,6 +246,7 @@ class RecorderNode(Node):
         self.declare_parameter("compress", True, ro)
         self.declare_parameter("stamp_wall_epoch", False, ro)
         self.declare_parameter("max_pending_mib", 64, nonneg)
+        self.declare_parameter("geo_fixes", True, ro)
         p = {
             name: self.get_parameter(name).value
             for name in (
@@ -252,6 +262,7 @@ class RecorderNode(Node):
                 "compress",
                 "stamp_wall_epoch",
                 "max_pending_mib",
+                "geo_fixes",
             )
         }
         if not p["output"]:
@@ -290,7 +301,22 @@ class RecorderNode(Node):
             stop_drain_wall_s=float(p["stop_drain_wall_s"]),
             stamp_wall_epoch=bool(p["stamp_wall_epoch"]),
             max_pending_bytes=int(p["max_pending_mib"]) * 2**20,
+            geo_fixes=bool(p["geo_fixes"]),
         )
+
+    def _geo_view(self) -> GeoView | None:
+        """The NavSatFix source of a scenario on a landscape (None otherwise or if turned off)."""
+        cfg = self.config
+        if not (cfg.geo_fixes and cfg.scenario_file):
+            return None
+        try:
+            frame = geo_frame_of_scenario_file(cfg.scenario_file)
+        except Exception as err:  # a scenario or landscape error names what is wrong in one line
+            raise ConfigError(f"parameter scenario_file: {cfg.scenario_file}: {' '.join(str(err).split())}") from None
+        if frame is None:
+            return None
+        self.get_logger().info(f"landscape {frame.landscape}: true positions as NavSatFix on /uav_<k>/geo/truth_fix")
+        return GeoView(self._typestore, frame)
 
     def _custom_data(self) -> dict[str, str]:
         cfg = self.config
@@ -318,7 +344,31 @@ class RecorderNode(Node):
             typestore=self._typestore,
             offered_qos_profiles=[to_bag_qos(q) for q in topic.offered],
         )
+        if self._geo is not None and topic.name == topics.WORLD_TRUTH:
+            return partial(self._on_truth, conn)
         return partial(self._on_message, conn)
+
+    def _on_truth(self, conn: object, data: bytes) -> None:
+        """Write a ``/world/truth`` message, then each vehicle's NavSatFix derived from it."""
+        self._on_message(conn, data)
+        if self._closed or self._geo is None:
+            return
+        try:
+            fixes = self._geo.on_truth(bytes(data))
+        except Exception as err:  # a malformed truth must not stop the recording
+            self.get_logger().warning(f"no NavSatFix from a /world/truth message: {err}", throttle_duration_sec=10.0)
+            return
+        for name, cdr in fixes:
+            fix_conn = self._fix_connections.get(name)
+            if fix_conn is None:
+                fix_conn = self._fix_connections[name] = self._writer.add_connection(
+                    name,
+                    NAVSAT_TYPE,
+                    typestore=self._typestore,
+                    # written by the recorder itself: the truth's QoS, as if published beside it
+                    offered_qos_profiles=[to_bag_qos(topics.WORLD_TRUTH_SPEC.qos())],
+                )
+            self._on_message(fix_conn, cdr)
 
     def _on_message(self, conn: object, data: bytes) -> None:
         if self._closed:
