@@ -264,6 +264,11 @@ class World:
             events.append(MissionEventRecord(et, t1_ns, -1, fid, f.x_m, f.y_m, 0.0, what))
         # 5. fire sensor (rate-limited, against the fire state at t_{k+1})
         spec = self.scenario.sensors.fire
+        fire_due = [  # the substeps' ends at which the fire sensor samples: one grid for the fleet
+            t0_ns + (j + 1) * self.dt_ns
+            for j in range(self.substeps)
+            if samples_due(t0_ns + j * self.dt_ns, t0_ns + (j + 1) * self.dt_ns, spec.rate_hz)
+        ]
         for v in self.vehicles:
             if v.uav_id not in bundles:
                 continue  # crashed before this step: no bundle
@@ -272,11 +277,9 @@ class World:
             b.vehicle_status = int(v.status)
             if v.status == Status.CRASHED:
                 continue  # crashed during this step: its agent learns it from this last bundle
-            for j in range(self.substeps):
-                now_ns = t0_ns + (j + 1) * self.dt_ns
-                if samples_due(now_ns - self.dt_ns, now_ns, spec.rate_hz):
-                    seen = self.fires.detections_near(v.x_m, v.y_m, spec.range_m)
-                    b.fires += self.sensors[v.uav_id].sample_fires(now_ns, v.x_m, v.y_m, seen)
+            for now_ns in fire_due:
+                seen = self.fires.detections_near(v.x_m, v.y_m, spec.range_m)
+                b.fires += self.sensors[v.uav_id].sample_fires(now_ns, v.x_m, v.y_m, seen)
             b.cells = self.fires.cells_near(v.x_m, v.y_m, spec.range_m, t1_ns)
         self.step_index += 1
         fires = self.fires.truth()
@@ -420,7 +423,9 @@ class World:
             v.airspeed_mps, v.climb_mps, v.bank_rad = v.v_lin_mps, v.v_z_mps, 0.0
             v.turn_rate_radps = v.omega_z_radps
 
-    def _sample(self, v: VehicleSim, b: SensorBundleRecord, now_ns: int, due: tuple[bool, bool, bool]) -> None:
+    def _sample(
+        self, v: VehicleSim, b: SensorBundleRecord, now_ns: int, due: tuple[bool, bool, bool]
+    ) -> None:
         suite = self.sensors[v.uav_id]
         gyro_due, alt_due, gps_due = due
         if gyro_due:
