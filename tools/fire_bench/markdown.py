@@ -467,13 +467,15 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
         "",
         *notes.before("speed"),
         "In one process (`python -m fire_mission.inprocess SCENARIO --uavs N --seed 1`, world and "
-        "agents, no DDS; start-up and imports included):",
+        "agents, no DDS; start-up and imports included; the least CPU of the runs, base and head "
+        "alternating; same summary: every field but the wall-clock ones):",
         "",
         _table(
             r.get("inprocess", []),
             [
                 ("scenario", "scenario"),
                 ("uavs", "UAVs"),
+                ("repeats", "runs each"),
                 ("mission_time_s", "mission [s]"),
                 ("base_cpu_s", f"CPU s {base}"),
                 ("head_cpu_s", f"CPU s {head}"),

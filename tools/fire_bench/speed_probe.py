@@ -30,15 +30,15 @@ def world_step(scenario: str, uavs: int, steps: int, warmup: int, seed: int) -> 
     times = []
     for k in range(warmup + steps):
         # climb out, then turn at different rates: every vehicle airborne, none colliding
-        cmds = {
-            i: Command(60.0, 5.0 if k < 30 else 0.0, 0.3 * math.sin(0.01 * k + i)) for i in range(uavs)
-        }
+        cmds = {i: Command(60.0, 5.0 if k < 30 else 0.0, 0.3 * math.sin(0.01 * k + i)) for i in range(uavs)}
         t0 = time.process_time()
         r = world.step(cmds, {})
         if k >= warmup:
             times.append(time.process_time() - t0)
         for v in r.vehicles:
-            digest.update(repr((v.uav_id, int(v.status), *map(float, (v.x_m, v.y_m, v.z_m, v.yaw_rad)))).encode())
+            digest.update(
+                repr((v.uav_id, int(v.status), *map(float, (v.x_m, v.y_m, v.z_m, v.yaw_rad)))).encode()
+            )
         for b in r.bundles.values():
             digest.update(repr([(g.stamp_ns, float(g.omega_z_radps)) for g in b.gyro]).encode())
             digest.update(repr([(g.stamp_ns, float(g.x_m), float(g.y_m)) for g in b.gps]).encode())
