@@ -113,7 +113,7 @@ class StepResult:
     collisions: int = 0  # colliding pairs so far
 
 
-
+_FLOOR_MARGIN_M = 1e-6  # [m] far above any rounding of the terrain's elevation (1e-13 m at 1 km)
 CLAMP_EVENT_PERIOD_S = 5.0  # throttle of COMMAND_CLAMPED events per vehicle [s sim]
 MISS_EVENT_EVERY = 10  # a COMMAND_MISSED event at the first miss and every N-th after
 
@@ -364,7 +364,9 @@ class World:
                     continue
                 me.crash(f"collision with uav {other.uav_id} ({d[a, b]:.1f} m apart)")
                 events.append(
-                    MissionEventRecord(EventType.CRASH, t_ns, me.uav_id, -1, me.x_m, me.y_m, 0.0, me.crash_reason)
+                    MissionEventRecord(
+                        EventType.CRASH, t_ns, me.uav_id, -1, me.x_m, me.y_m, 0.0, me.crash_reason
+                    )
                 )
         return events
 
@@ -415,9 +417,18 @@ class World:
             nu[ids],
             self.dt_s,
         )
-        z = np.maximum(z, self.scenario.terrain.elevation(x, y))  # terrain is a floor
+        # terrain is a floor. The array elevation finds the vehicles near it; the floor itself is
+        # the scalar elevation VehicleSim.substep uses (numpy's exp on an array may differ from
+        # its exp on one value in the last bit, and the altimeter reads z minus that floor)
+        terrain = self.scenario.terrain
+        low = np.flatnonzero(z < terrain.elevation(x, y) + _FLOOR_MARGIN_M).tolist()
+        zl = z.tolist()
+        for i in low:
+            ground = float(terrain.elevation(float(x[i]), float(y[i])))
+            if zl[i] < ground:
+                zl[i] = ground
         for v, xi, yi, zi, wi, ri in zip(
-            air, x.tolist(), y.tolist(), z.tolist(), yaw.tolist(), rate.tolist(), strict=True
+            air, x.tolist(), y.tolist(), zl, yaw.tolist(), rate.tolist(), strict=True
         ):
             v.x_m, v.y_m, v.z_m, v.yaw_rad, v.yaw_rate_radps = xi, yi, zi, wi, ri
             v.airspeed_mps, v.climb_mps, v.bank_rad = v.v_lin_mps, v.v_z_mps, 0.0
@@ -507,7 +518,9 @@ class World:
             truth = self.fires.truth()
             for fid in self.fires.drop_extinctions(hit):
                 ev.append(
-                    MissionEventRecord(EventType.EXTINGUISHED, t_ns, -1, fid, truth[fid].x_m, truth[fid].y_m, 0.0, "drop")
+                    MissionEventRecord(
+                        EventType.EXTINGUISHED, t_ns, -1, fid, truth[fid].x_m, truth[fid].y_m, 0.0, "drop"
+                    )
                 )
             return ev
         if action == Action.REFILL:
