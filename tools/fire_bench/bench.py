@@ -525,6 +525,13 @@ BENCHES: dict[str, tuple[Callable[[bool], dict | Sweep], float, float, str]] = {
         20,
         "lockstep step rate, CPU, memory vs fleet size, against the messaging skeleton",
     ),
+    "speed": (
+        lambda q: _speed(q),
+        8,
+        25,
+        "this commit against --base (a built checkout of an older commit), back to back: CPU per "
+        "mission second in one process, world step at 20 UAVs, DDS steps/s and agent RSS",
+    ),
     "table1": (bench_table1, 3, 90, "FF Table I: drop interval and drops vs fleet size"),
     "fire_share": (bench_fire_share, 2, 15, "FF Figs. 14-15: drops per fire vs fire size"),
     "ff_known": (
@@ -541,6 +548,15 @@ BENCHES: dict[str, tuple[Callable[[bool], dict | Sweep], float, float, str]] = {
         "raster suppression: burned area vs no fleet, head vs flank, fleet of 0/3/6/10 (in process)",
     ),
 }
+
+
+SPEED_BASE: Path | None = None  # --base
+
+
+def _speed(quick: bool) -> dict:
+    from fire_bench.speed import bench_speed
+
+    return bench_speed(SPEED_BASE, quick, SCALE_SIZES)
 
 
 def _suppression(quick: bool) -> dict:
@@ -571,6 +587,9 @@ def run_command(a: argparse.Namespace, name: str, sweep: bool = False) -> str:
     if name == "scale":
         parts += ["--scale-sizes", a.scale_sizes] if getattr(a, "scale_sizes", None) else []
         parts += ["--scale-duration", f"{a.scale_duration:g}"] if getattr(a, "scale_duration", None) else []
+    if name == "speed":
+        parts += ["--base", "BASE"] if getattr(a, "base", None) else []
+        parts += ["--scale-sizes", a.scale_sizes] if getattr(a, "scale_sizes", None) else []
     if sweep and getattr(a, "scheduler", None):
         parts += ["--scheduler", a.scheduler]
     elif sweep and getattr(a, "jobs", 1) != 1:
@@ -617,6 +636,14 @@ def main(argv: list[str] | None = None) -> int:
         "--jobs", type=int, default=1, metavar="N", help="without --scheduler: N missions at a time here"
     )
     p.add_argument("--no-page", action="store_true", help="write results.json only, no page")
+    p.add_argument(
+        "--base",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="speed: a built checkout of the commit to compare with (e.g. a git worktree of it); the "
+        "page names its commit",
+    )
     a = p.parse_args(argv)
     if a.render:
         if a.quick or a.only or a.out or a.update_docs or a.list:
@@ -629,7 +656,11 @@ def main(argv: list[str] | None = None) -> int:
         p.error(f"--jobs must be >= 1, got {a.jobs}")
     if a.scheduler and a.jobs != 1:
         p.error("--jobs applies to local runs only; the cluster's workers set the parallelism")
-    global SCALE_SIZES, SCALE_DURATION_S, OUT
+    global SCALE_SIZES, SCALE_DURATION_S, OUT, SPEED_BASE
+    if a.base is not None:
+        if not (a.base / "scripts" / "env.sh").is_file():
+            p.error(f"--base {a.base}: not a checkout of this project (no scripts/env.sh)")
+        SPEED_BASE = a.base.resolve()
     if a.scale_sizes:
         try:
             SCALE_SIZES = [int(x) for x in a.scale_sizes.split(",")]

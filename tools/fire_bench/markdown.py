@@ -345,6 +345,8 @@ def render(
         lines += notes.after("scale")
         if "scale" in plots:
             lines += [f"![scale]({plots['scale']})", ""]
+    if "speed" in results:
+        lines += _speed_section(results["speed"], notes)
     for name, title in SCRIPT_SECTIONS:
         if name in results:
             r = results[name]
@@ -450,3 +452,90 @@ def _suppression_section(r: dict, notes: _Notes | None = None, plot_prefix: str 
         ]
     out += [f"![{p}]({plot_prefix}{p})" for p in r.get("plots", [])] + [""]
     return out + (notes.after("suppression") if notes else [])
+
+
+def _speed_section(r: dict, notes: _Notes) -> list[str]:
+    """This commit against a base commit, measured back to back in one run (``fire_bench.speed``)."""
+    base, head = r.get("base_commit") or "-", r.get("head_commit") or "-"
+    lines = [
+        "## Speed: this commit against the commit before the work, side by side",
+        "",
+        *_ran_on(r),
+        f"Command: `{r.get('command')}` (BASE: a checkout of commit {base}, built; HEAD: commit {head}). "
+        "Base and head alternate row by row in one run on the same machine; CPU is user + system "
+        "time of the child process.",
+        "",
+        *notes.before("speed"),
+        "In one process (`python -m fire_mission.inprocess SCENARIO --uavs N --seed 1`, world and "
+        "agents, no DDS; start-up and imports included; the least CPU of the runs, base and head "
+        "alternating; same summary: every field but the wall-clock ones):",
+        "",
+        _table(
+            [
+                {
+                    **row,
+                    **{
+                        f"{tag}_ms": 1000 * row[f"{tag}_cpu_s"] / row["mission_time_s"]
+                        for tag in ("base", "head")
+                        if row.get(f"{tag}_cpu_s") is not None and row.get("mission_time_s")
+                    },
+                }
+                for row in r.get("inprocess", [])
+            ],
+            [
+                ("scenario", "scenario"),
+                ("uavs", "UAVs"),
+                ("repeats", "runs each"),
+                ("mission_time_s", "mission [s]"),
+                ("base_cpu_s", f"CPU s {base}"),
+                ("head_cpu_s", f"CPU s {head}"),
+                ("base_ms", f"CPU ms per mission s {base}"),
+                ("head_ms", f"CPU ms per mission s {head}"),
+                ("base_x_real_time", f"x real time {base}"),
+                ("head_x_real_time", f"x real time {head}"),
+                ("summary_same", "same summary"),
+            ],
+        ),
+        "",
+        "World step (`fire_bench/speed_probe.py world`, `World.step` alone, ff_two_fires, every vehicle "
+        "airborne; CPU ms per step; truth digest compared):",
+        "",
+        _table(
+            r.get("world", []),
+            [
+                ("uavs", "UAVs"),
+                ("steps", "steps"),
+                ("base_world_ms_per_step", f"ms/step {base}"),
+                ("head_world_ms_per_step", f"ms/step {head}"),
+                ("truth_same", "same truth"),
+            ],
+        ),
+        "",
+        "Over DDS (`python -m fire_mission.runner ff_two_fires --uavs N --seed 1 --no-record "
+        "--no-report`, one process per UAV, lockstep):",
+        "",
+        _table(
+            r.get("dds", []),
+            [
+                ("uavs", "UAVs"),
+                ("mission_time_s", "mission [s]"),
+                ("base_steps_per_s", f"steps/s {base}"),
+                ("head_steps_per_s", f"steps/s {head}"),
+                ("base_world_cpu_ms_per_step", f"world CPU ms/step {base}"),
+                ("head_world_cpu_ms_per_step", f"world CPU ms/step {head}"),
+                ("base_agent_rss_mb", f"agent RSS MiB {base}"),
+                ("head_agent_rss_mb", f"agent RSS MiB {head}"),
+            ],
+        ),
+        "",
+    ]
+    t = r.get("targets")
+    if t:
+        lines += [
+            f"Targets: >= {t['grass_running_x_real_time']:g}x real time for grass_running (6 UAVs) and >= "
+            f"{t['ff_two_fires_x_real_time']:g}x for ff_two_fires (5) in one process on one core; world "
+            f"step <= {t['world_ms_at_20']:g} ms at 20 UAVs; >= {t['dds_steps_per_s_at_30']:g} steps/s "
+            f"(real time) at 30 UAVs over DDS; agent RSS <= {t['agent_rss_mb']:g} MiB.",
+            "",
+        ]
+    return lines + notes.after("speed")

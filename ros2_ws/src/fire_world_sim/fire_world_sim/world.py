@@ -33,7 +33,7 @@ from .sensors import (
     samples_due,
 )
 from .vehicle import Command, Status, VehicleSim
-from .vehicles import make_vehicle_model
+from .vehicles import FfPaperModel, make_vehicle_model
 
 __all__ = [
     "Action",
@@ -113,7 +113,7 @@ class StepResult:
     collisions: int = 0  # colliding pairs so far
 
 
-
+_FLOOR_MARGIN_M = 1e-6  # [m] far above any rounding of the terrain's elevation (1e-13 m at 1 km)
 CLAMP_EVENT_PERIOD_S = 5.0  # throttle of COMMAND_CLAMPED events per vehicle [s sim]
 MISS_EVENT_EVERY = 10  # a COMMAND_MISSED event at the first miss and every N-th after
 
@@ -151,6 +151,9 @@ class World:
         self.control_period_s = self.period_ns * 1e-9
         self.max_steps = math.ceil(tm.max_duration_s / tm.control_period_s - 1e-9)
         self.vehicle_model = make_vehicle_model(scenario)
+        # FF Eq. 4 for the whole fleet in one numpy pass per substep (the per-vehicle backend
+        # interface stays for every other model)
+        self._fleet_fast = type(self.vehicle_model) is FfPaperModel
         self.vehicles = [
             VehicleSim(
                 i,
@@ -171,6 +174,7 @@ class World:
         self.complete_reason = ""
         self.min_separation_m = math.inf  # closest 3-D approach of two airborne vehicles so far [m]
         self.collisions = 0  # colliding pairs so far
+        self._pairs: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # triu_indices(n, 1) by n
         self.measures = SuppressionMeasures()
 
     # --- queries -----------------------------------------------------------------------------
@@ -221,13 +225,18 @@ class World:
         }
         # 3. physics substeps + sensor sampling
         wind = self.wind_mps(t0_s)
+        noise = self._fleet_noise() if self._fleet_fast else None
         for j in range(self.substeps):
             prev_ns = t0_ns + j * self.dt_ns
             now_ns = prev_ns + self.dt_ns
+            if noise is not None:
+                self._fleet_substep(noise[:, j, :])
+            due = self._due(prev_ns, now_ns)
             for v in self.vehicles:
                 if v.status == Status.CRASHED:
                     continue
-                v.substep(self.dt_s, wind)
+                if noise is None:
+                    v.substep(self.dt_s, wind)
                 taken = v.refill_tick(self.dt_s)
                 if taken > 0:
                     events.append(
@@ -244,7 +253,7 @@ class World:
                             else "left the lake part-filled",
                         )
                     )
-                self._sample(v, bundles[v.uav_id], prev_ns, now_ns)
+                self._sample(v, bundles[v.uav_id], now_ns, due)
             events += self._collisions(now_ns)
         # 4. fires
         t1_ns = t0_ns + self.period_ns
@@ -255,6 +264,11 @@ class World:
             events.append(MissionEventRecord(et, t1_ns, -1, fid, f.x_m, f.y_m, 0.0, what))
         # 5. fire sensor (rate-limited, against the fire state at t_{k+1})
         spec = self.scenario.sensors.fire
+        fire_due = [  # the substeps' ends at which the fire sensor samples: one grid for the fleet
+            t0_ns + (j + 1) * self.dt_ns
+            for j in range(self.substeps)
+            if samples_due(t0_ns + j * self.dt_ns, t0_ns + (j + 1) * self.dt_ns, spec.rate_hz)
+        ]
         for v in self.vehicles:
             if v.uav_id not in bundles:
                 continue  # crashed before this step: no bundle
@@ -263,11 +277,9 @@ class World:
             b.vehicle_status = int(v.status)
             if v.status == Status.CRASHED:
                 continue  # crashed during this step: its agent learns it from this last bundle
-            for j in range(self.substeps):
-                now_ns = t0_ns + (j + 1) * self.dt_ns
-                if samples_due(now_ns - self.dt_ns, now_ns, spec.rate_hz):
-                    seen = self.fires.detections_near(v.x_m, v.y_m, spec.range_m)
-                    b.fires += self.sensors[v.uav_id].sample_fires(now_ns, v.x_m, v.y_m, seen)
+            for now_ns in fire_due:
+                seen = self.fires.detections_near(v.x_m, v.y_m, spec.range_m)
+                b.fires += self.sensors[v.uav_id].sample_fires(now_ns, v.x_m, v.y_m, seen)
             b.cells = self.fires.cells_near(v.x_m, v.y_m, spec.range_m, t1_ns)
         self.step_index += 1
         fires = self.fires.truth()
@@ -334,13 +346,17 @@ class World:
             return []
         p = np.array([(v.x_m, v.y_m, v.z_m) for v in air])
         d = np.sqrt(((p[:, None, :] - p[None, :, :]) ** 2).sum(axis=-1))
-        iu = np.triu_indices(len(air), 1)
-        self.min_separation_m = min(self.min_separation_m, float(d[iu].min()))
+        iu = self._pairs.get(len(air))
+        if iu is None:
+            iu = self._pairs[len(air)] = np.triu_indices(len(air), 1)
+        pair_d = d[iu]
+        self.min_separation_m = min(self.min_separation_m, float(pair_d.min()))
         radius = self.scenario.vehicle.collision_radius_m
         if radius <= 0:
             return []
         events: list[MissionEventRecord] = []
-        hit = [(a, b) for a, b in zip(*iu, strict=True) if d[a, b] < radius]
+        close = pair_d < radius  # the pairs in row-major order, as the loop over them was
+        hit = list(zip(iu[0][close].tolist(), iu[1][close].tolist(), strict=True)) if close.any() else []
         for a, b in hit:
             self.collisions += 1
             for me, other in ((air[a], air[b]), (air[b], air[a])):
@@ -348,22 +364,90 @@ class World:
                     continue
                 me.crash(f"collision with uav {other.uav_id} ({d[a, b]:.1f} m apart)")
                 events.append(
-                    MissionEventRecord(EventType.CRASH, t_ns, me.uav_id, -1, me.x_m, me.y_m, 0.0, me.crash_reason)
+                    MissionEventRecord(
+                        EventType.CRASH, t_ns, me.uav_id, -1, me.x_m, me.y_m, 0.0, me.crash_reason
+                    )
                 )
         return events
 
-    def _sample(self, v: VehicleSim, b: SensorBundleRecord, prev_ns: int, now_ns: int) -> None:
+    def _due(self, prev_ns: int, now_ns: int) -> tuple[bool, bool, bool]:
+        """Whether the gyro, altimeter and GPS sample in (prev_ns, now_ns]: one grid for the fleet."""
         s = self.scenario.sensors
+        return (
+            samples_due(prev_ns, now_ns, s.gyro.rate_hz),
+            samples_due(prev_ns, now_ns, s.altimeter.rate_hz),
+            samples_due(prev_ns, now_ns, s.gps.rate_hz),
+        )
+
+    def _fleet_noise(self) -> np.ndarray:
+        """The process noise of this step for every vehicle, (n, substeps, 3): each airborne
+        vehicle's block drawn from its own stream in one call, the same numbers as one
+        ``normal(0, sigma, 3)`` per substep (a vehicle that crashes during the step never draws
+        again, so the rows it leaves unused change nothing)."""
+        model = self.vehicle_model
+        assert isinstance(model, FfPaperModel)
+        out = np.zeros((self.uav_count, self.substeps, 3))
+        if model.sigma > 0:
+            for v in self.vehicles:
+                if v.status == Status.AIRBORNE:
+                    out[v.uav_id] = v.rng.normal(0.0, model.sigma, (self.substeps, 3))
+        return out
+
+    def _fleet_substep(self, nu: np.ndarray) -> None:
+        """One physics substep of every airborne vehicle in one numpy pass (FF Eq. 4,
+        :meth:`FfPaperModel.step_fleet`), then the terrain floor; the same as
+        :meth:`VehicleSim.substep` per vehicle, to the bit."""
+        air = []
+        for v in self.vehicles:
+            if v.status == Status.AIRBORNE:
+                air.append(v)
+            elif v.status != Status.CRASHED:
+                v.yaw_rate_radps = 0.0
+        if not air:
+            return
+        ids = [v.uav_id for v in air]
+        x, y, z, yaw, rate = FfPaperModel.step_fleet(
+            np.array([v.x_m for v in air]),
+            np.array([v.y_m for v in air]),
+            np.array([v.z_m for v in air]),
+            np.array([v.yaw_rad for v in air]),
+            np.array([v.v_lin_mps for v in air]),
+            np.array([v.v_z_mps for v in air]),
+            np.array([v.omega_z_radps for v in air]),
+            nu[ids],
+            self.dt_s,
+        )
+        # terrain is a floor. The array elevation finds the vehicles near it; the floor itself is
+        # the scalar elevation VehicleSim.substep uses (numpy's exp on an array may differ from
+        # its exp on one value in the last bit, and the altimeter reads z minus that floor)
+        terrain = self.scenario.terrain
+        low = np.flatnonzero(z < terrain.elevation(x, y) + _FLOOR_MARGIN_M).tolist()
+        zl = z.tolist()
+        for i in low:
+            ground = float(terrain.elevation(float(x[i]), float(y[i])))
+            if zl[i] < ground:
+                zl[i] = ground
+        for v, xi, yi, zi, wi, ri in zip(
+            air, x.tolist(), y.tolist(), zl, yaw.tolist(), rate.tolist(), strict=True
+        ):
+            v.x_m, v.y_m, v.z_m, v.yaw_rad, v.yaw_rate_radps = xi, yi, zi, wi, ri
+            v.airspeed_mps, v.climb_mps, v.bank_rad = v.v_lin_mps, v.v_z_mps, 0.0
+            v.turn_rate_radps = v.omega_z_radps
+
+    def _sample(
+        self, v: VehicleSim, b: SensorBundleRecord, now_ns: int, due: tuple[bool, bool, bool]
+    ) -> None:
         suite = self.sensors[v.uav_id]
-        if samples_due(prev_ns, now_ns, s.gyro.rate_hz):
+        gyro_due, alt_due, gps_due = due
+        if gyro_due:
             g = suite.sample_gyro(now_ns, v.yaw_rate_radps)
             if g is not None:
                 b.gyro.append(g)
-        if samples_due(prev_ns, now_ns, s.altimeter.rate_hz):
+        if alt_due:
             a = suite.sample_altimeter(now_ns, v.height_above_terrain_m())
             if a is not None:
                 b.altimeter.append(a)
-        if samples_due(prev_ns, now_ns, s.gps.rate_hz):
+        if gps_due:
             p = suite.sample_gps(now_ns, v.x_m, v.y_m)
             if p is not None:
                 b.gps.append(p)
@@ -434,7 +518,9 @@ class World:
             truth = self.fires.truth()
             for fid in self.fires.drop_extinctions(hit):
                 ev.append(
-                    MissionEventRecord(EventType.EXTINGUISHED, t_ns, -1, fid, truth[fid].x_m, truth[fid].y_m, 0.0, "drop")
+                    MissionEventRecord(
+                        EventType.EXTINGUISHED, t_ns, -1, fid, truth[fid].x_m, truth[fid].y_m, 0.0, "drop"
+                    )
                 )
             return ev
         if action == Action.REFILL:

@@ -1,0 +1,178 @@
+"""The speed benchmark: this checkout against a base checkout, side by side in one run.
+
+Each measurement runs once under the base checkout's environment and once under this one's,
+back to back (base, head, base, head, ... per row), so that both meet the same load of a shared
+machine. What is measured is CPU time (user + system of the child process, ``os.wait4``), not
+wall time, for the missions in one process; wall-clock steps per second for the DDS fleets
+(the lockstep's rate is what users wait for there). The base is any checkout of the project
+with its workspace built (``git worktree add ../base <commit> && scripts/bootstrap`` there); the
+page names its commit, never its path.
+
+Rows:
+
+- ``inprocess``: ``python -m fire_mission.inprocess SCENARIO --uavs N --seed 1`` (world and
+  agents in one process, no DDS): CPU seconds per second of mission, its inverse (times real
+  time), and whether the summary is the same as the base's (wall-time fields left out);
+- ``world``: ``fire_bench/speed_probe.py world`` (this checkout's file, run under each
+  environment): CPU ms per ``World.step`` at 20 UAVs and a digest of the truth;
+- ``dds``: ``python -m fire_mission.runner ff_two_fires --uavs N --no-record --no-report``:
+  lockstep steps per wall second, and the agents' mean RSS [MiB].
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve()
+ROOT = HERE.parents[2]
+
+#: in one process: (scenario, UAVs or None for the scenario's, mission seconds or None for all of it)
+INPROCESS_CASES: list[tuple[str, int | None, float | None]] = [
+    ("ff_two_fires", 5, None),
+    ("grass_running", 6, 60.0),
+    ("monitor_grass", None, None),
+]
+#: the issue's targets: times real time in one process, world ms per step at 20, steps/s at 30, RSS
+SPEED_TARGETS = {
+    "ff_two_fires_x_real_time": 50.0,
+    "grass_running_x_real_time": 20.0,
+    "world_ms_at_20": 2.0,
+    "dds_steps_per_s_at_30": 10.0,
+    "agent_rss_mb": 100.0,
+}
+SUMMARY_NOISE = {"wall_time_s", "steps_per_wall_s", "processes", "runner"}  # not the mission
+
+
+def commit_of(root: Path) -> str:
+    return subprocess.run(
+        ["git", "-C", str(root), "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=False
+    ).stdout.strip()
+
+
+def _run(root: Path, argv: list[str], timeout_s: float) -> tuple[float, str]:
+    """Run ``argv`` under ``root``'s environment (a clean one: its scripts/env.sh only); the
+    child's CPU seconds (user + system) and its stdout."""
+    env = {k: os.environ[k] for k in ("HOME", "TERM", "LANG") if k in os.environ}
+    env["PATH"] = "/usr/local/bin:/usr/bin:/bin"
+    cmd = f"cd {_q(root)} && source scripts/env.sh >/dev/null && exec " + " ".join(_q(a) for a in argv)
+    with tempfile.TemporaryFile() as out:
+        p = subprocess.Popen(["bash", "-c", cmd], stdout=out, stderr=subprocess.DEVNULL, env=env)
+        t_end = time.monotonic() + timeout_s
+        while True:
+            pid, status, ru = os.wait4(p.pid, os.WNOHANG)
+            if pid:
+                break
+            if time.monotonic() > t_end:
+                p.kill()
+                pid, status, ru = os.wait4(p.pid, 0)
+                break
+            time.sleep(0.05)
+        p.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        text = out.read().decode(errors="replace")
+    return ru.ru_utime + ru.ru_stime, text
+
+
+def _q(s: str | Path) -> str:
+    import shlex
+
+    return shlex.quote(str(s))
+
+
+def _mission_fields(summary: dict) -> dict:
+    return {k: v for k, v in summary.items() if k not in SUMMARY_NOISE}
+
+
+def inprocess_row(
+    roots: dict[str, Path], scenario: str, uavs: int | None, duration: float | None, repeats: int
+) -> dict:
+    """One scenario in one process under each root, ``repeats`` times alternating (base, head,
+    base, head, ...); the least CPU of each root's runs (the load of a shared machine only adds)."""
+    row: dict = {"scenario": scenario, "repeats": repeats}
+    summaries = {}
+    cpus: dict[str, list[float]] = {tag: [] for tag in roots}
+    for _ in range(repeats):
+        for tag, root in roots.items():
+            with tempfile.TemporaryDirectory() as d:
+                js = Path(d) / "summary.json"
+                argv = ["python", "-m", "fire_mission.inprocess", scenario, "--seed", "1", "--json", str(js)]
+                argv += ["--uavs", str(uavs)] if uavs is not None else []
+                if duration is not None:
+                    argv += ["--set", f"timing.max_duration_s={duration:g}"]
+                cpu, _ = _run(root, argv, 3600)
+                summaries[tag] = json.loads(js.read_text()) if js.is_file() else {}
+            cpus[tag].append(cpu)
+    for tag in roots:
+        s = summaries[tag]
+        cpu = min(cpus[tag])
+        row["uavs"] = s.get("uav_count", uavs)
+        mt = s.get("mission_time_s")
+        row[f"{tag}_cpu_s"] = round(cpu, 2)
+        row["mission_time_s"] = mt
+        row[f"{tag}_cpu_per_mission_s"] = round(cpu / mt, 4) if mt else None
+        row[f"{tag}_x_real_time"] = round(mt / cpu, 1) if mt and cpu else None
+    if "base" in summaries:
+        row["summary_same"] = _mission_fields(summaries["base"]) == _mission_fields(summaries["head"])
+    return row
+
+
+def world_row(roots: dict[str, Path], uavs: int, steps: int) -> dict:
+    row: dict = {"uavs": uavs, "steps": steps}
+    for tag, root in roots.items():
+        _, out = _run(
+            root,
+            [
+                "python",
+                str(HERE.parent / "speed_probe.py"),
+                "world",
+                "--uavs",
+                str(uavs),
+                "--steps",
+                str(steps),
+            ],
+            900,
+        )
+        lines = [x for x in out.splitlines() if x.startswith("{")]
+        r = json.loads(lines[-1]) if lines else {}
+        row[f"{tag}_world_ms_per_step"] = round(r["world_ms_per_step"], 3) if r else None
+        row[f"{tag}_digest"] = r.get("truth_digest")
+    if "base" in roots:
+        row["truth_same"] = row.get("base_digest") == row.get("head_digest")
+    return row
+
+
+def dds_row(roots: dict[str, Path], uavs: int, duration: float) -> dict:
+    row: dict = {"uavs": uavs, "mission_time_s": duration}
+    for tag, root in roots.items():
+        with tempfile.TemporaryDirectory() as d:
+            argv = ["python", "-m", "fire_mission.runner", "ff_two_fires", "--uavs", str(uavs), "--seed", "1"]
+            argv += ["--max-duration", f"{duration:g}", "--quiet", "--no-record", "--no-report", "--out", d]
+            _run(root, argv, 1800)
+            path = Path(d) / "summary.json"
+            s = json.loads(path.read_text()) if path.is_file() else {}
+        procs = s.get("processes", {})
+        rss = [v.get("rss_mb") for k, v in procs.items() if k.startswith("agent") and v.get("rss_mb")]
+        row[f"{tag}_steps_per_s"] = s.get("steps_per_wall_s")
+        row[f"{tag}_agent_rss_mb"] = round(sum(rss) / len(rss), 1) if rss else None
+        row[f"{tag}_world_cpu_ms_per_step"] = procs.get("world", {}).get("cpu_ms_per_step")
+    return row
+
+
+def bench_speed(base: Path | None, quick: bool, dds_sizes: list[int] | None = None) -> dict:
+    """The speed rows, base and head side by side (head only without ``base``)."""
+    roots = {"base": base, "head": ROOT} if base is not None else {"head": ROOT}
+    out: dict = {
+        "head_commit": commit_of(ROOT),
+        "base_commit": commit_of(base) if base is not None else None,
+        "targets": SPEED_TARGETS,
+    }
+    out["inprocess"] = [inprocess_row(roots, s, n, d, 2 if quick else 3) for s, n, d in INPROCESS_CASES]
+    out["world"] = [world_row(roots, 20, 100 if quick else 300)]
+    sizes = dds_sizes if dds_sizes is not None else ([5, 20] if quick else [5, 20, 30])
+    out["dds"] = [dds_row(roots, n, 15.0 if quick else 30.0) for n in sizes]
+    return out
