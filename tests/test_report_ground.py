@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from fire_report.data import Event, Mission
+from fire_report.data import Mission, RecordedEvent
 from fire_report.figures import fig_landscape, fig_raster_front, fig_tracks, fig_voronoi
 from fire_report.ground import (
     FUEL_CLASSES,
@@ -143,8 +143,8 @@ def _events(ground_mission: Mission) -> Mission:
     }  # fmt: skip
     m.states = {u: dict(v, P=np.zeros((3, 4, 4)), objective=np.zeros(3), lost=np.zeros(3)) for u, v in m.truth_vehicles.items()}
     m.world_events = [
-        Event(4.0, int(EventType.DROP), 0, -1, 0, 300.0, 590.0, 1000.0, "", "world"),
-        Event(8.0, int(EventType.CRASH), 1, -1, -1, math.nan, math.nan, 0.0, "injected", "world"),
+        RecordedEvent(4.0, int(EventType.DROP), 0, -1, 0, 300.0, 590.0, 1000.0, "", "world"),
+        RecordedEvent(8.0, int(EventType.CRASH), 1, -1, -1, math.nan, math.nan, 0.0, "injected", "world"),
     ]
     data = np.zeros((40, 50), dtype=np.int8)
     data[18:22, 8:12] = 60
