@@ -463,7 +463,14 @@ class ImportanceMonitor(PerimeterMonitor):
             return  # hysteresis: finish the sweep first
         if c.rule == "worst":
             wa = worst_angle_turn(
-                ros, since, spacing, c.speed_mps, c.alpha, weight=weight, reach_m=self.reach_m
+                ros,
+                since,
+                spacing,
+                c.speed_mps,
+                c.alpha,
+                weight=weight,
+                reach_m=self.reach_m,
+                keep_in_view=weight is None,
             )
             turn = (1.0 + c.turn_margin) * wa.worst_back_m < wa.worst_on_m  # ties: fly on
         else:

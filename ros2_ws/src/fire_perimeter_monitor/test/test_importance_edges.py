@@ -129,6 +129,11 @@ def test_worst_angle_reach_and_errors():
     # turning back mirrors it: the cells now in view ahead wait the same gap
     assert np.allclose(w1.back_m[ahead], gap)
     assert np.allclose(w1.back_m[behind], 0.0)
+    # without the footprint behind (a monitor with a peer turns at its arc's end): each cell
+    # waits until it is R ahead, whichever way
+    w2 = worst_angle_turn(np.ones(m), np.zeros(m), s, v, reach_m=r, keep_in_view=False)
+    assert np.allclose(w2.on_m, np.maximum((m - i) * s - r, 0.0) / v)
+    assert np.allclose(w2.back_m, np.maximum(i * s - r, 0.0) / v)
     with pytest.raises(ValueError, match="reach_m"):
         worst_angle_turn(np.ones(m), np.zeros(m), s, v, reach_m=-1.0)
     with pytest.raises(ValueError, match="equal 1-D"):
