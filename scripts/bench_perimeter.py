@@ -22,6 +22,11 @@ Fires (no suppression):
   cell around the UAV, laps of tens of minutes, 3 h from 1 h after ignition; a wind-driven
   fire (head 15x the back) and a slow fire that reaches a 4x faster fuel (PM Fig. 12a / 16a).
 
+With monitor_grass also: what the UAV's speed and footprint allow on that fire (``bounds``:
+evenly spaced circling monitors, and a lower bound for any single monitor), and the scenario
+as it flies, with suppression (``run_suppressed``: the error against the true fire's hull and
+the reported fastest front against the burning tip).
+
 Run: .venv/bin/python scripts/bench_perimeter.py [--quick] [--seeds N] [--fires NAME ...]
 (quick: the world's monitor_grass, and grass_wind for its first 2 min; a paper-regime
 synthetic flight of 3 h takes about a minute of CPU)
@@ -41,7 +46,13 @@ import numpy as np
 _SRC = Path(__file__).resolve().parents[1] / "ros2_ws/src"
 
 from fire_perimeter_monitor.boundary import is_boundary_cell, lookup_from_grid  # noqa: E402
-from fire_perimeter_monitor.distance_error import distance_error  # noqa: E402
+from fire_perimeter_monitor.distance_error import (  # noqa: E402
+    distance_error,
+    hull_extent,
+    max_error,
+    perfect_map_cells,
+    true_extent,
+)
 from fire_perimeter_monitor.fire_map import CellGrid, Direction  # noqa: E402
 from fire_perimeter_monitor.planner import (  # noqa: E402
     CirclingMonitor,
@@ -273,6 +284,145 @@ def run_two(job: tuple) -> tuple:
     )
 
 
+SUPPRESSION_SEEDS = (2, 3, 4, 5)
+
+
+def run_suppressed(seed: int) -> tuple:
+    """monitor_grass as the scenario flies it (3 UAVs: one monitors, two suppress at the front it
+    reports), in process on the lockstep harness; every 10 control steps (1 s) after the
+    monitor's first lap, against the true fire:
+
+    - the distance error against the true fire's convex hull (the same rays, the hull of the
+      true fire's squares in place of their union: drops cut notches that the on-board map,
+      one outer cell per angle, cannot hold, and that no monitor is asked to draw);
+    - the plain distance error and its perfect-map floor, as without suppression;
+    - the distance from the monitor's fastest front (``PerimeterMonitor.front``, where the
+      suppressors aim) to the burning tip, the burning cell farthest from the ignition point.
+
+    Returns (seed, mean hull error [m], mean error [m], mean floor [m], median front-to-tip
+    [m], samples, mission end [s]).
+    """
+    from fire_uav_agent.testing.harness import Harness, scenario_path
+    from fire_uav_common.constants import Objective
+    from fire_uav_common.scenario import load_scenario
+
+    sc = load_scenario(scenario_path("monitor_grass"))
+    h = Harness(sc, seed, 0)
+    model = h.world.fires
+    cell = float(sc.fires.raster.cell_size_m)
+    ig = sc.fires.raster.ignitions[0]
+    hull_err, plain, floor, tip = [], [], [], []
+    step = 0
+    t = 0.0
+    while not h.world.complete:
+        r = h.step()
+        step += 1
+        t = r.stamp_ns * 1e-9
+        if step % 10:
+            continue
+        mons = [  # the monitors of the UAVs monitoring now (a UAV gone home keeps its stale map)
+            a.monitor.active
+            for a, out in zip(h.agents, h.outputs, strict=True)
+            if a.monitor is not None and a.monitor.active is not None
+            and out is not None and int(out.state.objective) == int(Objective.MONITOR)
+        ]  # fmt: skip
+        mons = [m for m in mons if m.initial_lap_done and m.fire_map.known.any()]
+        st = model.state_grid()  # [row north, col east]
+        i, j = np.nonzero(st > 0)
+        if not mons or i.size == 0:
+            continue
+        fire_xy = np.column_stack([model.xc[j], model.yc[i]])
+        bi, bj = np.nonzero(st == 1)
+        for m in mons:
+            fm = m.fire_map
+            c = (fm.center_x_m, fm.center_y_m)
+            mp = np.column_stack([fm.outer_x_m[fm.known], fm.outer_y_m[fm.known]])
+            e = distance_error(fire_xy, mp, cell, c)
+            plain.append(e.max_m)
+            floor.append(e.floor_m)
+            hull_err.append(max_error(hull_extent(fire_xy, cell, c), hull_extent(mp, cell, c)))
+            f = m.front()
+            if f is not None and bi.size:
+                bx, by = model.xc[bj], model.yc[bi]
+                q = int(np.argmax(np.hypot(bx - ig.x_m, by - ig.y_m)))
+                tip.append(math.hypot(f[0] - bx[q], f[1] - by[q]))
+    mean = lambda v: float(np.mean(v)) if v else math.nan  # noqa: E731
+    return (seed, mean(hull_err), mean(plain), mean(floor), float(np.median(tip)) if tip else math.nan,
+            len(hull_err), t)  # fmt: skip
+
+
+def _sawtooth_mean(floor_m: float, a_m: float) -> float:
+    """Time mean of max(floor, a u) for u uniform on [0, 1]: the worst angle is the floor's
+    until the stale head's error ``a u`` passes it."""
+    if a_m <= floor_m:
+        return floor_m
+    q = floor_m / a_m
+    return q * floor_m + (1 - q) * (floor_m + a_m) / 2
+
+
+def bounds(setting: str, dt_s: float = 1.0) -> dict:
+    """What the monitors' speed and footprint allow on one fire without suppression.
+
+    Sampled on the true fire about the ignition point from the end of a first lap (where the
+    benchmark's samples start) to the end of the flight. Perimeter: the convex hull of the fire's squares (shorter
+    than the cell path a UAV flies, so every figure here is on the low side). Per angle the
+    true ROS (the extent's growth over +-5 s). A map cell refreshed ``s`` seconds ago at an
+    angle spreading at ROS errs by ROS s; the sensor refreshes everything within ``R``.
+
+    - ``k`` evenly spaced circling monitors: the head is refreshed every ``(L / k - 2 R) / v``,
+      a sawtooth; the max over the angles is at least the larger of that and the perfect-map
+      floor: the time mean of ``max(floor, ROS_head (L / k - 2 R) / v * u)``, u uniform.
+    - any single monitor (``two_point_m``): for two angles A and B a perimeter distance d
+      apart, a UAV must fly ``tau = (d - 2 R) / v`` between refreshing one and the other; the
+      best patrol of two points is to shuttle, and over a shuttle the max of the two errors
+      averages at least ``0.75 (ROS_A + ROS_B) tau``; the largest over all pairs, time mean.
+    """
+    s = SETTINGS[setting]
+    fire = s.fire()
+    cell, speed, sensor = _cell_speed_sensor(s, fire)
+    c = fire.ignition_xy_m
+    r0 = np.nan_to_num(hull_extent(_fire_cells(fire, s.t0_s), cell, c))
+    th0 = (np.arange(r0.size) + 0.5) * (2 * np.pi / r0.size)
+    x0, y0 = r0 * np.cos(th0), r0 * np.sin(th0)
+    lap_s = float(np.sum(np.hypot(np.diff(np.r_[x0, x0[0]]), np.diff(np.r_[y0, y0[0]])))) / speed
+    ts = np.arange(s.t0_s + lap_s, s.t1_s + 5.0 + 1e-9, dt_s)
+    ext, per, hull_r = [], [], []
+    for t in ts:
+        fc = _fire_cells(fire, t)
+        ext.append(true_extent(fc, cell, c))
+        per.append(hull_extent(perfect_map_cells(fc, cell, c), cell, c))
+        hull_r.append(hull_extent(fc, cell, c))
+    ext_a, per_a, hr = (np.nan_to_num(np.asarray(v)) for v in (ext, per, hull_r))
+    th = (np.arange(ext_a.shape[1]) + 0.5) * (2 * np.pi / ext_a.shape[1])
+    k5 = int(round(5.0 / dt_s))
+    circ: dict[int, list[float]] = {1: [], 2: []}
+    two, floors, heads, perims = [], [], [], []
+    for n in range(k5, len(ts) - k5):
+        ros = np.maximum((ext_a[n + k5] - ext_a[n - k5]) / (ts[n + k5] - ts[n - k5]), 0.0)
+        floor = float(np.max(np.abs(ext_a[n] - per_a[n])))
+        x, y = hr[n] * np.cos(th), hr[n] * np.sin(th)
+        seg = np.hypot(np.diff(np.r_[x, x[0]]), np.diff(np.r_[y, y[0]]))
+        arc = np.r_[0.0, np.cumsum(seg)[:-1]]
+        perim = float(seg.sum())
+        for k in circ:
+            circ[k].append(_sawtooth_mean(floor, float(ros.max()) * max(perim / k - 2 * sensor, 0.0) / speed))
+        d = np.abs(arc[:, None] - arc[None, :])
+        tau = np.maximum(np.minimum(d, perim - d) - 2 * sensor, 0.0) / speed
+        two.append(float(np.max(0.75 * (ros[:, None] + ros[None, :]) * tau)))
+        floors.append(floor)
+        heads.append(float(ros.max()))
+        perims.append(perim)
+    return {
+        "head_ros_mps": float(np.mean(heads)),
+        "perimeter_m": (perims[0], perims[-1]),
+        "floor_m": float(np.mean(floors)),
+        "circling_1_m": float(np.mean(circ[1])),
+        "circling_2_m": float(np.mean(circ[2])),
+        "two_point_m": float(np.mean(two)),
+        "two_point_with_floor_m": float(np.mean(np.maximum(two, floors))),
+    }
+
+
 def table(setting: str, rows: dict, seeds: int) -> None:
     cell = next(iter(rows.values()))[0][2]
     print(f"\n   {setting} (cell {cell:g} m; mean over the flight of the max distance error, per seed)")
@@ -305,9 +455,11 @@ def main() -> None:
     two_jobs = (
         [("monitor_grass", "worst", seed) for seed in range(args.seeds)] if "monitor_grass" in fires else []
     )
+    supp_seeds = SUPPRESSION_SEEDS if "monitor_grass" in fires else ()
     with ProcessPoolExecutor() as pool:
         res = list(pool.map(run_one, jobs + alpha_jobs))
         two = list(pool.map(run_two, two_jobs))
+        supp = list(pool.map(run_suppressed, supp_seeds))
     one = {job: (e, f, c, n) for job, e, f, c, n in res}
     print("Distance error (PM VI-E, fire_perimeter_monitor.distance_error); no suppression")
     for f in fires:
@@ -315,6 +467,30 @@ def main() -> None:
         if f == "monitor_grass":
             rows["two (worst)"] = [(e, fl, c, n) for _, e, fl, c, n in two]
         table(f, rows, args.seeds)
+    if "monitor_grass" in fires:
+        b = bounds("monitor_grass")
+        print(
+            "\n   what the speed and footprint allow on monitor_grass (the true fire; bench_perimeter.bounds)"
+        )
+        print(f"   head ROS {b['head_ros_mps']:.2f} m/s; perimeter {b['perimeter_m'][0]:.0f} -> {b['perimeter_m'][1]:.0f} m;"
+              f" perfect-map floor {b['floor_m']:.1f} m")  # fmt: skip
+        print(f"   evenly spaced circling monitors (head sawtooth over the floor): 1: {b['circling_1_m']:.1f} m,"
+              f" 2: {b['circling_2_m']:.1f} m")  # fmt: skip
+        print(f"   any single monitor (two-point shuttle bound): >= {b['two_point_m']:.1f} m,"
+              f" with the floor >= {b['two_point_with_floor_m']:.1f} m")  # fmt: skip
+    if supp:
+        print(
+            "\n   monitor_grass with suppression (the scenario's 3 UAVs, in process; 1 s samples while a UAV monitors)"
+        )
+        print("   seed  vs true hull [m]  error [m]  floor [m]  front to tip, median [m]  samples  end [s]")
+        for sd, hull_m, err_m, floor_m, tip_m, n, end_s in supp:
+            print(
+                f"   {sd:4d}  {hull_m:16.1f}  {err_m:9.1f}  {floor_m:9.1f}  {tip_m:25.1f}  {n:7d}  {end_s:6.0f}"
+            )
+        hulls = [r[1] for r in supp if r[5]]
+        tips = [r[4] for r in supp if r[5]]
+        print(f"   mean vs true hull {np.mean(hulls):.1f} m (target <= 25); median of the seeds' front-to-tip medians"
+              f" {np.median(tips):.1f} m (target <= 10)")  # fmt: skip
     print("\n   direction changes vs alpha, worst-angle rule, seed 0 (paper Fig. 11: 0, 8, 11, 15, 20, 43)")
     for f in alpha_fires:
         print(f"   {f:14s} " + "  ".join(f"a={a:g}: {one[(f, 'worst', 0, a)][3]}" for a in ALPHAS))

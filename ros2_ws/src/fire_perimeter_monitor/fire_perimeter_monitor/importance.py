@@ -178,6 +178,7 @@ def worst_angle_turn(
     alpha: float = 1.0,
     weight: np.ndarray | None = None,
     reach_m: float = 0.0,
+    keep_in_view: bool = True,
 ) -> WorstAngle:
     """Turning rule aimed at the worst angle (ours; replaces the window sums of Eqs. 5-6).
 
@@ -188,7 +189,16 @@ def worst_angle_turn(
     against a window of many slightly stale ones. Here each direction is scored by its worst
     cell: flying on reaches cell ``i`` (index as in :func:`window_importance`, growing against
     the flying direction) after ``(M - i) * spacing``, turning back after ``i * spacing``, each
-    less ``reach_m`` (the sensor footprint refreshes a cell before the UAV is over it), and
+    less ``reach_m`` (the sensor footprint refreshes a cell before the UAV is over it). A cell
+    the UAV moves away from stays in the footprint while it is within ``reach_m`` behind, so
+    its clock starts only when it leaves: that remaining time is taken off too (clipped at 0),
+    so both directions are scored by the same uncovered gap (flying on, a cell just behind
+    waits ``(M * spacing - 2 reach_m) / speed``, a lap less the footprint on both sides, not a
+    lap less one reach). That gap assumes the UAV flying on comes round again; a monitor
+    sharing the fire with a peer turns at its arc's end instead, and there
+    ``keep_in_view=False`` counts the footprint ahead only (two monitors on monitor_grass, 10
+    seeds: 12.0 m, against 12.8 m with the gap).
+    With that
 
         on_i = ROS_adj_i * (t_sinceVisit_i + t_on_i),  back_i = ROS_adj_i * (t_sinceVisit_i + t_back_i)
 
@@ -210,8 +220,14 @@ def worst_angle_turn(
         raise ConfigError(f"reach_m must be >= 0, got {reach_m}")
     m = ros.size
     idx = np.arange(m, dtype=float)
-    t_on = time_to_cell(np.maximum((m - idx) * spacing_m - reach_m, 0.0), speed_mps)
-    t_back = time_to_cell(np.maximum(idx * spacing_m - reach_m, 0.0), speed_mps)
+    # time to the next refresh less the time the footprint still keeps the cell in view as the
+    # UAV moves away from it (it is refreshed until then: its clock starts when it leaves)
+    d_on, d_back = (m - idx) * spacing_m, idx * spacing_m
+    keep = reach_m if keep_in_view else 0.0
+    t_on = time_to_cell(np.maximum(np.maximum(d_on - reach_m, 0.0) - np.maximum(keep - d_back, 0.0), 0.0),
+                        speed_mps)  # fmt: skip
+    t_back = time_to_cell(np.maximum(np.maximum(d_back - reach_m, 0.0) - np.maximum(keep - d_on, 0.0), 0.0),
+                          speed_mps)  # fmt: skip
     ros_adj = adjust_heterogeneity(ros, alpha)
     on = cell_importance(ros_adj, since, t_on)
     back = cell_importance(ros_adj, since, t_back)

@@ -76,7 +76,9 @@ class MonitorConfig:
     # Turning rule: "worst" (ours, importance.worst_angle_turn: turn when that lowers the
     # largest predicted error at any angle) or "windows" (PM Listing 3: IMP_BACK > IMP_FRONT).
     rule: str = "worst"
-    reach_m: float = 0.0  # how far ahead the sensor refreshes the map (worst-angle rule) [m]
+    # How far ahead the sensor refreshes the map (worst-angle rule) [m]; None: the footprint's
+    # radius as measured from the sensor samples (the farthest cell seen from the UAV)
+    reach_m: float | None = None
 
     def __post_init__(self) -> None:
         if not self.cell_size_m > 0:
@@ -94,8 +96,8 @@ class MonitorConfig:
             )
         if self.rule not in ("worst", "windows"):
             raise ConfigError(f"rule must be 'worst' or 'windows', got {self.rule!r}")
-        if not self.reach_m >= 0:
-            raise ConfigError(f"reach_m must be >= 0, got {self.reach_m}")
+        if self.reach_m is not None and not self.reach_m >= 0:
+            raise ConfigError(f"reach_m must be >= 0 or None, got {self.reach_m}")
         if self.revisit_gap_s is not None and not self.revisit_gap_s >= 0:
             raise ConfigError(f"revisit_gap_s must be >= 0, got {self.revisit_gap_s}")
 
@@ -166,6 +168,7 @@ class PerimeterMonitor:
         self._peers: dict[int, _Peer] = {}
         self.steps = 0
         self.run_cells = 0  # cells flown since the last direction change (or the initial lap)
+        self.footprint_m = 0.0  # farthest cell centre seen from the UAV in one sample [m]
 
     # --- public interface ----------------------------------------------------------------
     @property
@@ -184,6 +187,8 @@ class PerimeterMonitor:
                 return self.direction
             self.grid = CellGrid(float(x[0]), float(y[0]), self.config.cell_size_m)
         self.uav_xy, self.t_s = (ux, uy), float(t_s)
+        if x.size:
+            self.footprint_m = max(self.footprint_m, float(np.max(np.hypot(x - ux, y - uy))))
         self._lookup = lookup_from_cells((x, y, s), self.grid)
         per = perimeter_mask(x, y, s, self.config.cell_size_m)
         unburned = unburned_lookup(x, y, s, self.config.cell_size_m)
@@ -205,6 +210,14 @@ class PerimeterMonitor:
             elif self.changes_direction:
                 self._plan()
         return self.direction
+
+    @property
+    def reach_m(self) -> float:
+        """How far along the perimeter [m] the sensor refreshes cells ahead of (and behind) the
+        UAV: ``MonitorConfig.reach_m``, or the footprint radius seen so far. A perimeter cell
+        within the footprint's radius in a straight line is at least as near along the
+        perimeter, so the radius is the cautious figure."""
+        return self.config.reach_m if self.config.reach_m is not None else self.footprint_m
 
     def next_waypoint(self) -> tuple[float, float]:
         """Centre [m] of the next cell to fly to along the perimeter in ``direction``."""
@@ -449,7 +462,16 @@ class ImportanceMonitor(PerimeterMonitor):
         if self.direction_changes > 0 and self.run_cells < min_run:
             return  # hysteresis: finish the sweep first
         if c.rule == "worst":
-            wa = worst_angle_turn(ros, since, spacing, c.speed_mps, c.alpha, weight=weight, reach_m=c.reach_m)
+            wa = worst_angle_turn(
+                ros,
+                since,
+                spacing,
+                c.speed_mps,
+                c.alpha,
+                weight=weight,
+                reach_m=self.reach_m,
+                keep_in_view=weight is None,
+            )
             turn = (1.0 + c.turn_margin) * wa.worst_back_m < wa.worst_on_m  # ties: fly on
         else:
             turn = should_turn(w.imp_back, (1.0 + c.turn_margin) * w.imp_front, turn_on_tie=c.turn_on_tie)

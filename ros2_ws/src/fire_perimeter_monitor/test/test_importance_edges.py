@@ -114,7 +114,26 @@ def test_worst_angle_reach_and_errors():
     m, s, v = 10, 5.0, 10.0
     w0 = worst_angle_turn(np.ones(m), np.zeros(m), s, v)
     w1 = worst_angle_turn(np.ones(m), np.zeros(m), s, v, reach_m=2 * s)
-    assert np.allclose(w0.on_m - w1.on_m, np.minimum(2 * s, (m - np.arange(m)) * s) / v)
+    assert np.allclose(w0.on_m, (m - np.arange(m)) * s / v)
+    # a circling UAV with a footprint of radius R: a cell it leaves behind stays in view until
+    # it is R behind and is seen again R before the UAV is back, so every cell it now sees
+    # behind it waits the lap less 2 R; a cell out of view waits until it is R ahead
+    r = 2 * s
+    gap = (m * s - 2 * r) / v
+    i = np.arange(m)
+    behind, ahead = i * s <= r, (m - i) * s <= r
+    assert np.allclose(w1.on_m[behind], gap)
+    assert np.allclose(w1.on_m[ahead], 0.0)
+    mid = ~behind & ~ahead
+    assert np.allclose(w1.on_m[mid], ((m - i[mid]) * s - r) / v)
+    # turning back mirrors it: the cells now in view ahead wait the same gap
+    assert np.allclose(w1.back_m[ahead], gap)
+    assert np.allclose(w1.back_m[behind], 0.0)
+    # without the footprint behind (a monitor with a peer turns at its arc's end): each cell
+    # waits until it is R ahead, whichever way
+    w2 = worst_angle_turn(np.ones(m), np.zeros(m), s, v, reach_m=r, keep_in_view=False)
+    assert np.allclose(w2.on_m, np.maximum((m - i) * s - r, 0.0) / v)
+    assert np.allclose(w2.back_m, np.maximum(i * s - r, 0.0) / v)
     with pytest.raises(ValueError, match="reach_m"):
         worst_angle_turn(np.ones(m), np.zeros(m), s, v, reach_m=-1.0)
     with pytest.raises(ValueError, match="equal 1-D"):

@@ -155,3 +155,26 @@ def test_unknown_centre_lap_ends_when_the_fire_grows_over_the_start():
     m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED))
     fly(fast, m, start_angle_rad=0.5, t_start_s=300.0, t_end_s=900.0, speed_mps=SPEED, sensor_range_m=1.5 * C)
     assert m.initial_lap_done and m.center_known
+
+
+def test_reach_is_the_sensor_footprint_radius(fire):
+    """Without a configured reach the monitor takes the radius of what it sees: within one
+    cell's half-diagonal of the sensor range the fly driver uses (cell centres inside it)."""
+    for cells in (1.5, 4.0):
+        m = ImportanceMonitor(_config(fire, rule="worst"))
+        fly(fire, m, start_angle_rad=0.5, t_start_s=3600.0, t_end_s=3700.0, speed_mps=SPEED,
+            sensor_range_m=cells * C)  # fmt: skip
+        assert cells * C - C / math.sqrt(2) <= m.reach_m <= cells * C
+    assert ImportanceMonitor(_config(fire, rule="worst", reach_m=12.0)).reach_m == 12.0
+
+
+def test_a_monitor_that_sees_the_whole_fire_never_turns():
+    """A footprint larger than the fire refreshes every bin at every sample, so the map is
+    current whatever the UAV does and turning gains nothing (the uneven spread, 10:1, would
+    otherwise pull the UAV back towards the fast side)."""
+    small = star_fire((60, 60), C, (30, 30), linear_ros(0.02, 0.2, 0.0))
+    m = ImportanceMonitor(_config(small, rule="worst", min_run_fraction=0.0))
+    fly(small, m, start_angle_rad=0.5, t_start_s=1800.0, t_end_s=3600.0, speed_mps=SPEED,
+        sensor_range_m=60 * C)  # fmt: skip
+    assert m.initial_lap_done
+    assert m.direction_changes == 0
