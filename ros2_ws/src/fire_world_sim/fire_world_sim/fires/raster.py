@@ -48,7 +48,7 @@ On a landscape (``spec.landscape``, :mod:`fire_uav_common.scenario.ground`) each
 own fuel model (the 53 standard models; 91-99 and cells outside the data never burn), slope and
 aspect from the layers, and its canopy; the wind entries are the 20-ft wind, and head rate,
 direction, effective wind, residence time and fire type per cell come from
-:func:`.behavior.fire_behavior` (FlamMap's basic run: the five moisture classes, the per-cell
+:meth:`.landscape_cells.LandscapeCells.behavior` (FlamMap's basic run: the five moisture classes, the per-cell
 wind adjustment factor, crown fire by Finney's method). The spread ellipse of a crowning cell
 keeps its surface fire's length-to-breadth ratio, with the crown fire's head rate.
 """
@@ -62,12 +62,11 @@ from fire_uav_common.constants import CellState, FireStatus
 from fire_uav_common.scenario import Raster
 from fire_uav_common.terrain import Terrain
 
-from ..errors import ConfigError
 from ..sensors import CellsSample
 from .base import FireGrid, FireTruthRecord
-from .behavior import FireBehavior, FuelMoistures, Moisture, fire_behavior
 from .crown import FireType
 from .fuel_models import fuel_model
+from .landscape_cells import LandscapeCells
 from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spread_params
 
 __all__ = ["RING", "RasterFireModel"]
@@ -117,10 +116,11 @@ class RasterFireModel:
         xx.flags.writeable = False
         yy.flags.writeable = False
         # fuel per cell
-        self._land: dict[str, np.ndarray] | None = None
+        self._land: LandscapeCells | None = None
         self.fire_type = np.zeros((self.ny, self.nx), dtype=np.uint8)  # FireType per cell (landscape)
         if spec.landscape is not None:
-            fuel = self._read_landscape()
+            self._land = LandscapeCells.read(spec.landscape, self.ny, self.nx)
+            fuel = self._land.fuel.copy()
         else:
             fuel = np.full((self.ny, self.nx), spec.fuel_model, dtype=np.int16)
             for p in spec.fuel_patches:
@@ -148,7 +148,7 @@ class RasterFireModel:
         for m, sp in self._params.items():
             r0[fuel == m] = sp.r0_mps
         if self._land is not None:  # no wind, the cells' own slope: > 0 wherever the fuel can burn
-            r0 = self._behavior(0.0, 0.0).surface_ros_mps
+            r0 = self._land.behavior(fuel, 0.0, 0.0, self.wind_limit).surface_ros_mps
         self.burnable[inner] = r0 > 0
         # dynamic state (padded)
         self.t_ign = np.full(shape, np.inf)
@@ -196,46 +196,6 @@ class RasterFireModel:
         if self.t_start_s < 0.0:
             self._preburn()
 
-    # --- landscape --------------------------------------------------------------------------
-    def _read_landscape(self) -> np.ndarray:
-        """Fuel codes (0 outside the data) and the per-cell layers, row 0 the southern row."""
-        from fire_uav_common.scenario.ground import landscape_of
-
-        land = landscape_of(self.spec.landscape)  # type: ignore[arg-type]
-        if land.shape != (self.ny, self.nx):
-            raise ConfigError(f"landscape grid {land.shape} differs from the raster's ({self.ny}, {self.nx})")
-        self._land = {
-            "slope_pct": land.slope_pct[::-1],
-            "aspect_deg": land.aspect_deg[::-1],
-            "canopy_cover": land.canopy_cover[::-1],
-            "canopy_height_m": land.canopy_height_m[::-1],
-            "canopy_base_height_m": land.canopy_base_height_m[::-1],
-            "canopy_bulk_density_kgpm3": land.canopy_bulk_density_kgpm3[::-1],
-        }
-        return np.ascontiguousarray(land.fuel[::-1]).astype(np.int16)
-
-    def _behavior(self, wind_20ft_mps: float, toward_deg: float) -> FireBehavior:
-        """Per-cell fire behaviour under a 20-ft wind blowing toward ``toward_deg`` [deg ccw from +x]."""
-        ls = self.spec.landscape
-        assert ls is not None and self._land is not None
-        m = ls.moisture
-        fuel = np.where(self.fuel > 0, self.fuel, 99)  # outside the data or a lake: barren
-        return fire_behavior(
-            fuel,
-            self._land["slope_pct"],
-            self._land["aspect_deg"],
-            wind_20ft_mps=wind_20ft_mps,
-            wind_from_deg=(270.0 - toward_deg) % 360.0,
-            moistures=FuelMoistures(Moisture(m.m_1h, m.m_10h, m.m_100h, m.m_herb, m.m_woody)),
-            canopy_cover=self._land["canopy_cover"],
-            canopy_height_m=self._land["canopy_height_m"],
-            canopy_base_height_m=self._land["canopy_base_height_m"],
-            canopy_bulk_density_kgpm3=self._land["canopy_bulk_density_kgpm3"],
-            foliar_moisture=ls.foliar_moisture,
-            crown=ls.crown,
-            wind_limit=self.wind_limit,
-        )
-
     # --- spread rates ------------------------------------------------------------------------
     def _segment_index(self, t_s: float) -> int:
         idx = 0
@@ -262,7 +222,7 @@ class RasterFireModel:
         res = np.zeros((self.ny, self.nx))
         if self._land is not None:
             w = self.spec.wind[self._wind_index]
-            b = self._behavior(w.speed_mps, w.direction_deg)
+            b = self._land.behavior(self.fuel, w.speed_mps, w.direction_deg, self.wind_limit)
             head = b.ros_mps * self.spec.spread_factor
             hdir = np.radians(90.0 - b.spread_dir_deg)
             ueff = b.effective_wind_mps
