@@ -158,6 +158,17 @@ class RasterFireModel:
         self.wet_until = np.full(shape, -np.inf)
         self._t_seed = np.full(shape, np.inf)  # exact wavelet times (1) near ignition points
         self._seed_label = np.full(shape, -1, dtype=np.int32)
+        # the update's sources kept up to date cell by cell, so that no pass scans the whole grid:
+        # flat indices of ignited, not extinguished cells not yet burnt out at the last update,
+        # and the same as a mask; cells holding a seed time (1)
+        self._live = np.zeros(0, dtype=np.intp)
+        self._live_mask = np.zeros(shape[0] * shape[1], dtype=bool)
+        self._seeded = np.zeros(0, dtype=np.intp)
+        self._band: np.ndarray | None = None  # cells near a source or seeded (None: to compute)
+        # arrival time (2) and fire id per target cell from its ring nodes, kept until a node or
+        # the cell's wavelet changes (NaN: to compute); the seed times (1) apply on top
+        self._arr_t = np.full(shape[0] * shape[1], np.nan)
+        self._arr_lab = np.full(shape[0] * shape[1], -1, dtype=np.int32)
         # update geometry: flat offsets of the ring nodes, vectors node -> target [m]
         w = shape[1]
         offs = np.array(RING)
@@ -250,6 +261,7 @@ class RasterFireModel:
         self._head[inner] = head
         self._head_dir[inner] = hdir
         self._res[inner] = res + np.where(ok, self.cs / rh, 0.0)
+        self._arr_t[:] = np.nan  # every wavelet changed
         return True
 
     def _tau(self, idx: np.ndarray, vx: np.ndarray, vy: np.ndarray) -> np.ndarray:
@@ -272,6 +284,11 @@ class RasterFireModel:
         self.label[idx] = labels
         self._t_seed[idx] = np.inf
         flat = np.ravel_multi_index(idx, self._shape)
+        add = flat[~self._live_mask[flat]]
+        self._live_mask[add] = True
+        self._live = np.concatenate([self._live, add])
+        self._changed(flat)
+        self._band = None
         nb = flat[:, None] - self._ring_flat[None, :]  # the cells this one is a node for
         pending = (
             self.burnable.ravel()[nb] & (self.t_ign.ravel()[nb] > t[:, None]) & ~self.extinguished.ravel()[nb]
@@ -324,6 +341,8 @@ class RasterFireModel:
         sel = self.burnable[ii, jj] & ~np.isfinite(self.t_ign[ii, jj]) & (t < self._t_seed[ii, jj])
         self._t_seed[ii[sel], jj[sel]] = t[sel]
         self._seed_label[ii[sel], jj[sel]] = n
+        self._seeded = np.concatenate([self._seeded, flat[sel]])
+        self._band = None
 
     def _propagate(self, t0: float, t1: float) -> None:
         """Ignite every cell whose arrival time (2) is <= t1 (repeated passes for multi-hop spread)."""
@@ -331,18 +350,27 @@ class RasterFireModel:
         ext = self.extinguished.ravel()
         burnable = self.burnable.ravel()
         for _ in range(MAX_SWEEPS):
-            src = ((t_ign <= t1) & (self.t_out.ravel() > t0) & ~ext).ravel()
-            sidx = np.flatnonzero(src)
-            seeded = np.flatnonzero(np.isfinite(self._t_seed.ravel()))
-            if sidx.size == 0 and seeded.size == 0:
-                return
-            band = np.zeros(src.size, dtype=bool)
-            band[(sidx[:, None] + self._ring_flat[None, :]).ravel()] = True
-            band[seeded] = True
-            tgt = np.flatnonzero(band & burnable & ~np.isfinite(t_ign) & ~ext)
+            # sources: ignited (all at or before t1), not yet burnt out at t0, not extinguished
+            sidx = self._sources(t0)
+            band = self._band
+            if band is None:
+                seeded = self._seeded = np.unique(self._seeded[np.isfinite(self._t_seed.ravel()[self._seeded])])
+                if sidx.size == 0 and seeded.size == 0:
+                    return
+                band = np.unique(np.concatenate([(sidx[:, None] + self._ring_flat[None, :]).ravel(), seeded]))
+                self._band = band
+            tgt = band[burnable[band] & ~np.isfinite(t_ign[band]) & ~ext[band]]
             if tgt.size == 0:
                 return
-            best, lab = self._arrival(tgt, src, t1)
+            need = tgt[np.isnan(self._arr_t[tgt])]
+            if need.size:
+                self._arr_t[need], self._arr_lab[need] = self._arrival(need, self._live_mask, t1)
+            best, lab = self._arr_t[tgt], self._arr_lab[tgt]
+            # exact times from the ignition points
+            seed = self._t_seed.ravel()[tgt]
+            use_seed = seed < best
+            best = np.where(use_seed, seed, best)
+            lab = np.where(use_seed, self._seed_label.ravel()[tgt], lab)
             t_arr = np.maximum(best, self.wet_until.ravel()[tgt])
             new = t_arr <= t1
             if not new.any():
@@ -350,8 +378,27 @@ class RasterFireModel:
             idx = np.unravel_index(tgt[new], self._shape)
             self._ignite(idx, t_arr[new], lab[new])
 
+    def _sources(self, t0: float) -> np.ndarray:
+        """Flat indices of the cells burning at some time after ``t0`` (up to the update's end):
+        the live cells less those burnt out by ``t0`` or extinguished since (both for good)."""
+        live = self._live
+        keep = (self.t_out.ravel()[live] > t0) & ~self.extinguished.ravel()[live]
+        gone = live[~keep]
+        if gone.size:
+            self._live_mask[gone] = False
+            self._changed(gone)
+            self._band = None
+        self._live = live[keep]
+        return self._live
+
+    def _changed(self, flat: np.ndarray) -> None:
+        """Nodes ``flat`` changed (ignited, burnt out, extinguished): their targets' arrival
+        times (2) are to be computed again."""
+        self._arr_t[(flat[:, None] - self._ring_flat[None, :]).ravel()] = np.nan
+
     def _arrival(self, tgt: np.ndarray, src: np.ndarray, t1: float) -> tuple[np.ndarray, np.ndarray]:
-        """Arrival time (2) [s] and fire id of the flat target cells ``tgt``."""
+        """Arrival time (2) [s] and fire id of the flat target cells ``tgt`` from their ring nodes
+        (every ignited node ignited at or before ``t1``; ``src`` marks the burning ones)."""
         nodes = tgt[:, None] + self._ring_flat[None, :]  # (n, 24)
         t_node = self.t_ign.ravel()[nodes]
         valid = (t_node <= t1) & ~self.extinguished.ravel()[nodes]
@@ -381,11 +428,6 @@ class RasterFireModel:
         best = cand[np.arange(tgt.size), j]
         node = np.where(j < len(RING), j, self._s1[np.clip(j - len(RING), 0, len(SEGMENTS) - 1)])
         lab = self.label.ravel()[nodes[np.arange(tgt.size), node]]
-        # exact times from the ignition points
-        seed = self._t_seed.ravel()[tgt]
-        use_seed = seed < best
-        best = np.where(use_seed, seed, best)
-        lab = np.where(use_seed, self._seed_label.ravel()[tgt], lab)
         return best, lab
 
     def _preburn(self) -> None:
@@ -428,7 +470,12 @@ class RasterFireModel:
         return events
 
     def _active_ids(self, t_s: float | None = None) -> set[int]:
-        b = self._burning(self.t_s if t_s is None else t_s)
+        t = self.t_s if t_s is None else t_s
+        if t >= self._t_updated:  # every cell burning at t is live (burnt out after the last update)
+            live = self._sources(self._t_updated)
+            on = (self.t_ign.ravel()[live] <= t) & (t < self.t_out.ravel()[live])
+            return set(np.unique(self.label.ravel()[live[on]]).tolist()) - {-1}
+        b = self._burning(t)
         return set(np.unique(self.label[b]).tolist()) - {-1}
 
     def apply_drop(self, x_m: float, y_m: float, radius_m: float | None = None) -> list[int]:
@@ -559,4 +606,8 @@ class RasterFireModel:
 
     @property
     def all_out(self) -> bool:
-        return all(self._ignited) and not self._burning(self.t_s).any()
+        if not all(self._ignited):
+            return False
+        live = self._sources(self._t_updated)  # every cell burning now is live
+        t = self.t_s
+        return not ((self.t_ign.ravel()[live] <= t) & (t < self.t_out.ravel()[live])).any()
