@@ -72,6 +72,16 @@ from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spr
 __all__ = ["RING", "RasterFireModel"]
 
 
+def _unique(a: np.ndarray) -> np.ndarray:
+    """Sorted distinct values of ``a`` (as ``np.unique``, whose hashing costs more on the
+    update's few thousand indices)."""
+    a = np.sort(a)
+    keep = np.empty(a.size, dtype=bool)
+    keep[:1] = True
+    np.not_equal(a[1:], a[:-1], out=keep[1:])
+    return a[keep]
+
+
 def _ring(r: int) -> list[tuple[int, int]]:
     """Offsets (di rows = north, dj cols = east) at Chebyshev distance r, ordered by angle."""
     offs = [(di, dj) for di in range(-r, r + 1) for dj in range(-r, r + 1) if max(abs(di), abs(dj)) == r]
@@ -354,10 +364,10 @@ class RasterFireModel:
             sidx = self._sources(t0)
             band = self._band
             if band is None:
-                seeded = self._seeded = np.unique(self._seeded[np.isfinite(self._t_seed.ravel()[self._seeded])])
+                seeded = self._seeded = _unique(self._seeded[np.isfinite(self._t_seed.ravel()[self._seeded])])
                 if sidx.size == 0 and seeded.size == 0:
                     return
-                band = np.unique(np.concatenate([(sidx[:, None] + self._ring_flat[None, :]).ravel(), seeded]))
+                band = _unique(np.concatenate([(sidx[:, None] + self._ring_flat[None, :]).ravel(), seeded]))
                 self._band = band
             tgt = band[burnable[band] & ~np.isfinite(t_ign[band]) & ~ext[band]]
             if tgt.size == 0:
@@ -474,7 +484,8 @@ class RasterFireModel:
         if t >= self._t_updated:  # every cell burning at t is live (burnt out after the last update)
             live = self._sources(self._t_updated)
             on = (self.t_ign.ravel()[live] <= t) & (t < self.t_out.ravel()[live])
-            return set(np.unique(self.label.ravel()[live[on]]).tolist()) - {-1}
+            ids = np.flatnonzero(np.bincount(self.label.ravel()[live[on]] + 1)) - 1  # labels >= -1
+            return set(ids.tolist()) - {-1}
         b = self._burning(t)
         return set(np.unique(self.label[b]).tolist()) - {-1}
 
