@@ -164,6 +164,7 @@ class RasterFireModel:
         self.t_ign = np.full(shape, np.inf)
         self.t_out = np.full(shape, np.inf)
         self.label = np.full(shape, -1, dtype=np.int32)
+        self._burn_type = np.zeros(shape, dtype=np.uint8)  # FireType a cell burned with (landscape)
         self.extinguished = np.zeros(shape, dtype=bool)
         self.wet_until = np.full(shape, -np.inf)
         self._t_seed = np.full(shape, np.inf)  # exact wavelet times (1) near ignition points
@@ -292,6 +293,9 @@ class RasterFireModel:
         if np.size(t):
             self.last_ignition_s = max(self.last_ignition_s, float(np.max(t)))
         self.label[idx] = labels
+        if self._land is not None:  # the highest type under the winds it burned in
+            now = self.fire_type[idx[0] - PAD, idx[1] - PAD]
+            self._burn_type[idx] = np.maximum(self._burn_type[idx], now)
         self._t_seed[idx] = np.inf
         flat = np.ravel_multi_index(idx, self._shape)
         add = flat[~self._live_mask[flat]]
@@ -550,6 +554,12 @@ class RasterFireModel:
         return FireGrid(
             self.spec.origin.x_m, self.spec.origin.y_m, float(self.cs), self.state_grid(), self.wet_grid()
         )
+
+    def fire_type_grid(self) -> np.ndarray | None:
+        if self._land is None:
+            return None
+        inner = self._inner
+        return np.where(self.t_ign[inner] <= self.t_s, self._burn_type[inner], FireType.UNBURNABLE).astype(np.uint8)
 
     def truth(self) -> list[FireTruthRecord]:
         if self._truth_cache is not None:
