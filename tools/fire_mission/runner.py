@@ -521,6 +521,7 @@ class Supervisor:
         topics.subscription(self.node, topics.CLOCK_SPEC, self._on_clock)
         topics.subscription(self.node, topics.WORLD_TRUTH_SPEC, self._on_truth)
         topics.subscription(self.node, topics.WORLD_EVENTS_SPEC, self._on_event)
+        topics.subscription(self.node, topics.WORLD_FIRE_TYPE_SPEC, self._on_fire_type)
         topics.subscription(self.node, topics.FLEET_EVENTS_SPEC, self._on_event)
         topics.subscription(self.node, topics.FLEET_STATE_SPEC, self._on_state, drain=True)
 
@@ -580,6 +581,11 @@ class Supervisor:
             if uav in self.summary.water_kg:
                 self.summary.water_at_fault[what] = self.summary.water_kg[uav]
         self.summary.observe_truth(float(msg.min_separation_m), int(msg.collisions))
+
+    def _on_fire_type(self, msg) -> None:
+        import numpy as np
+
+        self.summary.add_fire_types(np.asarray(msg.data, dtype=np.int8))
 
     def _on_event(self, msg) -> None:
         t = stamp_to_s(msg.header.stamp)

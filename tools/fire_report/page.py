@@ -220,6 +220,23 @@ def fires_html(rows: list[dict[str, Any]], raster: bool) -> str:
     return _table(head, body, numeric={2, 4, 5, 6})
 
 
+def fire_types_html(m: dict[str, Any]) -> str:
+    """Burnt cells per fire type (a fire on a landscape with crown fire; '' for any other)."""
+    cells = m.get("fire_type_cells")
+    if not cells:
+        return ""
+    total = sum(cells.values())
+    ha = (m.get("fire_type_cell_m") or 0.0) ** 2 / 1e4
+    names = {"surface": "surface", "passive_crown": "passive crown", "active_crown": "active crown"}
+    body = [
+        [names[k], str(n), fmt(n * ha, 2), fmt(100.0 * n / total if total else None, 1)] for k, n in cells.items()
+    ]
+    return (
+        "<p>How the burnt cells burned (the world's fire type per cell: Van Wagner initiation, "
+        "Finney's method):</p>" + _table(["fire type", "cells", "area [ha]", "share [%]"], body, numeric={1, 2, 3})
+    )
+
+
 def uavs_html(rows: list[dict[str, Any]]) -> str:
     if not rows:
         return "<p>No UAV flew in this mission.</p>"
@@ -353,7 +370,7 @@ def render_page(
     if figures.get("maps"):
         parts.append(("maps", "The fleet on the map", "".join(_figure(*f) for f in figures["maps"])))
     parts.append(
-        ("fires", "Fires", fires_html(fires, raster) + "".join(_figure(*f) for f in figures.get("fires", [])))
+        ("fires", "Fires", fires_html(fires, raster) + fire_types_html(m) + "".join(_figure(*f) for f in figures.get("fires", [])))
     )
     if uavs:
         parts.append(("uavs", "UAVs", uavs_html(uavs)))
