@@ -31,3 +31,17 @@ def test_report_table_gives_cells_area_and_share_per_fire_type():
     assert "passive crown" in html and "active crown" in html
     # 30 cells of 900 m^2 = 2.70 ha, 75.0 % of 40 cells
     assert ">2.70<" in html and ">75.0<" in html and ">0.09<" in html and ">2.5<" in html
+
+
+def test_report_shows_the_ground_notes_of_the_run(tmp_path):
+    """Water left out as too small for a refill pass reaches the report from summary.json."""
+    import json
+
+    from fire_report.debrief import run_scenario_notes
+
+    note = "open water at (1, 2) m (0.3 ha) left out: its widest disc (30 m) is narrower than a refill pass needs (60 m)"
+    (tmp_path / "summary.json").write_text(json.dumps({"scenario_notes": [note]}))
+    notes = run_scenario_notes(tmp_path / "bag")
+    assert notes == [note]
+    assert "left out: its widest disc (30 m)" in fire_types_html({"scenario_notes": notes})
+    assert run_scenario_notes(tmp_path / "nothing" / "bag") == []

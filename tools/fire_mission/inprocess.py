@@ -123,6 +123,8 @@ def run_inprocess(
     geo = geo_summary(sc, uavs)
     if geo is not None:  # a scenario on a landscape: positions in degrees too
         d["geo"] = geo
+    if sc.notes:  # e.g. water bodies of a landscape too small to refill from
+        d["scenario_notes"] = list(sc.notes)
     return d
 
 

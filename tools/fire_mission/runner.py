@@ -800,6 +800,8 @@ def run(args: argparse.Namespace) -> int:
     geo = geo_summary(scenario, uav_count)
     if geo is not None:  # a scenario on a landscape: positions in degrees too
         result["geo"] = geo
+    if scenario.notes:  # e.g. water bodies of a landscape too small to refill from
+        result["scenario_notes"] = list(scenario.notes)
     (out / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
     print("\nMission summary\n" + table(result) + f"\n\n  written: {out / 'summary.json'}", file=sys.stderr)
     if not args.no_record and not args.no_report:

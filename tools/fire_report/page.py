@@ -221,17 +221,19 @@ def fires_html(rows: list[dict[str, Any]], raster: bool) -> str:
 
 
 def fire_types_html(m: dict[str, Any]) -> str:
-    """Burnt cells per fire type (a fire on a landscape with crown fire; '' for any other)."""
+    """Burnt cells per fire type (a fire on a landscape with crown fire; '' for any other), and
+    what the scenario's loader noted about the ground (water left out as too small to refill)."""
+    notes = "".join(f"<p>Ground: {e(n)}</p>" for n in m.get("scenario_notes") or [])
     cells = m.get("fire_type_cells")
     if not cells:
-        return ""
+        return notes
     total = sum(cells.values())
     ha = (m.get("fire_type_cell_m") or 0.0) ** 2 / 1e4
     names = {"surface": "surface", "passive_crown": "passive crown", "active_crown": "active crown"}
     body = [
         [names[k], str(n), fmt(n * ha, 2), fmt(100.0 * n / total if total else None, 1)] for k, n in cells.items()
     ]
-    return (
+    return notes + (
         "<p>How the burnt cells burned (the world's fire type per cell: Van Wagner initiation, "
         "Finney's method):</p>" + _table(["fire type", "cells", "area [ha]", "share [%]"], body, numeric={1, 2, 3})
     )
