@@ -147,24 +147,32 @@ def spread_ignition() -> tuple[float, float]:
     return win["x_min_m"] + ig["x_m"], win["y_min_m"] + ig["y_m"]
 
 
-def spread_ours(hours: float, wind_20ft_mps: float) -> dict[str, object]:
-    """A free fire over the whole landscape with the world's raster model; burned mask row 0 north."""
+def spread_scenario(wind_20ft_mps: float, start_s: float = 0.0, uavs: int = 1, max_duration_s: float = 900.0):
+    """The shipped scenario over the whole landscape: its ignition lit at ``start_s`` [s], the wind
+    from the west."""
     from fire_uav_common.landscape import load_landscape, read_landscape_spec
     from fire_uav_common.scenario import load_scenario
-    from fire_world_sim.fires.raster import RasterFireModel
 
     x0, y0, x1, y1 = load_landscape(read_landscape_spec(LAND)).bounds
     px, py = spread_ignition()
-    sc = load_scenario(
+    return load_scenario(
         SCENARIO,
         overrides={
             "fires.raster.landscape.window": None,
             "area": {"x_min_m": 0.0, "y_min_m": 0.0, "x_max_m": x1 - x0, "y_max_m": y1 - y0},
-            "fires.raster.ignitions": [{"x_m": px - x0, "y_m": py - y0, "start_s": 0.0}],
-            "fires.raster.wind": [{"start_s": 0.0, "speed_mps": wind_20ft_mps, "direction_deg": 0.0}],
-            "uavs.count": 1,
+            "fires.raster.ignitions": [{"x_m": px - x0, "y_m": py - y0, "start_s": start_s}],
+            "fires.raster.wind": [{"start_s": min(start_s, 0.0), "speed_mps": wind_20ft_mps, "direction_deg": 0.0}],
+            "uavs.count": uavs,
+            "timing.max_duration_s": max_duration_s,
         },
     )
+
+
+def spread_ours(hours: float, wind_20ft_mps: float) -> dict[str, object]:
+    """A free fire over the whole landscape with the world's raster model; burned mask row 0 north."""
+    from fire_world_sim.fires.raster import RasterFireModel
+
+    sc = spread_scenario(wind_20ft_mps)
     t0 = time.process_time()
     model = RasterFireModel(sc.fires.raster, sc.terrain, lakes=sc.lakes)  # type: ignore[arg-type]
     setup_s = time.process_time() - t0
@@ -217,10 +225,128 @@ def spread_pyretechnics(hours: float, wind_20ft_mps: float, ignition: tuple[floa
     np.savez(out, cpu_s=cpu_s, burned=mats["phi"] < 0.0, fire_type=mats["fire_type"])
 
 
+GRASS_CELLS = 600  # the grass case: 600 x 600 cells of 30 m, fuel model 1 at 6 %, flat
+GRASS_MOISTURE = 0.06
+
+
+def grass_ignition() -> tuple[int, int]:
+    """(row from the north, column) of the grass case's ignition: mid-height, 1/6 from the west."""
+    return GRASS_CELLS // 2, GRASS_CELLS // 6
+
+
+def spread_grass_ours(hours: float, wind_20ft_mps: float) -> dict[str, object]:
+    """The grass case with the world's raster model (its wind is the midflame wind: the 20-ft
+    wind times fuel model 1's unsheltered wind adjustment factor)."""
+    from fire_uav_common.scenario import Ignition, Raster, Wind
+    from fire_uav_common.terrain import Terrain
+    from fire_world_sim.fires.fuel_models import fuel_model
+    from fire_world_sim.fires.raster import RasterFireModel
+    from fire_world_sim.fires.wind_adjustment import wind_adjustment_factor
+
+    cs = 30.0
+    waf = float(wind_adjustment_factor(fuel_model(1).depth_ft))
+    row, col = grass_ignition()
+    spec = Raster(
+        cell_size_m=cs,
+        nx=GRASS_CELLS,
+        ny=GRASS_CELLS,
+        fuel_model=1,
+        moisture=GRASS_MOISTURE,
+        wind=(Wind(0.0, wind_20ft_mps * waf, 0.0),),
+        ignitions=(Ignition((col + 0.5) * cs, (GRASS_CELLS - row - 0.5) * cs, 0.0),),
+    )
+    t0 = time.process_time()
+    model = RasterFireModel(spec, Terrain())
+    setup_s = time.process_time() - t0
+    t0 = time.process_time()
+    t = 0.0
+    while t < hours * 3600.0 - 1e-9:
+        model.step(t, 1.0)
+        t += 1.0
+    cpu_s = time.process_time() - t0
+    arrival_s = model.t_ign[model._inner][::-1]  # [s] each cell's ignition time, inf unburned
+    return {"cpu_s": cpu_s, "setup_cpu_s": setup_s, "burned": (model.state_grid() != 0)[::-1], "arrival_s": arrival_s}
+
+
+def spread_grass_pyretechnics(hours: float, wind_20ft_mps: float, out: Path) -> None:
+    from pyretechnics.eulerian_level_set import SpreadState, spread_fire_with_phi_field
+    from pyretechnics.space_time_cube import SpaceTimeCube
+
+    shape = (1, GRASS_CELLS, GRASS_CELLS)
+    m = GRASS_MOISTURE
+    cubes = {
+        "slope": SpaceTimeCube(shape, 0.0),
+        "aspect": SpaceTimeCube(shape, 0.0),
+        "fuel_model": SpaceTimeCube(shape, 1),
+        "canopy_cover": SpaceTimeCube(shape, 0.0),
+        "canopy_height": SpaceTimeCube(shape, 0.0),
+        "canopy_base_height": SpaceTimeCube(shape, 0.0),
+        "canopy_bulk_density": SpaceTimeCube(shape, 0.0),
+        "wind_speed_10m": SpaceTimeCube(shape, wind_20ft_mps * 3.6 * TEN_METRE_PER_20FT),
+        "upwind_direction": SpaceTimeCube(shape, WIND_FROM_DEG),
+        "fuel_moisture_dead_1hr": SpaceTimeCube(shape, m),
+        "fuel_moisture_dead_10hr": SpaceTimeCube(shape, m),
+        "fuel_moisture_dead_100hr": SpaceTimeCube(shape, m),
+        "fuel_moisture_live_herbaceous": SpaceTimeCube(shape, 0.9),
+        "fuel_moisture_live_woody": SpaceTimeCube(shape, 0.9),
+        "foliar_moisture": SpaceTimeCube(shape, 1.0),
+    }
+    minutes = hours * 60.0
+    t0 = time.process_time()
+    state = SpreadState(shape).ignite_cell(grass_ignition())
+    result = spread_fire_with_phi_field(cubes, state, (minutes + 1.0, 30.0, 30.0), 0.0, minutes)
+    cpu_s = time.process_time() - t0
+    mats = result["spread_state"].get_full_matrices(["phi"])
+    np.savez(out, cpu_s=cpu_s, burned=mats["phi"] < 0.0)
+
+
+def main_world(args: argparse.Namespace) -> None:
+    """World steps (pure World, no agents, no ROS) with a fire lit ``--hours`` before t = 0 and
+    ``--uavs`` UAVs flying scripted turns, over the whole landscape."""
+    from bench_world import commands
+    from fire_world_sim.world import World
+
+    sc = spread_scenario(args.wind_20ft_mps, start_s=-args.hours * 3600.0, uavs=args.uavs, max_duration_s=1e6)
+    t0 = time.process_time()
+    world = World(sc, 0, args.uavs)
+    setup_s = time.process_time() - t0
+    times = []
+    cpu0 = time.process_time()
+    r = None
+    for k in range(args.steps):
+        t = time.process_time()
+        r = world.step(commands(args.uavs, k))
+        times.append(time.process_time() - t)
+    cpu_s = time.process_time() - cpu0
+    assert r is not None
+    times.sort()
+    sim_s = args.steps * world.control_period_s
+    print(
+        json.dumps(
+            {
+                "uavs": args.uavs,
+                "fire_lit_hours_before": args.hours,
+                "wind_20ft_mps_from_west": args.wind_20ft_mps,
+                "grid_cells": int(world.fires.nx * world.fires.ny),  # type: ignore[attr-defined]
+                "fire_cells_burned_or_burning": int(sum(f.area_m2 for f in r.fires) / 900.0),
+                "setup_cpu_s_incl_preburn": round(setup_s, 2),
+                "control_period_s": world.control_period_s,
+                "steps": args.steps,
+                "step_cpu_ms_mean": round(1000 * sum(times) / len(times), 2),
+                "step_cpu_ms_p95": round(1000 * times[int(0.95 * (len(times) - 1))], 2),
+                "step_cpu_ms_max": round(1000 * times[-1], 2),
+                "sim_s_per_cpu_s": round(sim_s / cpu_s, 2),
+            },
+            indent=2,
+        )
+    )
+
+
 def main_spread(args: argparse.Namespace) -> None:
-    ours = spread_ours(args.hours, args.wind_20ft_mps)
+    ours = (spread_grass_ours if args.grass else spread_ours)(args.hours, args.wind_20ft_mps)
     n_ours = int(np.sum(ours["burned"]))  # type: ignore[call-overload]
     report: dict[str, object] = {
+        "case": "grass 600 x 600, fuel model 1" if args.grass else "worcester_vt",
         "free_spread_hours": args.hours,
         "wind_20ft_mps_from_west": args.wind_20ft_mps,
         "ours_cells_burned": n_ours,
@@ -233,7 +359,7 @@ def main_spread(args: argparse.Namespace) -> None:
             out = Path(tmp) / "pyretechnics.npz"
             cmd = [str(args.pyretechnics_python), __file__, "--spread", "--as-pyretechnics", str(out)]
             cmd += ["--hours", str(args.hours), "--wind-20ft-mps", str(args.wind_20ft_mps)]
-            cmd += ["--ignition", *map(str, spread_ignition())]
+            cmd += ["--grass"] if args.grass else ["--ignition", *map(str, spread_ignition())]
             subprocess.run(cmd, check=True)
             theirs = dict(np.load(out))
         n_theirs = int(theirs["burned"].sum())
@@ -255,12 +381,24 @@ def main() -> None:
     ap.add_argument("--wind-20ft-mps", type=float, default=0.0)
     ap.add_argument("--pyretechnics-python", type=Path, help="python of a venv with pyretechnics installed")
     ap.add_argument("--spread", action="store_true", help="free-burning spread instead of the per-cell kernel")
-    ap.add_argument("--hours", type=float, default=2.0, help="--spread: hours of fire (default 2)")
+    ap.add_argument(
+        "--grass", action="store_true", help="--spread: 600 x 600 cells of 30 m of fuel model 1 at 6 %%, flat"
+    )
+    ap.add_argument("--hours", type=float, default=2.0, help="--spread / --world: hours of fire (default 2)")
+    ap.add_argument("--world", action="store_true", help="world step time with a landscape fire and --uavs UAVs")
+    ap.add_argument("--uavs", type=int, default=20, help="--world: UAVs (default 20)")
+    ap.add_argument("--steps", type=int, default=600, help="--world: control steps timed (default 600)")
     ap.add_argument("--as-pyretechnics", type=Path, help=argparse.SUPPRESS)
     ap.add_argument("--ignition", type=float, nargs=2, help=argparse.SUPPRESS)  # the venv there has no yaml
     args = ap.parse_args()
+    if args.spread and args.as_pyretechnics and args.grass:
+        spread_grass_pyretechnics(args.hours, args.wind_20ft_mps, args.as_pyretechnics)
+        return
     if args.spread and args.as_pyretechnics:
         spread_pyretechnics(args.hours, args.wind_20ft_mps, tuple(args.ignition), args.as_pyretechnics)
+        return
+    if args.world:
+        main_world(args)
         return
     if args.spread:
         main_spread(args)

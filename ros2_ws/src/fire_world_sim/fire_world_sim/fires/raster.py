@@ -72,9 +72,16 @@ from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spr
 __all__ = ["RING", "RasterFireModel"]
 
 
-def _unique(a: np.ndarray) -> np.ndarray:
+def _unique(a: np.ndarray, mark: np.ndarray | None = None) -> np.ndarray:
     """Sorted distinct values of ``a`` (as ``np.unique``, whose hashing costs more on the
-    update's few thousand indices)."""
+    update's few thousand indices). Given ``mark``, an all-False bool array longer than any
+    value, a large ``a`` is marked and read back in order instead of sorted (linear time); ``mark``
+    is left all False."""
+    if mark is not None and a.size * 16 > mark.size:
+        mark[a] = True
+        out = np.flatnonzero(mark)
+        mark[out] = False
+        return out
     a = np.sort(a)
     keep = np.empty(a.size, dtype=bool)
     keep[:1] = True
@@ -176,6 +183,7 @@ class RasterFireModel:
         self._live_mask = np.zeros(shape[0] * shape[1], dtype=bool)
         self._seeded = np.zeros(0, dtype=np.intp)
         self._band: np.ndarray | None = None  # cells near a source or seeded (None: to compute)
+        self._mark = np.zeros(shape[0] * shape[1], dtype=bool)  # scratch for _unique, kept all False
         # arrival time (2) and fire id per target cell from its ring nodes, kept until a node or
         # the cell's wavelet changes (NaN: to compute); the seed times (1) apply on top
         self._arr_t = np.full(shape[0] * shape[1], np.nan)
@@ -371,7 +379,7 @@ class RasterFireModel:
                 seeded = self._seeded = _unique(self._seeded[np.isfinite(self._t_seed.ravel()[self._seeded])])
                 if sidx.size == 0 and seeded.size == 0:
                     return
-                band = _unique(np.concatenate([(sidx[:, None] + self._ring_flat[None, :]).ravel(), seeded]))
+                band = _unique(np.concatenate([(sidx[:, None] + self._ring_flat[None, :]).ravel(), seeded]), self._mark)
                 self._band = band
             tgt = band[burnable[band] & ~np.isfinite(t_ign[band]) & ~ext[band]]
             if tgt.size == 0:
