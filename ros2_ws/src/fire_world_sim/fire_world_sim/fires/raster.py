@@ -67,38 +67,12 @@ from .base import FireGrid, FireTruthRecord
 from .crown import FireType
 from .fuel_models import fuel_model
 from .landscape_cells import LandscapeCells
+from .ring_update import RING, RingGeometry, _unique, arrival
 from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spread_params
 
 __all__ = ["RING", "RasterFireModel"]
 
 
-def _unique(a: np.ndarray, mark: np.ndarray | None = None) -> np.ndarray:
-    """Sorted distinct values of ``a`` (as ``np.unique``, whose hashing costs more on the
-    update's few thousand indices). Given ``mark``, an all-False bool array longer than any
-    value, a large ``a`` is marked and read back in order instead of sorted (linear time); ``mark``
-    is left all False."""
-    if mark is not None and a.size * 16 > mark.size:
-        mark[a] = True
-        out = np.flatnonzero(mark)
-        mark[out] = False
-        return out
-    a = np.sort(a)
-    keep = np.empty(a.size, dtype=bool)
-    keep[:1] = True
-    np.not_equal(a[1:], a[:-1], out=keep[1:])
-    return a[keep]
-
-
-def _ring(r: int) -> list[tuple[int, int]]:
-    """Offsets (di rows = north, dj cols = east) at Chebyshev distance r, ordered by angle."""
-    offs = [(di, dj) for di in range(-r, r + 1) for dj in range(-r, r + 1) if max(abs(di), abs(dj)) == r]
-    return sorted(offs, key=lambda o: math.atan2(o[0], o[1]))
-
-
-#: node offsets of the update (2): the 8- and the 16-neighbour ring, each ordered by angle
-RING = tuple(_ring(1) + _ring(2))
-#: segments (index pairs into RING) of consecutive nodes of each ring
-SEGMENTS = tuple((i, (i + 1) % 8) for i in range(8)) + tuple((8 + i, 8 + (i + 1) % 16) for i in range(16))
 PAD = 2
 MAX_BURN_S = 3600.0
 DEFAULT_DROP_RADIUS_M = 20.0
@@ -190,19 +164,8 @@ class RasterFireModel:
         self._arr_lab = np.full(shape[0] * shape[1], -1, dtype=np.int32)
         # update geometry: flat offsets of the ring nodes, vectors node -> target [m]
         w = shape[1]
-        offs = np.array(RING)
-        self._ring_flat = offs[:, 0] * w + offs[:, 1]
-        self._vx = -offs[:, 1] * self.cs  # east
-        self._vy = -offs[:, 0] * self.cs  # north
-        self._vn = np.hypot(self._vx, self._vy)
-        seg = np.array(SEGMENTS)
-        self._s1, self._s2 = seg[:, 0], seg[:, 1]
-        dx = self._vx[self._s2] - self._vx[self._s1]
-        dy = self._vy[self._s2] - self._vy[self._s1]
-        self._dn = np.hypot(dx, dy)
-        self._dx, self._dy = dx, dy
-        self._p_par = (self._vx[self._s1] * dx + self._vy[self._s1] * dy) / self._dn  # v1 . d^
-        self._p_perp = np.abs(self._vx[self._s1] * dy - self._vy[self._s1] * dx) / self._dn  # |v1 x d^|
+        self._geom = RingGeometry.of(w, self.cs)
+        self._ring_flat, self._vx, self._vy = self._geom.ring_flat, self._geom.vx, self._geom.vy
         # per-cell wavelet (1): tau(v) = A |v| - Cx vx - Cy vy  [s/m]; A = inf where nothing burns
         self._A = np.full(shape, np.inf)
         self._Cx = np.zeros(shape)
@@ -419,38 +382,9 @@ class RasterFireModel:
         self._arr_t[(flat[:, None] - self._ring_flat[None, :]).ravel()] = np.nan
 
     def _arrival(self, tgt: np.ndarray, src: np.ndarray, t1: float) -> tuple[np.ndarray, np.ndarray]:
-        """Arrival time (2) [s] and fire id of the flat target cells ``tgt`` from their ring nodes
-        (every ignited node ignited at or before ``t1``; ``src`` marks the burning ones)."""
-        nodes = tgt[:, None] + self._ring_flat[None, :]  # (n, 24)
-        t_node = self.t_ign.ravel()[nodes]
-        valid = (t_node <= t1) & ~self.extinguished.ravel()[nodes]
-        t_node = np.where(valid, t_node, np.inf)
-        burning = src[nodes]
-        a = self._A.ravel()[tgt][:, None]
-        cx = self._Cx.ravel()[tgt][:, None]
-        cy = self._Cy.ravel()[tgt][:, None]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            # single-node Huygens updates (segment end points)
-            single = t_node + a * self._vn - cx * self._vx - cy * self._vy
-            single = np.where(burning, single, np.inf)
-            # segments: f(l) = T1 + l (T2 - T1) + A |v1 + l d| - C . (v1 + l d)
-            s1, s2 = self._s1, self._s2
-            t1n, t2n = t_node[:, s1], t_node[:, s2]
-            ok = np.isfinite(t1n) & np.isfinite(t2n) & (burning[:, s1] | burning[:, s2]) & np.isfinite(a)
-            k = (t2n - t1n) - (cx * self._dx + cy * self._dy)
-            g = np.clip(-k / (a * self._dn), -0.999999, 0.999999)  # cos(angle(v, d)) at the minimum
-            lam = (g * self._p_perp / np.sqrt(1.0 - g * g) - self._p_par) / self._dn
-            lam = np.clip(np.where(ok, lam, 0.0), 0.0, 1.0)
-            vx = self._vx[s1] + lam * self._dx
-            vy = self._vy[s1] + lam * self._dy
-            seg = t1n + lam * (t2n - t1n) + a * np.hypot(vx, vy) - cx * vx - cy * vy
-            seg = np.where(ok, seg, np.inf)
-        cand = np.concatenate([single, seg], axis=1)
-        j = np.argmin(cand, axis=1)
-        best = cand[np.arange(tgt.size), j]
-        node = np.where(j < len(RING), j, self._s1[np.clip(j - len(RING), 0, len(SEGMENTS) - 1)])
-        lab = self.label.ravel()[nodes[np.arange(tgt.size), node]]
-        return best, lab
+        """Arrival time (2) [s] and fire id of the flat target cells ``tgt`` (:func:`.ring_update.arrival`)."""
+        flat = (self.t_ign.ravel(), self.extinguished.ravel(), self.label.ravel())
+        return arrival(self._geom, tgt, src, t1, *flat, self._A.ravel(), self._Cx.ravel(), self._Cy.ravel())
 
     def _preburn(self) -> None:
         """Burn from the earliest ignition (start_s < 0) to t = 0; their ignitions are reported
