@@ -112,6 +112,9 @@ def run_inprocess(
             summary.packets[uid] = (st.packets_received, st.packets_lost, st.packets_rejected)
             summary.objective[uid] = int(st.objective)
             summary.alive_view[uid] = list(st.alive_peers)
+    fire_type = world.fires.fire_type_grid()
+    if fire_type is not None:  # as the runner reads the world's last /world/fire_type
+        summary.add_fire_types(fire_type)
     outcome = "complete" if summary.complete_success else "time_limit"
     d = summary.as_dict(outcome=outcome, wall_s=time.monotonic() - wall0, steps=steps)
     d["seed"] = world.seed
@@ -120,6 +123,8 @@ def run_inprocess(
     geo = geo_summary(sc, uavs)
     if geo is not None:  # a scenario on a landscape: positions in degrees too
         d["geo"] = geo
+    if sc.notes:  # e.g. water bodies of a landscape too small to refill from
+        d["scenario_notes"] = list(sc.notes)
     return d
 
 

@@ -525,6 +525,7 @@ class Supervisor:
         topics.subscription(self.node, topics.CLOCK_SPEC, self._on_clock)
         topics.subscription(self.node, topics.WORLD_TRUTH_SPEC, self._on_truth)
         topics.subscription(self.node, topics.WORLD_EVENTS_SPEC, self._on_event)
+        topics.subscription(self.node, topics.WORLD_FIRE_TYPE_SPEC, self._on_fire_type)
         topics.subscription(self.node, topics.FLEET_EVENTS_SPEC, self._on_event)
         topics.subscription(self.node, topics.FLEET_STATE_SPEC, self._on_state, drain=True)
 
@@ -584,6 +585,11 @@ class Supervisor:
             if uav in self.summary.water_kg:
                 self.summary.water_at_fault[what] = self.summary.water_kg[uav]
         self.summary.observe_truth(float(msg.min_separation_m), int(msg.collisions))
+
+    def _on_fire_type(self, msg) -> None:
+        import numpy as np
+
+        self.summary.add_fire_types(np.asarray(msg.data, dtype=np.int8))
 
     def _on_event(self, msg) -> None:
         t = stamp_to_s(msg.header.stamp)
@@ -802,6 +808,8 @@ def run(args: argparse.Namespace) -> int:
     geo = geo_summary(scenario, uav_count)
     if geo is not None:  # a scenario on a landscape: positions in degrees too
         result["geo"] = geo
+    if scenario.notes:  # e.g. water bodies of a landscape too small to refill from
+        result["scenario_notes"] = list(scenario.notes)
     (out / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
     print("\nMission summary\n" + table(result) + f"\n\n  written: {out / 'summary.json'}", file=sys.stderr)
     if not args.no_record and not args.no_report:

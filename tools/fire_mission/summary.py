@@ -40,6 +40,9 @@ class LiveEvent:
     y_m: float = math.nan
 
 
+FIRE_TYPE_KEYS = ("unburnt", "surface", "passive_crown", "active_crown")  # by FireType value
+
+
 @dataclass
 class LiveSummary:
     """Accumulates what the supervisor observes; :meth:`as_dict` gives summary.json."""
@@ -67,6 +70,13 @@ class LiveSummary:
     area_t_s: list[float] = field(default_factory=list)  # [s] /world/truth stamps
     area_m2: list[float] = field(default_factory=list)  # [m^2] burned area (sum over fires) at area_t_s
     area_active: list[bool] = field(default_factory=list)  # any fire active at area_t_s
+    # burnt cells per fire type (a fire on a landscape only; None: the key stays out of summary.json)
+    fire_type_cells: dict[str, int] | None = None
+
+    def add_fire_types(self, grid: np.ndarray) -> None:
+        """The newest /world/fire_type grid (0 not burnt, 1 surface, 2 passive, 3 active crown)."""
+        n = np.bincount(np.asarray(grid, dtype=np.int64).ravel(), minlength=4)
+        self.fire_type_cells = {name: int(n[k]) for k, name in enumerate(FIRE_TYPE_KEYS) if k > 0}
 
     def add_truth(self, t_s: float, fires: list[tuple[float, bool]]) -> None:
         """One /world/truth sample: ``fires`` as (area_m2, active) per fire."""
@@ -284,7 +294,7 @@ class LiveSummary:
                 }
                 for n, st in sorted(self.proc_stats.items())
             },
-        }
+        } | ({} if self.fire_type_cells is None else {"fire_type_cells": self.fire_type_cells})
 
 
 def table(summary: dict) -> str:
@@ -336,6 +346,7 @@ def table(summary: dict) -> str:
         ),
         ("burned area [m^2]", summary.get("burned_area_m2")),
         ("contained at [s]", summary.get("contained_at_s")),
+        *([("burnt cells by fire type", summary["fire_type_cells"])] if "fire_type_cells" in summary else []),
         ("faults injected", summary["faults_injected"]),
     ]
     w = max(len(k) for k, _ in rows)

@@ -26,6 +26,7 @@ from fire_uav_common.topics import (
     FLEET_STATE,
     VIZ_FIRE_GRID,
     WORLD_EVENTS,
+    WORLD_FIRE_TYPE,
     WORLD_TRUTH,
 )
 
@@ -84,6 +85,9 @@ class Mission:
     # raster fire (/viz/fire_grid), one per FIRE_GRID_EVERY_S: t [s], origin (x, y) [m], resolution [m],
     # data (ny, nx) int8 as the world publishes it (unburned 0, wet 20, burnt 60, burning 100)
     fire_grids: list[dict[str, Any]] = field(default_factory=list)
+    # a fire on a landscape (/world/fire_type, the newest): burnt cells [surface, passive, active crown]
+    fire_type_cells: list[int] | None = None
+    fire_type_cell_m: float = 0.0  # [m] its cell side
     # per UAV (/fleet/front): list of {t, x (n,), y (n,), state (n,)} -- its shared front picture
     fronts: dict[int, list[dict[str, Any]]] = field(default_factory=dict)
     # WorldTruth's running safety figures: t [s], min_separation_m [m] (inf until two fly), collisions [-]
@@ -162,7 +166,7 @@ def _load(bag: bag_io.MissionBag, path: str) -> Mission:
     perim: dict[tuple[int, int], list[dict[str, Any]]] = defaultdict(list)
     sep: list[dict[str, Any]] = []
     wanted = [CLOCK, FLEET_STATE, FLEET_FIRES, FLEET_PERIMETER, FLEET_EVENTS, WORLD_TRUTH, WORLD_EVENTS]
-    wanted += [VIZ_FIRE_GRID, FLEET_FRONT]
+    wanted += [VIZ_FIRE_GRID, FLEET_FRONT, WORLD_FIRE_TYPE]
     t_min, t_max = math.inf, -math.inf
     for topic, t_ns, msg in bag.messages([t for t in wanted if t in mission.topics]):
         if topic == CLOCK:
@@ -233,6 +237,10 @@ def _load(bag: bag_io.MissionBag, path: str) -> Mission:
                     "outer": np.asarray(msg.outer_distance_m, dtype=float),
                 }
             )
+        elif topic == WORLD_FIRE_TYPE:  # the newest wins: cells keep their type once burnt
+            t = _stamp_s(msg)
+            mission.fire_type_cells = np.bincount(np.asarray(msg.data, dtype=np.int64), minlength=4)[1:4].tolist()
+            mission.fire_type_cell_m = float(msg.info.resolution)
         elif topic == VIZ_FIRE_GRID:
             t = _stamp_s(msg)
             grids = mission.fire_grids

@@ -147,6 +147,16 @@ def run_faults(bag_path: str | Path) -> list[Fault]:
     return faults
 
 
+def run_scenario_notes(bag_path: str | Path) -> list[str]:
+    """What the scenario's loader noted (e.g. water bodies of a landscape left out as too small
+    for a refill pass), from the run's ``summary.json`` beside the bag; [] when there is none."""
+    try:
+        summary = json.loads((Path(bag_path).parent / "summary.json").read_text(encoding="utf8"))
+        return [str(n) for n in summary.get("scenario_notes") or []]
+    except (OSError, ValueError, AttributeError):
+        return []
+
+
 def _uavs(ids: list[int]) -> str:
     ids = sorted(set(ids))
     return f"UAV {ids[0]}" if len(ids) == 1 else "UAVs " + ", ".join(str(i) for i in ids)

@@ -238,7 +238,13 @@ def places_html(rows: list[dict[str, Any]], landscape: str) -> str:
     drops = [r for r in rows if r.get("kind") == "drop"]
     shown = [r for r in rows if r.get("kind") != "drop" or len(drops) <= MAX_PLACE_DROPS]
     body = [
-        [r["what"], fmt(r["t_s"]), f"{r['x_m']:.0f}, {r['y_m']:.0f}", f"{r['lat_deg']:.6f}", f"{r['lon_deg']:.6f}"]
+        [
+            r["what"],
+            fmt(r["t_s"]),
+            f"{r['x_m']:.0f}, {r['y_m']:.0f}",
+            f"{r['lat_deg']:.6f}",
+            f"{r['lon_deg']:.6f}",
+        ]
         for r in shown
     ]
     lead = (
@@ -253,6 +259,27 @@ def places_html(rows: list[dict[str, Any]], landscape: str) -> str:
     )
     head = ["what", "time [s]", "x, y [m]", "latitude [\u00b0]", "longitude [\u00b0]"]
     return lead + _table(head, body, numeric={1, 3, 4}) + note
+
+
+def fire_types_html(m: dict[str, Any]) -> str:
+    """Burnt cells per fire type (a fire on a landscape with crown fire; '' for any other), and
+    what the scenario's loader noted about the ground (water left out as too small to refill)."""
+    notes = "".join(f"<p>Ground: {e(n)}</p>" for n in m.get("scenario_notes") or [])
+    cells = m.get("fire_type_cells")
+    if not cells:
+        return notes
+    total = sum(cells.values())
+    ha = (m.get("fire_type_cell_m") or 0.0) ** 2 / 1e4
+    names = {"surface": "surface", "passive_crown": "passive crown", "active_crown": "active crown"}
+    body = [
+        [names[k], str(n), fmt(n * ha, 2), fmt(100.0 * n / total if total else None, 1)]
+        for k, n in cells.items()
+    ]
+    return notes + (
+        "<p>How the burnt cells burned (the world's fire type per cell: Van Wagner initiation, "
+        "Finney's method):</p>"
+        + _table(["fire type", "cells", "area [ha]", "share [%]"], body, numeric={1, 2, 3})
+    )
 
 
 def uavs_html(rows: list[dict[str, Any]]) -> str:
@@ -391,7 +418,13 @@ def render_page(
     if figures.get("maps"):
         parts.append(("maps", "The fleet on the map", "".join(_figure(*f) for f in figures["maps"])))
     parts.append(
-        ("fires", "Fires", fires_html(fires, raster) + "".join(_figure(*f) for f in figures.get("fires", [])))
+        (
+            "fires",
+            "Fires",
+            fires_html(fires, raster)
+            + fire_types_html(m)
+            + "".join(_figure(*f) for f in figures.get("fires", [])),
+        )
     )
     if places and landscape:
         parts.append(("places", "Where on the ground", places_html(places, landscape)))

@@ -121,6 +121,12 @@ def write_report(
     if base is not None:
         metrics["baseline_burned_area_m2"] = suppression_metrics(base)["burned_area_m2"]
     metrics["loss_probability"] = loss_probability(mission)
+    if mission.fire_type_cells is not None:  # a fire on a landscape: burnt cells per fire type
+        metrics["fire_type_cells"] = dict(zip(("surface", "passive_crown", "active_crown"), mission.fire_type_cells, strict=True))
+        metrics["fire_type_cell_m"] = mission.fire_type_cell_m
+    notes = debrief.run_scenario_notes(mission.path)
+    if notes:  # e.g. water left out as too small for a refill pass
+        metrics["scenario_notes"] = notes
     known = debrief.run_summary_found(mission.path)
     metrics["injected_faults_known"] = known
     faults = debrief.with_responses(

@@ -3,7 +3,7 @@
 Two kinds behind one interface (``elevation(x_m, y_m)``, ``gradient(x_m, y_m)``, map frame
 metres): :class:`Terrain`, a base plane plus Gaussian hills, and :class:`GridTerrain`, a raster
 of elevations (a landscape's elevation layer) interpolated bilinearly between cell centres.
-Lakes are flat discs at the local elevation.
+Lakes are flat at the local elevation: discs, or a landscape's water bodies by their cells.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import ArgumentError
+from .water import StraightRun, WaterCells
 
 __all__ = ["GridTerrain", "Hill", "Lake", "Terrain"]
 
@@ -33,18 +34,44 @@ class Hill:
 
 @dataclass(frozen=True)
 class Lake:
-    """Water source: a disc of diameter_m centred at (x_m, y_m)."""
+    """Water source: a disc of diameter_m centred at (x_m, y_m), or a water body of a landscape.
+
+    ``water``: the body's water cells (its real outline); the disc is then the largest one inside
+    it, where the agents aim. :meth:`contains` (is a point over the water) reads the outline when
+    there is one. ``run``: the body's longest straight run over water (a scoop run needs one);
+    for a disc, its diameter.
+    """
 
     x_m: float
     y_m: float
     diameter_m: float
+    water: WaterCells | None = field(default=None, compare=False, repr=False)
+    run: StraightRun | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         if not self.diameter_m > 0:
             raise ArgumentError(f"lake diameter_m must be > 0, got {self.diameter_m}")
 
     def contains(self, x_m: float, y_m: float) -> bool:
+        if self.water is not None:
+            return bool(self.water.contains(x_m, y_m))
         return (x_m - self.x_m) ** 2 + (y_m - self.y_m) ** 2 <= (self.diameter_m / 2) ** 2
+
+    @property
+    def longest_run(self) -> StraightRun:
+        """The longest straight segment over the water [m; map frame]."""
+        if self.run is not None:
+            return self.run
+        r = self.diameter_m / 2
+        return StraightRun(self.x_m - r, self.y_m, self.x_m + r, self.y_m, self.diameter_m)
+
+    def shifted(self, dx_m: float, dy_m: float) -> Lake:
+        """The same lake with the map frame's origin moved by (-dx_m, -dy_m)."""
+        run = self.run
+        if run is not None:
+            run = StraightRun(run.x0_m + dx_m, run.y0_m + dy_m, run.x1_m + dx_m, run.y1_m + dy_m, run.length_m)
+        water = None if self.water is None else self.water.shifted(dx_m, dy_m)
+        return Lake(self.x_m + dx_m, self.y_m + dy_m, self.diameter_m, water, run)
 
 
 @dataclass(frozen=True)

@@ -178,6 +178,10 @@ FLEET_FRONT_SPEC = TopicSpec("/fleet/front", "fire_uav_msgs/msg/FireFront", "fle
 # world, absolute (agents never subscribe to these)
 WORLD_TRUTH_SPEC = TopicSpec("/world/truth", "fire_uav_msgs/msg/WorldTruth", "truth", doc="world -> recorder")
 WORLD_EVENTS_SPEC = TopicSpec("/world/events", "fire_uav_msgs/msg/MissionEvent", "events")
+# the fire type per cell of a fire on a landscape (a world without one never publishes it, so
+# its record is as before): its own topic, as /world/truth's messages stay the same for all
+WORLD_FIRE_TYPE_SPEC = TopicSpec("/world/fire_type", "nav_msgs/msg/OccupancyGrid", "truth",
+                                 doc="world -> recorder: 0 not burnt, 1 surface, 2 passive crown, 3 active crown")  # fmt: skip
 VIZ_WORLD_SPEC = TopicSpec("/viz/world", "visualization_msgs/msg/MarkerArray", "viz")
 VIZ_FIRE_GRID_SPEC = TopicSpec("/viz/fire_grid", "nav_msgs/msg/OccupancyGrid", "viz")
 VIZ_PERIMETER_SPEC = TopicSpec("/viz/perimeter", "visualization_msgs/msg/MarkerArray", "viz",
@@ -190,7 +194,7 @@ ALL_TOPICS: tuple[TopicSpec, ...] = (
     CLOCK_SPEC, SENSORS_SPEC, CMD_SPEC, PAYLOAD_SPEC, VIZ_AGENT_SPEC,
     FLEET_STATE_SPEC, FLEET_FIRES_SPEC, FLEET_PERIMETER_SPEC, FLEET_EVENTS_SPEC,
     COVERAGE_WEIGHTS_SPEC, COVERAGE_CANDIDATES_SPEC, COVERAGE_MST_SPEC,
-    WORLD_TRUTH_SPEC, WORLD_EVENTS_SPEC, VIZ_WORLD_SPEC, VIZ_FIRE_GRID_SPEC, VIZ_PERIMETER_SPEC,
+    WORLD_TRUTH_SPEC, WORLD_EVENTS_SPEC, WORLD_FIRE_TYPE_SPEC, VIZ_WORLD_SPEC, VIZ_FIRE_GRID_SPEC, VIZ_PERIMETER_SPEC,
     FLEET_FRONT_SPEC,
     TF_SPEC, TF_STATIC_SPEC,
 )  # fmt: skip
@@ -210,6 +214,7 @@ COVERAGE_CANDIDATES = COVERAGE_CANDIDATES_SPEC.name
 COVERAGE_MST = COVERAGE_MST_SPEC.name
 WORLD_TRUTH = WORLD_TRUTH_SPEC.name
 WORLD_EVENTS = WORLD_EVENTS_SPEC.name
+WORLD_FIRE_TYPE = WORLD_FIRE_TYPE_SPEC.name
 VIZ_WORLD = VIZ_WORLD_SPEC.name
 VIZ_FIRE_GRID = VIZ_FIRE_GRID_SPEC.name
 VIZ_PERIMETER = VIZ_PERIMETER_SPEC.name

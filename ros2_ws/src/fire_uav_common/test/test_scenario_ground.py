@@ -64,6 +64,49 @@ def test_the_pond_is_a_lake_whose_disc_is_all_water(scenario, full) -> None:
     assert scenario.notes == ()
 
 
+def test_the_pond_is_over_water_exactly_on_its_water_cells(scenario, full) -> None:
+    """The refill check reads the outline: every cell centre of the window is over the lake iff
+    its fuel is open water (98), including the water outside the disc."""
+    ox, oy = scenario.fires.raster.landscape.projected_origin
+    lake = scenario.lakes[0]
+    r = scenario.fires.raster
+    xs = (np.arange(r.nx) + 0.5) * r.cell_size_m
+    ys = (np.arange(r.ny) + 0.5) * r.cell_size_m
+    disc_only = 0
+    for y in ys:
+        for x in xs:
+            row, col = full.cell_of(x + ox, y + oy)
+            assert lake.contains(x, y) == (full.fuel[row, col] == 98), (x, y)
+            disc = math.hypot(x - lake.x_m, y - lake.y_m) <= lake.diameter_m / 2
+            disc_only += int(lake.contains(x, y) and not disc)
+    assert disc_only > 10  # the outline holds water the disc leaves out
+    assert lake.water is not None and lake.water.area_m2 == pytest.approx(
+        900.0 * sum(full.fuel[full.cell_of(x + ox, y + oy)] == 98 for x in xs for y in ys)
+    )
+
+
+def test_the_ponds_longest_straight_run_is_over_water_and_longer_than_the_disc(scenario) -> None:
+    lake = scenario.lakes[0]
+    run = lake.longest_run
+    assert lake.diameter_m < run.length_m
+    assert run.length_m == pytest.approx(math.hypot(run.x1_m - run.x0_m, run.y1_m - run.y0_m))
+    for f in np.linspace(0.0, 1.0, 200):  # every point of the segment is over water
+        assert lake.contains(run.x0_m + f * (run.x1_m - run.x0_m), run.y0_m + f * (run.y1_m - run.y0_m))
+
+
+def test_the_ponds_outline_polygon_encloses_its_area(scenario) -> None:
+    lake = scenario.lakes[0]
+    assert lake.water is not None
+    rings = lake.water.outline()
+    area = 0.0
+    for poly in rings:
+        for k, ring in enumerate(poly):
+            x, y = np.array(ring).T
+            a = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))  # shoelace
+            area += a if k == 0 else -a
+    assert area == pytest.approx(lake.water.area_m2)
+
+
 def test_water_too_narrow_for_a_refill_pass_is_left_out_with_a_note() -> None:
     s = load_scenario(SCENARIO, overrides={"fires.raster.landscape.min_lake_diameter_m": 300.0})
     assert s.lakes == ()

@@ -157,6 +157,20 @@ def tf_msg(r: StepResult) -> TFMessage:
     return msg
 
 
+def fire_type_msg(grid: FireGrid, fire_type: np.ndarray, ns: int) -> OccupancyGrid:
+    """``/world/fire_type``: per cell of ``grid``'s frame, the fire type it burned with (0 not
+    burnt, 1 surface, 2 passive crown, 3 active crown; row 0 the southern row)."""
+    g = OccupancyGrid(header=header(ns))
+    g.info.map_load_time = stamp(ns)
+    g.info.resolution = grid.cell_size_m
+    g.info.width, g.info.height = grid.nx, grid.ny
+    g.info.origin.position.x = grid.origin_x_m
+    g.info.origin.position.y = grid.origin_y_m
+    g.info.origin.orientation.w = 1.0
+    g.data = fire_type.astype(np.int8).ravel().tolist()
+    return g
+
+
 def grid_msg(grid: FireGrid, ns: int) -> OccupancyGrid:
     """``/viz/fire_grid``: unburned 0, wet 20, burnt 60, burning 100."""
     g = OccupancyGrid(header=header(ns))

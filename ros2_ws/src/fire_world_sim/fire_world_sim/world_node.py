@@ -92,6 +92,7 @@ class WorldNode(Node):
         self.pub_events = topics.publisher(self, topics.WORLD_EVENTS_SPEC)
         self.pub_viz = topics.publisher(self, topics.VIZ_WORLD_SPEC)
         self.pub_grid = topics.publisher(self, topics.VIZ_FIRE_GRID_SPEC)
+        self.pub_fire_type = topics.publisher(self, topics.WORLD_FIRE_TYPE_SPEC)
         self.pub_tf = topics.publisher(self, topics.TF_SPEC)
         self._marker_book = viz.MarkerBook()
         self.pub_sensors = {}
@@ -369,6 +370,9 @@ class WorldNode(Node):
             grid = self.world.fires.cell_grid()
             if grid is not None:
                 self.pub_grid.publish(msgs.grid_msg(grid, r.stamp_ns))
+                fire_type = self.world.fires.fire_type_grid()
+                if fire_type is not None:
+                    self.pub_fire_type.publish(msgs.fire_type_msg(grid, fire_type, r.stamp_ns))
 
     def _bundle_bytes(self, b: SensorBundleRecord) -> bytes:
         """``b`` as a serialised SensorBundle (``fire_uav_common.codecs.sensor_bundle``), published as it is."""

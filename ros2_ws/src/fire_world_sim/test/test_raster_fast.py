@@ -271,7 +271,7 @@ def test_sensors_see_burning_cells_within_range() -> None:
 @pytest.mark.parametrize("r", [1, 2, 3])
 def test_ring_is_the_chebyshev_ring_ordered_by_angle(r: int) -> None:
     """Brute-force oracle: every offset at Chebyshev distance r (8 r of them), by angle."""
-    from fire_world_sim.fires.raster import _ring
+    from fire_world_sim.fires.ring_update import _ring
 
     ring = _ring(r)
     expect = {(di, dj) for di in range(-5, 6) for dj in range(-5, 6) if max(abs(di), abs(dj)) == r}

@@ -63,3 +63,42 @@ def test_fire_type_per_cell_includes_crown_fire_under_the_scenarios_weather(runn
     assert np.all(ft[~running.burnable[running._inner]] == FireType.UNBURNABLE)
     no_crown = model(**{"fires.raster.landscape.crown": "none"}).fire_type
     assert not np.isin(no_crown, [FireType.PASSIVE, FireType.ACTIVE]).any()
+
+
+def test_fire_type_grid_holds_the_type_each_ignited_cell_burned_with() -> None:
+    """Under one wind a cell burns with its own fire type; cells not reached carry 0. The
+    scenario's 15 minutes reach a few crowning cells."""
+    m = model()
+    for k in range(900):
+        m.step(float(k), 1.0)
+    grid = m.fire_type_grid()
+    assert grid is not None and grid.shape == (m.ny, m.nx)
+    ignited = m.state_grid() != 0
+    assert np.array_equal(grid[ignited], m.fire_type[ignited])
+    assert not grid[~ignited].any()
+    counts = np.bincount(grid[ignited], minlength=4)
+    assert counts[FireType.UNBURNABLE] == 0
+    assert counts[FireType.SURFACE] > 100 and counts[FireType.PASSIVE] + counts[FireType.ACTIVE] > 0
+
+
+def test_a_cell_keeps_the_highest_type_of_the_winds_it_burned_in() -> None:
+    """A wind change while a cell burns re-derives its fire; its recorded type is the higher one."""
+    calm = {"start_s": -600.0, "speed_mps": 0.0, "direction_deg": 0.0}
+    gale = {"start_s": 30.0, "speed_mps": 20.0, "direction_deg": 0.0}
+    m = model(**{"fires.raster.wind": [calm, gale]})
+    before = m.fire_type.copy()
+    for k in range(31):
+        m.step(float(k), 1.0)
+    burning = m.state_grid() == 1
+    grid = m.fire_type_grid()
+    assert grid is not None and burning.any()
+    assert np.all(grid[burning] == np.maximum(before[burning], m.fire_type[burning]))
+    assert (m.fire_type[burning] > before[burning]).any()  # the gale raised some
+
+
+def test_no_fire_type_grid_without_a_landscape() -> None:
+    from fire_world_sim.fires import make_fire_model
+
+    for name in ("grass_running", "ff_two_fires"):
+        s = load_scenario(SCENARIOS / f"{name}.yaml")
+        assert make_fire_model(s.fires, s.terrain, s.lakes).fire_type_grid() is None

@@ -8,11 +8,13 @@ scenario file. :func:`apply_landscape` reads its window once and derives
   corner; the map frame is the landscape's projected metres minus that corner;
 - the terrain: a :class:`~fire_uav_common.terrain.GridTerrain` of the elevation layer, served to
   the world (ground, altimeter, collisions) and to the agents (their a-priori map) alike;
-- the lakes: every body of open water (fuel code 98) becomes a lake, the largest disc inside
-  it (its centre the water cell farthest from the shore, its diameter twice that distance), so a
-  refill pass over the disc is over water. A body whose disc is narrower than
-  ``min_lake_diameter_m`` is too small for a refill pass: left out, with a note in
-  ``Scenario.notes`` that the world logs.
+- the lakes: every body of open water (fuel code 98) becomes a lake by its real outline, its
+  water cells (:class:`~fire_uav_common.water.WaterCells`): a UAV is over the lake when the cell
+  under it is water. Each lake also carries the largest disc inside it (its centre the water
+  cell farthest from the shore, its diameter twice that distance), where the agents aim, and its
+  longest straight run over water (:func:`~fire_uav_common.water.longest_straight_run`). A body
+  whose disc is narrower than ``min_lake_diameter_m`` is too small for a refill pass: left out,
+  with a note in ``Scenario.notes`` that the world logs and summary.json and the report show.
 
 Every ignition must lie on a burnable cell of the window. Errors name the file and the field.
 """
@@ -27,6 +29,7 @@ import numpy as np
 
 from ..landscape import Landscape, LandscapeError, load_landscape, read_landscape_spec
 from ..terrain import GridTerrain, Lake, Terrain
+from ..water import WaterCells, longest_straight_run
 from .fields import _Ctx
 from .types import RasterLandscape, Scenario
 
@@ -68,8 +71,9 @@ def landscape_of(land: RasterLandscape) -> Landscape:
 
 
 def water_lakes(landscape: Landscape, min_diameter_m: float) -> tuple[list[Lake], list[str]]:
-    """A lake per open-water body (the largest disc inside it), in projected metres, and a note
-    per body left out as too small for a refill pass."""
+    """A lake per open-water body (its water cells, the largest disc inside it and its longest
+    straight run), in projected metres, and a note per body left out as too small for a refill
+    pass."""
     from scipy import ndimage
 
     water = landscape.fuel == OPEN_WATER
@@ -93,7 +97,13 @@ def water_lakes(landscape: Landscape, min_diameter_m: float) -> tuple[list[Lake]
                 f"disc ({diameter:.0f} m) is narrower than a refill pass needs ({min_diameter_m:g} m)"
             )
             continue
-        lakes.append(Lake(float(x), float(y), diameter))
+        rows, cols = np.nonzero(body)
+        r0, r1, c0, c1 = int(rows.min()), int(rows.max()) + 1, int(cols.min()), int(cols.max()) + 1
+        left, _, _, top = landscape.bounds
+        cells = WaterCells(  # flipped: row 0 the southern row, as the map frame
+            x0_m=left + c0 * cs, y0_m=top - r1 * cs, cell_m=cs, mask=body[r0:r1, c0:c1][::-1]
+        )
+        lakes.append(Lake(float(x), float(y), diameter, water=cells, run=longest_straight_run(cells)))
     return lakes, notes
 
 
@@ -128,7 +138,7 @@ def apply_landscape(ctx: _Ctx, scenario: Scenario, *, terrain_given: bool) -> Sc
     elevation = np.ascontiguousarray(landscape.elevation_m[::-1])  # row 0 south, as the raster fire
     terrain: Terrain = GridTerrain(elevation_m=elevation, x0_m=0.0, y0_m=0.0, cell_m=cs, source=land.name)
     found, notes = water_lakes(landscape, land.min_lake_diameter_m)
-    lakes = [Lake(lk.x_m - x0, lk.y_m - y0, lk.diameter_m) for lk in found]
+    lakes = [lk.shifted(-x0, -y0) for lk in found]
     lakes = [lk for lk in lakes if scenario.area.contains(lk.x_m, lk.y_m)]
     notes = [f"{p}: {n}" for n in notes]
     return dataclasses.replace(

@@ -61,10 +61,17 @@ def _lakes(ctx: _Ctx, raw: Any) -> tuple[Lake, ...]:
         return ()
     if not isinstance(raw, list):
         raise ctx.fail("lakes", f"must be a list, got {type(raw).__name__}")
-    return tuple(
-        _record(ctx, item, Lake, f"lakes[{i}]", bounds={"diameter_m": {"gt": 0}})
-        for i, item in enumerate(raw)
-    )
+    discs = (_record(ctx, item, _LakeDisc, f"lakes[{i}]", bounds={"diameter_m": {"gt": 0}}) for i, item in enumerate(raw))
+    return tuple(Lake(d.x_m, d.y_m, d.diameter_m) for d in discs)
+
+
+@dataclasses.dataclass(frozen=True)
+class _LakeDisc:
+    """A lake as a scenario writes it: a disc (a landscape's lakes come from its water cells)."""
+
+    x_m: float
+    y_m: float
+    diameter_m: float
 
 
 def _timing(ctx: _Ctx, raw: Any) -> Timing:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
 from fire_uav_common.constants import FireStatus
 from fire_uav_common.scenario import AnalyticFire
 
@@ -120,6 +121,9 @@ class AnalyticFireModel:
         return False
 
     def cell_grid(self) -> FireGrid | None:
+        return None
+
+    def fire_type_grid(self) -> np.ndarray | None:
         return None
 
     @property

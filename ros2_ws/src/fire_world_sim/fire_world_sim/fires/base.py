@@ -107,6 +107,12 @@ class FireModel(Protocol):
         """The whole grid now (for ``/viz/fire_grid``), or None for a model without cells."""
         ...
 
+    def fire_type_grid(self) -> np.ndarray | None:
+        """(ny, nx) uint8 per cell of :meth:`cell_grid`: the fire type a cell burned with
+        (``FireType``: 1 surface, 2 passive crown, 3 active crown; 0 not ignited), for fires on a
+        landscape (crown fire); None for any other model."""
+        ...
+
     @property
     def all_out(self) -> bool:
         """Every fire (including not yet started ones) is extinguished."""

@@ -48,7 +48,7 @@ On a landscape (``spec.landscape``, :mod:`fire_uav_common.scenario.ground`) each
 own fuel model (the 53 standard models; 91-99 and cells outside the data never burn), slope and
 aspect from the layers, and its canopy; the wind entries are the 20-ft wind, and head rate,
 direction, effective wind, residence time and fire type per cell come from
-:func:`.behavior.fire_behavior` (FlamMap's basic run: the five moisture classes, the per-cell
+:meth:`.landscape_cells.LandscapeCells.behavior` (FlamMap's basic run: the five moisture classes, the per-cell
 wind adjustment factor, crown fire by Finney's method). The spread ellipse of a crowning cell
 keeps its surface fire's length-to-breadth ratio, with the crown fire's head rate.
 """
@@ -62,27 +62,17 @@ from fire_uav_common.constants import CellState, FireStatus
 from fire_uav_common.scenario import Raster
 from fire_uav_common.terrain import Terrain
 
-from ..errors import ConfigError
 from ..sensors import CellsSample
 from .base import FireGrid, FireTruthRecord
-from .behavior import FireBehavior, FuelMoistures, Moisture, fire_behavior
 from .crown import FireType
 from .fuel_models import fuel_model
+from .landscape_cells import LandscapeCells
+from .ring_update import RING, RingGeometry, _unique, arrival
 from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spread_params
 
 __all__ = ["RING", "RasterFireModel"]
 
 
-def _ring(r: int) -> list[tuple[int, int]]:
-    """Offsets (di rows = north, dj cols = east) at Chebyshev distance r, ordered by angle."""
-    offs = [(di, dj) for di in range(-r, r + 1) for dj in range(-r, r + 1) if max(abs(di), abs(dj)) == r]
-    return sorted(offs, key=lambda o: math.atan2(o[0], o[1]))
-
-
-#: node offsets of the update (2): the 8- and the 16-neighbour ring, each ordered by angle
-RING = tuple(_ring(1) + _ring(2))
-#: segments (index pairs into RING) of consecutive nodes of each ring
-SEGMENTS = tuple((i, (i + 1) % 8) for i in range(8)) + tuple((8 + i, 8 + (i + 1) % 16) for i in range(16))
 PAD = 2
 MAX_BURN_S = 3600.0
 DEFAULT_DROP_RADIUS_M = 20.0
@@ -117,10 +107,11 @@ class RasterFireModel:
         xx.flags.writeable = False
         yy.flags.writeable = False
         # fuel per cell
-        self._land: dict[str, np.ndarray] | None = None
+        self._land: LandscapeCells | None = None
         self.fire_type = np.zeros((self.ny, self.nx), dtype=np.uint8)  # FireType per cell (landscape)
         if spec.landscape is not None:
-            fuel = self._read_landscape()
+            self._land = LandscapeCells.read(spec.landscape, self.ny, self.nx)
+            fuel = self._land.fuel.copy()
         else:
             fuel = np.full((self.ny, self.nx), spec.fuel_model, dtype=np.int16)
             for p in spec.fuel_patches:
@@ -148,31 +139,33 @@ class RasterFireModel:
         for m, sp in self._params.items():
             r0[fuel == m] = sp.r0_mps
         if self._land is not None:  # no wind, the cells' own slope: > 0 wherever the fuel can burn
-            r0 = self._behavior(0.0, 0.0).surface_ros_mps
+            r0 = self._land.behavior(fuel, 0.0, 0.0, self.wind_limit).surface_ros_mps
         self.burnable[inner] = r0 > 0
         # dynamic state (padded)
         self.t_ign = np.full(shape, np.inf)
         self.t_out = np.full(shape, np.inf)
         self.label = np.full(shape, -1, dtype=np.int32)
+        self._burn_type = np.zeros(shape, dtype=np.uint8)  # FireType a cell burned with (landscape)
         self.extinguished = np.zeros(shape, dtype=bool)
         self.wet_until = np.full(shape, -np.inf)
         self._t_seed = np.full(shape, np.inf)  # exact wavelet times (1) near ignition points
         self._seed_label = np.full(shape, -1, dtype=np.int32)
+        # the update's sources kept up to date cell by cell, so that no pass scans the whole grid:
+        # flat indices of ignited, not extinguished cells not yet burnt out at the last update,
+        # and the same as a mask; cells holding a seed time (1)
+        self._live = np.zeros(0, dtype=np.intp)
+        self._live_mask = np.zeros(shape[0] * shape[1], dtype=bool)
+        self._seeded = np.zeros(0, dtype=np.intp)
+        self._band: np.ndarray | None = None  # cells near a source or seeded (None: to compute)
+        self._mark = np.zeros(shape[0] * shape[1], dtype=bool)  # scratch for _unique, kept all False
+        # arrival time (2) and fire id per target cell from its ring nodes, kept until a node or
+        # the cell's wavelet changes (NaN: to compute); the seed times (1) apply on top
+        self._arr_t = np.full(shape[0] * shape[1], np.nan)
+        self._arr_lab = np.full(shape[0] * shape[1], -1, dtype=np.int32)
         # update geometry: flat offsets of the ring nodes, vectors node -> target [m]
         w = shape[1]
-        offs = np.array(RING)
-        self._ring_flat = offs[:, 0] * w + offs[:, 1]
-        self._vx = -offs[:, 1] * self.cs  # east
-        self._vy = -offs[:, 0] * self.cs  # north
-        self._vn = np.hypot(self._vx, self._vy)
-        seg = np.array(SEGMENTS)
-        self._s1, self._s2 = seg[:, 0], seg[:, 1]
-        dx = self._vx[self._s2] - self._vx[self._s1]
-        dy = self._vy[self._s2] - self._vy[self._s1]
-        self._dn = np.hypot(dx, dy)
-        self._dx, self._dy = dx, dy
-        self._p_par = (self._vx[self._s1] * dx + self._vy[self._s1] * dy) / self._dn  # v1 . d^
-        self._p_perp = np.abs(self._vx[self._s1] * dy - self._vy[self._s1] * dx) / self._dn  # |v1 x d^|
+        self._geom = RingGeometry.of(w, self.cs)
+        self._ring_flat, self._vx, self._vy = self._geom.ring_flat, self._geom.vx, self._geom.vy
         # per-cell wavelet (1): tau(v) = A |v| - Cx vx - Cy vy  [s/m]; A = inf where nothing burns
         self._A = np.full(shape, np.inf)
         self._Cx = np.zeros(shape)
@@ -195,46 +188,6 @@ class RasterFireModel:
         self._set_wind(self.t_start_s)
         if self.t_start_s < 0.0:
             self._preburn()
-
-    # --- landscape --------------------------------------------------------------------------
-    def _read_landscape(self) -> np.ndarray:
-        """Fuel codes (0 outside the data) and the per-cell layers, row 0 the southern row."""
-        from fire_uav_common.scenario.ground import landscape_of
-
-        land = landscape_of(self.spec.landscape)  # type: ignore[arg-type]
-        if land.shape != (self.ny, self.nx):
-            raise ConfigError(f"landscape grid {land.shape} differs from the raster's ({self.ny}, {self.nx})")
-        self._land = {
-            "slope_pct": land.slope_pct[::-1],
-            "aspect_deg": land.aspect_deg[::-1],
-            "canopy_cover": land.canopy_cover[::-1],
-            "canopy_height_m": land.canopy_height_m[::-1],
-            "canopy_base_height_m": land.canopy_base_height_m[::-1],
-            "canopy_bulk_density_kgpm3": land.canopy_bulk_density_kgpm3[::-1],
-        }
-        return np.ascontiguousarray(land.fuel[::-1]).astype(np.int16)
-
-    def _behavior(self, wind_20ft_mps: float, toward_deg: float) -> FireBehavior:
-        """Per-cell fire behaviour under a 20-ft wind blowing toward ``toward_deg`` [deg ccw from +x]."""
-        ls = self.spec.landscape
-        assert ls is not None and self._land is not None
-        m = ls.moisture
-        fuel = np.where(self.fuel > 0, self.fuel, 99)  # outside the data or a lake: barren
-        return fire_behavior(
-            fuel,
-            self._land["slope_pct"],
-            self._land["aspect_deg"],
-            wind_20ft_mps=wind_20ft_mps,
-            wind_from_deg=(270.0 - toward_deg) % 360.0,
-            moistures=FuelMoistures(Moisture(m.m_1h, m.m_10h, m.m_100h, m.m_herb, m.m_woody)),
-            canopy_cover=self._land["canopy_cover"],
-            canopy_height_m=self._land["canopy_height_m"],
-            canopy_base_height_m=self._land["canopy_base_height_m"],
-            canopy_bulk_density_kgpm3=self._land["canopy_bulk_density_kgpm3"],
-            foliar_moisture=ls.foliar_moisture,
-            crown=ls.crown,
-            wind_limit=self.wind_limit,
-        )
 
     # --- spread rates ------------------------------------------------------------------------
     def _segment_index(self, t_s: float) -> int:
@@ -262,7 +215,7 @@ class RasterFireModel:
         res = np.zeros((self.ny, self.nx))
         if self._land is not None:
             w = self.spec.wind[self._wind_index]
-            b = self._behavior(w.speed_mps, w.direction_deg)
+            b = self._land.behavior(self.fuel, w.speed_mps, w.direction_deg, self.wind_limit)
             head = b.ros_mps * self.spec.spread_factor
             hdir = np.radians(90.0 - b.spread_dir_deg)
             ueff = b.effective_wind_mps
@@ -290,6 +243,7 @@ class RasterFireModel:
         self._head[inner] = head
         self._head_dir[inner] = hdir
         self._res[inner] = res + np.where(ok, self.cs / rh, 0.0)
+        self._arr_t[:] = np.nan  # every wavelet changed
         return True
 
     def _tau(self, idx: np.ndarray, vx: np.ndarray, vy: np.ndarray) -> np.ndarray:
@@ -310,8 +264,16 @@ class RasterFireModel:
         if np.size(t):
             self.last_ignition_s = max(self.last_ignition_s, float(np.max(t)))
         self.label[idx] = labels
+        if self._land is not None:  # the highest type under the winds it burned in
+            now = self.fire_type[idx[0] - PAD, idx[1] - PAD]
+            self._burn_type[idx] = np.maximum(self._burn_type[idx], now)
         self._t_seed[idx] = np.inf
         flat = np.ravel_multi_index(idx, self._shape)
+        add = flat[~self._live_mask[flat]]
+        self._live_mask[add] = True
+        self._live = np.concatenate([self._live, add])
+        self._changed(flat)
+        self._band = None
         nb = flat[:, None] - self._ring_flat[None, :]  # the cells this one is a node for
         pending = (
             self.burnable.ravel()[nb] & (self.t_ign.ravel()[nb] > t[:, None]) & ~self.extinguished.ravel()[nb]
@@ -364,6 +326,8 @@ class RasterFireModel:
         sel = self.burnable[ii, jj] & ~np.isfinite(self.t_ign[ii, jj]) & (t < self._t_seed[ii, jj])
         self._t_seed[ii[sel], jj[sel]] = t[sel]
         self._seed_label[ii[sel], jj[sel]] = n
+        self._seeded = np.concatenate([self._seeded, flat[sel]])
+        self._band = None
 
     def _propagate(self, t0: float, t1: float) -> None:
         """Ignite every cell whose arrival time (2) is <= t1 (repeated passes for multi-hop spread)."""
@@ -371,18 +335,27 @@ class RasterFireModel:
         ext = self.extinguished.ravel()
         burnable = self.burnable.ravel()
         for _ in range(MAX_SWEEPS):
-            src = ((t_ign <= t1) & (self.t_out.ravel() > t0) & ~ext).ravel()
-            sidx = np.flatnonzero(src)
-            seeded = np.flatnonzero(np.isfinite(self._t_seed.ravel()))
-            if sidx.size == 0 and seeded.size == 0:
-                return
-            band = np.zeros(src.size, dtype=bool)
-            band[(sidx[:, None] + self._ring_flat[None, :]).ravel()] = True
-            band[seeded] = True
-            tgt = np.flatnonzero(band & burnable & ~np.isfinite(t_ign) & ~ext)
+            # sources: ignited (all at or before t1), not yet burnt out at t0, not extinguished
+            sidx = self._sources(t0)
+            band = self._band
+            if band is None:
+                seeded = self._seeded = _unique(self._seeded[np.isfinite(self._t_seed.ravel()[self._seeded])])
+                if sidx.size == 0 and seeded.size == 0:
+                    return
+                band = _unique(np.concatenate([(sidx[:, None] + self._ring_flat[None, :]).ravel(), seeded]), self._mark)
+                self._band = band
+            tgt = band[burnable[band] & ~np.isfinite(t_ign[band]) & ~ext[band]]
             if tgt.size == 0:
                 return
-            best, lab = self._arrival(tgt, src, t1)
+            need = tgt[np.isnan(self._arr_t[tgt])]
+            if need.size:
+                self._arr_t[need], self._arr_lab[need] = self._arrival(need, self._live_mask, t1)
+            best, lab = self._arr_t[tgt], self._arr_lab[tgt]
+            # exact times from the ignition points
+            seed = self._t_seed.ravel()[tgt]
+            use_seed = seed < best
+            best = np.where(use_seed, seed, best)
+            lab = np.where(use_seed, self._seed_label.ravel()[tgt], lab)
             t_arr = np.maximum(best, self.wet_until.ravel()[tgt])
             new = t_arr <= t1
             if not new.any():
@@ -390,43 +363,28 @@ class RasterFireModel:
             idx = np.unravel_index(tgt[new], self._shape)
             self._ignite(idx, t_arr[new], lab[new])
 
+    def _sources(self, t0: float) -> np.ndarray:
+        """Flat indices of the cells burning at some time after ``t0`` (up to the update's end):
+        the live cells less those burnt out by ``t0`` or extinguished since (both for good)."""
+        live = self._live
+        keep = (self.t_out.ravel()[live] > t0) & ~self.extinguished.ravel()[live]
+        gone = live[~keep]
+        if gone.size:
+            self._live_mask[gone] = False
+            self._changed(gone)
+            self._band = None
+        self._live = live[keep]
+        return self._live
+
+    def _changed(self, flat: np.ndarray) -> None:
+        """Nodes ``flat`` changed (ignited, burnt out, extinguished): their targets' arrival
+        times (2) are to be computed again."""
+        self._arr_t[(flat[:, None] - self._ring_flat[None, :]).ravel()] = np.nan
+
     def _arrival(self, tgt: np.ndarray, src: np.ndarray, t1: float) -> tuple[np.ndarray, np.ndarray]:
-        """Arrival time (2) [s] and fire id of the flat target cells ``tgt``."""
-        nodes = tgt[:, None] + self._ring_flat[None, :]  # (n, 24)
-        t_node = self.t_ign.ravel()[nodes]
-        valid = (t_node <= t1) & ~self.extinguished.ravel()[nodes]
-        t_node = np.where(valid, t_node, np.inf)
-        burning = src[nodes]
-        a = self._A.ravel()[tgt][:, None]
-        cx = self._Cx.ravel()[tgt][:, None]
-        cy = self._Cy.ravel()[tgt][:, None]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            # single-node Huygens updates (segment end points)
-            single = t_node + a * self._vn - cx * self._vx - cy * self._vy
-            single = np.where(burning, single, np.inf)
-            # segments: f(l) = T1 + l (T2 - T1) + A |v1 + l d| - C . (v1 + l d)
-            s1, s2 = self._s1, self._s2
-            t1n, t2n = t_node[:, s1], t_node[:, s2]
-            ok = np.isfinite(t1n) & np.isfinite(t2n) & (burning[:, s1] | burning[:, s2]) & np.isfinite(a)
-            k = (t2n - t1n) - (cx * self._dx + cy * self._dy)
-            g = np.clip(-k / (a * self._dn), -0.999999, 0.999999)  # cos(angle(v, d)) at the minimum
-            lam = (g * self._p_perp / np.sqrt(1.0 - g * g) - self._p_par) / self._dn
-            lam = np.clip(np.where(ok, lam, 0.0), 0.0, 1.0)
-            vx = self._vx[s1] + lam * self._dx
-            vy = self._vy[s1] + lam * self._dy
-            seg = t1n + lam * (t2n - t1n) + a * np.hypot(vx, vy) - cx * vx - cy * vy
-            seg = np.where(ok, seg, np.inf)
-        cand = np.concatenate([single, seg], axis=1)
-        j = np.argmin(cand, axis=1)
-        best = cand[np.arange(tgt.size), j]
-        node = np.where(j < len(RING), j, self._s1[np.clip(j - len(RING), 0, len(SEGMENTS) - 1)])
-        lab = self.label.ravel()[nodes[np.arange(tgt.size), node]]
-        # exact times from the ignition points
-        seed = self._t_seed.ravel()[tgt]
-        use_seed = seed < best
-        best = np.where(use_seed, seed, best)
-        lab = np.where(use_seed, self._seed_label.ravel()[tgt], lab)
-        return best, lab
+        """Arrival time (2) [s] and fire id of the flat target cells ``tgt`` (:func:`.ring_update.arrival`)."""
+        flat = (self.t_ign.ravel(), self.extinguished.ravel(), self.label.ravel())
+        return arrival(self._geom, tgt, src, t1, *flat, self._A.ravel(), self._Cx.ravel(), self._Cy.ravel())
 
     def _preburn(self) -> None:
         """Burn from the earliest ignition (start_s < 0) to t = 0; their ignitions are reported
@@ -468,7 +426,13 @@ class RasterFireModel:
         return events
 
     def _active_ids(self, t_s: float | None = None) -> set[int]:
-        b = self._burning(self.t_s if t_s is None else t_s)
+        t = self.t_s if t_s is None else t_s
+        if t >= self._t_updated:  # every cell burning at t is live (burnt out after the last update)
+            live = self._sources(self._t_updated)
+            on = (self.t_ign.ravel()[live] <= t) & (t < self.t_out.ravel()[live])
+            ids = np.flatnonzero(np.bincount(self.label.ravel()[live[on]] + 1)) - 1  # labels >= -1
+            return set(ids.tolist()) - {-1}
+        b = self._burning(t)
         return set(np.unique(self.label[b]).tolist()) - {-1}
 
     def apply_drop(self, x_m: float, y_m: float, radius_m: float | None = None) -> list[int]:
@@ -532,6 +496,12 @@ class RasterFireModel:
         return FireGrid(
             self.spec.origin.x_m, self.spec.origin.y_m, float(self.cs), self.state_grid(), self.wet_grid()
         )
+
+    def fire_type_grid(self) -> np.ndarray | None:
+        if self._land is None:
+            return None
+        inner = self._inner
+        return np.where(self.t_ign[inner] <= self.t_s, self._burn_type[inner], FireType.UNBURNABLE).astype(np.uint8)
 
     def truth(self) -> list[FireTruthRecord]:
         if self._truth_cache is not None:
@@ -599,4 +569,8 @@ class RasterFireModel:
 
     @property
     def all_out(self) -> bool:
-        return all(self._ignited) and not self._burning(self.t_s).any()
+        if not all(self._ignited):
+            return False
+        live = self._sources(self._t_updated)  # every cell burning now is live
+        t = self.t_s
+        return not ((self.t_ign.ravel()[live] <= t) & (t < self.t_out.ravel()[live])).any()
