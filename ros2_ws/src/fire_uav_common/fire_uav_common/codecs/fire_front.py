@@ -5,13 +5,14 @@ One conversion in each direction, so that the node and the harness see the same 
 centres and spread rates travel as float32 (rounded to nearest, as rclpy rounds a float assigned
 to a float32 field) and come back widened exactly to float64, observation times as float64, states
 as uint8; the stamp is whole nanoseconds. The bytes :func:`write_fire_front` writes equal
-``serialize_message`` of the same message, and :func:`read_fire_front` gives the values
+``serialize_message`` of the same message (less the trailing bytes of the quirk below), and :func:`read_fire_front` gives the values
 ``deserialize_message`` gives (fire_uav_agent's test_perimeter_front_codecs.py, which also pins the field list of
 ``FireFront.msg``). The reader does not require the five arrays to have one length (the message
 does not either); the agent refuses unequal ones.
 
-The encoding is XCDR1 little-endian (the rules: :mod:`fire_uav_common.cdr`), with one quirk of
-Fast CDR's (:func:`_empty_doubles_tail`). Other bytes (another encapsulation, truncated, bytes left
+The encoding is XCDR1 little-endian (the rules: :mod:`fire_uav_common.cdr`). The reader also
+accepts one quirk of Fast CDR's (:func:`_empty_doubles_tail`), which the writer does not copy: a
+bag reader such as rosbags refuses those trailing bytes. Other bytes (another encapsulation, truncated, bytes left
 after ``spread_rate_mps`` beyond that quirk's) raise
 :class:`~fire_uav_common.cdr.CdrError`. ``header.frame_id`` is not decoded. ROS-free.
 """
@@ -94,13 +95,15 @@ def write_fire_front(
     t = np.asarray(observed_s, dtype="<f8").ravel()
     pad(buf, 4)
     buf += U32.pack(t.size)
-    tail = _empty_doubles_tail(len(buf)) if t.size == 0 else 0
     if t.size:
         pad(buf, 8)
         buf += t.tobytes()
     r = np.asarray(spread_rate_mps, dtype="<f4").ravel()
     buf += U32.pack(r.size) + r.tobytes()
-    return bytes(buf + bytes(tail))
+    # no trailing bytes after the last field, even where rclpy's serialize_message leaves some
+    # (:func:`_empty_doubles_tail`): rosbags refuses a message with 4 or more trailing bytes, and
+    # rclpy reads the exact form back
+    return bytes(buf)
 
 
 def _empty_doubles_tail(i: int) -> int:
