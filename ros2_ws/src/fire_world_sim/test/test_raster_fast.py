@@ -18,6 +18,7 @@ from fire_uav_common.scenario import FuelPatch, Ignition, Raster, Wind
 from fire_uav_common.terrain import Lake, Terrain
 from fire_world_sim.fires import RasterFireModel
 from fire_world_sim.fires.fuel_models import fuel_model
+from fire_world_sim.fires.raster import SEED_RADIUS_CELLS
 from fire_world_sim.fires.rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spread_params
 
 CS = 5.0  # [m] default cell size
@@ -278,3 +279,22 @@ def test_ring_is_the_chebyshev_ring_ordered_by_angle(r: int) -> None:
     assert len(ring) == 8 * r and set(ring) == expect
     angles = [math.atan2(di, dj) for di, dj in ring]
     assert angles == sorted(angles)
+
+
+def test_a_fire_put_out_whole_stays_out() -> None:
+    """Once a drop has put out every burning cell of a fire, nothing of it ignites again.
+
+    The exact wavelet times seeded around an ignition point (1) are the fire spreading from
+    that point: with the fire out there is no front left to carry them."""
+    m = model(wet_duration_s=1.0)
+    run(m, 0.0, 6.0)
+    burnt_before = m.state_grid() != CellState.UNBURNED
+    xx, yy = centres(m)
+    burning = m.state_grid() == CellState.BURNING
+    r = float(np.sqrt((xx[burning] - 62.5) ** 2 + (yy[burning] - 62.5) ** 2).max()) + 1.0
+    assert r < SEED_RADIUS_CELLS * CS  # cells beyond the drop still hold seeded times
+    assert m.apply_drop(62.5, 62.5, r) == [0]
+    first, events = run(m, 6.0, 120.0)
+    assert [(n, k) for _, n, k in events] == [(0, "extinguished")]
+    assert not np.isfinite(first[~burnt_before]).any()
+    assert m.all_out and m.truth()[0].status == FireStatus.EXTINGUISHED

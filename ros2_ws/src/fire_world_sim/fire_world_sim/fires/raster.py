@@ -351,9 +351,13 @@ class RasterFireModel:
             if need.size:
                 self._arr_t[need], self._arr_lab[need] = self._arrival(need, self._live_mask, t1)
             best, lab = self._arr_t[tgt], self._arr_lab[tgt]
-            # exact times from the ignition points
+            # exact times from the ignition points, while their fire still burns: a wavelet (1)
+            # from a fire that drops have put out whole has no front left to carry it
             seed = self._t_seed.ravel()[tgt]
-            use_seed = seed < best
+            seed_fire = self._seed_label.ravel()[tgt]
+            burning_fires = np.zeros(len(self.spec.ignitions) + 1, dtype=bool)
+            burning_fires[self.label.ravel()[sidx] + 1] = True  # ids shifted by one: -1 is none
+            use_seed = (seed < best) & burning_fires[seed_fire + 1]
             best = np.where(use_seed, seed, best)
             lab = np.where(use_seed, self._seed_label.ravel()[tgt], lab)
             t_arr = np.maximum(best, self.wet_until.ravel()[tgt])
