@@ -488,9 +488,10 @@ def main() -> None:
                 f"   {sd:4d}  {hull_m:16.1f}  {err_m:9.1f}  {floor_m:9.1f}  {tip_m:25.1f}  {n:7d}  {end_s:6.0f}"
             )
         hulls = [r[1] for r in supp if r[5]]
-        tips = [r[4] for r in supp if r[5]]
+        tips = [r[4] for r in supp if r[5] and math.isfinite(r[4])]  # nan: put out before a tip was seen
         print(f"   mean vs true hull {np.mean(hulls):.1f} m (target <= 25); median of the seeds' front-to-tip medians"
-              f" {np.median(tips):.1f} m (target <= 10)")  # fmt: skip
+              f" {np.median(tips) if tips else math.nan:.1f} m over the {len(tips)} seeds with a burning tip"
+              " (target <= 10)")  # fmt: skip
     print("\n   direction changes vs alpha, worst-angle rule, seed 0 (paper Fig. 11: 0, 8, 11, 15, 20, 43)")
     for f in alpha_fires:
         print(f"   {f:14s} " + "  ".join(f"a={a:g}: {one[(f, 'worst', 0, a)][3]}" for a in ALPHAS))
