@@ -11,7 +11,7 @@ import re
 import numpy as np
 import pytest
 from fire_mission.summary import LiveSummary
-from fire_report.data import Mission, RecordedEvent
+from fire_report.data import RecordedEvent, RecordedMission
 from fire_report.debrief import (
     Fault,
     fire_rows,
@@ -51,8 +51,8 @@ def _fire(x: float, y: float, out_at: float | None, t_end: float = 60.0) -> dict
             "area": np.full(n, 1256.0), "status": status, "drops": np.zeros(n, int)}  # fmt: skip
 
 
-def _mission(world: list[RecordedEvent], fleet: list[RecordedEvent], **kw) -> Mission:
-    m = Mission(path="mem", custom_data={"fire_uav.uav_count": "4", "fire_uav.seed": "1"},
+def _mission(world: list[RecordedEvent], fleet: list[RecordedEvent], **kw) -> RecordedMission:
+    m = RecordedMission(path="mem", custom_data={"fire_uav.uav_count": "4", "fire_uav.seed": "1"},
                 scenario=kw.pop("scenario", SCENARIO), warnings=[], topics={})  # fmt: skip
     m.world_events = sorted(world, key=lambda e: e.t_s)
     m.fleet_events = sorted(fleet, key=lambda e: e.t_s)
@@ -61,7 +61,7 @@ def _mission(world: list[RecordedEvent], fleet: list[RecordedEvent], **kw) -> Mi
     return m
 
 
-def kill_and_outage() -> tuple[Mission, list[Fault]]:
+def kill_and_outage() -> tuple[RecordedMission, list[Fault]]:
     """4 UAVs, two fires; UAV 2 killed at 20 s (falls at 23 s); link 0 -> 1 cut 10-30 s."""
     W, F = EventType, "fleet"
     world = [
@@ -261,7 +261,7 @@ def test_the_no_fleet_run_does_not_claim_containment_while_fires_burn():
     assert cards["fires put out"] == "0 of 2"
 
 
-def _page(m: Mission, metrics: dict, faults: list[Fault]) -> str:
+def _page(m: RecordedMission, metrics: dict, faults: list[Fault]) -> str:
     return render_page(
         metrics, {}, entries=timeline(m, metrics, faults), fires=fire_rows(m, metrics, False),
         uavs=uav_rows(m, metrics, faults), faults=faults, figures={}, sections=[], raster=False,

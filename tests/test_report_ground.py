@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from fire_report.data import Mission, RecordedEvent
+from fire_report.data import RecordedEvent, RecordedMission
 from fire_report.figures import fig_landscape, fig_raster_front, fig_tracks, fig_voronoi
 from fire_report.ground import (
     FUEL_CLASSES,
@@ -87,9 +87,9 @@ def test_a_slope_facing_the_sun_is_lighter_than_one_facing_away():
 
 
 # --- the ground of a recorded mission -----------------------------------------------------------
-def _mission(scenario: dict, scenario_file: str = "") -> Mission:
+def _mission(scenario: dict, scenario_file: str = "") -> RecordedMission:
     custom = {"fire_uav.scenario_file": scenario_file} if scenario_file else {}
-    return Mission(path="mem", custom_data=custom, scenario=scenario, warnings=[], topics={})
+    return RecordedMission(path="mem", custom_data=custom, scenario=scenario, warnings=[], topics={})
 
 
 @pytest.fixture(scope="module")
@@ -131,7 +131,7 @@ def test_no_landscape_no_ground_and_a_lost_landscape_is_one_warning(worcester):
     assert ground is None and "no_such_landscape" in warning and "\n" not in warning
 
 
-def _events(ground_mission: Mission) -> Mission:
+def _events(ground_mission: RecordedMission) -> RecordedMission:
     m = ground_mission
     m.truth_fires = {0: {"t": np.array([0.0, 10.0]), "x": np.array([285.0, 290.0]), "y": np.array([585.0, 585.0]),
                          "extent": np.array([50.0, 60.0]), "area": np.array([3e4, 3.3e4]),

@@ -134,7 +134,7 @@ def test_wrap_angle():
 
 
 # --- the pure pieces on in-memory data (fast; what the mutation run of fire_report.metrics needs) ---
-from fire_report.data import Mission, RecordedEvent  # noqa: E402
+from fire_report.data import RecordedEvent, RecordedMission  # noqa: E402
 from fire_report.metrics import (  # noqa: E402
     baseline_area,
     burned_area_series,
@@ -149,8 +149,8 @@ from fire_uav_common.constants import EventType, FireStatus  # noqa: E402
 ACTIVE, OUT = int(FireStatus.ACTIVE), int(FireStatus.EXTINGUISHED)
 
 
-def _mission(**kw) -> Mission:
-    m = Mission(path="mem", custom_data={}, scenario=kw.pop("scenario", {}), warnings=[], topics={})
+def _mission(**kw) -> RecordedMission:
+    m = RecordedMission(path="mem", custom_data={}, scenario=kw.pop("scenario", {}), warnings=[], topics={})
     for k, v in kw.items():
         setattr(m, k, v)
     return m

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from fire_report.data import Mission, RecordedEvent
+from fire_report.data import RecordedEvent, RecordedMission
 from fire_report.metrics import (
     _percentiles,
     compute_metrics,
@@ -25,8 +25,8 @@ from fire_report.metrics import (
 from fire_uav_common.constants import EventType
 
 
-def _mission(**kw) -> Mission:
-    m = Mission(path="mem", custom_data={}, scenario=kw.pop("scenario", {}), warnings=[], topics={})
+def _mission(**kw) -> RecordedMission:
+    m = RecordedMission(path="mem", custom_data={}, scenario=kw.pop("scenario", {}), warnings=[], topics={})
     for k, v in kw.items():
         setattr(m, k, v)
     return m

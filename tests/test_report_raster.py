@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from fire_report.data import Mission, RecordedEvent
+from fire_report.data import RecordedEvent, RecordedMission
 from fire_report.figures import fig_burned_area, fig_perimeter, fig_raster_front
 from fire_report.metrics import perimeter_distance_error_raster, suppression_metrics, true_outer_distance
 from fire_uav_common.constants import EventType, FireStatus
@@ -35,8 +35,8 @@ def disc_grid(t: float, r_m: float) -> dict:
     return {"t": t, "origin": (0.0, 0.0), "resolution": res, "data": data}
 
 
-def mission() -> Mission:
-    m = Mission(path="mem", custom_data={"fire_uav.seed": "1"}, scenario=dict(PLOT), warnings=[], topics={})
+def mission() -> RecordedMission:
+    m = RecordedMission(path="mem", custom_data={"fire_uav.seed": "1"}, scenario=dict(PLOT), warnings=[], topics={})
     m.fire_grids = [disc_grid(t, 30.0 + t / 10) for t in (0.0, 100.0, 200.0, 300.0)]
     bins = 36
     m.perimeters = {

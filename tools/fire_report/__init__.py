@@ -6,11 +6,11 @@ the bag) into numpy arrays; ``compute_metrics(mission)`` gives the numbers of me
 Command line: ``scripts/report BAG [-o DIR]`` (``python -m fire_report``).
 """
 
-from fire_report.data import Mission, RecordedEvent, load_mission
+from fire_report.data import RecordedEvent, RecordedMission, load_mission
 from fire_report.errors import ReportError
 from fire_report.metrics import compute_metrics
 
-__all__ = ["RecordedEvent", "Mission", "ReportError", "compute_metrics", "load_mission", "write_report"]
+__all__ = ["RecordedEvent", "RecordedMission", "ReportError", "compute_metrics", "load_mission", "write_report"]
 
 
 def __getattr__(name: str):

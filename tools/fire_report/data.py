@@ -60,7 +60,7 @@ class RecordedEvent:
 
 
 @dataclass
-class Mission:
+class RecordedMission:
     """Everything the report needs from one bag, as arrays sorted by time."""
 
     path: str
@@ -141,7 +141,7 @@ def parse_scenario(text: str) -> dict[str, Any]:
     return doc if isinstance(doc, dict) else {}
 
 
-def load_mission(path: str | Path, *, salvage: bool = True) -> Mission:
+def load_mission(path: str | Path, *, salvage: bool = True) -> RecordedMission:
     """Read the bag at ``path``; raise :class:`ReportError` (one line) when it cannot be read."""
     try:
         with bag_io.open_bag(path, salvage=salvage) as bag:
@@ -150,9 +150,9 @@ def load_mission(path: str | Path, *, salvage: bool = True) -> Mission:
         raise ReportError(str(err)) from None
 
 
-def _load(bag: bag_io.MissionBag, path: str) -> Mission:
+def _load(bag: bag_io.MissionBag, path: str) -> RecordedMission:
     custom = dict(bag.custom_data)
-    mission = Mission(
+    mission = RecordedMission(
         path=path,
         custom_data=custom,
         scenario=parse_scenario(custom.get(bag_io.KEY_SCENARIO_YAML, "")),

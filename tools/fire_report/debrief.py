@@ -1,5 +1,5 @@
 """The mission told in plain words: a timeline, per-fire and per-UAV tables, the faults and what
-the fleet did about them (pure Python over a :class:`~fire_report.data.Mission` and its metrics;
+the fleet did about them (pure Python over a :class:`~fire_report.data.RecordedMission` and its metrics;
 no matplotlib, no HTML: ``fire_report.page`` renders what this returns).
 
 The faults a run injected from the command line are not in the bag: the runner writes them beside
@@ -21,7 +21,7 @@ import numpy as np
 import yaml
 from fire_uav_common.constants import EventType, FireStatus
 
-from fire_report.data import Mission, RecordedEvent
+from fire_report.data import RecordedEvent, RecordedMission
 from fire_report.matching import match_tracks_to_fires
 
 DETECTION_GATE_M = 150.0  # a first sighting this close to a burning fire is that fire [m]
@@ -162,7 +162,7 @@ def _uavs(ids: list[int]) -> str:
     return f"UAV {ids[0]}" if len(ids) == 1 else "UAVs " + ", ".join(str(i) for i in ids)
 
 
-def with_responses(faults: list[Fault], mission: Mission) -> list[Fault]:
+def with_responses(faults: list[Fault], mission: RecordedMission) -> list[Fault]:
     """Each fault with a sentence on what the world and the fleet did about it, from the events."""
     crashes = [e for e in mission.world_events if e.type == EventType.CRASH]
     declared = [e for e in mission.fleet_events if e.type == EventType.PEER_CRASHED]
@@ -214,14 +214,14 @@ def with_responses(faults: list[Fault], mission: Mission) -> list[Fault]:
     return out
 
 
-def track_to_fire(mission: Mission) -> dict[int, int]:
+def track_to_fire(mission: RecordedMission) -> dict[int, int]:
     """The fleet's fire track ids -> the true fire each follows (by position, ``matching``)."""
     return (
         match_tracks_to_fires(mission.fire_estimates, mission.truth_fires) if mission.fire_estimates else {}
     )
 
 
-def _fire_at(mission: Mission, e: RecordedEvent, tracks: dict[int, int]) -> int | None:
+def _fire_at(mission: RecordedMission, e: RecordedEvent, tracks: dict[int, int]) -> int | None:
     """The true fire a FIRE_DETECTED event is about: its track's match, else the nearest burning
     fire within ``DETECTION_GATE_M`` of where it was seen."""
     if e.fire_id in tracks:
@@ -237,7 +237,7 @@ def _fire_at(mission: Mission, e: RecordedEvent, tracks: dict[int, int]) -> int 
     return best
 
 
-def first_detections(mission: Mission) -> dict[int, tuple[float, int]]:
+def first_detections(mission: RecordedMission) -> dict[int, tuple[float, int]]:
     """True fire -> (time [s], UAV) of the fleet's first sighting of it."""
     tracks = track_to_fire(mission)
     out: dict[int, tuple[float, int]] = {}
@@ -249,14 +249,14 @@ def first_detections(mission: Mission) -> dict[int, tuple[float, int]]:
     return out
 
 
-def _ignitions(mission: Mission) -> dict[int, float]:
+def _ignitions(mission: RecordedMission) -> dict[int, float]:
     out = {e.fire_id: e.t_s for e in mission.world_events if e.type == EventType.IGNITION}
     for fid, f in mission.truth_fires.items():
         out.setdefault(fid, float(f["t"][0]) if f else 0.0)
     return out
 
 
-def flare_ups(mission: Mission) -> list[tuple[int, float]]:
+def flare_ups(mission: RecordedMission) -> list[tuple[int, float]]:
     """(fire, time [s]) at which a fire the world had declared out burned again: its first
     ``/world/truth`` sample back in ACTIVE after an EXTINGUISHED event."""
     out = []
@@ -275,7 +275,7 @@ def flare_ups(mission: Mission) -> list[tuple[int, float]]:
     return sorted(out, key=lambda x: (x[1], x[0]))
 
 
-def _drops(mission: Mission) -> list[RecordedEvent]:
+def _drops(mission: RecordedMission) -> list[RecordedEvent]:
     return [e for e in mission.world_events if e.type == EventType.DROP and e.value > 0]
 
 
@@ -286,7 +286,7 @@ def _lost_why(uav: int, injected: set[int], known: bool) -> str:
 
 
 def timeline(
-    mission: Mission, metrics: dict[str, Any], faults: list[Fault], *, known: bool = True
+    mission: RecordedMission, metrics: dict[str, Any], faults: list[Fault], *, known: bool = True
 ) -> list[Entry]:
     """What happened, in time order, in sentences. ``known``: the run's command-line faults are
     known (:func:`run_summary_found`), so a loss that none explains was not injected."""
@@ -373,7 +373,7 @@ def timeline(
     return sorted(out, key=lambda x: (round(x.t_s, 6), order.get(x.kind, 9)))
 
 
-def _declarations(mission: Mission) -> list[Entry]:
+def _declarations(mission: RecordedMission) -> list[Entry]:
     """Peers declaring a UAV lost (grouped when close in time) and hearing it again."""
     out: list[Entry] = []
     decl = sorted(
@@ -404,7 +404,7 @@ def _declarations(mission: Mission) -> list[Entry]:
     return out
 
 
-def fire_rows(mission: Mission, metrics: dict[str, Any], raster: bool) -> list[dict[str, Any]]:
+def fire_rows(mission: RecordedMission, metrics: dict[str, Any], raster: bool) -> list[dict[str, Any]]:
     """One row per true fire: where, when it started, was first seen, was first hit, went out;
     drops and hits; burned area [ha] (raster fires only); its state at the end."""
     detected = first_detections(mission)
@@ -438,7 +438,7 @@ def fire_rows(mission: Mission, metrics: dict[str, Any], raster: bool) -> list[d
 
 
 def uav_rows(
-    mission: Mission, metrics: dict[str, Any], faults: list[Fault], *, known: bool = True
+    mission: RecordedMission, metrics: dict[str, Any], faults: list[Fault], *, known: bool = True
 ) -> list[dict[str, Any]]:
     """One row per UAV: takeoff, drops, water dropped [kg], how it ended, landing error [m],
     messages received and lost, its own position error (95th percentile, horizontal) [m]."""

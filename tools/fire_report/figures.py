@@ -18,7 +18,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.ticker import MaxNLocator
 
 from fire_report.data import (
-    Mission,
+    RecordedMission,
 )
 from fire_report.ground import Ground, draw_ground, fuel_legend_handles
 from fire_report.matching import match_tracks_to_fires
@@ -47,7 +47,7 @@ def _colors(n: int) -> list:
     return [cmap(i % cmap.N) for i in range(max(n, 1))]
 
 
-def _area(mission: Mission) -> tuple[tuple[float, float], tuple[float, float]]:
+def _area(mission: RecordedMission) -> tuple[tuple[float, float], tuple[float, float]]:
     a = mission.scenario.get("area") if isinstance(mission.scenario, dict) else None
     if isinstance(a, dict) and all(k in a for k in ("x_min_m", "x_max_m", "y_min_m", "y_max_m")):
         return (float(a["x_min_m"]), float(a["x_max_m"])), (float(a["y_min_m"]), float(a["y_max_m"]))
@@ -60,7 +60,7 @@ def _area(mission: Mission) -> tuple[tuple[float, float], tuple[float, float]]:
     return (float(x.min() - pad), float(x.max() + pad)), (float(y.min() - pad), float(y.max() + pad))
 
 
-def _positions_at(mission: Mission, t: float) -> dict[int, tuple[float, float]]:
+def _positions_at(mission: RecordedMission, t: float) -> dict[int, tuple[float, float]]:
     """Latest estimated (x, y) of each UAV at or before ``t`` (first state if none before);
     a UAV whose vehicle crashed before ``t`` is left out (the fleet no longer partitions with it)."""
     crashed = {e.uav_id for e in mission.world_events if e.type == EventType.CRASH and e.t_s <= t}
@@ -72,7 +72,7 @@ def _positions_at(mission: Mission, t: float) -> dict[int, tuple[float, float]]:
     return out
 
 
-def phase_times(mission: Mission) -> list[tuple[str, float]]:
+def phase_times(mission: RecordedMission) -> list[tuple[str, float]]:
     """Takeoff, firefighting and landing instants for the map panels (FF Fig. 11), in time order.
 
     takeoff: when the last UAV left the ground; firefighting: the median drop after that (else
@@ -99,7 +99,7 @@ def phase_times(mission: Mission) -> list[tuple[str, float]]:
     return sorted([("takeoff", t_take), ("firefighting", t_fight), ("landing", t_land)], key=lambda p: p[1])
 
 
-def _draw_crashes(ax: plt.Axes, mission: Mission, t: float) -> None:
+def _draw_crashes(ax: plt.Axes, mission: RecordedMission, t: float) -> None:
     """A crashed UAV stays on the map: a black cross where its vehicle fell, labelled."""
     for e in mission.world_events:
         if e.type != EventType.CRASH or e.t_s > t:
@@ -114,7 +114,7 @@ def _draw_crashes(ax: plt.Axes, mission: Mission, t: float) -> None:
             ax.annotate(f"UAV {e.uav_id} lost", (x, y), fontsize=7, xytext=(5, -10), textcoords="offset points")
 
 
-def _draw_world(ax: plt.Axes, mission: Mission, t: float) -> None:
+def _draw_world(ax: plt.Axes, mission: RecordedMission, t: float) -> None:
     for lake in (mission.scenario.get("lakes") or []) if isinstance(mission.scenario, dict) else []:
         try:
             r = float(lake.get("diameter_m", 0.0)) / 2
@@ -133,7 +133,7 @@ def _draw_world(ax: plt.Axes, mission: Mission, t: float) -> None:
             ax.annotate(f"F{fid}", (f["x"][i], f["y"][i]), fontsize=7)
 
 
-def fig_voronoi(mission: Mission, out: Path, ground: Ground | None = None) -> list[Figure]:
+def fig_voronoi(mission: RecordedMission, out: Path, ground: Ground | None = None) -> list[Figure]:
     phases = phase_times(mission)
     if not phases:
         return []
@@ -184,7 +184,7 @@ def fig_voronoi(mission: Mission, out: Path, ground: Ground | None = None) -> li
     )
 
 
-def fig_ekf(mission: Mission, out: Path) -> list[Figure]:
+def fig_ekf(mission: RecordedMission, out: Path) -> list[Figure]:
     errs = {u: ekf_errors(mission, u) for u in mission.uav_ids}
     errs = {u: e for u, e in errs.items() if e["t"].size}
     res: list[Figure] = []
@@ -236,7 +236,7 @@ def fig_ekf(mission: Mission, out: Path) -> list[Figure]:
     return res
 
 
-def fig_tracks(mission: Mission, out: Path, ground: Ground | None = None) -> list[Figure]:
+def fig_tracks(mission: RecordedMission, out: Path, ground: Ground | None = None) -> list[Figure]:
     ids = [u for u in mission.uav_ids if u in mission.states and u in mission.truth_vehicles]
     if not ids:
         return []
@@ -269,7 +269,7 @@ def fig_tracks(mission: Mission, out: Path, ground: Ground | None = None) -> lis
     )  # fmt: skip
 
 
-def fig_fire_estimates(mission: Mission, out: Path) -> list[Figure]:
+def fig_fire_estimates(mission: RecordedMission, out: Path) -> list[Figure]:
     """Per true fire: every agent's estimate of each track matched to it by position
     (:mod:`fire_report.matching`), truth dashed; unmatched tracks get a figure of their own."""
     res: list[Figure] = []
@@ -324,7 +324,7 @@ def fig_fire_estimates(mission: Mission, out: Path) -> list[Figure]:
     return res
 
 
-def fig_drops(mission: Mission, out: Path) -> list[Figure]:
+def fig_drops(mission: RecordedMission, out: Path) -> list[Figure]:
     drops = [e for e in mission.world_events if e.type == EventType.DROP]
     if not drops:
         return []
@@ -355,7 +355,7 @@ def fig_drops(mission: Mission, out: Path) -> list[Figure]:
     )  # fmt: skip
 
 
-def fig_perimeter(mission: Mission, out: Path) -> list[Figure]:
+def fig_perimeter(mission: RecordedMission, out: Path) -> list[Figure]:
     if not mission.perimeters:
         return []
     fig = plt.figure(figsize=(10, 4.2))
@@ -387,7 +387,7 @@ def fig_perimeter(mission: Mission, out: Path) -> list[Figure]:
     )  # fmt: skip
 
 
-def fig_faults(mission: Mission, out: Path, outages: list[tuple[float, float]] | None = None) -> list[Figure]:
+def fig_faults(mission: RecordedMission, out: Path, outages: list[tuple[float, float]] | None = None) -> list[Figure]:
     """Lost peer messages over time with the faults marked; ``outages``: (start, end) [s] of every
     link outage, scheduled or injected (default: the scenario's)."""
     if outages is None:
@@ -432,7 +432,7 @@ def _grid_index(data: np.ndarray) -> np.ndarray:
     return np.select([data >= 100, data >= 60, data >= 20], [3, 2, 1], 0)
 
 
-def fig_raster_front(mission: Mission, out: Path, ground: Ground | None = None) -> list[Figure]:
+def fig_raster_front(mission: RecordedMission, out: Path, ground: Ground | None = None) -> list[Figure]:
     """FF Fig. 11 for a raster fire: the true grid at four times with the fleet's shared front
     (/fleet/front), the drops so far (hit: filled, missed: open) and the UAVs' Voronoi cells.
     On a landscape the unburned cells are left clear over the ground's fuel types and hillshade."""
@@ -485,7 +485,7 @@ def fig_raster_front(mission: Mission, out: Path, ground: Ground | None = None) 
     return _save(fig, out, "raster_front.png", cap)
 
 
-def fig_burned_area(mission: Mission, out: Path, baseline: Mission | None = None) -> list[Figure]:
+def fig_burned_area(mission: RecordedMission, out: Path, baseline: RecordedMission | None = None) -> list[Figure]:
     """Burned area over time, against the no-fleet baseline bag when given (``--baseline``)."""
     t, area, _ = burned_area_series(mission)
     fires = mission.scenario.get("fires") if isinstance(mission.scenario, dict) else None
@@ -512,7 +512,7 @@ def _deg(lat: float, lon: float) -> str:
     return f"{abs(lat):.4f}\u00b0 {'N' if lat >= 0 else 'S'}, {abs(lon):.4f}\u00b0 {'E' if lon >= 0 else 'W'}"
 
 
-def fig_landscape(mission: Mission, out: Path, ground: Ground | None) -> list[Figure]:
+def fig_landscape(mission: RecordedMission, out: Path, ground: Ground | None) -> list[Figure]:
     """The mission's ground: fuel types shaded by the terrain (``fire_report.ground``), the area
     burned by the end (the last fire grid's burnt and burning cells, outlined), the ignitions,
     the UAVs' true tracks and homes, the refill lakes and the UAVs lost."""
@@ -579,9 +579,9 @@ ALL_FIGURES = (
 
 
 def make_figures(
-    mission: Mission,
+    mission: RecordedMission,
     out: Path,
-    baseline: Mission | None = None,
+    baseline: RecordedMission | None = None,
     outages: list[tuple[float, float]] | None = None,
     ground: Ground | None = None,
 ) -> list[Figure]:

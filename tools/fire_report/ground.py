@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 from fire_uav_common.constants import EventType
 
-from fire_report.data import Mission
+from fire_report.data import RecordedMission
 
 __all__ = [
     "FUEL_CLASSES",
@@ -152,7 +152,7 @@ def _has_landscape(scenario: dict[str, Any]) -> bool:
     return isinstance(raster, dict) and raster.get("landscape") is not None
 
 
-def mission_ground(mission: Mission) -> tuple[Ground | None, str | None]:
+def mission_ground(mission: RecordedMission) -> tuple[Ground | None, str | None]:
     """(the mission's ground, None) on a landscape; (None, None) for a mission without one;
     (None, a one-line warning) when the recorded scenario names a landscape that cannot be read
     here (moved, or a scenario this version refuses)."""
@@ -206,7 +206,7 @@ def _place(ground: Ground, what: str, t_s: float | None, x: float, y: float, **e
             "lat_deg": round(float(lat), 6), "lon_deg": round(float(lon), 6), **extra}  # fmt: skip
 
 
-def places(mission: Mission, ground: Ground) -> list[dict[str, Any]]:
+def places(mission: RecordedMission, ground: Ground) -> list[dict[str, Any]]:
     """Where things were, with latitude and longitude: each ignition of the scenario, each fire's
     centre when first recorded, each refill lake, each UAV's home, each drop and each UAV lost
     (where its vehicle fell). Rows ``{what, t_s, x_m, y_m, lat_deg, lon_deg, kind}``; ``kind`` is

@@ -1,4 +1,4 @@
-"""The numbers of metrics.json, computed from a :class:`~fire_report.data.Mission` (pure numpy).
+"""The numbers of metrics.json, computed from a :class:`~fire_report.data.RecordedMission` (pure numpy).
 
 Sources: drops, extinctions, crashes and mission completion come from ``/world/events``
 (the world is the authority); peers declared crashed from ``/fleet/events``; packet
@@ -17,7 +17,7 @@ import numpy as np
 from fire_uav_common.constants import EventType, FireStatus
 
 from fire_report.data import (
-    Mission,
+    RecordedMission,
 )
 
 PERCENTILES = (50, 90, 95, 99)
@@ -30,7 +30,7 @@ def wrap_angle(a: np.ndarray) -> np.ndarray:
     return np.where(w == -np.pi, np.pi, w)
 
 
-def ekf_errors(mission: Mission, uav: int) -> dict[str, np.ndarray]:
+def ekf_errors(mission: RecordedMission, uav: int) -> dict[str, np.ndarray]:
     """Estimate minus truth per axis for ``uav`` at the control steps both were recorded and
     the vehicle was airborne (FF Fig. 4 is about flight; on the ground the filter is idle).
 
@@ -82,7 +82,7 @@ def _fire_key(fire_id: int) -> str:
     return str(fire_id) if fire_id >= 0 else "missed"
 
 
-def outcome(mission: Mission) -> tuple[str, str]:
+def outcome(mission: RecordedMission) -> tuple[str, str]:
     """("complete" | "time_limit" | "incomplete", detail), as the mission runner names them.
 
     complete: the world's MISSION_COMPLETE has value 1 (every fire out and every surviving
@@ -95,13 +95,13 @@ def outcome(mission: Mission) -> tuple[str, str]:
     return ("complete" if done[-1].value >= 1.0 else "time_limit"), done[-1].detail
 
 
-def mission_duration_s(mission: Mission) -> float:
+def mission_duration_s(mission: RecordedMission) -> float:
     """Sim time of MISSION_COMPLETE, else of the last message, measured from t = 0."""
     done = [e.t_s for e in mission.world_events if e.type == EventType.MISSION_COMPLETE]
     return float(done[-1] if done else mission.t_last_s)
 
 
-def compute_metrics(mission: Mission) -> dict[str, Any]:
+def compute_metrics(mission: RecordedMission) -> dict[str, Any]:
     """Every metric of the report as a JSON-ready dict (see docs/recording.md for the keys)."""
     world, fleet = mission.world_events, mission.fleet_events
     # a drop request with an empty tank releases nothing: it is not a drop (value = kg released)
@@ -195,7 +195,7 @@ def compute_metrics(mission: Mission) -> dict[str, Any]:
     }
 
 
-def home_xy(mission: Mission) -> dict[int, tuple[float, float]]:
+def home_xy(mission: RecordedMission) -> dict[int, tuple[float, float]]:
     """Takeoff point (x, y) [m; map] of every UAV: the scenario's start poses (as the runner's
     summary takes them), else, for a bag without a readable scenario, the first true position."""
     from fire_uav_common.scenario import ScenarioError, scenario_from_dict
@@ -209,7 +209,7 @@ def home_xy(mission: Mission) -> dict[int, tuple[float, float]]:
         return {u: (float(v["x"][0]), float(v["y"][0])) for u, v in mission.truth_vehicles.items() if v}
 
 
-def safety_metrics(mission: Mission) -> dict[str, Any]:
+def safety_metrics(mission: RecordedMission) -> dict[str, Any]:
     """Closest approach, collisions and landings (FF IV-D d), as the runner's summary has them.
 
     min_separation_m: the least 3-D distance between two airborne vehicles over the mission [m]
@@ -239,7 +239,7 @@ def safety_metrics(mission: Mission) -> dict[str, Any]:
     }
 
 
-def fire_counts(mission: Mission) -> dict[str, Any]:
+def fire_counts(mission: RecordedMission) -> dict[str, Any]:
     """fires_total and fires_active_at_end from the last ``/world/truth`` sample of each fire."""
     last = [int(f["status"][-1]) for f in mission.truth_fires.values() if f]
     return {
@@ -255,7 +255,7 @@ def _int_or_none(text: str | None) -> int | None:
         return None
 
 
-def perimeter_distance_error(mission: Mission, uav: int, fire: int) -> dict[str, np.ndarray]:
+def perimeter_distance_error(mission: RecordedMission, uav: int, fire: int) -> dict[str, np.ndarray]:
     """PM VI-E distance error [m] per PerimeterMap without a raster: the maximum over 360 angles of
     |true extent - extent of the hull of the map's bin points|, the truth the circle of the fire's
     equivalent radius sqrt(area/pi) from /world/truth at the nearest step (convex: floor 0)."""
@@ -277,17 +277,17 @@ def perimeter_distance_error(mission: Mission, uav: int, fire: int) -> dict[str,
     return {"t": np.asarray(ts), "error_m": np.asarray(errs), "floor_m": np.zeros(len(errs))}
 
 
-def perimeter_errors(mission: Mission) -> dict[str, float]:
+def perimeter_errors(mission: RecordedMission) -> dict[str, float]:
     """'uav/fire' -> mean over the mission of the maximum distance error [m] (PM Fig. 16's value)."""
     return {k: v[0] for k, v in _perimeter_error_pairs(mission).items()}
 
 
-def perimeter_error_floors(mission: Mission) -> dict[str, float]:
+def perimeter_error_floors(mission: RecordedMission) -> dict[str, float]:
     """'uav/fire' -> the same for the perfect, instantaneous map [m] (what the hull alone costs)."""
     return {k: v[1] for k, v in _perimeter_error_pairs(mission).items()}
 
 
-def _perimeter_error_pairs(mission: Mission) -> dict[str, tuple[float, float]]:
+def _perimeter_error_pairs(mission: RecordedMission) -> dict[str, tuple[float, float]]:
     out = {}
     for uav, fire in sorted(mission.perimeters):
         fn = perimeter_distance_error_raster if mission.fire_grids else perimeter_distance_error
@@ -373,7 +373,7 @@ def drop_outcomes(events: list, is_raster: bool) -> dict[str, Any]:
     }
 
 
-def burned_area_series(mission: Mission) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def burned_area_series(mission: RecordedMission) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(t [s], burned area [m^2] summed over fires, any fire active) per ``/world/truth`` sample."""
     fires = [f for f in mission.truth_fires.values() if f]
     if not fires:
@@ -389,7 +389,7 @@ def burned_area_series(mission: Mission) -> tuple[np.ndarray, np.ndarray, np.nda
     return t, area, active
 
 
-def suppression_metrics(mission: Mission) -> dict[str, Any]:
+def suppression_metrics(mission: RecordedMission) -> dict[str, Any]:
     """hit_rate, burned_area_m2, contained_at_s (+ drops, water) from the bag, any fire model."""
     fires = mission.scenario.get("fires") if isinstance(mission.scenario, dict) else None
     is_raster = isinstance(fires, dict) and fires.get("model") == "raster"
@@ -400,7 +400,7 @@ def suppression_metrics(mission: Mission) -> dict[str, Any]:
     return out
 
 
-def baseline_area(baseline: Mission | None) -> dict[str, Any] | None:
+def baseline_area(baseline: RecordedMission | None) -> dict[str, Any] | None:
     """Burned area [m^2] over time of a baseline mission (the same scenario and seed recorded with
     ``scripts/run_mission SCENARIO --uavs 0``: the fire alone), or None without one."""
     if baseline is None:
@@ -426,7 +426,7 @@ def true_outer_distance(grid: dict[str, Any], center_xy: tuple[float, float], bi
     return out
 
 
-def perimeter_distance_error_raster(mission: Mission, uav: int, fire: int) -> dict[str, np.ndarray]:
+def perimeter_distance_error_raster(mission: RecordedMission, uav: int, fire: int) -> dict[str, np.ndarray]:
     """PM VI-E distance error [m] per PerimeterMap against the true raster fire (/viz/fire_grid),
     ``fire_perimeter_monitor.distance_error`` (as the report's PM section and the benchmark):
     maximum over 360 angles about the map's centre of |true extent - extent of the hull of the

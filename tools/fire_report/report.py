@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from fire_report import debrief
-from fire_report.data import Mission, load_mission
+from fire_report.data import RecordedMission, load_mission
 from fire_report.errors import ReportError
 from fire_report.figures import make_figures
 from fire_report.ground import Ground, mission_ground, places
@@ -28,7 +28,7 @@ FIGURE_PLACES = (
 )
 
 
-def make_sections(mission: Mission, out: Path, *, salvage: bool = True) -> list[Section]:
+def make_sections(mission: RecordedMission, out: Path, *, salvage: bool = True) -> list[Section]:
     """Every capability section the bag has data for (perimeter monitoring, coverage search),
     figures written into ``out``."""
     data = load_section_data(mission.path, mission.topics, salvage=salvage)
@@ -52,7 +52,7 @@ def _scenario_value(scenario: dict[str, Any], *path: str) -> Any:
     return node
 
 
-def loss_probability(mission: Mission) -> float | None:
+def loss_probability(mission: RecordedMission) -> float | None:
     """The random loss rate the agents applied: the runner's ``--loss`` (the agents' parameters
     beside the bag) if given, else the scenario's ``comms.loss_probability`` (default 0.05)."""
     try:
@@ -68,7 +68,7 @@ def loss_probability(mission: Mission) -> float | None:
         return None
 
 
-def collision_radius_m(mission: Mission) -> float | None:
+def collision_radius_m(mission: RecordedMission) -> float | None:
     """The scenario's collision radius [m] (its default when the scenario leaves it out); None
     when the bag holds no valid scenario."""
     from fire_uav_common.scenario import ScenarioError, scenario_from_dict
@@ -91,7 +91,7 @@ def with_latlon(rows: list[dict[str, Any]], ground: Ground) -> list[dict[str, An
     return out
 
 
-def geo_metrics(mission: Mission, ground: Ground, metrics: dict[str, Any]) -> list[dict[str, Any]]:
+def geo_metrics(mission: RecordedMission, ground: Ground, metrics: dict[str, Any]) -> list[dict[str, Any]]:
     """The places of a landscape mission (``ground.places``), stored in ``metrics["geo"]`` with
     the landscape and its map origin, and returned for the page."""
     rows = places(mission, ground)

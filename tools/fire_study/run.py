@@ -20,11 +20,11 @@ from fire_bench.sweep import Executor, Finished, MissionSpec
 from .spec import Arm, Study, mission_overrides, scenario_path_of
 from .store import KEY_FIELDS, ResultStore
 
-__all__ = ["Mission", "RunReport", "missions", "run_study"]
+__all__ = ["StudyMission", "RunReport", "missions", "run_study"]
 
 
 @dataclass(frozen=True)
-class Mission:
+class StudyMission:
     arm: Arm
     seed: int
 
@@ -43,12 +43,12 @@ class RunReport:
     wall_s: float
 
 
-def missions(study: Study) -> list[Mission]:
+def missions(study: Study) -> list[StudyMission]:
     """Every mission of the study, seed-major (module doc)."""
-    return [Mission(a, s) for s in study.seeds for a in study.arms()]
+    return [StudyMission(a, s) for s in study.seeds for a in study.arms()]
 
 
-def _spec(study: Study, m: Mission) -> MissionSpec:
+def _spec(study: Study, m: StudyMission) -> MissionSpec:
     ov = mission_overrides(study, m.arm.scenario, m.arm.airframe, m.arm.uavs, m.arm.tactic, m.seed)
     path = scenario_path_of(study, m.arm.scenario)
     is_file = Path(m.arm.scenario).suffix in (".yaml", ".yml")

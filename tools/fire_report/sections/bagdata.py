@@ -1,4 +1,4 @@
-"""The recorded data the capability sections need beyond :class:`~fire_report.data.Mission`.
+"""The recorded data the capability sections need beyond :class:`~fire_report.data.RecordedMission`.
 
 One more pass over the bag, on the section topics only: the PM and CP traffic
 (``/fleet/perimeter`` with every field, ``/fleet/coverage/*``), the raster truth

@@ -24,7 +24,7 @@ import numpy as np
 from fire_uav_common.constants import Objective
 from matplotlib.colors import ListedColormap
 
-from fire_report.data import Mission
+from fire_report.data import RecordedMission
 from fire_report.sections import Section
 from fire_report.sections.bagdata import SectionData
 
@@ -65,7 +65,7 @@ def final_weights(data: SectionData) -> dict[int, tuple[np.ndarray, float, float
     return out
 
 
-def _area(mission: Mission) -> tuple[tuple[float, float], tuple[float, float]] | None:
+def _area(mission: RecordedMission) -> tuple[tuple[float, float], tuple[float, float]] | None:
     a = mission.scenario.get("area") if isinstance(mission.scenario, dict) else None
     if a is None:
         return None
@@ -75,7 +75,7 @@ def _area(mission: Mission) -> tuple[tuple[float, float], tuple[float, float]] |
         return None
 
 
-def _search_track(mission: Mission, uav: int) -> dict[str, np.ndarray] | None:
+def _search_track(mission: RecordedMission, uav: int) -> dict[str, np.ndarray] | None:
     s, v = mission.states.get(uav), mission.truth_vehicles.get(uav)
     if not s or not v:
         return None
@@ -104,7 +104,7 @@ def mst_radius(data: SectionData) -> dict[str, float] | None:
     return {"r_max_m": float(max(session)), "instants": len(session)}
 
 
-def build(mission: Mission, data: SectionData, out: Path) -> Section | None:
+def build(mission: RecordedMission, data: SectionData, out: Path) -> Section | None:
     if not (data.costs or data.weights or data.planned_paths):
         return None
     sec = Section("cp", "Coverage search (CP)")

@@ -34,7 +34,7 @@ import numpy as np
 from fire_uav_common.constants import Objective, PerimeterDirection
 from matplotlib.colors import ListedColormap
 
-from fire_report.data import Mission
+from fire_report.data import RecordedMission
 from fire_report.sections import Section
 from fire_report.sections.bagdata import PerimeterSample, SectionData
 
@@ -110,7 +110,7 @@ def constructed_extent(p: PerimeterSample, ang: np.ndarray) -> np.ndarray:
 
 
 def distance_error_series(
-    data: SectionData, mission: Mission
+    data: SectionData, mission: RecordedMission
 ) -> dict[tuple[int, int], dict[str, np.ndarray]]:
     """(uav, fire) -> t [s], max_m, floor_m (perfect map), mean_m (over the 360 angles),
     avg_max_m, avg_floor_m (running means), and cell_m (the raster's cell, 0 without one).
@@ -184,7 +184,7 @@ def track_direction_changes(xy: np.ndarray, center: tuple[float, float], min_arc
 
 
 # --- the section ---------------------------------------------------------------------------------
-def _monitor_track(mission: Mission, uav: int) -> dict[str, np.ndarray] | None:
+def _monitor_track(mission: RecordedMission, uav: int) -> dict[str, np.ndarray] | None:
     """True positions of ``uav`` while its state said MONITOR (matched by control step)."""
     s, v = mission.states.get(uav), mission.truth_vehicles.get(uav)
     if not s or not v:
@@ -196,7 +196,7 @@ def _monitor_track(mission: Mission, uav: int) -> dict[str, np.ndarray] | None:
     return {"t": v["t"][keep], "x": v["x"][keep], "y": v["y"][keep]}
 
 
-def build(mission: Mission, data: SectionData, out: Path) -> Section | None:
+def build(mission: RecordedMission, data: SectionData, out: Path) -> Section | None:
     if not data.perimeter:
         return None
     sec = Section("pm", "Perimeter monitoring (PM)")

@@ -82,7 +82,7 @@ class AgentConfig:
     timing: sc.Timing = field(default_factory=sc.Timing)
     vehicle: sc.Vehicle = field(default_factory=sc.Vehicle)
     sensors: sc.Sensors = field(default_factory=sc.Sensors)
-    mission: sc.Mission = field(default_factory=sc.Mission)
+    mission: sc.MissionSettings = field(default_factory=sc.MissionSettings)
     airframe: sc.Airframe | None = None  # scenario uavs.airframe: the fixed-wing envelope (None: ff_paper)
     loss_probability: float = 0.05  # scenario comms.loss_probability, or the runner's override
     outages: tuple[LinkOutage, ...] = ()  # scenario comms.outages, or the runner's override

@@ -193,7 +193,7 @@ def test_process_noise_and_the_gyro_enter_with_their_configured_sigmas():
 
 # --- stage 2: link ----------------------------------------------------------------------------
 def test_a_silent_peer_is_declared_crashed_after_the_threshold_and_rejoins_when_heard():
-    cfg = _cfg(n=3, mission=sc.Mission(crash_threshold_steps=3), takeoff_interval_s=100.0)
+    cfg = _cfg(n=3, mission=sc.MissionSettings(crash_threshold_steps=3), takeoff_interval_s=100.0)
     a = Agent(cfg)
     outs = {}
     for k in range(12):
@@ -213,7 +213,7 @@ def test_a_silent_peer_is_declared_crashed_after_the_threshold_and_rejoins_when_
 
 
 def test_a_peer_never_heard_crashes_at_the_threshold_counted_from_step_1():
-    a = Agent(_cfg(mission=sc.Mission(crash_threshold_steps=2), takeoff_interval_s=100.0))
+    a = Agent(_cfg(mission=sc.MissionSettings(crash_threshold_steps=2), takeoff_interval_s=100.0))
     first = [
         k for k in range(5) for e in a.step(_bundle(k, GROUND)).events if e.type == EventType.PEER_CRASHED
     ]
@@ -412,7 +412,7 @@ def test_the_own_cell_splits_at_the_bisector_minus_the_safety_band():
     assert np.all(out.markers.cell_boundary_xy[:, 0] == 57.5)
     assert out.markers.text == "uav 0: SEARCH" and out.markers.objective == int(Objective.SEARCH)
     # without the band (Eq. 6): the bisector at 65 m
-    b = Agent(_cfg(mission=sc.Mission(use_safety_band=False)))
+    b = Agent(_cfg(mission=sc.MissionSettings(use_safety_band=False)))
     _fly(b, 0, 50.0, 150.0)
     out = _fly(b, 1, 50.0, 150.0, inbox=[_peer(1, 0, 80.0, 150.0)], markers=True)
     assert np.all(out.markers.cell_boundary_xy[:, 0] == 62.5)
@@ -727,7 +727,7 @@ def test_the_lockstep_wait_expects_the_previous_steps_messages_of_the_alive_peer
     from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
 
     st, fi = int(FLEET_STATE_SPEC.loss_index), int(FLEET_FIRES_SPEC.loss_index)
-    a = Agent(_cfg(n=3, mission=sc.Mission(crash_threshold_steps=2), takeoff_interval_s=100.0))
+    a = Agent(_cfg(n=3, mission=sc.MissionSettings(crash_threshold_steps=2), takeoff_interval_s=100.0))
     assert a.expected_peer_messages(0) == set()  # nothing was sent before step 0
     assert a.expected_peer_messages(1) == {(1, st), (1, fi), (2, st), (2, fi)}
     for k in range(3):
@@ -850,7 +850,7 @@ def test_a_direct_run_over_a_raster_fire_without_front_goes_to_the_own_point_of_
 
 
 def test_the_flank_anchor_is_chosen_once():
-    a = _suppressor(fire=(145.0, 145.0, 15.0), mission=sc.Mission(tactic="flank"))
+    a = _suppressor(fire=(145.0, 145.0, 15.0), mission=sc.MissionSettings(tactic="flank"))
     _fly(a, 0, 60.0, 145.0, cells=_block(), cell_size=10.0)
     first = a.raster.anchor
     assert first in _ring_cells()
@@ -860,7 +860,7 @@ def test_the_flank_anchor_is_chosen_once():
 
 # --- perimeter monitoring (PM) ----------------------------------------------------------------
 def test_the_nearest_uav_monitors_the_fire_and_publishes_its_perimeter_every_n_steps():
-    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1),
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1),
                    perimeter_every_steps=4))  # fmt: skip
     outs = [_fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0) for k in range(9)]
     # step 0: no published position yet, so no role; then MONITOR (mission: monitor before suppress)
@@ -894,7 +894,7 @@ def test_loss_and_outages_follow_the_seeded_rule_of_the_peer_link():
 
 def _ending(dist_m, known=False, cells=None, steps=6):
     """Detect a fire at (150, 150) at step 0, then fly ``dist_m`` west of it without seeing it."""
-    m = sc.Mission(prior_fires="known" if known else "unknown")
+    m = sc.MissionSettings(prior_fires="known" if known else "unknown")
     a = Agent(_cfg(mission=m))
     outs = [
         _fly(
@@ -932,7 +932,7 @@ def test_burning_cells_near_a_fire_keep_it_alive():
 def test_a_malformed_peer_perimeter_counts_nothing():
     from fire_uav_agent.agent_types import PeerPerimeter
 
-    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1)))
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1)))
     for k in range(3):
         _fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0)
     fid = a.mission.target_fire_id
@@ -980,7 +980,7 @@ def test_the_tank_capacity_and_the_briefing_sigma_come_from_the_scenario():
     # briefed centre sigma 5 m: 3 sigma = 15 m of uncertainty, negative range min(49, 70 - 15) = 49 m;
     # with the default 10 m it is 70 - 30 = 40 m, so 45 m away the fire is not ended
     for sigma, ended in ((5.0, True), (10.0, False)):
-        c = _suppressor(mission=sc.Mission(prior_position_sigma_m=sigma))
+        c = _suppressor(mission=sc.MissionSettings(prior_position_sigma_m=sigma))
         outs = [_fly(c, k, 105.0, 150.0) for k in range(6)]
         assert (not outs[-1].fires[0].active) is ended
 
@@ -998,12 +998,12 @@ def test_the_negative_range_follows_the_sensor_range():
 def test_the_monitor_planner_takes_the_configured_speed_alpha_and_kind():
     from fire_perimeter_monitor.planner import CirclingMonitor, ImportanceMonitor
 
-    a = Agent(_cfg(mission=sc.Mission(monitors_per_fire=1), monitor_alpha=0.4, monitor_circling=True))
+    a = Agent(_cfg(mission=sc.MissionSettings(monitors_per_fire=1), monitor_alpha=0.4, monitor_circling=True))
     assert a.monitor.cfg.speed_mps == pytest.approx(44.7 + 5.0)  # v_stall + monitor_speed_margin
     assert a.monitor.cfg.alpha == 0.4 and a.monitor.cfg.circling
     assert a.monitor.uav_id == 0 and a.planners[int(Objective.MONITOR)] is a.monitor
     assert isinstance(a.monitor.monitor_for(7, (1.0, 1.0), 10.0), CirclingMonitor)
-    b = Agent(_cfg(mission=sc.Mission(monitors_per_fire=1)))
+    b = Agent(_cfg(mission=sc.MissionSettings(monitors_per_fire=1)))
     assert isinstance(b.monitor.monitor_for(7, (1.0, 1.0), 10.0), ImportanceMonitor)
     assert Agent(_cfg()).monitor is None and Agent(_cfg()).monitor_assigner is None  # no PM
 
@@ -1016,7 +1016,7 @@ def test_a_given_monitor_assigner_and_planner_are_used():
         return view.fires[0].fire_id
 
     p = _Waypoint((200.0, 250.0))
-    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1)),
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1)),
               planners={int(Objective.MONITOR): p}, monitor_assigner=assigner)  # fmt: skip
     assert a.monitor is None and a.monitor_assigner is assigner
     out = _fly(a, 0, 60.0, 145.0)
@@ -1057,7 +1057,7 @@ def test_the_grounded_uav_publishes_its_start_point_as_its_centroid():
 def test_known_fires_mode_without_a_fire_suppresses_nothing_and_searches():
     """Search disabled (known fires): the objective is SUPPRESS with no target; the search planner flies."""
     p = _Waypoint((250.0, 150.0))
-    a = Agent(_cfg(mission=sc.Mission(prior_fires="known")), planners={int(Objective.SEARCH): p})
+    a = Agent(_cfg(mission=sc.MissionSettings(prior_fires="known")), planners={int(Objective.SEARCH): p})
     out = _fly(a, 0, 60.0, 150.0)
     assert out.state.objective == Objective.SUPPRESS and out.state.target_fire_id == -1
     assert p.views == []  # SUPPRESS without a fire flies the staleness search, not the SEARCH planner
@@ -1267,7 +1267,7 @@ def test_assign_monitor_returns_minus_one_unless_this_uav_is_the_nearest_eligibl
                            peers_xy, fire, peer_roles=roles, own_published_xy=own_xy,
                            own_objective=int(Objective.SEARCH))  # fmt: skip
 
-    a = Agent(_cfg(n=3, mission=sc.Mission(monitors_per_fire=1)))
+    a = Agent(_cfg(n=3, mission=sc.MissionSettings(monitors_per_fire=1)))
     # own 70.7 m from the fire, peer 1 at (150, 300) 150 m: this UAV monitors it
     assert a.assign_monitor(view((250.0, 250.0), {1: (150.0, 300.0)}, {1: (int(Objective.SEARCH), -1)})) == 5
     # peer 1 nearer (10 m): it monitors, this UAV does not
@@ -1290,7 +1290,7 @@ def test_the_fastest_front_wins_whichever_peer_reports_it_and_own_monitors_come_
 
 
 def test_a_monitor_without_a_front_of_its_own_takes_the_peers():
-    a = Agent(_cfg(n=3, prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1)))
+    a = Agent(_cfg(n=3, prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1)))
     outs = [_fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0) for k in range(4)]
     fid = outs[-1].state.target_fire_id
     assert outs[-1].state.objective == Objective.MONITOR and a.monitor.front(fid) is None  # no Eq. 1 yet
@@ -1300,7 +1300,7 @@ def test_a_monitor_without_a_front_of_its_own_takes_the_peers():
 
 
 def test_a_monitor_flies_at_its_fire():
-    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1)))
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1)))
     outs = [_fly(a, k, 60.0, 145.0) for k in range(3)]
     assert outs[-1].state.objective == Objective.MONITOR
     assert outs[-1].state.centroid_xy == (145.0, 145.0)  # no cells yet: "go and see" the fire
@@ -1434,7 +1434,7 @@ def test_peer_fronts_and_perimeters_count_one_each():
         inbox=[PeerFront(1, 1, 0, f1), PeerFront(2, 1, 0, f2)],
     )
     assert a.fronts_received == 2
-    m = Agent(_cfg(n=4, prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1),
+    m = Agent(_cfg(n=4, prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1),
                    outages=(LinkOutage(3, 0, 0.0, 9.0),)))  # fmt: skip
     for k in range(3):
         _fly(m, k, 60.0, 145.0, cells=_block(), cell_size=10.0)
@@ -1531,7 +1531,7 @@ def test_the_note_of_a_drop_uses_the_release_position():
 
 
 def test_perimeters_every_step_when_asked():
-    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.Mission(monitors_per_fire=1),
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1),
                    perimeter_every_steps=1))  # fmt: skip
     outs = [_fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0) for k in range(6)]
     assert outs[4].perimeter is not None and outs[5].perimeter is not None

@@ -23,7 +23,7 @@ from .types import (
     GpsSpec,
     GyroSpec,
     LinkOutage,
-    Mission,
+    MissionSettings,
     Pose,
     Sensors,
     Spacing,
@@ -180,11 +180,11 @@ def _check_outage_ids(ctx: _Ctx, i: int, o: LinkOutage, uav_count: int) -> None:
             )
 
 
-def _mission(ctx: _Ctx, raw: Any) -> Mission:
+def _mission(ctx: _Ctx, raw: Any) -> MissionSettings:
     p = "mission"
-    d = _mapping(ctx, raw, p, set(Mission.__dataclass_fields__))
-    m = Mission()
-    return Mission(
+    d = _mapping(ctx, raw, p, set(MissionSettings.__dataclass_fields__))
+    m = MissionSettings()
+    return MissionSettings(
         crash_threshold_steps=_int(ctx, d, "crash_threshold_steps", p, m.crash_threshold_steps, ge=1),
         grid_resolution_m=_num(ctx, d, "grid_resolution_m", p, m.grid_resolution_m, gt=0),
         sigma_water_m=_num(ctx, d, "sigma_water_m", p, m.sigma_water_m, gt=0),

@@ -329,7 +329,7 @@ class Comms:
 
 
 @dataclass(frozen=True)
-class Mission:
+class MissionSettings:
     crash_threshold_steps: int = 10
     grid_resolution_m: float = 5.0
     sigma_water_m: float = 40.0
@@ -360,7 +360,7 @@ class Scenario:
     sensors: Sensors = field(default_factory=Sensors)
     fires: Fires = field(default_factory=Fires)
     comms: Comms = field(default_factory=Comms)
-    mission: Mission = field(default_factory=Mission)
+    mission: MissionSettings = field(default_factory=MissionSettings)
     path: str = ""
     notes: tuple[str, ...] = field(default=(), compare=False)  # what the loader left out, for the log
 
