@@ -39,10 +39,10 @@ from fire_bench import markdown as page
 from fire_bench.sweep import (
     DaskExecutor,
     Executor,
-    Grid,
     MissionSpec,
     Sweep,
     SweepError,
+    SweepResults,
     make_executor,
     run_spec,
     run_sweep,
@@ -151,7 +151,7 @@ def bench_table1(quick: bool) -> Sweep:
     ]
 
     def reduce(pairs: list[tuple[MissionSpec, dict]]) -> dict:
-        g = Grid(pairs)
+        g = SweepResults(pairs)
         rows = []
         for n in sizes:
             runs = g.where(uavs=n)
@@ -208,7 +208,7 @@ def bench_fire_share(quick: bool) -> Sweep:
     ]
 
     def reduce(pairs: list[tuple[MissionSpec, dict]]) -> dict:
-        g = Grid(pairs)
+        g = SweepResults(pairs)
         out: dict = {}
         rows = []
         for sigma in sizes:
@@ -265,7 +265,7 @@ def bench_ff_known(quick: bool) -> Sweep:
     ]
 
     def reduce(pairs: list[tuple[MissionSpec, dict]]) -> dict:
-        g = Grid(pairs)
+        g = SweepResults(pairs)
         rows = []
         for n in sizes:
             runs = g.where(label="table1", uavs=n)
@@ -330,7 +330,7 @@ def bench_faults(quick: bool) -> Sweep:
     ]
 
     def reduce(pairs: list[tuple[MissionSpec, dict]]) -> dict:
-        g = Grid(pairs)
+        g = SweepResults(pairs)
         rows = []
         for name, _ in cases:
             runs = g.where(label=name)

@@ -358,7 +358,7 @@ def run_sweep(sweep: Sweep, executor: Executor, progress: Progress | None = _log
 
 
 @dataclass
-class Grid:
+class SweepResults:
     """Helper for reducers: the results of one sweep, looked up by spec fields."""
 
     pairs: list[tuple[MissionSpec, dict]] = field(default_factory=list)

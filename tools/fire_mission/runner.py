@@ -609,7 +609,7 @@ class Supervisor:
         )
 
 
-class Progress:
+class MissionProgress:
     """One status line: a bar on a terminal (\\r), a plain line every 10 s otherwise."""
 
     def __init__(self, max_duration_s: float, quiet: bool) -> None:
@@ -710,7 +710,7 @@ def run(args: argparse.Namespace) -> int:
     outcome = "aborted"
     agents = [f"agent_{k}" for k in range(uav_count)]
     sup = None
-    progress = Progress(max_s, args.quiet)
+    progress = MissionProgress(max_s, args.quiet)
     with ProcessGroup(out / "logs", env, grace_s=8.0) as procs:
         try:
             sup = Supervisor(procs, summary, args, uav_count, scenario.timing.control_period_s)
@@ -877,7 +877,7 @@ def _supervise(
     sup: Supervisor,
     procs: ProcessGroup,
     summary: LiveSummary,
-    progress: Progress,
+    progress: MissionProgress,
     args: argparse.Namespace,
     uav_count: int,
     wall0: float,

@@ -76,7 +76,7 @@ def _clock(s: float) -> str:
     return f"{s // 3600}:{s % 3600 // 60:02d}:{s % 60:02d}"
 
 
-class Progress:
+class StudyProgress:
     """A progress bar with an ETA on ``stream`` (a line per mission when it is not a terminal)."""
 
     def __init__(self, total: int, already: int, stream: TextIO, width: int = 30) -> None:
@@ -117,7 +117,7 @@ def run_study(
         todo = todo[:limit]
     by_label = {m.describe(): m for m in todo}
     already = sum(1 for m in order if m.key() in done)
-    bar = Progress(len(order), already, stream)
+    bar = StudyProgress(len(order), already, stream)
     walls = (Path(out_dir) / "missions.log").open("a", encoding="utf-8")
     t0 = time.monotonic()
 

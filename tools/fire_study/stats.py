@@ -31,7 +31,7 @@ from .spec import MEASURES, Arm
 
 __all__ = [
     "ArmStats",
-    "Containment",
+    "ArmContainment",
     "PairStats",
     "arm_stats",
     "bootstrap_ci",
@@ -221,7 +221,7 @@ def verdict(p: PairStats) -> str:
 
 
 @dataclass(frozen=True)
-class Containment:
+class ArmContainment:
     arm: Arm
     n: int
     contained: int
@@ -231,25 +231,25 @@ class Containment:
     limit_s: float
 
 
-def containment(rows: Sequence[dict], arm: Arm) -> Containment:
+def containment(rows: Sequence[dict], arm: Arm) -> ArmContainment:
     """Kaplan-Meier of the time to containment (statsmodels SurvfuncRight), censored at the limit."""
     rs = _rows_of(rows, arm)
     limit = max((float(r["time_limit_s"]) for r in rs), default=math.nan)
     if not rs:
-        return Containment(arm, 0, 0, (), (), None, limit)
+        return ArmContainment(arm, 0, 0, (), (), None, limit)
     t = np.asarray(
         [r["contained_at_s"] if r.get("contained") else r["time_limit_s"] for r in rs], dtype=float
     )
     e = np.asarray([1 if r.get("contained") else 0 for r in rs], dtype=int)
     if e.sum() == 0:
-        return Containment(arm, len(rs), 0, (0.0, limit), (0.0, 0.0), None, limit)
+        return ArmContainment(arm, len(rs), 0, (0.0, limit), (0.0, 0.0), None, limit)
     from statsmodels.duration.survfunc import SurvfuncRight
 
     sf = SurvfuncRight(t, e)
     q = sf.quantile(0.5)
     times = (0.0, *(float(v) for v in sf.surv_times), limit)
     frac = (0.0, *(1.0 - float(v) for v in sf.surv_prob), 1.0 - float(sf.surv_prob[-1]))
-    return Containment(
+    return ArmContainment(
         arm,
         len(rs),
         int(e.sum()),

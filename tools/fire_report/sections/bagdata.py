@@ -31,7 +31,7 @@ VIZ_AGENT = re.compile(r"/uav_(\d+)/viz")
 
 
 @dataclass(frozen=True)
-class Grid:
+class GridSnapshot:
     """One raster snapshot (OccupancyGrid): ``occ`` (ny, nx) int8 (0 unburned, 20 wet, 60 burnt,
     100 burning), cell (i, j) centred at (x0 + (j + 0.5) res, y0 + (i + 0.5) res)."""
 
@@ -79,7 +79,7 @@ class Cost:
 class SectionData:
     """What the sections read; empty containers when the bag holds none of it."""
 
-    grids: list[Grid] = field(default_factory=list)
+    grids: list[GridSnapshot] = field(default_factory=list)
     perimeter: list[PerimeterSample] = field(default_factory=list)
     costs: list[Cost] = field(default_factory=list)  # in order of first appearance (evaluation order)
     cost_messages: int = 0  # KIND_COST messages including rebroadcasts
@@ -120,7 +120,7 @@ def _take(data: SectionData, topic: str, msg: Any) -> None:
     if topic == VIZ_FIRE_GRID:
         info = msg.info
         occ = np.asarray(msg.data, dtype=np.int8).reshape(int(info.height), int(info.width))
-        data.grids.append(Grid(stamp_to_s(msg.header.stamp), float(info.origin.position.x),
+        data.grids.append(GridSnapshot(stamp_to_s(msg.header.stamp), float(info.origin.position.x),
                                float(info.origin.position.y), float(info.resolution), occ))  # fmt: skip
     elif topic == FLEET_PERIMETER:
         data.perimeter.append(
