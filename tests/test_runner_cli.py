@@ -132,6 +132,17 @@ def test_fleet_key_per_mission_private_and_only_where_needed(tmp_path):
 def test_exit_status_says_whether_the_mission_ended_as_asked(
     outcome: str, uavs: int, user_limit: float | None, status: int
 ) -> None:
-    from fire_mission.runner import mission_exit_status
+    from fire_mission.cli import mission_exit_status
 
     assert mission_exit_status(outcome, uavs, user_limit) == status
+
+
+def test_inprocess_max_duration_stops_there_and_exits_0(tmp_path: Path) -> None:
+    from fire_mission.inprocess import main
+
+    out = tmp_path / "s.json"
+    assert main(["tiny_test", "--seed", "1", "--max-duration", "5", "--json", str(out)]) == 0
+    import json
+
+    d = json.loads(out.read_text())
+    assert d["outcome"] == "time_limit" and d["mission_time_s"] == pytest.approx(5.0, abs=0.11)

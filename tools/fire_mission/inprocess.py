@@ -8,6 +8,7 @@ a scenario and seed, and about 10x faster than the process fleet: the benchmarks
 and Figs. 14-15 use it.
 
     python -m fire_mission.inprocess ff_two_fires --uavs 8 --seed 2 [--set mission.prior_fires=known]
+    python -m fire_mission.inprocess grass_running --max-duration 120 --json summary.json
 
 ``--uavs 0`` flies no fleet: the fire burns alone (``World(no_fleet=True)``), as with
 ``scripts/run_mission SCENARIO --uavs 0``; without ``--uavs`` the scenario's fleet flies.
@@ -26,7 +27,7 @@ from fire_uav_common.constants import FireStatus, VehicleStatus
 from fire_uav_common.scenario import Scenario, load_scenario
 from fire_uav_common.scenario.ground import geo_summary
 
-from .cli import OneLineParser
+from .cli import OneLineParser, mission_exit_status
 from .errors import MissionError
 from .summary import LiveEvent, LiveSummary, table
 
@@ -136,10 +137,20 @@ def main(argv: list[str] | None = None) -> int:
     )
     p.add_argument("--seed", type=int, default=None)
     p.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE", help="scenario override")
+    p.add_argument(
+        "--max-duration",
+        type=float,
+        default=None,
+        help="stop the mission after this many seconds (default: the scenario's time limit); "
+        "as with scripts/run_mission, a mission stopped here exits 0, one that runs out of the "
+        "scenario's own limit exits 1",
+    )
     p.add_argument("--json", type=Path, help="write summary.json here")
     a = p.parse_args(argv)
     if a.uavs is not None and a.uavs < 0:
         p.error(f"--uavs must be >= 0 (0: the fire alone), got {a.uavs}")
+    if a.max_duration is not None and not a.max_duration > 0:
+        p.error(f"--max-duration must be > 0 s, got {a.max_duration}")
     import yaml
 
     ov = {}
@@ -148,6 +159,8 @@ def main(argv: list[str] | None = None) -> int:
             p.error(f"--set {kv!r}: expected FIELD=VALUE")
         k, v = kv.split("=", 1)
         ov[k] = yaml.safe_load(v)
+    if a.max_duration is not None:
+        ov["timing.max_duration_s"] = a.max_duration
     from fire_uav_common.scenario import ScenarioError
     from fire_world_sim.errors import ConfigError
 
@@ -158,7 +171,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.json:
         a.json.write_text(json.dumps(d, indent=2) + "\n")
     print(table(d), file=sys.stderr)
-    return 0
+    return mission_exit_status(str(d["outcome"]), int(d["uav_count"]), a.max_duration)
 
 
 if __name__ == "__main__":

@@ -29,7 +29,7 @@ from fire_uav_common.constants import EventType, FireStatus, VehicleStatus
 from fire_uav_common.scenario import LinkOutage
 from fire_uav_common.stamps import stamp_to_s
 
-from fire_mission.cli import OneLineParser
+from fire_mission.cli import OneLineParser, mission_exit_status
 from fire_mission.errors import MissionError
 from fire_mission.procs import ProcessGroup, claim_domain, ros_run_argv
 from fire_mission.procstat import sample as proc_sample
@@ -823,20 +823,6 @@ def run(args: argparse.Namespace) -> int:
                 f"  report failed (exit {rep.returncode}); the bag is kept at {out / 'bag'}", file=sys.stderr
             )
     return mission_exit_status(outcome, uav_count, args.max_duration)
-
-
-def mission_exit_status(outcome: str, uav_count: int, user_max_duration_s: float | None) -> int:
-    """0 when the mission ended as asked, 1 when the fleet ran out of the scenario's own time.
-
-    A mission the user cut short with ``--max-duration`` ended where it was asked to (a quick
-    look, an example, a smoke test); a fleet that did not finish within the scenario's own time
-    limit failed. With no fleet the fire burns until the limit: that is the run's purpose.
-    """
-    if outcome == "complete":
-        return 0
-    if outcome == "time_limit" and (uav_count == 0 or user_max_duration_s is not None):
-        return 0
-    return 1
 
 
 def _point_latest_at(out: Path) -> None:
