@@ -110,6 +110,10 @@ def test_report_without_a_bag_is_one_line() -> None:
             ),
             ["uavs.airframe.v_stall_mps", "must be < v_max_mps (30), got 40"],
         ),
+        (
+            ("tiny_test", "--set", "uavs.vehicle_model=coordinated_turn", "--set", "uavs.airframe=tanker"),
+            ["tiny_test.yaml", "lakes[0].diameter_m", "90 m is shorter than the tanker preset's 702 m scoop run"],
+        ),
     ],
 )
 def test_inprocess_errors(args: tuple[str, ...], words: list[str]) -> None:

@@ -66,6 +66,16 @@ def test_bad_scenario_field_is_named(tmp_path):
     assert "Traceback" not in r.stderr
 
 
+def test_lake_too_short_for_the_tankers_scoop_run_is_named():
+    r = _run("fault_drill", "--set", "uavs.vehicle_model=coordinated_turn", "--set", "uavs.airframe=tanker")
+    assert r.returncode == 2, r.stderr
+    assert (
+        "fault_drill.yaml: lakes[0].diameter_m: 90 m is shorter than the tanker preset's 702 m scoop run"
+        in r.stderr
+    ), r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr
+
+
 def test_outage_beyond_the_flown_fleet_is_named(tmp_path):
     """comms.outages is checked against --uavs, not only against the scenario's uavs.count."""
     sc = tmp_path / "outage.yaml"

@@ -73,19 +73,20 @@ def usable_lakes(
 ) -> tuple[tuple[Lake, ...], tuple[str, ...]]:
     """The lakes a fixed-wing can scoop from, and one line for each lake it cannot use.
 
-    A disc lake's longest straight run is its diameter; a lake shorter than :func:`scoop_run_m`
-    cannot fill the tank on one pass and is not used. Without an airframe (FF's unicycle hovers
+    A lake's longest straight run over water (``Lake.longest_run``: its diameter for a disc, the
+    outline's for a landscape water body) shorter than :func:`scoop_run_m` cannot fill the tank
+    on one pass, and the lake is not used (the scenario loader applies the same rule). Without an airframe (FF's unicycle hovers
     over the water as long as it needs) every lake is usable.
     """
     if airframe is None:
         return tuple(lakes), ()
     need = scoop_run_m(airframe)
-    ok = tuple(lk for lk in lakes if lk.diameter_m >= need)
+    ok = tuple(lk for lk in lakes if lk.longest_run.length_m >= need)
     refused = tuple(
-        f"lake at ({lk.x_m:g}, {lk.y_m:g}) m not used for refills: its longest run {lk.diameter_m:g} m "
-        f"is shorter than the {need:.0f} m scoop run of this airframe"
+        f"lake at ({lk.x_m:g}, {lk.y_m:g}) m not used for refills: its longest run "
+        f"{lk.longest_run.length_m:.0f} m is shorter than the {need:.0f} m scoop run of this airframe"
         for lk in lakes
-        if lk.diameter_m < need
+        if lk.longest_run.length_m < need
     )
     return ok, refused
 

@@ -185,6 +185,11 @@ def test_a_lake_shorter_than_the_scoop_run_is_not_used_and_said_so():
     assert ok == (ff_lake,) and len(refused) == 1 and "(100, 100)" in refused[0] and "60 m" in refused[0]
     assert usable_lakes((ff_lake,), AIRFRAMES["tanker"])[0] == ()
     assert usable_lakes((ff_lake, pond), None) == ((ff_lake, pond), ())
+    # a long narrow water body: its inside disc (60 m) is short, its straight run (120 m) is not
+    from fire_uav_common.water import StraightRun
+
+    narrow = Lake(500.0, 500.0, 60.0, run=StraightRun(440.0, 500.0, 560.0, 500.0, 120.0))
+    assert usable_lakes((narrow,), SMALL) == ((narrow,), ())
 
 
 def test_the_agent_refills_only_at_a_lake_long_enough():

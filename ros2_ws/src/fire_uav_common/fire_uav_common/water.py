@@ -3,7 +3,8 @@
 :class:`WaterCells` is a boolean raster in the map frame (row 0 the southern row): a point is
 over the water when the cell under it is water, so the outline is the data's own, cell by cell.
 :func:`longest_straight_run` finds the longest straight segment that stays over water (a
-scooping aircraft needs one), :meth:`WaterCells.outline` the polygon around the cells.
+scooping aircraft needs one), :meth:`WaterCells.outline` the polygon around the cells and
+:meth:`WaterCells.row_runs` the cells as row rectangles (what a filled drawing needs).
 """
 
 from __future__ import annotations
@@ -46,6 +47,21 @@ class WaterCells:
     @property
     def area_m2(self) -> float:
         return float(self.mask.sum()) * self.cell_m**2
+
+    def row_runs(self) -> np.ndarray:
+        """The water as rectangles, one per maximal run of water cells along a row: an (n, 4)
+        array of (x_min, y_min, x_max, y_max) [m]. Together they cover exactly the water cells,
+        none overlapping (a filled drawing of the real outline, islands left open)."""
+        ny, nx = self.mask.shape
+        padded = np.zeros((ny, nx + 2), dtype=np.int8)
+        padded[:, 1:-1] = self.mask
+        d = np.diff(padded, axis=1)
+        rows, starts = np.nonzero(d == 1)
+        _, ends = np.nonzero(d == -1)  # same row order: one end per start, exclusive
+        cs = self.cell_m
+        return np.column_stack(
+            (self.x0_m + starts * cs, self.y0_m + rows * cs, self.x0_m + ends * cs, self.y0_m + (rows + 1) * cs)
+        ).astype(float)
 
     def outline(self) -> list[list[list[tuple[float, float]]]]:
         """The polygons around the water cells (one per 4-connected piece), each a list of rings

@@ -43,6 +43,7 @@ _MARKER_TYPES = {
     "cylinder": Marker.CYLINDER,
     "sphere": Marker.SPHERE,
     "text": Marker.TEXT_VIEW_FACING,
+    "triangle_list": Marker.TRIANGLE_LIST,
 }
 
 
@@ -139,6 +140,8 @@ def marker_array(specs: list[viz.MarkerSpec], stamp_ns: int) -> MarkerArray:
         _, _, mk.pose.orientation.z, mk.pose.orientation.w = viz.yaw_quaternion(spec.yaw_rad)
         mk.scale.x, mk.scale.y, mk.scale.z = spec.scale_m
         mk.color.r, mk.color.g, mk.color.b, mk.color.a = spec.rgba
+        if spec.points:
+            mk.points = [Point(x=px, y=py, z=pz) for px, py, pz in spec.points]
         arr.markers.append(mk)
     return arr
 

@@ -3,7 +3,9 @@
 :func:`world_markers` lists what should be on screen after a step: one arrow per flying UAV
 (``ns="uav"``, ``id = uav_id``), a cross per crashed UAV (``ns="crash"``), one cylinder per
 burning analytic fire (``ns="fire"``, ``id = fire_id``; a raster fire is drawn by
-``/viz/fire_grid`` instead), one disc per lake (``ns="lake"``, ``id`` = index) and a colour legend
+``/viz/fire_grid`` instead), one marker per lake (``ns="lake"``, ``id`` = index: a scenario's disc
+lake a flat cylinder, a landscape's water body a triangle list of its water cells, so the live view
+shows its real outline at its water level) and a colour legend
 (``ns="legend"``). :class:`MarkerBook` turns each such list into what to send: an ADD for every
 wanted marker (same ``(ns, id)`` replaces the old one in RViz and Foxglove) and a DELETE for every
 ``(ns, id)`` shown before and no longer wanted, so an extinguished fire's cylinder and a crashed
@@ -16,7 +18,7 @@ Colours are RGBA in [0, 1]; positions [m] and yaw [rad] in the ``map`` frame.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 from fire_uav_common.constants import FireStatus, VehicleStatus
@@ -45,7 +47,8 @@ LEGEND_TEXT_M = 18.0  # legend text height [m]
 
 @dataclass(frozen=True)
 class MarkerSpec:
-    """One marker: ``kind`` in {arrow, cylinder, sphere, text}; ``action`` "add" or "delete"."""
+    """One marker: ``kind`` in {arrow, cylinder, sphere, text, triangle_list}; ``action`` "add"
+    or "delete". ``points``: a triangle list's vertices [m], relative to (x_m, y_m, z_m)."""
 
     ns: str
     id: int
@@ -58,6 +61,7 @@ class MarkerSpec:
     scale_m: tuple[float, float, float] = (1.0, 1.0, 1.0)
     rgba: RGBA = (1.0, 1.0, 1.0, 1.0)
     text: str = ""
+    points: tuple[tuple[float, float, float], ...] = ()
 
     @property
     def key(self) -> tuple[str, int]:
@@ -71,11 +75,19 @@ def world_markers(
     *,
     draw_fires: bool,
     legend_xy_m: tuple[float, float],
+    ground: Callable[[float, float], float] | None = None,
 ) -> list[MarkerSpec]:
     """The markers wanted now (records with the fields of ``VehicleTruthRecord``/``FireTruthRecord``,
-    lakes with ``x_m, y_m, diameter_m``); ``draw_fires=False`` for the raster model."""
+    lakes with ``x_m, y_m, diameter_m`` and ``water``); ``draw_fires=False`` for the raster model.
+
+    ``ground(x, y)`` [m]: the terrain's elevation, the water level of a landscape lake (taken at
+    its disc's centre, as the world's refill check does). A disc lake keeps its cylinder at z 0."""
     out: list[MarkerSpec] = []
     for i, lake in enumerate(lakes):
+        water = getattr(lake, "water", None)
+        if water is not None:
+            out.append(_water_marker(i, water, lake, ground))
+            continue
         d = float(lake.diameter_m)  # type: ignore[attr-defined]
         out.append(
             MarkerSpec("lake", i, "cylinder", x_m=float(lake.x_m), y_m=float(lake.y_m),  # type: ignore[attr-defined]
@@ -102,6 +114,18 @@ def world_markers(
         out.append(MarkerSpec("legend", i, "text", x_m=x0, y_m=y0 - i * LEGEND_LINE_M, z_m=1.0,
                               scale_m=(1.0, 1.0, LEGEND_TEXT_M), rgba=COLOURS[ns], text=text))  # fmt: skip
     return out
+
+
+def _water_marker(i: int, water: object, lake: object, ground: Callable[[float, float], float] | None) -> MarkerSpec:
+    """A landscape lake as a flat triangle list over its water cells (two triangles per row run,
+    :meth:`~fire_uav_common.water.WaterCells.row_runs`), 0.25 m above its water level like the
+    middle of a disc lake's 0.5 m cylinder."""
+    x, y = float(lake.x_m), float(lake.y_m)  # type: ignore[attr-defined]
+    level = 0.0 if ground is None else float(ground(x, y))
+    pts: list[tuple[float, float, float]] = []
+    for x0, y0, x1, y1 in water.row_runs().tolist():  # type: ignore[attr-defined]
+        pts += [(x0, y0, 0.0), (x1, y0, 0.0), (x1, y1, 0.0), (x0, y0, 0.0), (x1, y1, 0.0), (x0, y1, 0.0)]
+    return MarkerSpec("lake", i, "triangle_list", z_m=level + 0.25, rgba=COLOURS["lake"], points=tuple(pts))
 
 
 class MarkerBook:

@@ -383,13 +383,14 @@ class WorldNode(Node):
 
     def _markers(self, r: StepResult) -> MarkerArray:
         """``/viz/world``: stable ids per UAV, fire and lake, DELETE for what is gone (:mod:`.viz`)."""
-        area = self.world.scenario.area
+        area, terrain = self.world.scenario.area, self.world.scenario.terrain
         wanted = viz.world_markers(
             r.vehicles,
             r.fires,
             self.world.scenario.lakes,
             draw_fires=not self.world.fires.has_cells,  # fires with cells are shown by their grid
             legend_xy_m=(area.x_min_m, area.y_max_m),
+            ground=lambda x, y: float(terrain.elevation(x, y)),
         )
         return msgs.marker_array(self._marker_book.frame(wanted), r.stamp_ns)
 

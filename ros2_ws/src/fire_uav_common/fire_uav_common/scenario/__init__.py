@@ -38,7 +38,7 @@ from typing import Any
 import yaml
 
 from ..errors import ScenarioError
-from .airframes import AIRFRAMES, VEHICLE_MODELS, Airframe, envelope_vehicle
+from .airframes import AIRFRAMES, DEFAULT_AIRFRAME, VEHICLE_MODELS, Airframe, envelope_vehicle
 from .fields import _Ctx, _int, _mapping, _str
 from .fires import _fires
 from .ground import apply_landscape
@@ -161,6 +161,39 @@ def _apply_overrides(ctx: _Ctx, raw: dict, overrides: Mapping[str, Any]) -> dict
     return out
 
 
+def _preset_owner(raw_uavs: Any) -> str:
+    """Whose scoop run an error line names: "the tanker preset's" (the ``uavs.airframe`` preset,
+    already validated), or "uavs.airframe's" when the run is not a preset's own."""
+    raw = raw_uavs.get("airframe") if isinstance(raw_uavs, Mapping) else None
+    if raw is None:
+        return f"the {DEFAULT_AIRFRAME} preset's"
+    if isinstance(raw, str):
+        return f"the {raw} preset's"
+    if isinstance(raw, Mapping):
+        # a preset with fields replaced: its scoop run may no longer be the preset's
+        if set(raw) <= {"preset"}:
+            return f"the {raw.get('preset', DEFAULT_AIRFRAME)} preset's"
+        return "uavs.airframe's"
+    return "uavs.airframe's"
+
+
+def _check_lake_runs(ctx: _Ctx, scenario: Scenario, owner: str) -> None:
+    """A lake written in the scenario must be long enough for the airframe's scoop run: a
+    fixed-wing scoops on a straight pass and a disc's longest one is its diameter. FF's unicycle
+    (no airframe) hovers over any lake as long as it needs."""
+    airframe = scenario.uavs.airframe
+    if airframe is None:
+        return
+    need = airframe.scoop_run_m
+    for i, lake in enumerate(scenario.lakes):
+        if lake.longest_run.length_m < need:
+            raise ctx.fail(
+                f"lakes[{i}].diameter_m",
+                f"{lake.diameter_m:g} m is shorter than {owner} {need:.0f} m scoop run "
+                "(a fixed-wing scoops on one straight pass over the water)",
+            )
+
+
 def scenario_from_dict(
     raw: Any, *, file: str = "<dict>", overrides: Mapping[str, Any] | None = None
 ) -> Scenario:
@@ -190,7 +223,9 @@ def scenario_from_dict(
         mission=_mission(ctx, d.get("mission")),
         path="" if file == "<dict>" else file,
     )
-    scenario = apply_landscape(ctx, scenario, terrain_given=d.get("terrain") is not None)
+    owner = _preset_owner(d.get("uavs"))
+    _check_lake_runs(ctx, scenario, owner)
+    scenario = apply_landscape(ctx, scenario, terrain_given=d.get("terrain") is not None, run_owner=owner)
     check_placement(ctx, scenario)
     return scenario
 

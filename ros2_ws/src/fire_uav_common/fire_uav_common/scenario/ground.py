@@ -13,8 +13,10 @@ scenario file. :func:`apply_landscape` reads its window once and derives
   under it is water. Each lake also carries the largest disc inside it (its centre the water
   cell farthest from the shore, its diameter twice that distance), where the agents aim, and its
   longest straight run over water (:func:`~fire_uav_common.water.longest_straight_run`). A body
-  whose disc is narrower than ``min_lake_diameter_m`` is too small for a refill pass: left out,
-  with a note in ``Scenario.notes`` that the world logs and summary.json and the report show.
+  whose disc is narrower than ``min_lake_diameter_m``, or (under a fixed-wing airframe) whose
+  longest run is shorter than the airframe's scoop run, is too small for a refill pass: left
+  out, with a note in ``Scenario.notes`` that the world logs and summary.json and the report
+  show. When that leaves a fixed-wing fleet no lake at all, the scenario is refused.
 
 Every ignition must lie on a burnable cell of the window. Errors name the file and the field.
 """
@@ -70,10 +72,14 @@ def landscape_of(land: RasterLandscape) -> Landscape:
     return _load(land.source, land.window, land.cell_size_m)
 
 
-def water_lakes(landscape: Landscape, min_diameter_m: float) -> tuple[list[Lake], list[str]]:
+def water_lakes(
+    landscape: Landscape, min_diameter_m: float, min_run_m: float = 0.0, run_owner: str = "the airframe's"
+) -> tuple[list[Lake], list[str]]:
     """A lake per open-water body (its water cells, the largest disc inside it and its longest
     straight run), in projected metres, and a note per body left out as too small for a refill
-    pass."""
+    pass: its disc narrower than ``min_diameter_m``, or its longest run shorter than
+    ``min_run_m`` (a fixed-wing's scoop run; ``run_owner`` names whose, e.g. "the tanker
+    preset's")."""
     from scipy import ndimage
 
     water = landscape.fuel == OPEN_WATER
@@ -103,12 +109,25 @@ def water_lakes(landscape: Landscape, min_diameter_m: float) -> tuple[list[Lake]
         cells = WaterCells(  # flipped: row 0 the southern row, as the map frame
             x0_m=left + c0 * cs, y0_m=top - r1 * cs, cell_m=cs, mask=body[r0:r1, c0:c1][::-1]
         )
-        lakes.append(Lake(float(x), float(y), diameter, water=cells, run=longest_straight_run(cells)))
+        run = longest_straight_run(cells)
+        if run.length_m < min_run_m:
+            notes.append(
+                f"open water at ({float(x):.0f}, {float(y):.0f}) m ({area_ha:.1f} ha) left out: its longest "
+                f"straight run ({run.length_m:.0f} m) is shorter than {run_owner} {min_run_m:.0f} m scoop run"
+            )
+            continue
+        lakes.append(Lake(float(x), float(y), diameter, water=cells, run=run))
     return lakes, notes
 
 
-def apply_landscape(ctx: _Ctx, scenario: Scenario, *, terrain_given: bool) -> Scenario:
-    """``scenario`` with its raster grid, terrain and lakes from ``fires.raster.landscape``."""
+def apply_landscape(
+    ctx: _Ctx, scenario: Scenario, *, terrain_given: bool, run_owner: str = "the airframe's"
+) -> Scenario:
+    """``scenario`` with its raster grid, terrain and lakes from ``fires.raster.landscape``.
+
+    Under a fixed-wing airframe a water body shorter than its scoop run is left out; if no lake
+    is left at all (none written in the scenario either), a :class:`ScenarioError` names the
+    field: the fleet could never refill. ``run_owner`` names the preset in these lines."""
     raster = scenario.fires.raster
     if raster is None or raster.landscape is None:
         return scenario
@@ -137,9 +156,19 @@ def apply_landscape(ctx: _Ctx, scenario: Scenario, *, terrain_given: bool) -> Sc
     )
     elevation = np.ascontiguousarray(landscape.elevation_m[::-1])  # row 0 south, as the raster fire
     terrain: Terrain = GridTerrain(elevation_m=elevation, x0_m=0.0, y0_m=0.0, cell_m=cs, source=land.name)
-    found, notes = water_lakes(landscape, land.min_lake_diameter_m)
+    airframe = scenario.uavs.airframe
+    need = 0.0 if airframe is None else airframe.scoop_run_m
+    found, notes = water_lakes(landscape, land.min_lake_diameter_m, need, run_owner)
     lakes = [lk.shifted(-x0, -y0) for lk in found]
     lakes = [lk for lk in lakes if scenario.area.contains(lk.x_m, lk.y_m)]
+    # water there was, but none a fixed-wing can scoop from: its fleet could never refill
+    if need > 0 and not lakes and not scenario.lakes and notes:
+        raise ctx.fail(
+            p,
+            f"no lake left for refills: every water body's longest straight run is shorter than "
+            f"{run_owner} {need:.0f} m scoop run (or its disc narrower than min_lake_diameter_m "
+            f"{land.min_lake_diameter_m:g} m)",
+        )
     notes = [f"{p}: {n}" for n in notes]
     return dataclasses.replace(
         scenario,

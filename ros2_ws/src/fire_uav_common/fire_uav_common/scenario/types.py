@@ -123,6 +123,12 @@ class Airframe:
         return self.min_speed_factor * self.v_stall_mps
 
     @property
+    def scoop_run_m(self) -> float:
+        """The straight run [m] over water that fills the empty tank: the scoop time
+        water_capacity / refill_rate flown at the lowest commanded speed (the slowest pass)."""
+        return self.v_min_mps * self.water_capacity_kg / self.refill_rate_kgps
+
+    @property
     def bank_max_rad(self) -> float:
         return math.radians(self.bank_max_deg)
 
