@@ -363,7 +363,7 @@ class WorldNode(Node):
                 self.gate.record_sent(v.uav_id, data)
                 self.pub_sensors[v.uav_id].publish(data)
                 self._told_crashed.add(v.uav_id)
-        self.pub_truth.publish(msgs.truth_msg(r))
+        self.pub_truth.publish(msgs.truth_bytes(r))  # CDR bytes, published raw
         for e in r.events:
             self.pub_events.publish(msgs.event_msg(e))
             if e.type == EventType.CRASH:
