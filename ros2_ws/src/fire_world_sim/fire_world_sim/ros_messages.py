@@ -1,6 +1,7 @@
 """The world's records as the ROS messages it publishes (one place per message type).
 
-ROS adapter module (it builds rclpy message objects): ``/world/truth`` (:func:`truth_msg`),
+ROS adapter module (it builds rclpy message objects): ``/world/truth`` (:func:`truth_msg`; the
+node publishes :func:`truth_bytes`, the same message as CDR bytes),
 ``/world/events`` (:func:`event_msg`, :func:`agent_lost_msg`), ``/viz/world``
 (:func:`marker_array`), ``/tf`` (:func:`tf_msg`) and ``/viz/fire_grid`` (:func:`grid_msg`). The
 SensorBundle is written as bytes by ``fire_uav_common.codecs.sensor_bundle``.
@@ -9,9 +10,11 @@ SensorBundle is written as bytes by ``fire_uav_common.codecs.sensor_bundle``.
 from __future__ import annotations
 
 import math
+import struct
 
 import numpy as np
 from builtin_interfaces.msg import Time
+from fire_uav_common.cdr import ENCAPSULATION, U32, pad
 from fire_uav_common.constants import CellState, EventType
 from fire_uav_common.stamps import to_time_msg
 from fire_uav_msgs.msg import FireTruth, MissionEvent, VehicleTruth, WorldTruth
@@ -34,6 +37,7 @@ __all__ = [
     "marker_array",
     "stamp",
     "tf_msg",
+    "truth_bytes",
     "truth_msg",
 ]
 
@@ -93,6 +97,57 @@ def truth_msg(r: StepResult) -> WorldTruth:
             )
         )
     return m
+
+
+_TRUTH_HEAD = struct.Struct("<iII")  # Header: stamp sec, nanosec; the length of frame_id "map" with NUL
+_MAP = b"map\x00"
+_F64 = struct.Struct("<d")
+# VehicleTruth after its two uint8 ids and the padding to 8: 7 float64, float32 water, 2 uint32
+_VEHICLE = struct.Struct("<7dfII")
+# FireTruth after its two uint8 ids and the padding to 8: 4 float64, uint32 drops_received
+_FIRE = struct.Struct("<4dI")
+
+
+def truth_bytes(r: StepResult) -> bytes:
+    """:func:`truth_msg` as the CDR bytes rclpy serialises it to (XCDR1 little-endian, the rules
+    of ``fire_uav_common.cdr``), published raw: at 20 UAVs building and converting the message
+    objects was a sizeable part of the world's serial step (docs/profile.md). Pinned byte for
+    byte to ``serialize_message(truth_msg(r))`` in test_truth_bytes.py; out-of-range values
+    raise (struct.error), as rclpy's setters do."""
+    buf = bytearray(ENCAPSULATION)
+    buf += _TRUTH_HEAD.pack(*divmod(r.stamp_ns, 1_000_000_000), len(_MAP))
+    buf += _MAP
+    buf += U32.pack(r.step)  # at index 20: 4-aligned
+    pad(buf, 8)
+    buf += _F64.pack(float(r.min_separation_m))
+    buf += U32.pack(int(r.collisions))
+    buf += U32.pack(len(r.vehicles))
+    for v in r.vehicles:
+        buf.append(int(v.uav_id))
+        buf.append(int(v.status))
+        pad(buf, 8)
+        buf += _VEHICLE.pack(
+            float(v.x_m),
+            float(v.y_m),
+            float(v.z_m),
+            float(v.yaw_rad),
+            float(v.v_lin_mps),
+            float(v.v_z_mps),
+            float(v.omega_z_radps),
+            float(v.water_kg),
+            int(v.commands_clamped),
+            int(v.commands_missed),
+        )
+    pad(buf, 4)
+    buf += U32.pack(len(r.fires))
+    for f in r.fires:
+        buf.append(int(f.fire_id))
+        buf.append(int(f.status))
+        pad(buf, 8)
+        buf += _FIRE.pack(
+            float(f.x_m), float(f.y_m), float(f.extent_m), float(f.area_m2), int(f.drops_received)
+        )
+    return bytes(buf)
 
 
 def event_msg(e: MissionEventRecord) -> MissionEvent:

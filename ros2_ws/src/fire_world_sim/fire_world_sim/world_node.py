@@ -13,11 +13,14 @@ pure :class:`~.step_answers.AnswerGate`, and the messages are built by :mod:`.ro
 
 from __future__ import annotations
 
+import os
 import sys
 
 import rclpy
 from fire_uav_common import topics
 from fire_uav_common.auth import Authenticator
+from fire_uav_common.cdr import CdrError
+from fire_uav_common.codecs.payload_request import WirePayloadRequest, read_payload_request
 from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
 from fire_uav_common.constants import EventType, PayloadAction, VehicleStatus
 from fire_uav_common.lockstep import offline_uavs
@@ -47,6 +50,9 @@ from .world_config import (
     authenticator_from,
     config_from_parameters,
 )
+
+#: the PayloadRequest actions there are (a set built once: the check runs per agent per step)
+_ACTIONS = frozenset(int(a) for a in PayloadAction)
 
 #: [s wall] lockstep: re-send a bundle to an agent whose answer is not in after this long
 RESEND_AFTER_WALL_S = 5.0
@@ -286,18 +292,17 @@ class WorldNode(Node):
         if self.gate.finished:
             return  # an answer to the last bundle (see AnswerGate.admit_command)
         topic = topics.PAYLOAD_SPEC.for_uav(uid)
-        try:
-            msg = deserialize_message(data, PayloadRequest)
-        except RuntimeError:  # rclpy's RMWError: bytes that are no CDR of a PayloadRequest
+        msg = _read_payload(data)
+        if msg is None:
             return self._reject(uid, topic, "undecodable")
-        ns = stamp_to_ns(msg.header.stamp)
+        ns = msg.stamp_ns
         if msg.uav_id != uid:
             return self._reject(uid, topic, "wrong id")
         if self.auth is not None and not self.auth.check_serialized(data, topic, uid, ns):
             return self._reject(uid, topic, "bad auth")
-        if msg.action not in tuple(PayloadAction):
+        if msg.action not in _ACTIONS:
             return self._reject(uid, topic, "unknown action")
-        tag = bytes(bytearray(msg.auth)) if self.auth is not None else None
+        tag = msg.auth if self.auth is not None else None
         verdict = self.gate.admit_payload(uid, ns, self._crashed(uid), self.world.t_ns, tag)
         if not verdict.take:
             if verdict.rejection is not None:
@@ -358,7 +363,7 @@ class WorldNode(Node):
                 self.gate.record_sent(v.uav_id, data)
                 self.pub_sensors[v.uav_id].publish(data)
                 self._told_crashed.add(v.uav_id)
-        self.pub_truth.publish(msgs.truth_msg(r))
+        self.pub_truth.publish(msgs.truth_bytes(r))  # CDR bytes, published raw
         for e in r.events:
             self.pub_events.publish(msgs.event_msg(e))
             if e.type == EventType.CRASH:
@@ -395,6 +400,32 @@ class WorldNode(Node):
         return msgs.marker_array(self._marker_book.frame(wanted), r.stamp_ns)
 
 
+def _read_payload(data: bytes) -> WirePayloadRequest | None:
+    """A PayloadRequest's bytes as received raw, or None if they are no PayloadRequest.
+
+    Read by the codec, which skips rclpy's message objects (at 20 UAVs they cost the world as much
+    per step as its physics); bytes the codec does not read (another encapsulation, trailing bytes)
+    go to rclpy, so the world takes exactly the requests it took before."""
+    try:
+        return read_payload_request(data)
+    except CdrError:
+        pass
+    try:
+        m = deserialize_message(data, PayloadRequest)
+    except RuntimeError:  # rclpy's RMWError: bytes that are no CDR of a PayloadRequest
+        return None
+    return WirePayloadRequest(
+        stamp_to_ns(m.header.stamp),
+        int(m.uav_id),
+        int(m.action),
+        int(m.target_fire_id),
+        float(m.cmd_linear_x_mps),
+        float(m.cmd_linear_z_mps),
+        float(m.cmd_angular_z_radps),
+        bytes(bytearray(m.auth)),
+    )
+
+
 def _spin_until_done(node: WorldNode) -> None:
     """``rclpy.spin_until_future_complete(node, node.done)``, except that a message rclpy cannot
     convert to Python is dropped (counted as rejected "undecodable", warned) instead of ending
@@ -424,13 +455,30 @@ def _spin_until_done(node: WorldNode) -> None:
         executor.shutdown()
 
 
+def _profiled(fn, path: str) -> None:
+    """Run ``fn()`` under cProfile over the main thread's CPU time and write the statistics to
+    ``path``: on a shared machine wall time would charge a call for every wait for a core."""
+    import cProfile
+    import time
+
+    prof = cProfile.Profile(time.thread_time)
+    try:
+        prof.runcall(fn)
+    finally:
+        prof.dump_stats(path)
+
+
 def main(args: list[str] | None = None) -> int:
     rclpy.init(args=args)
     node = None
     code = 0
     try:
         node = WorldNode()
-        _spin_until_done(node)
+        prof_dir = os.environ.get("FIRE_WORLD_PROFILE_DIR")
+        if prof_dir:  # profile the whole spin: executor + step + messaging (docs/profile.md)
+            _profiled(lambda: _spin_until_done(node), os.path.join(prof_dir, "world.prof"))
+        else:
+            _spin_until_done(node)
         code = int(node.done.result() or 0) if node.done.done() else 0
     except (ScenarioError, ConfigError) as e:
         rclpy.logging.get_logger("world").error(str(e))
