@@ -39,7 +39,6 @@ Deviations from the paper, and why:
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -90,75 +89,27 @@ class StateEkf:
     # --- prediction (Eqs. 16-17) ------------------------------------------------------
     def predict(self, u: np.ndarray, dt_s: float, gyro_radps: float | None = None) -> None:
         """One substep with input u = (v_lin, v_z, omega); gyro sample of this substep if any."""
-        self._predict_run(float(u[0]), float(u[1]), float(u[2]), dt_s, (gyro_radps,))
-
-    def _predict_run(
-        self, v: float, vz: float, om_cmd: float, dt_s: float, gyros: Sequence[float | None]
-    ) -> None:
-        """``len(gyros)`` substeps of Eqs. 16-17 with the input held, in plain floats.
-
-        A = I + a e_0 e_3^T + b e_1 e_3^T (a = -v sin(yaw) dt, b = v cos(yaw) dt) and G Q G^T
-        written out entry by entry: A P A^T + G Q G^T costs ~40 float operations where the 4x4
-        matrix products cost ~30 us of numpy calls per substep, and the EKF predicts 100 times
-        per second of flight. Each entry is summed in the order numpy's products use (the terms
-        with A's zeros and ones are exact), so the covariance is the same to the bit; P is
-        re-symmetrised after every substep as before.
-        """
-        x, y, z, th = (float(e) for e in self.s)
-        p = self.P
-        p00, p01, p02, p03 = float(p[0, 0]), float(p[0, 1]), float(p[0, 2]), float(p[0, 3])
-        p10, p11, p12, p13 = float(p[1, 0]), float(p[1, 1]), float(p[1, 2]), float(p[1, 3])
-        p20, p21, p22, p23 = float(p[2, 0]), float(p[2, 1]), float(p[2, 2]), float(p[2, 3])
-        p30, p31, p32, p33 = float(p[3, 0]), float(p[3, 1]), float(p[3, 2]), float(p[3, 3])
-        q0, q1, q2 = float(self._q[0]), float(self._q[1]), float(self._q[2])
-        k_gyro = self._k_gyro
-        cos, sin, isfinite, wrap = math.cos, math.sin, math.isfinite, wrap_angle
-        n_gyro = 0
-        for gyro in gyros:
-            om, q_om = om_cmd, q2
-            if gyro is not None and isfinite(gyro):
-                om = om + k_gyro * (gyro - om)  # augmented-state update (module doc)
-                q_om = (1.0 - k_gyro) * q_om
-                n_gyro += 1
-            c, s = cos(th), sin(th)
-            a = -v * s * dt_s
-            b = v * c * dt_s
-            gx, gy, gz, gw = c * dt_s, s * dt_s, dt_s, dt_s
-            # M = A P (rows 2, 3 of P unchanged)
-            m00, m01, m02, m03 = p00 + a * p30, p01 + a * p31, p02 + a * p32, p03 + a * p33
-            m10, m11, m12, m13 = p10 + b * p30, p11 + b * p31, p12 + b * p32, p13 + b * p33
-            # N = M A^T + G Q G^T
-            n00 = m00 + a * m03 + gx * q0 * gx
-            n01 = m01 + b * m03 + gx * q0 * gy
-            n02, n03 = m02, m03
-            n10 = m10 + a * m13 + gy * q0 * gx
-            n11 = m11 + b * m13 + gy * q0 * gy
-            n12, n13 = m12, m13
-            n20 = p20 + a * p23
-            n21 = p21 + b * p23
-            n22 = p22 + gz * q1 * gz
-            n23 = p23
-            n30 = p30 + a * p33
-            n31 = p31 + b * p33
-            n32 = p32
-            n33 = p33 + gw * q_om * gw
-            # symmetrise
-            p00, p11, p22, p33 = n00, n11, n22, n33
-            p01 = p10 = 0.5 * (n01 + n10)
-            p02 = p20 = 0.5 * (n02 + n20)
-            p03 = p30 = 0.5 * (n03 + n30)
-            p12 = p21 = 0.5 * (n12 + n21)
-            p13 = p31 = 0.5 * (n13 + n31)
-            p23 = p32 = 0.5 * (n23 + n32)
-            x = x + v * c * dt_s
-            y = y + v * s * dt_s
-            z = z + vz * dt_s
-            th = wrap(th + om * dt_s)
-        self.s = np.array([x, y, z, th])
-        self.P = np.array(
-            [[p00, p01, p02, p03], [p10, p11, p12, p13], [p20, p21, p22, p23], [p30, p31, p32, p33]]
-        )
-        self.updates["gyro"] += n_gyro
+        v, vz, om = float(u[0]), float(u[1]), float(u[2])
+        q_om = self._q[2]
+        if gyro_radps is not None and math.isfinite(gyro_radps):
+            om = om + self._k_gyro * (gyro_radps - om)  # augmented-state update (module doc)
+            q_om = (1.0 - self._k_gyro) * q_om
+            self.updates["gyro"] += 1
+        th = self.s[3]
+        c, s = math.cos(th), math.sin(th)
+        a = np.eye(4)
+        a[0, 3] = -v * s * dt_s
+        a[1, 3] = v * c * dt_s
+        g = np.zeros((4, 3))
+        g[0, 0] = c * dt_s
+        g[1, 0] = s * dt_s
+        g[2, 1] = dt_s
+        g[3, 2] = dt_s
+        q = np.diag([self._q[0], self._q[1], q_om])
+        self.s = self.s + np.array([v * c * dt_s, v * s * dt_s, vz * dt_s, om * dt_s])
+        self.s[3] = wrap_angle(self.s[3])
+        self.P = a @ self.P @ a.T + g @ q @ g.T
+        self._symmetrise()
 
     # --- updates (Eqs. 21-25, Joseph form) ------------------------------------------
     def _update(self, y: np.ndarray, h: np.ndarray, r: np.ndarray) -> None:
@@ -222,15 +173,10 @@ class StateEkf:
         events.sort()
         ei = 0
         u = np.asarray(command, dtype=float)
-        v, vz, om = float(u[0]), float(u[1]), float(u[2])
-        done = 0  # substeps predicted so far
-        while done < n_sub:
-            # predict up to the next substep with a measurement (or the end) in one run
-            stop = events[ei][0] if ei < len(events) else n_sub
+        for j in range(1, n_sub + 1):
             if moving:
-                self._predict_run(v, vz, om, dt, [gyro_at.get(i) for i in range(done + 1, stop + 1)])
-            done = stop
-            while ei < len(events) and events[ei][0] == done:
+                self.predict(u, dt, gyro_at.get(j))
+            while ei < len(events) and events[ei][0] == j:
                 _, _, kind, r = events[ei]
                 ei += 1
                 if kind == 0:
