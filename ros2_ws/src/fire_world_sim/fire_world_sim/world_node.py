@@ -98,7 +98,10 @@ class WorldNode(Node):
         self.pub_events = topics.publisher(self, topics.WORLD_EVENTS_SPEC)
         self.pub_viz = topics.publisher(self, topics.VIZ_WORLD_SPEC)
         self.pub_grid = topics.publisher(self, topics.VIZ_FIRE_GRID_SPEC)
-        self.pub_fire_type = topics.publisher(self, topics.WORLD_FIRE_TYPE_SPEC)
+        # only a fire on a landscape has fire types: other worlds do not advertise the topic
+        self.pub_fire_type = (
+            topics.publisher(self, topics.WORLD_FIRE_TYPE_SPEC) if self.world.fires.fire_type_grid() is not None else None
+        )
         self.pub_tf = topics.publisher(self, topics.TF_SPEC)
         self._marker_book = viz.MarkerBook()
         self.pub_sensors = {}
@@ -376,7 +379,7 @@ class WorldNode(Node):
             if grid is not None:
                 self.pub_grid.publish(msgs.grid_msg(grid, r.stamp_ns))
                 fire_type = self.world.fires.fire_type_grid()
-                if fire_type is not None:
+                if fire_type is not None and self.pub_fire_type is not None:
                     self.pub_fire_type.publish(msgs.fire_type_msg(grid, fire_type, r.stamp_ns))
 
     def _bundle_bytes(self, b: SensorBundleRecord) -> bytes:
