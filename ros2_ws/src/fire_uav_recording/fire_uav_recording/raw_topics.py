@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import importlib
 import re
-import threading
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
@@ -58,7 +57,6 @@ __all__ = [
 # busy cores must not overflow (at 100, a 20-UAV mission lost the /tf of ~2 steps at each hold-up)
 MIN_DEPTH = 1000
 STOP_QUIET_WALL_S = 0.1  # [s, wall] RawTopicFollower.take_queued ends once nothing came for this long
-_PASS_GAP = threading.Event()  # waited on between the drain's passes; never set
 _QUIET_POLL_WALL_S = 0.005  # [s, wall] between its passes over the subscriptions while waiting so
 
 
@@ -417,9 +415,7 @@ class RawTopicFollower:
                     last = now
             if time.monotonic() - last >= quiet_wall_s:
                 return taken, True
-            # the drain runs after the ROS context has shut down: no executor or timer is left to
-            # wake it, so it waits on the wall clock between passes (an event nobody sets)
-            _PASS_GAP.wait(_QUIET_POLL_WALL_S)
+            time.sleep(_QUIET_POLL_WALL_S)
 
     def _skip(self, topic: str, why: str) -> None:
         self._skipped.add(topic)
