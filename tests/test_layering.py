@@ -26,6 +26,8 @@ TOOLS_ROS_MODULES = {
 # ROS adapter modules besides the nodes: the spin loop, the agent's search adapter, the recording's
 # raw subscriptions, the world's message builders
 ROS_ADAPTERS = {"ros_io.py", "search_io.py", "agent_io.py", "raw_topics.py", "ros_messages.py"}
+# test support that builds and reads ROS messages for the codec tests (never imported by a node)
+ROS_TEST_SUPPORT = {"fire_uav_agent/testing/rclpy_reference.py", "fire_uav_agent/testing/msg_strategies.py"}
 ROS_MODULES = (
     "rclpy",
     "fire_uav_msgs",
@@ -59,7 +61,8 @@ def _algorithm_modules() -> list[Path]:
     out = []
     for pkg in PACKAGES:
         for path in (ROOT / "ros2_ws/src" / pkg / pkg).rglob("*.py"):
-            if not path.name.endswith("_node.py") and path.name not in ROS_ADAPTERS:
+            test_support = path.relative_to(ROOT / "ros2_ws/src" / pkg).as_posix() in ROS_TEST_SUPPORT
+            if not path.name.endswith("_node.py") and path.name not in ROS_ADAPTERS and not test_support:
                 out.append(path)
     return out
 

@@ -888,7 +888,9 @@ def test_loss_and_outages_follow_the_seeded_rule_of_the_peer_link():
             assert a.expected_peer_messages(s + 1) == want
     down = Agent(_cfg(uid=0, n=2, outages=(LinkOutage(1, 0, 0.0, 0.45),)))  # steps 0..3 stamped 0.1 .. 0.4
     assert [bool(down.expected_peer_messages(s + 1)) for s in range(6)] == [False] * 4 + [True] * 2
-    slow = Agent(_cfg(uid=0, n=2, outages=(LinkOutage(1, 0, 0.0, 0.45),), timing=sc.Timing(control_period_s=0.2)))
+    slow = Agent(
+        _cfg(uid=0, n=2, outages=(LinkOutage(1, 0, 0.0, 0.45),), timing=sc.Timing(control_period_s=0.2))
+    )
     assert [bool(slow.expected_peer_messages(s + 1)) for s in range(3)] == [False, False, True]
 
 

@@ -25,7 +25,9 @@ from builtin_interfaces.msg import Time
 from fire_uav_agent.fire_front import FrontCells
 from fire_uav_agent.incoming import peer_front, peer_perimeter
 from fire_uav_agent.outgoing import front_bytes, perimeter_bytes
-from fire_uav_agent.testing.compare import same
+from fire_uav_agent.testing import rclpy_reference as rclpy_ref
+from fire_uav_agent.testing.compare import assert_same_message, same
+from fire_uav_agent.testing.msg_strategies import f32, f64, frame_ids, i32, u8, u32
 from fire_uav_common.auth import Authenticator
 from fire_uav_common.codecs.fire_front import FIREFRONT_FIELDS, read_fire_front, write_fire_front
 from fire_uav_common.codecs.perimeter_map import (
@@ -39,36 +41,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from rclpy.serialization import deserialize_message, serialize_message
 
-
-def _reference():
-    """``rclpy_reference.py`` beside this file (the tests are no package: loaded by path)."""
-    import importlib.util
-    from pathlib import Path
-
-    spec = importlib.util.spec_from_file_location(
-        "rclpy_reference", Path(__file__).with_name("rclpy_reference.py")
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-rclpy_ref = _reference()
-
-f64 = st.floats(allow_nan=True, allow_infinity=True)
-f32 = st.floats(width=32, allow_nan=True, allow_infinity=True)
-u8, u32 = st.integers(0, 255), st.integers(0, 2**32 - 1)
-i32 = st.integers(-(2**31), 2**31 - 1)
 stamps = st.builds(Time, sec=st.integers(0, 2**31 - 1), nanosec=st.integers(0, 999_999_999))
-frame_ids = st.text(st.characters(codec="ascii", exclude_characters="\x00"), max_size=17)
+frame_id = frame_ids(17)
 f32_lists = st.lists(f32, max_size=40)
 
 
 @st.composite
 def perimeter_maps(draw) -> PerimeterMap:
     m = PerimeterMap(uav_id=draw(u8), sequence=draw(u32), fire_id=draw(i32))
-    m.header.stamp, m.header.frame_id = draw(stamps), draw(frame_ids)
+    m.header.stamp, m.header.frame_id = draw(stamps), draw(frame_id)
     m.center_x_m, m.center_y_m = draw(f64), draw(f64)
     m.outer_distance_m, m.outer_visit_time_s = draw(f32_lists), draw(f32_lists)
     m.spread_rate_mps, m.importance = draw(f32_lists), draw(f32_lists)
@@ -79,7 +60,7 @@ def perimeter_maps(draw) -> PerimeterMap:
 @st.composite
 def fire_fronts(draw) -> FireFront:
     m = FireFront(uav_id=draw(u8), sequence=draw(u32), cell_size_m=draw(f32))
-    m.header.stamp, m.header.frame_id = draw(stamps), draw(frame_ids)
+    m.header.stamp, m.header.frame_id = draw(stamps), draw(frame_id)
     m.x_m, m.y_m = draw(f32_lists), draw(f32_lists)
     m.state = draw(st.binary(max_size=41))
     m.observed_s = draw(st.lists(f64, max_size=40))
@@ -89,23 +70,6 @@ def fire_fronts(draw) -> FireFront:
 
 def _arr(xs) -> np.ndarray:
     return np.asarray(xs, dtype=float)
-
-
-def _same_msg(a, b, path: str = "msg") -> None:
-    """Assert two ROS messages equal slot for slot (floats by repr, so NaN equals NaN)."""
-    if hasattr(a, "get_fields_and_field_types"):
-        assert type(a) is type(b), path
-        for name in a.get_fields_and_field_types():
-            _same_msg(getattr(a, name), getattr(b, name), f"{path}.{name}")
-    elif isinstance(a, (list, tuple, bytes, np.ndarray)) or hasattr(a, "typecode"):
-        a, b = list(a), list(b)
-        assert len(a) == len(b), path
-        for k, (x, y) in enumerate(zip(a, b, strict=True)):
-            _same_msg(x, y, f"{path}[{k}]")
-    elif isinstance(a, (float, np.floating)) or isinstance(b, (float, np.floating)):
-        assert repr(float(a)) == repr(float(b)), f"{path}: {a!r} != {b!r}"
-    else:
-        assert a == b, f"{path}: {a!r} != {b!r}"
 
 
 def _is_message(data: bytes, m) -> None:
@@ -118,7 +82,7 @@ def _is_message(data: bytes, m) -> None:
     from fire_uav_recording.typestore import fleet_typestore  # the bag reader the report uses
 
     assert fleet_typestore().deserialize_cdr(data, f"fire_uav_msgs/msg/{type(m).__name__}") is not None
-    _same_msg(deserialize_message(data, type(m)), deserialize_message(ref, type(m)))
+    assert_same_message(deserialize_message(data, type(m)), deserialize_message(ref, type(m)))
 
 
 def test_the_message_definitions_are_the_ones_the_codecs_read():

@@ -16,7 +16,9 @@ import pytest
 pytest.importorskip("fire_uav_msgs.msg")
 
 from builtin_interfaces.msg import Time
+from fire_uav_agent.testing import rclpy_reference as rclpy_ref
 from fire_uav_agent.testing.compare import same
+from fire_uav_agent.testing.msg_strategies import f32, f64, frame_ids, i32, stamps, u8, u32
 from fire_uav_common.codecs.sensor_bundle import SAMPLE_FIELDS, SENSORBUNDLE_FIELDS, read_sensor_bundle
 from fire_uav_msgs.msg import FireCells, FireDetection, GpsFix, SensorBundle
 from hypothesis import given, settings
@@ -24,29 +26,7 @@ from hypothesis import strategies as st
 from rclpy.serialization import deserialize_message, serialize_message
 from sensor_msgs.msg import Imu, Range
 
-
-def _reference():
-    """``rclpy_reference.py`` beside this file (the tests are no package: loaded by path)."""
-    import importlib.util
-    from pathlib import Path
-
-    spec = importlib.util.spec_from_file_location(
-        "rclpy_reference", Path(__file__).with_name("rclpy_reference.py")
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-rclpy_ref = _reference()
-
-f64 = st.floats(allow_nan=True, allow_infinity=True)
-f32 = st.floats(width=32, allow_nan=True, allow_infinity=True)
-u8, u32 = st.integers(0, 255), st.integers(0, 2**32 - 1)
-i32 = st.integers(-(2**31), 2**31 - 1)
-stamps = st.builds(Time, sec=i32, nanosec=st.integers(0, 999_999_999))
-frames = st.text(st.characters(codec="ascii", exclude_characters="\x00"), max_size=9)
+frames = frame_ids(9)
 
 
 def _header(draw, h) -> None:

@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import pytest
 
 pytest.importorskip("fire_uav_msgs.msg")
 
 from builtin_interfaces.msg import Time
-from fire_uav_agent.testing.compare import same
+from fire_uav_agent.testing import rclpy_reference as rclpy_ref
+from fire_uav_agent.testing.compare import assert_same_message, same
+from fire_uav_agent.testing.msg_strategies import f32, f64, frame_ids, i32, stamps, u8, u16, u32
 from fire_uav_common.auth import Authenticator
 from fire_uav_common.codecs.uav_state import FIREESTIMATE_FIELDS, UAVSTATE_FIELDS, read_uav_state
 from fire_uav_msgs.msg import FireEstimate, UavState
@@ -26,34 +27,11 @@ from hypothesis import strategies as st
 from rclpy.serialization import deserialize_message, serialize_message
 
 
-def _reference():
-    """``rclpy_reference.py`` beside this file (the tests are no package: loaded by path)."""
-    import importlib.util
-    from pathlib import Path
-
-    spec = importlib.util.spec_from_file_location(
-        "rclpy_reference", Path(__file__).with_name("rclpy_reference.py")
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-rclpy_ref = _reference()
-
-f64 = st.floats(allow_nan=True, allow_infinity=True)
-f32 = st.floats(width=32, allow_nan=True, allow_infinity=True)
-u8, u16, u32 = st.integers(0, 255), st.integers(0, 65535), st.integers(0, 2**32 - 1)
-i32 = st.integers(-(2**31), 2**31 - 1)
-stamps = st.builds(Time, sec=i32, nanosec=st.integers(0, 999_999_999))
-
-
 @st.composite
 def uav_states(draw) -> UavState:
     m = UavState(uav_id=draw(u8), sequence=draw(u32), step=draw(u32), objective=draw(u8))
     m.header.stamp = draw(stamps)
-    m.header.frame_id = draw(st.text(st.characters(codec="ascii", exclude_characters="\x00"), max_size=17))
+    m.header.frame_id = draw(frame_ids(17))
     m.x_m, m.y_m, m.z_m, m.yaw_rad = (draw(f64) for _ in range(4))
     m.covariance = [draw(f64) for _ in range(16)]
     m.target_fire_id, m.water_kg = draw(i32), draw(f32)
@@ -310,23 +288,6 @@ def _write(m: UavState) -> bytes:
     )  # fmt: skip
 
 
-def _same_msg(a, b, path: str = "msg") -> None:
-    """Assert two ROS messages equal slot for slot (floats by repr, so NaN equals NaN)."""
-    if hasattr(a, "get_fields_and_field_types"):
-        assert type(a) is type(b), path
-        for name in a.get_fields_and_field_types():
-            _same_msg(getattr(a, name), getattr(b, name), f"{path}.{name}")
-    elif isinstance(a, (list, tuple, bytes, np.ndarray)) or hasattr(a, "typecode"):
-        a, b = list(a), list(b)
-        assert len(a) == len(b), path
-        for k, (x, y) in enumerate(zip(a, b, strict=True)):
-            _same_msg(x, y, f"{path}[{k}]")
-    elif isinstance(a, (float, np.floating)) or isinstance(b, (float, np.floating)):
-        assert repr(float(a)) == repr(float(b)), f"{path}: {a!r} != {b!r}"
-    else:
-        assert a == b, f"{path}: {a!r} != {b!r}"
-
-
 @settings(max_examples=150, deadline=None)
 @given(written_states())
 def test_the_writer_writes_the_message(m):
@@ -334,7 +295,7 @@ def test_the_writer_writes_the_message(m):
     bytes are whatever the buffer held: they are not compared; the writer's are zeros)."""
     data = _write(m)
     assert len(data) == len(serialize_message(m))
-    _same_msg(deserialize_message(data, UavState), m)
+    assert_same_message(deserialize_message(data, UavState), m)
 
 
 def test_the_agents_state_bytes_are_the_message_the_node_built() -> None:
@@ -356,7 +317,7 @@ def test_the_agents_state_bytes_are_the_message_the_node_built() -> None:
             m.sent_per_topic, m.final = sent, False
             data = state_bytes(out, b.stamp_ns, sent, False)
             assert len(data) == len(serialize_message(m))
-            _same_msg(deserialize_message(data, UavState), m)
+            assert_same_message(deserialize_message(data, UavState), m)
             checked += 1
             fires += len(out.fires)
     assert checked > 300 and fires > 0

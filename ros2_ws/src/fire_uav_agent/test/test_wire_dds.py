@@ -15,6 +15,7 @@ import pytest
 
 rclpy = pytest.importorskip("rclpy")
 
+from fire_uav_agent.testing import rclpy_reference as rclpy_ref  # noqa: E402
 from fire_uav_agent.testing.compare import same  # noqa: E402
 from fire_uav_common import topics  # noqa: E402
 from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle  # noqa: E402
@@ -30,23 +31,6 @@ from fire_uav_msgs.msg import (  # noqa: E402
 )
 from rclpy.serialization import deserialize_message, serialize_message  # noqa: E402
 from sensor_msgs.msg import Imu, Range  # noqa: E402
-
-
-def _reference():
-    """``rclpy_reference.py`` beside this file (the tests are no package: loaded by path)."""
-    import importlib.util
-    from pathlib import Path
-
-    spec = importlib.util.spec_from_file_location(
-        "rclpy_reference", Path(__file__).with_name("rclpy_reference.py")
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-rclpy_ref = _reference()
 
 
 def _bundle(k: int) -> SensorBundle:

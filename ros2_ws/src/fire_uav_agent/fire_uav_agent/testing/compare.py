@@ -19,3 +19,21 @@ def same(a, b) -> bool:
     if hasattr(a, "__dataclass_fields__"):
         return all(same(getattr(a, f), getattr(b, f)) for f in a.__dataclass_fields__)
     return repr(a) == repr(b)
+
+
+def assert_same_message(a, b, path: str = "msg") -> None:
+    """Assert two ROS messages equal slot for slot (duck-typed by ``get_fields_and_field_types``, so
+    no ROS import here); floats by repr, so NaN equals NaN. ``path`` names the slot that differs."""
+    if hasattr(a, "get_fields_and_field_types"):
+        assert type(a) is type(b), path
+        for name in a.get_fields_and_field_types():
+            assert_same_message(getattr(a, name), getattr(b, name), f"{path}.{name}")
+    elif isinstance(a, (list, tuple, bytes, np.ndarray)) or hasattr(a, "typecode"):
+        a, b = list(a), list(b)
+        assert len(a) == len(b), path
+        for k, (x, y) in enumerate(zip(a, b, strict=True)):
+            assert_same_message(x, y, f"{path}[{k}]")
+    elif isinstance(a, (float, np.floating)) or isinstance(b, (float, np.floating)):
+        assert repr(float(a)) == repr(float(b)), f"{path}: {a!r} != {b!r}"
+    else:
+        assert a == b, f"{path}: {a!r} != {b!r}"

@@ -9,14 +9,15 @@ import math
 
 import numpy as np
 from builtin_interfaces.msg import Time as TimeMsg
+from fire_uav_common.constants import FireStatus
+from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
+from fire_uav_msgs.msg import FireEstimate, FireFront, PerimeterMap, SensorBundle, UavState
+
 from fire_uav_agent.agent_types import Bundle, PeerPerimeter, StepOutput
 from fire_uav_agent.estimation import Samples
 from fire_uav_agent.fire_front import FrontCells
 from fire_uav_agent.front_consensus import PeerFront
 from fire_uav_agent.peer_link import FireEntry, PeerFires, PeerState
-from fire_uav_common.constants import FireStatus
-from fire_uav_common.stamps import s_to_ns, stamp_to_ns, stamp_to_s, stamp_to_step, to_time_msg
-from fire_uav_msgs.msg import FireEstimate, FireFront, PerimeterMap, SensorBundle, UavState
 
 __all__ = [
     "add_fires",
