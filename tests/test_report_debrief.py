@@ -37,7 +37,9 @@ SCENARIO = {
 }
 
 
-def _ev(t, type_, uav=-1, peer=-1, fire=-1, value=0.0, detail="", x=NAN, y=NAN, source="world") -> RecordedEvent:
+def _ev(
+    t, type_, uav=-1, peer=-1, fire=-1, value=0.0, detail="", x=NAN, y=NAN, source="world"
+) -> RecordedEvent:
     return RecordedEvent(t, type_, uav, peer, fire, x, y, value, detail, source)
 
 
@@ -208,6 +210,22 @@ def test_fault_texts_of_the_runner_and_the_run_directory(tmp_path):
         Fault("outage", 40.0, 3, 2, 45.5),
     ]
     assert run_faults(tmp_path / "elsewhere" / "bag") == []  # a bag outside a run directory
+    # a run with the runner's records reads them, not the texts (which here say something else)
+    records = [
+        {"kind": "freeze", "uav_id": 1, "t_s": 5.0, "applied": True},
+        {"kind": "resume", "uav_id": 1, "t_s": 6.5, "applied": True},
+        {"kind": "stall", "uav_id": 3, "t_s": 7.0, "applied": True, "wall_ms": 800.0},
+        {"kind": "kill", "uav_id": 4, "t_s": 30.0, "applied": False},
+        {"kind": "outage", "from": 0, "to": 1, "start_s": 10.0, "end_s": 30.0},
+        {"kind": "kill"},  # another version's record: skipped
+    ]
+    (run / "summary.json").write_text(json.dumps({"faults_injected": texts[:1], "faults": records}))
+    assert run_faults(run / "bag") == [
+        Fault("freeze", 5.0, 1, end_s=6.5),
+        Fault("stall", 7.0, 3),
+        Fault("outage", 10.0, 0, 1, 30.0),
+        Fault("outage", 40.0, 3, 2, 45.5),
+    ]
     # the loss rate: the runner's --loss from the agents' parameters, else the scenario's
     from fire_report.report import loss_probability
 

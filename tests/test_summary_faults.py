@@ -23,6 +23,22 @@ def test_outages_that_began_are_listed_after_the_signals() -> None:
         "outage 2>0 from 50 s to 60 s (link dropped by the agents)",
     ]  # the outage at 200 s never began: the mission ended at 100 s
     assert "outage 0>1 from 3 s to 9 s" in table(d)
+    assert d["faults"] == [
+        {"kind": "outage", "from": 0, "to": 1, "start_s": 3.0, "end_s": 9.0},
+        {"kind": "outage", "from": 2, "to": 0, "start_s": 50.0, "end_s": 60.0},
+    ]  # the kill above was appended as text only: the records are the runner's own
+
+
+def test_the_signal_plan_carries_each_faults_own_time_and_kind() -> None:
+    import signal
+
+    from fire_mission.runner import _SIGNAL_KIND, _parse_freeze, _parse_kill, signal_plan
+
+    args = argparse.Namespace(kill=[_parse_kill("2@20")], freeze=[_parse_freeze("1@5:6.5")])
+    plan = signal_plan(args, 0.1)
+    got = [(_SIGNAL_KIND[sig], uav, t) for _, _, _, uav, sig, t in plan]
+    assert got == [("freeze", 1, 5.0), ("resume", 1, 6.5), ("kill", 2, 20.0)]
+    assert {signal.SIGKILL, signal.SIGSTOP, signal.SIGCONT} == set(_SIGNAL_KIND)
 
 
 def test_the_command_line_outages_replace_the_scenarios() -> None:

@@ -97,8 +97,9 @@ def offline_windows(args: argparse.Namespace) -> tuple:
     return tuple(sorted(ws, key=lambda w: (w.start_s, w.uav_id, w.end_s)))
 
 
-def signal_plan(args: argparse.Namespace, period_s: float) -> list[tuple[float, int, str, int, int]]:
-    """When the supervisor delivers each fault's signal: (clock [s], order, text, uav, signal).
+def signal_plan(args: argparse.Namespace, period_s: float) -> list[tuple[float, int, str, int, int, float]]:
+    """When the supervisor delivers each fault's signal: (clock [s], order, text, uav, signal, the
+    fault's own mission time as given [s]).
 
     The world and the agents take agent K out of the lockstep waits from the first step of its
     window (step S1), whatever the signal does; the signal comes when ``/clock`` shows that the
@@ -119,6 +120,7 @@ def signal_plan(args: argparse.Namespace, period_s: float) -> list[tuple[float, 
                 f"kill uav {k.uav} at {k.t_s:g} s (offline from step {s1})",
                 k.uav,
                 signal.SIGKILL,
+                k.t_s,
             )
         )
     for f in args.freeze:
@@ -131,6 +133,7 @@ def signal_plan(args: argparse.Namespace, period_s: float) -> list[tuple[float, 
                 f"freeze uav {f.uav} at {f.start_s:g} s (offline steps {s1}-{s2 - 1})",
                 f.uav,
                 signal.SIGSTOP,
+                f.start_s,
             )
         )
         plan.append(
@@ -140,9 +143,14 @@ def signal_plan(args: argparse.Namespace, period_s: float) -> list[tuple[float, 
                 f"resume uav {f.uav} at {f.end_s:g} s",
                 f.uav,
                 signal.SIGCONT,
+                f.end_s,
             )
         )
     return sorted(plan, key=lambda p: (p[0], p[1], p[3]))
+
+
+#: the supervisor's signals and the fault each stands for (``summary.json`` ``faults``)
+_SIGNAL_KIND = {signal.SIGKILL: "kill", signal.SIGSTOP: "freeze", signal.SIGCONT: "resume"}
 
 
 def _parse_outage(text: str) -> LinkOutage:
@@ -180,7 +188,10 @@ def _probability(text: str) -> float:
 EXAMPLES = [
     ("scripts/run_mission", "the default mission (FF two fires, 5 UAVs) + report"),
     ("scripts/run_mission tiny_test --uavs 3 --kill 2@10 --loss 0.2", "UAV 2 crashes mid-mission, 20 % loss"),
-    ("scripts/run_mission tiny_test --freeze 1@5:6.5 --outage '0>1@3:9'", "quote A>B: the shell reads > itself"),
+    (
+        "scripts/run_mission tiny_test --freeze 1@5:6.5 --outage '0>1@3:9'",
+        "quote A>B: the shell reads > itself",
+    ),
     ("scripts/run_mission grass_running --uavs 0 --max-duration 60", "the fire alone (suppression baseline)"),
 ]
 
@@ -514,7 +525,7 @@ class Supervisor:
         self.first_step = 0
         self.cpu_at_first_step: dict[str, float] = {}
         self.steps_at_sample: dict[str, int] = {}  # sup.steps when each process's CPU was last sampled
-        self.pending = signal_plan(args, control_period_s)  # (clock, order, text, uav, signal)
+        self.pending = signal_plan(args, control_period_s)  # (clock, order, text, uav, signal, t_s)
         # the water on board where each fault's window starts (truth of that step: deterministic)
         self.water_watch = sorted(
             [(k.t_s, f"kill uav {k.uav} at {k.t_s:g} s", k.uav) for k in args.kill]
@@ -533,16 +544,23 @@ class Supervisor:
         self.t_s = stamp_to_s(msg.clock)
         self.summary.mission_time_s = self.t_s
         while self.pending and self.pending[0][0] <= self.t_s + 1e-9:
-            _, _, what, uav, sig = self.pending.pop(0)
+            _, _, what, uav, sig, fault_t = self.pending.pop(0)
             name = f"agent_{uav}"
+            kind = _SIGNAL_KIND[sig]
             if name in self.procs.children and self.procs.children[name].alive():
                 self.procs.signal(name, sig)
                 self.summary.faults.append(what)
+                self.summary.fault_records.append(
+                    {"kind": kind, "uav_id": uav, "t_s": fault_t, "applied": True}
+                )
                 self.node.get_logger().warn(
                     f"fault injected: {what} (signal at mission time {self.t_s:.2f} s)"
                 )
             else:
                 self.summary.faults.append(f"{what}: not applied, agent not running")
+                self.summary.fault_records.append(
+                    {"kind": kind, "uav_id": uav, "t_s": fault_t, "applied": False}
+                )
         while self.stalls and self.stalls[0][0] <= self.t_s + 1e-9:
             t, uav, ms = self.stalls.pop(0)
             name = f"agent_{uav}"
@@ -550,6 +568,9 @@ class Supervisor:
                 self.procs.signal(name, signal.SIGSTOP)
                 self.resume_at.append((time.monotonic() + ms / 1000.0, name))
                 self.summary.faults.append(f"stall uav {uav} at {t:g} s for {ms:g} ms wall")
+                self.summary.fault_records.append(
+                    {"kind": "stall", "uav_id": uav, "t_s": t, "applied": True, "wall_ms": ms}
+                )
 
     def resume_stalled(self) -> None:
         """SIGCONT the agents whose stall has lasted its wall time (called from the supervise loop)."""
@@ -594,7 +615,9 @@ class Supervisor:
     def _on_event(self, msg) -> None:
         t = stamp_to_s(msg.header.stamp)
         self.summary.add(
-            LiveEvent(t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail, msg.x_m, msg.y_m)
+            LiveEvent(
+                t, msg.type, msg.uav_id, msg.peer_id, msg.fire_id, msg.value, msg.detail, msg.x_m, msg.y_m
+            )
         )
         if msg.type == EventType.MISSION_COMPLETE:
             self.done = True
@@ -735,8 +758,14 @@ def run(args: argparse.Namespace) -> int:
                         "fire_uav_recording",
                         "foxglove_bridge",
                         # the scenario: on a landscape the bridge also serves the Map panel's view
-                        ["-p", f"port:={args.foxglove_port}", "-p", f"scenario_file:={scenario_path}",
-                         "-p", f"uav_count:={uav_count}"],  # fmt: skip
+                        [
+                            "-p",
+                            f"port:={args.foxglove_port}",
+                            "-p",
+                            f"scenario_file:={scenario_path}",
+                            "-p",
+                            f"uav_count:={uav_count}",
+                        ],  # fmt: skip
                     ),
                 )
                 _wait_for_node(sup, "foxglove_bridge", 20.0, procs)

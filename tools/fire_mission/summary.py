@@ -58,6 +58,9 @@ class LiveSummary:
     complete_detail: str | None = None
     complete_success: bool | None = None
     faults: list[str] = field(default_factory=list)  # what the supervisor did (signals), as it did it
+    # the same signals as records for readers (the report): kind (kill, freeze, resume, stall), uav_id,
+    # t_s (the fault's mission time as given), applied (False: the agent was no longer running)
+    fault_records: list[dict] = field(default_factory=list)
     # the link outages the agents apply themselves (src, dst, start [s], end [s]): scheduled, no signal
     outages: list[tuple[int, int, float, float]] = field(default_factory=list)
     last_state_t: dict[int, float] = field(default_factory=dict)  # uav -> stamp of its newest UavState
@@ -204,9 +207,22 @@ class LiveSummary:
     def faults_injected(self) -> list[str]:
         """Every fault of the mission: the supervisor's signals as applied, then each link outage
         that began before the mission ended (the agents drop the link themselves)."""
-        applied = [o for o in sorted(self.outages, key=lambda o: (o[2], o[0], o[1])) if o[2] < self.mission_time_s]
+        applied = [
+            o for o in sorted(self.outages, key=lambda o: (o[2], o[0], o[1])) if o[2] < self.mission_time_s
+        ]
         return self.faults + [
-            f"outage {a}>{b} from {t0:g} s to {t1:g} s (link dropped by the agents)" for a, b, t0, t1 in applied
+            f"outage {a}>{b} from {t0:g} s to {t1:g} s (link dropped by the agents)"
+            for a, b, t0, t1 in applied
+        ]
+
+    def fault_list(self) -> list[dict]:
+        """:meth:`faults_injected` as records: the signals, then each link outage that began
+        (kind "outage", ``from``/``to`` UAV ids, ``start_s``/``end_s``)."""
+        applied = [
+            o for o in sorted(self.outages, key=lambda o: (o[2], o[0], o[1])) if o[2] < self.mission_time_s
+        ]
+        return [dict(r) for r in self.fault_records] + [
+            {"kind": "outage", "from": a, "to": b, "start_s": t0, "end_s": t1} for a, b, t0, t1 in applied
         ]
 
     def drop_intervals_s(self) -> list[float]:
@@ -266,6 +282,7 @@ class LiveSummary:
             "packets_rejected": sum(p[2] for p in self.packets.values()),
             **self.suppression(),
             "faults_injected": self.faults_injected(),
+            "faults": self.fault_list(),
             "water_at_fault_kg": self.water_at_fault,
             "last_state_t_s": {str(k): round(v, 3) for k, v in sorted(self.last_state_t.items())},
             "alive_view": {str(k): v for k, v in sorted(self.alive_view.items())},

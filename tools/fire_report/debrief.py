@@ -3,8 +3,9 @@ the fleet did about them (pure Python over a :class:`~fire_report.data.RecordedM
 no matplotlib, no HTML: ``fire_report.page`` renders what this returns).
 
 The faults a run injected from the command line are not in the bag: the runner writes them beside
-it (``summary.json``'s ``faults_injected`` for kills, freezes and stalls; the agents' parameter
-files in ``params/`` for link outages). :func:`run_faults` reads them when the bag sits in a run
+it (``summary.json``'s ``faults`` records for kills, freezes and stalls, or in a run written before
+the records its ``faults_injected`` texts; the agents' parameter files in ``params/`` for link
+outages). :func:`run_faults` reads them when the bag sits in a run
 directory; scenario outages come from the scenario stored in the bag. Times are sim seconds.
 """
 
@@ -67,6 +68,31 @@ _KILL = re.compile(r"kill uav (\d+) at ([0-9.eE+-]+) s", re.I)
 _FREEZE = re.compile(r"freeze uav (\d+) at ([0-9.eE+-]+) s", re.I)
 _RESUME = re.compile(r"resume uav (\d+) at ([0-9.eE+-]+) s", re.I)
 _STALL = re.compile(r"stall uav (\d+) at ([0-9.eE+-]+) s", re.I)
+
+
+def fault_records(records: list[dict]) -> list[Fault]:
+    """Kills, freezes (with their resume) and stalls from ``summary.json``'s ``faults`` records (the
+    runner's); a fault not applied (the agent was no longer running) is left out, and so are the
+    outage records (read from the agents' parameters, :func:`run_faults`). A record that is not one
+    of these (another version's) is skipped."""
+    out: list[Fault] = []
+    resumes: dict[int, float] = {}
+    rows = []
+    for r in records:
+        try:
+            if r.get("applied", True):
+                rows.append((str(r["kind"]), int(r["uav_id"]), float(r["t_s"])))
+        except (AttributeError, KeyError, TypeError, ValueError):
+            continue
+    for kind, uav, t in rows:
+        if kind == "resume":
+            resumes[uav] = t
+    for kind, uav, t in rows:
+        if kind in ("kill", "stall"):
+            out.append(Fault(kind, t, uav))
+        elif kind == "freeze":
+            out.append(Fault("freeze", t, uav, end_s=resumes.get(uav)))
+    return out
 
 
 def parse_fault_texts(texts: list[str]) -> list[Fault]:
@@ -132,7 +158,10 @@ def run_faults(bag_path: str | Path) -> list[Fault]:
     faults: list[Fault] = []
     try:
         summary = json.loads((run / "summary.json").read_text(encoding="utf8"))
-        faults += parse_fault_texts([str(t) for t in summary.get("faults_injected") or []])
+        if isinstance(summary.get("faults"), list):
+            faults += fault_records(summary["faults"])
+        else:  # a run directory written before the records: the texts
+            faults += parse_fault_texts([str(t) for t in summary.get("faults_injected") or []])
     except (OSError, ValueError, AttributeError):
         pass
     p = agent_params(bag_path)
