@@ -271,8 +271,8 @@ class PerimeterMonitor:
         centre the farthest of the fast bins is where it has run fastest, i.e. its head.
 
         Not the paper's (PM has no suppressors to aim). The single bin of largest Eq. 1 ROS
-        was a poor head on monitor_grass (the suppressors aim here; bench_perimeter's "front to
-        tip"): near the head the ROS is flat over 10-20 bins, so its argmax wanders along the
+        was a poor head on monitor_grass (bench_perimeter's "front to tip", against the world's
+        burning cells): near the head the ROS is flat over 10-20 bins, so its argmax wanders along the
         head by tens of metres, and a bin whose previous outer cell was an inner crossing of its
         ray (a notch cut by a drop, or a ray that grazes a flank) gets a spread rate of 5-7 m/s
         against the head's true 3.8 m/s for as long as that baseline lasts, and won the argmax
