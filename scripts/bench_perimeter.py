@@ -424,7 +424,7 @@ def bounds(setting: str, dt_s: float = 1.0) -> dict:
     }
 
 
-def describe(setting: str, hours: tuple[float, ...] = (1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)) -> list[str]:
+def describe(setting: str, hours: tuple[float, ...] = (1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)) -> list[dict]:
     """What a synthetic fire does, from its arrival times (no flight): at each hour its size, the
     perimeter (hull of the true fire's squares) and the lap it takes at the UAV's speed, the
     spread rate per angle about the ignition point over the next 10 min (head = max, and the
@@ -433,7 +433,7 @@ def describe(setting: str, hours: tuple[float, ...] = (1.0, 1.5, 2.0, 2.5, 3.0, 
     fire = s.fire()
     cell, speed, _ = _cell_speed_sensor(s, fire)
     c = fire.ignition_xy_m
-    lines = []
+    rows = []
     for h in hours:
         t = h * 3600.0
         fc = _fire_cells(fire, t)
@@ -444,13 +444,30 @@ def describe(setting: str, hours: tuple[float, ...] = (1.0, 1.5, 2.0, 2.5, 3.0, 
         x, y = hr * np.cos(th), hr * np.sin(th)
         perim = float(np.sum(np.hypot(np.diff(np.r_[x, x[0]]), np.diff(np.r_[y, y[0]]))))
         lap_s = perim / speed
-        med = float(np.median(ros))
-        lines.append(
-            f"   {h:3.1f} h: {len(fc):5d} cells, perimeter {perim / cell:4.0f} cells, lap {lap_s / 60:4.1f} min,"
-            f" head {ros.max() * 60:5.2f} m/min, median {med * 60:4.2f} m/min"
-            f" (x{ros.max() / med if med > 0 else math.inf:4.1f}), head runs {ros.max() * lap_s / cell:5.2f} cells a lap"
+        rows.append(
+            dict(
+                hours=h,
+                cells=len(fc),
+                perimeter_cells=perim / cell,
+                lap_s=lap_s,
+                head_mps=float(ros.max()),
+                median_mps=float(np.median(ros)),
+                head_cells_per_lap=float(ros.max()) * lap_s / cell,
+            )
         )
-    return lines
+    return rows
+
+
+def describe_lines(rows: list[dict]) -> list[str]:
+    out = []
+    for r in rows:
+        x = r["head_mps"] / r["median_mps"] if r["median_mps"] > 0 else math.inf
+        out.append(
+            f"   {r['hours']:3.1f} h: {r['cells']:5d} cells, perimeter {r['perimeter_cells']:4.0f} cells,"
+            f" lap {r['lap_s'] / 60:4.1f} min, head {r['head_mps'] * 60:5.2f} m/min, median"
+            f" {r['median_mps'] * 60:4.2f} m/min (x{x:4.1f}), head runs {r['head_cells_per_lap']:5.2f} cells a lap"
+        )
+    return out
 
 
 def table(setting: str, rows: dict, seeds: int) -> None:
@@ -488,7 +505,7 @@ def main() -> None:
             print(
                 f"{f} (the true fire; {CELL_M:g} m cells, {SPEED_MPS:g} m/s; spread per angle about the ignition point)"
             )
-            print("\n".join(describe(f)))
+            print("\n".join(describe_lines(describe(f))))
         return
     if args.quick:
         g = SETTINGS["grass_wind"]
