@@ -27,9 +27,10 @@ evenly spaced circling monitors, and a lower bound for any single monitor), and 
 as it flies, with suppression (``run_suppressed``: the error against the true fire's hull and
 the reported fastest front against the burning tip).
 
-Run: .venv/bin/python scripts/bench_perimeter.py [--quick] [--seeds N] [--fires NAME ...]
+Run: .venv/bin/python scripts/bench_perimeter.py [--quick] [--seeds N] [--fires NAME ...] [--describe]
 (quick: the world's monitor_grass, and grass_wind for its first 2 min; a paper-regime
-synthetic flight of 3 h takes about a minute of CPU)
+synthetic flight of 3 h takes about a minute of CPU; --describe: what the synthetic fires do, no
+flight, seconds)
 """
 
 from __future__ import annotations
@@ -423,6 +424,52 @@ def bounds(setting: str, dt_s: float = 1.0) -> dict:
     }
 
 
+def describe(setting: str, hours: tuple[float, ...] = (1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)) -> list[dict]:
+    """What a synthetic fire does, from its arrival times (no flight): at each hour its size, the
+    perimeter (hull of the true fire's squares) and the lap it takes at the UAV's speed, the
+    spread rate per angle about the ignition point over the next 10 min (head = max, and the
+    median), and how far the head runs in one lap [cells] (PM's regime: long laps, uneven spread)."""
+    s = SETTINGS[setting]
+    fire = s.fire()
+    cell, speed, _ = _cell_speed_sensor(s, fire)
+    c = fire.ignition_xy_m
+    rows = []
+    for h in hours:
+        t = h * 3600.0
+        fc = _fire_cells(fire, t)
+        ext = np.nan_to_num(true_extent(fc, cell, c))
+        ros = (np.nan_to_num(true_extent(_fire_cells(fire, t + 600.0), cell, c)) - ext) / 600.0
+        hr = np.nan_to_num(hull_extent(fc, cell, c))
+        th = (np.arange(hr.size) + 0.5) * (2 * np.pi / hr.size)
+        x, y = hr * np.cos(th), hr * np.sin(th)
+        perim = float(np.sum(np.hypot(np.diff(np.r_[x, x[0]]), np.diff(np.r_[y, y[0]]))))
+        lap_s = perim / speed
+        rows.append(
+            dict(
+                hours=h,
+                cells=len(fc),
+                perimeter_cells=perim / cell,
+                lap_s=lap_s,
+                head_mps=float(ros.max()),
+                median_mps=float(np.median(ros)),
+                head_cells_per_lap=float(ros.max()) * lap_s / cell,
+            )
+        )
+    return rows
+
+
+def describe_lines(rows: list[dict]) -> list[str]:
+    out = []
+    for r in rows:
+        x = r["head_mps"] / r["median_mps"] if r["median_mps"] > 0 else math.inf
+        out.append(
+            f"   {r['hours']:3.1f} h: {r['cells']:5d} cells, perimeter {r['perimeter_cells']:4.0f} cells,"
+            f" lap {r['lap_s'] / 60:4.1f} min, head {r['head_mps'] * 60:5.2f} m/min, median"
+            f" {r['median_mps'] * 60:4.2f} m/min (x{x:4.1f}), head runs {r['head_cells_per_lap']:5.2f} cells a lap"
+        )
+    return out
+
+
 def table(setting: str, rows: dict, seeds: int) -> None:
     cell = next(iter(rows.values()))[0][2]
     print(f"\n   {setting} (cell {cell:g} m; mean over the flight of the max distance error, per seed)")
@@ -443,8 +490,23 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="monitor_grass, and grass_wind for 2 min, only")
     ap.add_argument("--fires", nargs="+", choices=list(SETTINGS), help="only these fires")
     ap.add_argument("--seeds", type=int, default=4, help="seeds per fire and monitor (default 4)")
+    ap.add_argument(
+        "--describe",
+        action="store_true",
+        help="only describe the synthetic fires (sizes, laps, spread), no flights",
+    )
     args = ap.parse_args()
     t0 = time.time()
+    if args.describe:
+        synthetic = [f for f in (args.fires or list(SETTINGS)) if not SETTINGS[f].world]
+        if not synthetic:
+            ap.error("--describe: --fires names no synthetic fire (wind-driven, fuel change)")
+        for f in synthetic:
+            print(
+                f"{f} (the true fire; {CELL_M:g} m cells, {SPEED_MPS:g} m/s; spread per angle about the ignition point)"
+            )
+            print("\n".join(describe_lines(describe(f))))
+        return
     if args.quick:
         g = SETTINGS["grass_wind"]
         SETTINGS["grass_wind"] = Setting(g.name, g.t0_s, g.t0_s + 120.0, g.every, g.center_known)

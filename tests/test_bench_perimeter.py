@@ -27,3 +27,16 @@ def bench():
 def test_sawtooth_mean_is_the_time_mean_of_the_larger(bench, floor, peak):
     u = (np.arange(200_000) + 0.5) / 200_000  # the sawtooth's phase, uniform over a period
     assert bench._sawtooth_mean(floor, peak) == pytest.approx(np.mean(np.maximum(floor, peak * u)), rel=1e-6)
+
+
+def test_the_paper_regime_fires_do_what_their_names_say(bench):
+    """PM Fig. 16: the fuel-change fire is even until its head reaches the fast fuel (about 2 h),
+    then strongly uneven with a head that runs several cells a lap; the wind-driven fire has a
+    head well ahead of its median angle from the start. From the arrival times, no flight."""
+    fc = {r["hours"]: r for r in bench.describe("fuel change", (1.0, 1.5, 3.0, 3.5))}
+    ratio = {h: r["head_mps"] / r["median_mps"] for h, r in fc.items()}
+    assert ratio[1.0] < 3.0 and ratio[1.5] < 3.0  # one fuel: mildly wind-driven
+    assert ratio[3.0] > 6.0 and ratio[3.5] > 10.0  # the head in the 4x fuel
+    assert fc[1.0]["head_cells_per_lap"] < 1.0 < 5.0 < fc[3.5]["head_cells_per_lap"]
+    for r in bench.describe("wind-driven", (1.0, 3.0)):
+        assert r["head_mps"] > 3.0 * r["median_mps"] and r["lap_s"] > 4 * 60.0  # uneven, long laps

@@ -73,6 +73,10 @@ class MonitorConfig:
     # FireMap: Eq. 1 also over at least the time the fire takes to spread this many cells
     ros_baseline_cells: float = 2.0
     ros_smooth_bins: int = 0  # circular moving average of the per-bin ROS over +-this many bins
+    # front(): the head is the farthest outer cell among the bins whose ROS, averaged over
+    # +-front_smooth_bins bins, is at least front_ros_fraction of the largest such average
+    front_smooth_bins: int = 5
+    front_ros_fraction: float = 0.8
     # Turning rule: "worst" (ours, importance.worst_angle_turn: turn when that lowers the
     # largest predicted error at any angle) or "windows" (PM Listing 3: IMP_BACK > IMP_FRONT).
     rule: str = "worst"
@@ -98,6 +102,11 @@ class MonitorConfig:
             raise ConfigError(f"rule must be 'worst' or 'windows', got {self.rule!r}")
         if self.reach_m is not None and not self.reach_m >= 0:
             raise ConfigError(f"reach_m must be >= 0 or None, got {self.reach_m}")
+        if self.front_smooth_bins < 0 or not 0 <= self.front_ros_fraction <= 1:
+            raise ConfigError(
+                "front_smooth_bins must be >= 0 and front_ros_fraction in [0, 1]; got "
+                f"{self.front_smooth_bins}, {self.front_ros_fraction}"
+            )
         if self.revisit_gap_s is not None and not self.revisit_gap_s >= 0:
             raise ConfigError(f"revisit_gap_s must be >= 0, got {self.revisit_gap_s}")
 
@@ -254,9 +263,20 @@ class PerimeterMonitor:
         return float(x), float(y)
 
     def front(self) -> tuple[float, float, float] | None:
-        """Fastest-spreading point of the on-board perimeter: ``(x_m, y_m, ros_mps)`` or None.
+        """Head of the fire on the on-board map: ``(x_m, y_m, ros_mps)`` or None.
 
-        The outer cell of the bin with the largest (smoothed, ``ros_smooth_bins``) Eq. 1 ROS.
+        Among the bins whose Eq. 1 ROS, averaged over ``front_smooth_bins`` bins either side,
+        is at least ``front_ros_fraction`` of the largest such average, the outer cell farthest
+        from the map centre; ``ros_mps`` is the largest average. On a fire spreading from the
+        centre the farthest of the fast bins is where it has run fastest, i.e. its head.
+
+        Not the paper's (PM has no suppressors to aim). The single bin of largest Eq. 1 ROS
+        was a poor head on monitor_grass (bench_perimeter's "front to tip", against the world's
+        burning cells): near the head the ROS is flat over 10-20 bins, so its argmax wanders along the
+        head by tens of metres, and a bin whose previous outer cell was an inner crossing of its
+        ray (a notch cut by a drop, or a ray that grazes a flank) gets a spread rate of 5-7 m/s
+        against the head's true 3.8 m/s for as long as that baseline lasts, and won the argmax
+        from the flank, 60-100 m from the head.
         """
         if not (self._lap.done or self.center_known):
             return None
@@ -265,12 +285,14 @@ class PerimeterMonitor:
         ok = np.isfinite(ros) & fm.known
         if not ok.any():
             return None
-        sm = smooth_circular(np.where(ok, ros, 0.0), self.config.ros_smooth_bins)
+        sm = smooth_circular(np.where(ok, ros, 0.0), self.config.front_smooth_bins)
         sm = np.where(ok, sm, -np.inf)
-        k = int(np.argmax(sm))
-        if not ros[k] > 0:
+        top = float(np.max(sm))
+        if not top > 0:
             return None
-        return float(fm.outer_x_m[k]), float(fm.outer_y_m[k]), float(ros[k])
+        fast = sm >= self.config.front_ros_fraction * top
+        k = int(np.argmax(np.where(fast, fm.outer_d_m, -np.inf)))
+        return float(fm.outer_x_m[k]), float(fm.outer_y_m[k]), top
 
     def to_summary(self) -> dict:
         """PerimeterMap fields (except header, uav_id, sequence, fire_id) as plain values."""

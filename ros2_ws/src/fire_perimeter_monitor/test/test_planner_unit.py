@@ -112,9 +112,9 @@ def test_initial_lap_about_a_known_centre_ends_after_one_turn(disc):
     hull_r = polygon_radial_extent(m.hull_m(), cx, cy, 72)
     t_last = tr.t_s[-1]
     assert np.all(hull_r > 0.05 * 6000.0 - C) and np.all(hull_r < 0.05 * t_last + 2 * C)
-    front = m.front()
-    assert front is not None and front[2] == pytest.approx(np.nanmax(ros))
-    k = int(np.nanargmax(ros))
+    front = m.front()  # uniform spread: every bin is fast, the head is the farthest outer cell
+    assert front is not None and abs(front[2] - 0.05) < C / 6000.0
+    k = int(np.nanargmax(m.fire_map.outer_d_m))
     assert front[:2] == (m.fire_map.outer_x_m[k], m.fire_map.outer_y_m[k])
 
 
@@ -237,3 +237,64 @@ def test_summary_importance_is_the_max_per_bin(disc):
     assert np.isnan(imp[np.setdiff1d(np.arange(360), b)]).all()
     assert s["center_x_m"] == disc.ignition_xy_m[0] and s["direction"] == int(m.direction)
     np.testing.assert_array_equal(s["spread_rate_mps"], m.fire_map.ros_mps().astype(np.float32))
+
+
+def _head_fire_map(m, spike_bin=None):
+    """Record on ``m``'s map an egg-shaped fire about the centre, spreading at ``4 m/s`` towards
+    45 deg and 1 m/s backwards (``v(a) = 2.5 + 1.5 cos(a - 45 deg)``), seen whole at 10 s and at
+    50 s. ``spike_bin``: at 10 s that bin's ray was seen only where it crosses a notch at 30 % of
+    its extent (an inner crossing), so its Eq. 1 rate is 1.175 v(a) there."""
+    fm = m.fire_map
+    th = fm.bin_center_rad()
+    v = 2.5 + 1.5 * np.cos(th - math.radians(45.0))
+    for t in (10.0, 50.0):
+        r = v * t
+        if t == 10.0 and spike_bin is not None:
+            r = r.copy()
+            r[spike_bin] *= 0.3
+        fm.record(fm.center_x_m + r * np.cos(th), fm.center_y_m + r * np.sin(th), t)
+    return v
+
+
+def test_front_is_the_head_not_a_flank_bin_with_a_spread_rate_spike():
+    """The head of the fire is at 45 deg, 200 m out at 50 s. A flank bin at 15 deg whose earlier
+    sighting was an inner crossing has an Eq. 1 rate of 4.1 m/s, above the head's true 4 m/s:
+    the single fastest bin (the old rule) is that flank, 100 m from the head; the front must be
+    within a cell of the head."""
+    m = ImportanceMonitor(
+        MonitorConfig(cell_size_m=5.0, speed_mps=50.0, center_x_m=0.0, center_y_m=0.0, ros_baseline_s=30.0)
+    )
+    _head_fire_map(m, spike_bin=15)
+    ros = m.fire_map.ros_mps()
+    assert int(np.nanargmax(ros)) == 15 and ros[15] > 4.0  # the spike outruns the head
+    front = m.front()
+    assert front is not None
+    head = (200.0 * math.cos(math.radians(45.0)), 200.0 * math.sin(math.radians(45.0)))
+    assert math.hypot(front[0] - head[0], front[1] - head[1]) <= 5.0
+    assert front[2] == pytest.approx(4.0, abs=0.1)
+
+
+def test_front_ignores_a_far_bin_that_stopped_spreading():
+    """A head put out (its bins seen again, unchanged, 40 s later) is still the farthest part
+    of the map but no longer the front: the farthest bin that still spreads is."""
+    m = ImportanceMonitor(
+        MonitorConfig(cell_size_m=5.0, speed_mps=50.0, center_x_m=0.0, center_y_m=0.0, ros_baseline_s=30.0)
+    )
+    fm = m.fire_map
+    _head_fire_map(m)
+    th = fm.bin_center_rad()
+    head = np.abs((th - math.radians(45.0) + np.pi) % (2 * np.pi) - np.pi) < math.radians(45.0)
+    r = fm.outer_d_m + np.where(head, 1e-6, 0.25 * 40.0)  # the rest creeps on at 0.25 m/s
+    fm.record(r * np.cos(th), r * np.sin(th), 90.0)
+    assert head[int(np.argmax(fm.outer_d_m))]  # the dead head is the farthest
+    front = m.front()
+    assert front is not None
+    k = int(fm.bin_of(np.array([front[0]]), np.array([front[1]]))[0])
+    assert not head[k] and fm.ros_mps()[k] == pytest.approx(0.25)
+
+
+def test_front_config_validation():
+    with pytest.raises(ValueError, match="front_ros_fraction"):
+        MonitorConfig(cell_size_m=1.0, speed_mps=1.0, front_ros_fraction=1.5)
+    with pytest.raises(ValueError, match="front_smooth_bins"):
+        MonitorConfig(cell_size_m=1.0, speed_mps=1.0, front_smooth_bins=-1)
