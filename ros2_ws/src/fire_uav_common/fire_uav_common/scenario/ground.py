@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 from pathlib import Path
 
 import numpy as np
@@ -33,7 +34,7 @@ from ..landscape import Landscape, LandscapeError, load_landscape, read_landscap
 from ..terrain import GridTerrain, Lake, Terrain
 from ..water import WaterCells, longest_straight_run
 from .fields import _Ctx
-from .types import RasterLandscape, Scenario
+from .types import RasterLandscape, Scenario, Wind
 
 __all__ = ["OPEN_WATER", "apply_landscape", "geo_summary", "landscape_of", "resolve_landscape_source", "water_lakes"]
 
@@ -120,6 +121,27 @@ def water_lakes(
     return lakes, notes
 
 
+def _gridded_winds(
+    ctx: _Ctx, winds: tuple[Wind, ...], land: RasterLandscape, landscape: Landscape
+) -> tuple[Wind, ...]:
+    """Each wind entry with a grid, its grid read, checked and resampled to the landscape once
+    (an error names the entry); a grid entry without ``speed_mps`` gets the grid's mean wind."""
+    from .wind_grid import grid_mean_wind, wind_cells
+
+    out = []
+    for i, w in enumerate(winds):
+        if w.grid is not None:
+            try:
+                cells = wind_cells(w.grid, land.source, land.window, land.cell_size_m)
+            except LandscapeError as e:
+                raise ctx.fail(f"fires.raster.wind[{i}].grid", str(e)) from None
+            if math.isnan(w.speed_mps):
+                speed, toward = grid_mean_wind(cells, landscape)
+                w = dataclasses.replace(w, speed_mps=round(speed, 6), direction_deg=round(toward, 6))
+        out.append(w)
+    return tuple(out)
+
+
 def apply_landscape(
     ctx: _Ctx, scenario: Scenario, *, terrain_given: bool, run_owner: str = "the airframe's"
 ) -> Scenario:
@@ -152,6 +174,7 @@ def apply_landscape(
         cell_size_m=cs,
         nx=cols,
         ny=rows,
+        wind=_gridded_winds(ctx, raster.wind, land, landscape),
         landscape=dataclasses.replace(land, projected_origin=(x0, y0)),
     )
     elevation = np.ascontiguousarray(landscape.elevation_m[::-1])  # row 0 south, as the raster fire
