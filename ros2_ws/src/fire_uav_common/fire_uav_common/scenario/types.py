@@ -250,9 +250,6 @@ class WindGrid:
     direction_path: str | None = None
     speed_units: str = DEFAULT_SPEED_UNITS
 
-    def describe(self) -> str:
-        return self.speed_path if self.direction_path is None else f"{self.speed_path},{self.direction_path}"
-
 
 @dataclass(frozen=True)
 class Wind:

@@ -125,7 +125,6 @@ def _read(grid: WindGrid, crs_wkt: str) -> tuple[np.ma.MaskedArray, np.ma.Masked
         for ds in datasets:
             ds.close()
     dir_path = grid.direction_path or f"{grid.speed_path} band 2"
-    spd_path = grid.speed_path if grid.direction_path is None else grid.speed_path
     sv, dv = speed.astype(float), direction.astype(float)
     bad = ~np.ma.getmaskarray(dv) & ~((np.ma.getdata(dv) >= 0.0) & (np.ma.getdata(dv) <= 360.0))
     if bad.any():
@@ -138,7 +137,7 @@ def _read(grid: WindGrid, crs_wkt: str) -> tuple[np.ma.MaskedArray, np.ma.Masked
     if bad.any():
         r, c = (int(v[0]) for v in np.nonzero(bad))
         raise WindGridError(
-            f"{spd_path}: speed {float(sv.data[r, c]):g} at row {r}, col {c} is not >= 0 ({int(bad.sum())} cells)"
+            f"{grid.speed_path}: speed {float(sv.data[r, c]):g} at row {r}, col {c} is not >= 0 ({int(bad.sum())} cells)"
         )
     return sv, dv, transform
 
