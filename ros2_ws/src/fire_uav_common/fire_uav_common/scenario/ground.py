@@ -34,9 +34,18 @@ from ..landscape import Landscape, LandscapeError, load_landscape, read_landscap
 from ..terrain import GridTerrain, Lake, Terrain
 from ..water import WaterCells, longest_straight_run
 from .fields import _Ctx
-from .types import RasterLandscape, Scenario, Wind
+from .types import RasterLandscape, Scenario, Wind, WindGrid
+from .wind_grid import WindOnLandscape, grid_mean_wind, wind_on_landscape
 
-__all__ = ["OPEN_WATER", "apply_landscape", "geo_summary", "landscape_of", "resolve_landscape_source", "water_lakes"]
+__all__ = [
+    "OPEN_WATER",
+    "apply_landscape",
+    "geo_summary",
+    "landscape_of",
+    "resolve_landscape_source",
+    "water_lakes",
+    "wind_cells",
+]
 
 OPEN_WATER = 98  # LANDFIRE FBFM13/FBFM40 code of open water
 
@@ -121,13 +130,20 @@ def water_lakes(
     return lakes, notes
 
 
+@functools.lru_cache(maxsize=8)
+def wind_cells(
+    grid: WindGrid, source: str, window: tuple[float, float, float, float] | None, cell_size_m: float | None
+) -> WindOnLandscape:
+    """A wind grid resampled to the landscape window a scenario names (:func:`.wind_grid.wind_on_landscape`),
+    read once per process. Raises WindGridError (a LandscapeError)."""
+    return wind_on_landscape(grid, _load(source, window, cell_size_m))
+
+
 def _gridded_winds(
     ctx: _Ctx, winds: tuple[Wind, ...], land: RasterLandscape, landscape: Landscape
 ) -> tuple[Wind, ...]:
     """Each wind entry with a grid, its grid read, checked and resampled to the landscape once
     (an error names the entry); a grid entry without ``speed_mps`` gets the grid's mean wind."""
-    from .wind_grid import grid_mean_wind, wind_cells
-
     out = []
     for i, w in enumerate(winds):
         if w.grid is not None:

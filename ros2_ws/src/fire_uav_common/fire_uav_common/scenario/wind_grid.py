@@ -24,7 +24,6 @@ with one line naming the file.
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -42,7 +41,6 @@ __all__ = [
     "WindOnLandscape",
     "grid_mean_wind",
     "parse_wind_grid_arg",
-    "wind_cells",
     "wind_on_landscape",
 ]
 
@@ -215,19 +213,3 @@ def grid_mean_wind(w: WindOnLandscape, land: Landscape) -> tuple[float, float]:
     u = float(np.mean(-w.speed_mps[cells] * np.sin(rad)))
     v = float(np.mean(-w.speed_mps[cells] * np.cos(rad)))
     return math.hypot(u, v), math.degrees(math.atan2(v, u)) % 360.0
-
-
-@functools.lru_cache(maxsize=8)
-def _cached(
-    grid: WindGrid, source: str, window: tuple[float, float, float, float] | None, cell: float | None
-) -> WindOnLandscape:
-    from .ground import _load
-
-    return wind_on_landscape(grid, _load(source, window, cell))
-
-
-def wind_cells(
-    grid: WindGrid, source: str, window: tuple[float, float, float, float] | None, cell: float | None
-) -> WindOnLandscape:
-    """:func:`wind_on_landscape` for the landscape window a scenario names, read once per process."""
-    return _cached(grid, source, window, cell)

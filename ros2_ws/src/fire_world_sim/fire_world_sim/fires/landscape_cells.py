@@ -56,7 +56,7 @@ class LandscapeCells:
 
     def wind_grid_cells(self, grid: WindGrid) -> tuple[np.ndarray, np.ndarray]:
         """(20-ft speed [m/s], from-direction [deg cw from north]) per cell of ``grid``, row 0 south."""
-        from fire_uav_common.scenario.wind_grid import wind_cells
+        from fire_uav_common.scenario.ground import wind_cells
 
         s = self.spec
         w = wind_cells(grid, s.source, s.window, s.cell_size_m)
