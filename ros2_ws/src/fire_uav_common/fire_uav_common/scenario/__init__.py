@@ -25,6 +25,9 @@ Extensions to docs/scenario.md (all optional, defaults keep the documented behav
   it), ``andrews2013`` (rate of spread capped at the effective wind speed) or ``none``.
 - ``fires.raster.ignitions[].start_s`` may be negative (a fire already burning when the
   mission starts); ``fires.raster.wind[0].start_s`` must then be at or before the earliest one.
+- ``fires.raster.wind[].grid`` (with a landscape): a gridded 20-ft wind, WindNinja's ASCII pair
+  ``{vel: A_vel.asc, ang: A_ang.asc, speed_units: mph}`` or a 2-band GeoTIFF ``{tif: W.tif}``
+  (:mod:`.wind_grid`); the entry's ``speed_mps`` / ``direction_deg`` are then optional.
 """
 
 from __future__ import annotations
@@ -85,6 +88,7 @@ from .types import (
     Uavs,
     Vehicle,
     Wind,
+    WindGrid,
 )
 
 __all__ = [
@@ -116,6 +120,7 @@ __all__ = [
     "Uavs",
     "Vehicle",
     "Wind",
+    "WindGrid",
     "FIRE_MODELS",
     "FUEL_MODELS",
     "PRIOR_FIRES_MODES",

@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+import math
+from pathlib import Path
 from typing import Any
 
 from .fields import _choice, _Ctx, _int, _list, _mapping, _num, _record, _str
-from .ground import resolve_landscape_source
+from .ground import _repo_root, resolve_landscape_source
 from .types import (
     CROWN_METHODS,
+    DEFAULT_SPEED_UNITS,
     FIRE_MODELS,
     FUEL_MODELS,
+    SPEED_UNITS,
     WIND_LIMITS,
     AnalyticFire,
     Fires,
@@ -20,6 +24,7 @@ from .types import (
     Raster,
     RasterLandscape,
     Wind,
+    WindGrid,
 )
 
 #: fields of ``fires.raster`` that a landscape sets (its grid) and the scenario may not repeat
@@ -37,12 +42,51 @@ def _fuel_patch(ctx: _Ctx, item: Any, pp: str) -> FuelPatch:
     return patch
 
 
+def _grid_file(ctx: _Ctx, d: dict, key: str, p: str) -> str:
+    """The absolute path of a wind grid file: relative to the scenario file, else under ``data/``."""
+    name = _str(ctx, d, key, p)
+    base = Path(ctx.file).parent if ctx.file != "<dict>" else Path.cwd()
+    for candidate in (base / name, _repo_root() / "data" / name):
+        if candidate.is_file():
+            return str(candidate.resolve())
+    raise ctx.fail(f"{p}.{key}", f"{name!r}: file not found (relative to the scenario file, or under data/)")
+
+
+def _wind_grid(ctx: _Ctx, raw: Any, p: str) -> WindGrid:
+    """``fires.raster.wind[i].grid``: WindNinja's ASCII pair ``{vel, ang}`` or a 2-band GeoTIFF ``{tif}``."""
+    d = _mapping(ctx, raw, p, {"vel", "ang", "tif", "speed_units"})
+    units = _choice(ctx, d, "speed_units", p, tuple(SPEED_UNITS), DEFAULT_SPEED_UNITS)
+    if "tif" in d:
+        if "vel" in d or "ang" in d:
+            raise ctx.fail(
+                p, "either tif (a 2-band GeoTIFF) or vel and ang (WindNinja's ASCII pair), not both"
+            )
+        return WindGrid(_grid_file(ctx, d, "tif", p), None, units)
+    if "vel" not in d and "ang" not in d:
+        raise ctx.fail(p, "needs vel and ang (WindNinja's *_vel.asc, *_ang.asc) or tif (a 2-band GeoTIFF)")
+    return WindGrid(_grid_file(ctx, d, "vel", p), _grid_file(ctx, d, "ang", p), units)
+
+
 def _winds(ctx: _Ctx, d: dict, p: str) -> list[Wind]:
-    """``fires.raster.wind`` entries, each starting after the previous one."""
+    """``fires.raster.wind`` entries, each starting after the previous one. An entry with a
+    ``grid`` may leave out ``speed_mps`` and ``direction_deg`` (both, or give both): they are
+    then the grid's mean wind, filled in by :func:`.ground.apply_landscape` (NaN until then)."""
     winds: list[Wind] = []
     for i, item in enumerate(_list(ctx, d, "wind", p)):
         wp = f"{p}.wind[{i}]"
-        w = _record(ctx, item, Wind, wp, defaults={"start_s": 0.0}, bounds={"speed_mps": {"ge": 0}})
+        wd = _mapping(ctx, item, wp, {"start_s", "speed_mps", "direction_deg", "grid"})
+        grid = _wind_grid(ctx, wd["grid"], f"{wp}.grid") if wd.get("grid") is not None else None
+        if grid is not None and ("speed_mps" in wd) != ("direction_deg" in wd):
+            raise ctx.fail(
+                wp, "with a grid give both speed_mps and direction_deg (the domain wind) or neither"
+            )
+        dflt = math.nan if grid is not None else None
+        w = Wind(
+            start_s=_num(ctx, wd, "start_s", wp, 0.0),
+            speed_mps=_num(ctx, wd, "speed_mps", wp, dflt, ge=0),
+            direction_deg=_num(ctx, wd, "direction_deg", wp, dflt),
+            grid=grid,
+        )
         if winds and not w.start_s > winds[-1].start_s:
             raise ctx.fail(
                 f"{wp}.start_s", f"must be > the previous start_s ({winds[-1].start_s:g}), got {w.start_s:g}"
@@ -98,6 +142,13 @@ def _raster(ctx: _Ctx, raw: Any) -> Raster:
         for i, item in enumerate(_list(ctx, d, "fuel_patches", p))
     )
     winds = _winds(ctx, d, p)
+    if land is None:
+        for i, w in enumerate(winds):
+            if w.grid is not None:
+                raise ctx.fail(
+                    f"{p}.wind[{i}].grid",
+                    "needs fires.raster.landscape (a wind grid is placed on it by its CRS)",
+                )
     ignitions = tuple(
         _record(ctx, item, Ignition, f"{p}.ignitions[{i}]")
         for i, item in enumerate(_list(ctx, d, "ignitions", p))

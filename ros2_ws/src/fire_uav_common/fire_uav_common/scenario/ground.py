@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 from pathlib import Path
 
 import numpy as np
@@ -33,9 +34,18 @@ from ..landscape import Landscape, LandscapeError, load_landscape, read_landscap
 from ..terrain import GridTerrain, Lake, Terrain
 from ..water import WaterCells, longest_straight_run
 from .fields import _Ctx
-from .types import RasterLandscape, Scenario
+from .types import RasterLandscape, Scenario, Wind, WindGrid
+from .wind_grid import WindOnLandscape, grid_mean_wind, wind_on_landscape
 
-__all__ = ["OPEN_WATER", "apply_landscape", "geo_summary", "landscape_of", "resolve_landscape_source", "water_lakes"]
+__all__ = [
+    "OPEN_WATER",
+    "apply_landscape",
+    "geo_summary",
+    "landscape_of",
+    "resolve_landscape_source",
+    "water_lakes",
+    "wind_cells",
+]
 
 OPEN_WATER = 98  # LANDFIRE FBFM13/FBFM40 code of open water
 
@@ -120,6 +130,34 @@ def water_lakes(
     return lakes, notes
 
 
+@functools.lru_cache(maxsize=8)
+def wind_cells(
+    grid: WindGrid, source: str, window: tuple[float, float, float, float] | None, cell_size_m: float | None
+) -> WindOnLandscape:
+    """A wind grid resampled to the landscape window a scenario names (:func:`.wind_grid.wind_on_landscape`),
+    read once per process. Raises WindGridError (a LandscapeError)."""
+    return wind_on_landscape(grid, _load(source, window, cell_size_m))
+
+
+def _gridded_winds(
+    ctx: _Ctx, winds: tuple[Wind, ...], land: RasterLandscape, landscape: Landscape
+) -> tuple[Wind, ...]:
+    """Each wind entry with a grid, its grid read, checked and resampled to the landscape once
+    (an error names the entry); a grid entry without ``speed_mps`` gets the grid's mean wind."""
+    out = []
+    for i, w in enumerate(winds):
+        if w.grid is not None:
+            try:
+                cells = wind_cells(w.grid, land.source, land.window, land.cell_size_m)
+            except LandscapeError as e:
+                raise ctx.fail(f"fires.raster.wind[{i}].grid", str(e)) from None
+            if math.isnan(w.speed_mps):
+                speed, toward = grid_mean_wind(cells, landscape)
+                w = dataclasses.replace(w, speed_mps=round(speed, 6), direction_deg=round(toward, 6))
+        out.append(w)
+    return tuple(out)
+
+
 def apply_landscape(
     ctx: _Ctx, scenario: Scenario, *, terrain_given: bool, run_owner: str = "the airframe's"
 ) -> Scenario:
@@ -152,6 +190,7 @@ def apply_landscape(
         cell_size_m=cs,
         nx=cols,
         ny=rows,
+        wind=_gridded_winds(ctx, raster.wind, land, landscape),
         landscape=dataclasses.replace(land, projected_origin=(x0, y0)),
     )
     elevation = np.ascontiguousarray(landscape.elevation_m[::-1])  # row 0 south, as the raster fire

@@ -235,13 +235,35 @@ class FuelPatch:
     fuel_model: int
 
 
+#: a wind grid's speed unit -> metres per second per unit (WindNinja's ``output_speed_units``)
+SPEED_UNITS = {"mps": 1.0, "mph": 0.44704, "kph": 1.0 / 3.6, "kts": 1852.0 / 3600.0}
+DEFAULT_SPEED_UNITS = "mph"  # WindNinja's default output_speed_units
+
+
+@dataclass(frozen=True)
+class WindGrid:
+    """Where a gridded 20-ft wind is: a WindNinja ``*_vel.asc`` (``speed_path``) with its
+    ``*_ang.asc`` (``direction_path``), or a 2-band GeoTIFF (``speed_path``, no
+    ``direction_path``); absolute paths. ``speed_units``: a key of :data:`SPEED_UNITS`."""
+
+    speed_path: str
+    direction_path: str | None = None
+    speed_units: str = DEFAULT_SPEED_UNITS
+
+
 @dataclass(frozen=True)
 class Wind:
-    """Piecewise-constant wind from start_s [s]: speed [m/s], direction it blows TOWARD [deg ccw from +x]."""
+    """Piecewise-constant wind from start_s [s]: speed [m/s], direction it blows TOWARD [deg ccw from +x].
+
+    With ``grid`` (a landscape only) each cell's 20-ft wind is the grid's, resampled to the cell
+    (:mod:`.wind_grid`); ``speed_mps`` / ``direction_deg`` are then the domain wind (given, or
+    the mean wind vector of the grid over the burnable cells), which the vehicles drift with.
+    """
 
     start_s: float
     speed_mps: float
     direction_deg: float
+    grid: WindGrid | None = None
 
 
 @dataclass(frozen=True)

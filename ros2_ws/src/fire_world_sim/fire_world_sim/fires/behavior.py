@@ -192,8 +192,8 @@ def fire_behavior(
     slope_pct: np.ndarray,
     aspect_deg: np.ndarray,
     *,
-    wind_20ft_mps: float,
-    wind_from_deg: float,
+    wind_20ft_mps: float | np.ndarray,
+    wind_from_deg: float | np.ndarray,
     moistures: FuelMoistures,
     canopy_cover: np.ndarray | None = None,
     canopy_height_m: np.ndarray | None = None,
@@ -207,14 +207,22 @@ def fire_behavior(
 
     ``fuel``: fuel model codes; ``slope_pct`` [%]; ``aspect_deg``: the downslope direction [deg
     clockwise from north; negative = flat]; ``canopy_cover`` [fraction]; heights [m]; CBD
-    [kg/m^3]; ``wind_from_deg``: where the 20-ft wind blows from [deg clockwise from north];
-    ``foliar_moisture`` [fraction]. Missing canopy layers mean no canopy (unsheltered wind, no
+    [kg/m^3]; ``wind_20ft_mps`` [m/s] and ``wind_from_deg`` (where the 20-ft wind blows from [deg
+    clockwise from north]): one wind, or one per cell (a gridded wind, as FlamMap's wind grids:
+    each cell's wind goes through its own WAF exactly as a uniform one); ``foliar_moisture``
+    [fraction]. Missing canopy layers mean no canopy (unsheltered wind, no
     crown fire). Unknown fuel codes raise FireBehaviorError (a ValueError) naming the code.
     """
     if crown not in CROWN_METHODS:
         raise FireBehaviorError(f"crown must be one of {CROWN_METHODS}, got {crown!r}")
-    if not (math.isfinite(wind_20ft_mps) and wind_20ft_mps >= 0):
-        raise FireBehaviorError(f"wind_20ft_mps must be >= 0, got {wind_20ft_mps!r}")
+    wind_arr = np.asarray(wind_20ft_mps, dtype=float)
+    if not (np.isfinite(wind_arr).all() and (wind_arr >= 0).all()):
+        bad = (
+            wind_20ft_mps
+            if wind_arr.ndim == 0
+            else float(wind_arr[~(np.isfinite(wind_arr) & (wind_arr >= 0))][0])
+        )
+        raise FireBehaviorError(f"wind_20ft_mps must be >= 0, got {bad!r}")
     if not (math.isfinite(foliar_moisture) and 0.0 < foliar_moisture <= 5.0):
         raise FireBehaviorError(f"foliar_moisture must be a fraction in (0, 5], got {foliar_moisture!r}")
     fuel = np.asarray(fuel)
@@ -233,7 +241,7 @@ def fire_behavior(
     params, depth = _param_grid(codes, moistures, index)
     waf = wind_adjustment_factor(depth, cc, ch, crown_ratio)
     midflame = waf * wind_20ft_mps
-    wind_to = _compass_to_math_rad(wind_from_deg + 180.0)
+    wind_to = _compass_to_math_rad(np.asarray(wind_from_deg, dtype=float) + 180.0)
     slope_tan = np.asarray(slope_pct, dtype=float) / 100.0
     aspect = np.asarray(aspect_deg, dtype=float)
     slope_tan = np.where(aspect < 0, 0.0, slope_tan)
@@ -253,7 +261,7 @@ def fire_behavior(
         fm10 = np.full(fuel.shape, 10, dtype=np.int64)
         p10, _ = _param_grid(np.array([10]), moistures, fm10)
         r10, _, _ = head_spread_cells(
-            p10, np.full(fuel.shape, CROWN_WAF * wind_20ft_mps), wind_to, slope_tan, upslope, wind_limit=wind_limit
+            p10, np.broadcast_to(CROWN_WAF * wind_arr, fuel.shape), wind_to, slope_tan, upslope, wind_limit=wind_limit
         )
         r_sa = _surface_rate_at_active(params, p10, cbd, waf, wind_to, slope_tan, upslope, wind_limit)
         c = crown_fire(

@@ -1,6 +1,7 @@
 """``scripts/fire_behavior``: fire behaviour over a landscape, like FlamMap's basic run (no ROS).
 
     scripts/fire_behavior LANDSCAPE --out DIR [--wind-20ft-mps U] [--wind-from-deg D]
+        [--wind-grid VEL.asc,ANG.asc | --wind-grid WIND.tif] [--wind-speed-units mph|mps|kph|kts]
         [--moisture 1H,10H,100H,HERB,WOODY] [--fms FILE] [--foliar-moisture F] [--crown none|finney]
 
 LANDSCAPE is a landscape YAML, a directory holding ``landscape.yaml``, or the name of a landscape
@@ -8,7 +9,11 @@ shipped in ``data/landscapes/`` (e.g. ``worcester_vt``). Writes, on the landscap
 ``ros_mps.tif`` (head rate of spread), ``spread_dir_deg.tif`` (its direction, clockwise from north),
 ``fireline_intensity_kwpm.tif``, ``flame_length_m.tif``, ``fire_type.tif`` (0 unburnable, 1
 surface, 2 passive crown, 3 active crown) and a PNG of each. Cells outside the landscape's data
-are nodata (-9999, 255 for the fire type). Bad input: one line on stderr, exit status 2.
+are nodata (-9999, 255 for the fire type). ``--wind-grid`` replaces the uniform wind by a gridded
+20-ft wind: WindNinja's ASCII pair (speed, direction it blows from) or a 2-band GeoTIFF, in the
+landscape's CRS, resampled to its cells (:mod:`fire_uav_common.scenario.wind_grid`; its speed unit
+``--wind-speed-units``, WindNinja's default mph unless given). Bad input: one line on stderr,
+exit status 2.
 """
 
 from __future__ import annotations
@@ -19,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 from fire_uav_common.landscape import Landscape, LandscapeError, load_landscape, read_landscape_spec
+from fire_uav_common.scenario.types import DEFAULT_SPEED_UNITS, SPEED_UNITS
+from fire_uav_common.scenario.wind_grid import parse_wind_grid_arg, wind_on_landscape
 
 from .behavior import CROWN_METHODS, FireBehavior, FuelMoistures, fire_behavior, parse_moisture, read_fms
 from .crown import FireType
@@ -131,6 +138,17 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     ap.add_argument("--wind-20ft-mps", type=float, default=0.0, help="20-ft wind speed [m/s] (default 0)")
     ap.add_argument("--wind-from-deg", type=float, default=0.0, help="wind blows from [deg cw from north]")
     ap.add_argument(
+        "--wind-grid",
+        metavar="VEL.asc,ANG.asc|WIND.tif",
+        help="gridded 20-ft wind instead of the uniform one: WindNinja's *_vel.asc,*_ang.asc or a 2-band GeoTIFF",
+    )
+    ap.add_argument(
+        "--wind-speed-units",
+        choices=sorted(SPEED_UNITS),
+        default=DEFAULT_SPEED_UNITS,
+        help=f"speed unit of --wind-grid (default {DEFAULT_SPEED_UNITS}, WindNinja's default output)",
+    )
+    ap.add_argument(
         "--moisture", default="0.06,0.08,0.10,0.75,0.60", help="1H,10H,100H,HERB,WOODY fractions (default 6/8/10/75/60 %%)"
     )
     ap.add_argument("--fms", type=Path, help="FlamMap FMS file: per-model moistures [%%] (overrides --moisture)")
@@ -144,12 +162,17 @@ def run(args: argparse.Namespace) -> tuple[Landscape, FireBehavior]:
     land = load_landscape(read_landscape_spec(landscape_path(args.landscape)))
     moistures = read_fms(args.fms) if args.fms else FuelMoistures(parse_moisture(args.moisture))
     fuel = np.where(land.has_data, land.fuel, 99)  # outside the data: as barren, then masked on output
+    speed: float | np.ndarray = args.wind_20ft_mps
+    from_deg: float | np.ndarray = args.wind_from_deg
+    if args.wind_grid:
+        w = wind_on_landscape(parse_wind_grid_arg(args.wind_grid, args.wind_speed_units), land)
+        speed, from_deg = w.speed_mps, w.from_deg
     b = fire_behavior(
         fuel,
         land.slope_pct,
         land.aspect_deg,
-        wind_20ft_mps=args.wind_20ft_mps,
-        wind_from_deg=args.wind_from_deg,
+        wind_20ft_mps=speed,
+        wind_from_deg=from_deg,
         moistures=moistures,
         canopy_cover=land.canopy_cover,
         canopy_height_m=land.canopy_height_m,

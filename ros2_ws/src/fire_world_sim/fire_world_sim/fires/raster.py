@@ -198,7 +198,9 @@ class RasterFireModel:
         return idx
 
     def wind_at(self, t_s: float) -> tuple[float, float]:
-        """(midflame speed [m/s], direction the wind blows toward [rad ccw from +x]) at t_s."""
+        """(midflame speed [m/s], direction the wind blows toward [rad ccw from +x]) at t_s; on a
+        landscape the 20-ft wind, and for a gridded entry its domain (mean) wind: the cells'
+        own winds are the grid's (:meth:`.landscape_cells.LandscapeCells.behavior`)."""
         w = self.spec.wind[self._segment_index(t_s)]
         return w.speed_mps, math.radians(w.direction_deg)
 
@@ -215,7 +217,7 @@ class RasterFireModel:
         res = np.zeros((self.ny, self.nx))
         if self._land is not None:
             w = self.spec.wind[self._wind_index]
-            b = self._land.behavior(self.fuel, w.speed_mps, w.direction_deg, self.wind_limit)
+            b = self._land.behavior(self.fuel, w.speed_mps, w.direction_deg, self.wind_limit, grid=w.grid)
             head = b.ros_mps * self.spec.spread_factor
             hdir = np.radians(90.0 - b.spread_dir_deg)
             ueff = b.effective_wind_mps

@@ -1,0 +1,323 @@
+"""A gridded 20-ft wind (WindNinja's ASCII pair or a 2-band GeoTIFF) on a landscape.
+
+- a uniform grid gives the uniform wind's fire behaviour and raster fire, cell for cell;
+- a grid of two halves gives each half the behaviour of its own wind: Behave's head rate
+  (``data/behave_53.csv``, made offline from Behave's C++ core through pyrothermel) on a flat grass
+  landscape through ``scripts/fire_behavior``, and the uniform-wind raster fire of that half's wind
+  on worcester_vt;
+- the shipped synthetic grid for worcester_vt loads and turns the fire;
+- bad grids: one line naming the file, exit status 2 (``scripts/fire_behavior``).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rasterio
+import yaml
+from fire_uav_common.scenario import load_scenario
+from fire_uav_common.scenario.ground import landscape_of
+from fire_world_sim.fires.landscape_run import main
+from fire_world_sim.fires.raster import RasterFireModel
+from rasterio.transform import from_origin
+
+from .conftest import SCENARIOS
+
+ROOT = Path(__file__).resolve().parents[4]
+BEHAVE = Path(__file__).parent / "data" / "behave_53.csv"
+SAMPLE = ROOT / "data" / "wind" / "worcester_vt"
+MPH = 0.44704
+FT = 0.3048
+CRS = "EPSG:5070"
+
+
+def write_asc_pair(
+    base: Path,
+    speed: np.ndarray,
+    from_deg: np.ndarray,
+    *,
+    x0: float,
+    y_top: float,
+    cell_m: float,
+    crs: str = CRS,
+) -> tuple[Path, Path]:
+    """WindNinja's ASCII output: ``base_vel.asc`` / ``base_ang.asc`` with a ``.prj`` beside each."""
+    rows, cols = speed.shape
+    header = (
+        f"ncols {cols}\nnrows {rows}\nxllcorner {x0:.6f}\nyllcorner {y_top - rows * cell_m:.6f}\n"
+        f"cellsize {cell_m:g}\nNODATA_value -9999\n"
+    )
+    prj = rasterio.crs.CRS.from_string(crs).to_wkt(version="WKT1_ESRI")
+    out = []
+    for suffix, values in (("vel", speed), ("ang", from_deg)):
+        p = base.parent / f"{base.name}_{suffix}.asc"
+        p.write_text(header + "\n".join(" ".join(f"{v:.6f}" for v in row) for row in values) + "\n")
+        p.with_suffix(".prj").write_text(prj)
+        out.append(p)
+    return out[0], out[1]
+
+
+def write_two_band(
+    path: Path, speed: np.ndarray, from_deg: np.ndarray, *, x0: float, y_top: float, cell_m: float
+) -> Path:
+    with rasterio.open(
+        path, "w", driver="GTiff", height=speed.shape[0], width=speed.shape[1], count=2, dtype="float64",
+        crs=CRS, transform=from_origin(x0, y_top, cell_m, cell_m),
+    ) as dst:  # fmt: skip
+        dst.write(speed, 1)
+        dst.write(from_deg, 2)
+    return path
+
+
+def flat_grass(tmp_path: Path, shape: tuple[int, int] = (20, 40)) -> Path:
+    """A flat GR2 (102) landscape of 30 m cells, no canopy: the behaviour is Behave's row's."""
+    doc = {"fuel_kind": "fbfm40"}
+    layers = {"fuel": 102, "elevation": 300, "slope": 0, "aspect": -1}
+    for name, value in layers.items():
+        with rasterio.open(
+            tmp_path / f"{name}.tif", "w", driver="GTiff", height=shape[0], width=shape[1], count=1,
+            dtype="int16", crs=CRS, transform=from_origin(500000.0, 4000000.0, 30.0, 30.0), nodata=32767,
+        ) as dst:  # fmt: skip
+            dst.write(np.full(shape, value, dtype=np.int16), 1)
+        doc[name] = f"{name}.tif"
+    (tmp_path / "land.yaml").write_text(yaml.safe_dump({"landscape": doc}))
+    return tmp_path / "land.yaml"
+
+
+def behave_head_ft_min(wind_mph: float) -> float:
+    """Behave's head rate of GR2 on flat open ground, dead 6/8/10 %, live 75/60 %."""
+    with BEHAVE.open() as f:
+        for d in csv.DictReader(line for line in f if not line.startswith("#")):
+            key = (
+                d["fuel_model"],
+                d["m1h"],
+                d["m10h"],
+                d["m100h"],
+                d["mherb"],
+                d["mwoody"],
+                d["slope_pct"],
+                d["canopy_cover"],
+            )
+            if (
+                key == ("102", "0.06", "0.08", "0.1", "0.75", "0.6", "0", "0")
+                and float(d["wind20_mph"]) == wind_mph
+            ):
+                return float(d["head_ft_min"])
+    raise LookupError(wind_mph)
+
+
+def read_tif(path: Path) -> np.ndarray:
+    with rasterio.open(path) as r:
+        return r.read(1)
+
+
+# --- scripts/fire_behavior -----------------------------------------------------------------------
+
+
+def test_two_halves_each_burn_at_behaves_rate_for_their_own_wind(tmp_path: Path) -> None:
+    """West half 5 mi/h from the south-west, east half 20 mi/h from the east (a 60 m grid over a
+    1200 x 600 m landscape of 30 m cells). Behave gives the head rate of each speed; on flat
+    ground the head runs where the wind blows (45 and 270 deg)."""
+    land = flat_grass(tmp_path)
+    speed = np.where(np.arange(20)[None, :] < 10, 5.0, 20.0) * np.ones((10, 1))
+    from_deg = np.where(np.arange(20)[None, :] < 10, 225.0, 90.0) * np.ones((10, 1))
+    vel, ang = write_asc_pair(tmp_path / "halves", speed, from_deg, x0=500000.0, y_top=4000000.0, cell_m=60.0)
+    out = tmp_path / "out"
+    assert (
+        main([str(land), "--out", str(out), "--wind-grid", f"{vel},{ang}", "--wind-speed-units", "mph"]) == 0
+    )
+    ros = read_tif(out / "ros_mps.tif") * 60.0 / FT
+    direction = read_tif(out / "spread_dir_deg.tif")
+    west, east = np.s_[:, :18], np.s_[:, 22:]  # cells whose 4 grid neighbours are all one half's
+    assert ros[west] == pytest.approx(behave_head_ft_min(5.0), rel=0.005)
+    assert ros[east] == pytest.approx(behave_head_ft_min(20.0), rel=0.005)
+    assert direction[west] == pytest.approx(45.0, abs=1e-6)
+    assert direction[east] == pytest.approx(270.0, abs=1e-6)
+    # and each half is the uniform run of its own wind, cell for cell
+    for half, (mph, frm) in ((west, (5.0, 225.0)), (east, (20.0, 90.0))):
+        uni = tmp_path / f"uniform_{mph:g}"
+        assert (
+            main(
+                [str(land), "--out", str(uni), "--wind-20ft-mps", str(mph * MPH), "--wind-from-deg", str(frm)]
+            )
+            == 0
+        )
+        for name in ("ros_mps", "spread_dir_deg", "fireline_intensity_kwpm", "flame_length_m"):
+            np.testing.assert_allclose(
+                read_tif(out / f"{name}.tif")[half], read_tif(uni / f"{name}.tif")[half], rtol=1e-6
+            )
+
+
+def test_a_two_band_geotiff_is_read_as_the_ascii_pair(tmp_path: Path) -> None:
+    land = flat_grass(tmp_path)
+    rng = np.random.default_rng(3)
+    speed, from_deg = rng.uniform(0.0, 9.0, (10, 20)), rng.uniform(0.0, 360.0, (10, 20))
+    vel, ang = write_asc_pair(tmp_path / "w", speed, from_deg, x0=500000.0, y_top=4000000.0, cell_m=60.0)
+    tif = write_two_band(tmp_path / "w.tif", speed, from_deg, x0=500000.0, y_top=4000000.0, cell_m=60.0)
+    a, b = tmp_path / "a", tmp_path / "b"
+    assert main([str(land), "--out", str(a), "--wind-grid", f"{vel},{ang}", "--wind-speed-units", "mps"]) == 0
+    assert main([str(land), "--out", str(b), "--wind-grid", str(tif), "--wind-speed-units", "mps"]) == 0
+    np.testing.assert_allclose(read_tif(a / "ros_mps.tif"), read_tif(b / "ros_mps.tif"), rtol=1e-5)
+
+
+def test_the_cells_wind_is_bilinear_on_the_components_not_on_the_angle(tmp_path: Path) -> None:
+    """Two grid columns from 350 and 10 deg, same speed: midway the wind is from the north at
+    cos(10 deg) x the speed (the vector mean), not from the south (the angles' mean, 180)."""
+    from fire_uav_common.landscape import load_landscape
+    from fire_uav_common.scenario.wind_grid import WindGrid, wind_on_landscape
+
+    land = load_landscape(flat_grass(tmp_path, shape=(4, 4)))  # 120 x 120 m
+    vel, ang = write_asc_pair(
+        tmp_path / "w",
+        np.full((2, 2), 5.0),
+        np.array([[350.0, 10.0]] * 2),
+        x0=500000.0,
+        y_top=4000000.0,
+        cell_m=60.0,
+    )
+    w = wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land)
+    # landscape columns 1 and 2 (centres 45 and 75 m) lie between the grid centres (30 and 90 m)
+    for col, frac in ((1, 0.25), (2, 0.75)):
+        u = (1 - frac) * -5.0 * math.sin(math.radians(350.0)) + frac * -5.0 * math.sin(math.radians(10.0))
+        v = -5.0 * math.cos(math.radians(10.0))
+        assert w.speed_mps[:, col] == pytest.approx(math.hypot(u, v), rel=1e-12)
+        assert w.from_deg[:, col] == pytest.approx(math.degrees(math.atan2(-u, -v)) % 360.0, abs=1e-9)
+    assert w.from_deg[0, 0] == pytest.approx(350.0) and w.from_deg[0, 3] == pytest.approx(10.0)  # edge values
+
+
+@pytest.mark.parametrize(
+    ("grid", "pattern"),
+    [
+        ("missing", r"no_such_vel\.asc: speed file not found"),
+        ("crs", r"w_vel\.asc: CRS EPSG:32618 differs from the landscape's EPSG:5070"),
+        ("small", r"w_vel\.asc: the wind grid does not cover 40 burnable cells"),
+        ("angle", r"w_ang\.asc: direction 361 deg at row 2, col 3 is outside \[0, 360\]"),
+        ("noprj", r"w_vel\.asc: no CRS"),
+        ("bands", r"w\.tif: a wind GeoTIFF needs 2 bands"),
+    ],
+)
+def test_bad_grids_are_one_line_and_exit_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], grid: str, pattern: str
+) -> None:
+    land = flat_grass(tmp_path)
+    speed, from_deg = np.full((10, 20), 4.0), np.full((10, 20), 270.0)
+    kw: dict = {"x0": 500000.0, "y_top": 4000000.0, "cell_m": 60.0}
+    if grid == "crs":
+        kw["crs"] = "EPSG:32618"
+    if grid == "small":  # one grid column short in the east: the landscape's last 2 columns
+        speed, from_deg = speed[:, :19], from_deg[:, :19]
+    if grid == "angle":
+        from_deg[2, 3] = 361.0
+    vel, ang = write_asc_pair(tmp_path / "w", speed, from_deg, **kw)
+    arg = f"{vel},{ang}"
+    if grid == "missing":
+        arg = f"{tmp_path / 'no_such_vel.asc'},{ang}"
+    if grid == "noprj":
+        vel.with_suffix(".prj").unlink()
+    if grid == "bands":
+        arg = str(tmp_path / "w.tif")
+        with rasterio.open(tmp_path / "w.tif", "w", driver="GTiff", height=10, width=20, count=1, dtype="float64",
+                           crs=CRS, transform=from_origin(500000.0, 4000000.0, 60.0, 60.0)) as dst:  # fmt: skip
+            dst.write(speed, 1)
+    assert main([str(land), "--out", str(tmp_path / "out"), "--wind-grid", arg]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1, err
+    assert err.startswith("fire_behavior: error: ")
+    assert re.search(pattern, err), err
+
+
+# --- the raster fire on worcester_vt -------------------------------------------------------------
+
+
+def scenario_window() -> tuple[float, float, float, float]:
+    s = load_scenario(SCENARIOS / "worcester_vt.yaml")
+    return landscape_of(s.fires.raster.landscape).bounds
+
+
+def model(**overrides: object) -> RasterFireModel:
+    s = load_scenario(SCENARIOS / "worcester_vt.yaml", overrides=overrides)
+    return RasterFireModel(s.fires.raster, s.terrain, lakes=s.lakes, drop_radius_m=s.fires.drop_radius_m)
+
+
+def grid_over_window(tmp_path: Path, speed_of_col, from_of_col, cell_m: float = 90.0) -> tuple[Path, Path]:
+    """A grid of ``cell_m`` covering the scenario's window with a margin, values by column."""
+    x0, y0, x1, y1 = scenario_window()
+    gx0, gy1 = x0 - 2 * cell_m, y1 + 2 * cell_m
+    cols, rows = int((x1 - gx0) / cell_m) + 3, int((gy1 - y0) / cell_m) + 3
+    xc = gx0 + (np.arange(cols) + 0.5) * cell_m
+    speed = np.tile([speed_of_col(x) for x in xc], (rows, 1))
+    from_deg = np.tile([from_of_col(x) for x in xc], (rows, 1))
+    return write_asc_pair(tmp_path / "w", speed, from_deg, x0=gx0, y_top=gy1, cell_m=cell_m)
+
+
+def grid_wind(vel: Path, ang: Path, **extra: object) -> list[dict]:
+    return [{"start_s": -600.0, "grid": {"vel": str(vel), "ang": str(ang), "speed_units": "mps"}, **extra}]
+
+
+def test_a_uniform_grid_is_the_uniform_wind_cell_for_cell(tmp_path: Path) -> None:
+    """8 m/s from the west as a grid (the scenario's wind, direction_deg 0 = toward east)."""
+    vel, ang = grid_over_window(tmp_path, lambda x: 8.0, lambda x: 270.0)
+    uniform = model()
+    gridded = model(**{"fires.raster.wind": grid_wind(vel, ang)})
+    assert gridded.spec.wind[0].speed_mps == pytest.approx(8.0) and gridded.spec.wind[
+        0
+    ].direction_deg == pytest.approx(0.0)
+    inner = uniform._inner
+    for name in ("_head", "_head_dir", "_A", "_Cx", "_Cy", "_res"):
+        np.testing.assert_allclose(
+            getattr(gridded, name)[inner], getattr(uniform, name)[inner], rtol=1e-9, atol=1e-12
+        )
+    assert np.array_equal(gridded.fire_type, uniform.fire_type)
+    for k in range(120):
+        uniform.step(float(k), 1.0)
+        gridded.step(float(k), 1.0)
+    assert np.array_equal(gridded.state_grid(), uniform.state_grid())
+    burnt = np.isfinite(uniform.t_ign)
+    assert np.array_equal(np.isfinite(gridded.t_ign), burnt)
+    np.testing.assert_allclose(gridded.t_ign[burnt], uniform.t_ign[burnt], rtol=1e-9, atol=1e-6)
+
+
+def test_each_half_of_a_grid_spreads_as_the_uniform_wind_of_its_own(tmp_path: Path) -> None:
+    """West of the window's middle 8 m/s from the west; east of it 4 m/s from the north."""
+    x0, _, x1, _ = scenario_window()
+    mid = 0.5 * (x0 + x1)
+    vel, ang = grid_over_window(
+        tmp_path, lambda x: 8.0 if x < mid else 4.0, lambda x: 270.0 if x < mid else 0.0
+    )
+    gridded = model(**{"fires.raster.wind": grid_wind(vel, ang, speed_mps=8.0, direction_deg=0.0)})
+    west = model(**{"fires.raster.wind": [{"start_s": -600.0, "speed_mps": 8.0, "direction_deg": 0.0}]})
+    east = model(**{"fires.raster.wind": [{"start_s": -600.0, "speed_mps": 4.0, "direction_deg": 270.0}]})
+    xc = west.xc + scenario_window()[0]  # projected x of the cell centres
+    for half, ref in ((xc < mid - 90.0, west), (xc > mid + 90.0, east)):
+        for name in ("_head", "_head_dir", "_A", "_Cx", "_Cy"):
+            got = getattr(gridded, name)[gridded._inner][:, half]
+            np.testing.assert_allclose(got, getattr(ref, name)[ref._inner][:, half], rtol=1e-9, atol=1e-12)
+    assert not np.allclose(gridded._head[gridded._inner], west._head[west._inner])
+
+
+def test_the_shipped_synthetic_grid_loads_and_turns_the_fire() -> None:
+    vel = SAMPLE / "worcester_vt_270_8_120m_vel.asc"
+    ang = SAMPLE / "worcester_vt_270_8_120m_ang.asc"
+    wind = [
+        {
+            "start_s": -600.0,
+            "grid": {
+                "vel": "wind/worcester_vt/" + vel.name,
+                "ang": "wind/worcester_vt/" + ang.name,
+                "speed_units": "mps",
+            },
+        }
+    ]
+    gridded = model(**{"fires.raster.wind": wind})
+    w = gridded.spec.wind[0]
+    assert w.grid is not None and w.grid.speed_path == str(vel)
+    assert 6.0 < w.speed_mps < 10.0 and (w.direction_deg < 30.0 or w.direction_deg > 330.0)  # about east
+    uniform = model()
+    heads = gridded._head[gridded._inner][gridded.burnable[gridded._inner]]
+    assert not np.allclose(heads, uniform._head[uniform._inner][uniform.burnable[uniform._inner]])
+    assert gridded.truth()[0].area_m2 > 0.0
