@@ -109,3 +109,26 @@ def test_report_only_without_results_is_one_line_exit_2(tmp_path, capsys) -> Non
     err = capsys.readouterr().err.strip()
     assert err.endswith("none/results.jsonl: no such results file: nothing to report") and "\n" not in err
     assert not (tmp_path / "none").exists()
+
+
+def test_a_gridded_wind_is_not_varied_one_line_exit_2(tmp_path, capsys) -> None:
+    from fire_uav_agent.testing.harness import scenario_path
+
+    sc = yaml.safe_load(scenario_path("worcester_vt").read_text())
+    sample = "wind/worcester_vt/worcester_vt_270_8_120m"
+    sc["fires"]["raster"]["wind"] = [
+        {"start_s": -600.0, "grid": {"vel": f"{sample}_vel.asc", "ang": f"{sample}_ang.asc"}}
+    ]
+    (tmp_path / "gridded.yaml").write_text(yaml.safe_dump(sc))
+    doc = dict(GOOD, scenarios=["gridded.yaml"], fire_variation={"wind_direction_sd_deg": 10})
+    assert main([_write(tmp_path, doc)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1, err
+    assert (
+        "study.yaml: fire_variation: scenario gridded.yaml: gridded.yaml: fires.raster.wind[0] is a wind grid"
+        in err
+    )
+    # without wind variation (ignitions only) the same scenario is accepted by the variation
+    from fire_study.variation import fire_variation
+
+    assert "fires.raster.wind" not in fire_variation(tmp_path / "gridded.yaml", 1, {"ignition_sd_m": 20.0})

@@ -237,6 +237,13 @@ def study_from_dict(raw: Any, file: str = "<study>") -> Study:
     )
     # every arm's scenario must load with its overrides (a bad override field fails here, once)
     for sc, p in zip(scenarios, paths, strict=True):
+        if fv:
+            from .variation import fire_variation
+
+            try:
+                fire_variation(p, seeds[0], dict(fv))
+            except ValueError as e:
+                raise _fail(file, "fire_variation", f"scenario {sc}: {e}") from None
         for af, ov in airframes:
             try:
                 load_scenario(p, overrides=mission_overrides(study, sc, af, uavs[0], tactics[0], None))

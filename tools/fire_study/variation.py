@@ -61,7 +61,14 @@ def fire_variation(scenario_file: Path, seed: int, sd: Mapping[str, float]) -> d
     raster = fires.get("raster")
     if isinstance(raster, Mapping):
         wind = [dict(w) for w in raster.get("wind") or []]
-        for w in wind:
+        if s_speed or s_dir:
+            gridded = [i for i, w in enumerate(wind) if isinstance(w, Mapping) and w.get("grid") is not None]
+            if gridded:
+                raise ValueError(
+                    f"{Path(scenario_file).name}: fires.raster.wind[{gridded[0]}] is a wind grid; a grid is "
+                    "not varied (set wind_speed_sd_mps and wind_direction_sd_deg to 0 for this scenario)"
+                )
+        for w in wind if (s_speed or s_dir) else []:
             w["speed_mps"] = round(max(0.0, float(w["speed_mps"]) + s_speed * float(d_speed)), 6)
             w["direction_deg"] = round(float(w["direction_deg"]) + s_dir * float(d_dir), 6)
         ign = [dict(p) for p in raster.get("ignitions") or []]
