@@ -366,10 +366,20 @@ def active_fires(
     t_s, t0, t_ign, t_out, label, ext, live_buf, live_mask, arr_t, gi, meta, flags
 ):  # pragma: no cover
     """The fire ids burning at ``t_s`` [s] >= ``t0`` [s], the last update (every cell burning then
-    is live), as ``flags[id + 1]``; first drops the live cells gone by ``t0`` (:func:`remove_gone`)."""
-    remove_gone(t0, t_out, ext, live_buf, live_mask, arr_t, gi, meta)
+    is live), as ``flags[id + 1]``; drops the live cells gone by ``t0`` (as :func:`remove_gone`) on
+    the way."""
+    ring = gi[0]
     flags[:] = False
+    j = 0
     for q in range(meta[0]):
         c = live_buf[q]
-        if t_ign[c] <= t_s and t_s < t_out[c]:
-            flags[label[c] + 1] = True
+        if t_out[c] > t0 and not ext[c]:
+            live_buf[j] = c
+            j += 1
+            if t_ign[c] <= t_s and t_s < t_out[c]:
+                flags[label[c] + 1] = True
+        else:
+            live_mask[c] = False
+            for k in range(N_RING):
+                arr_t[c - ring[k]] = math.nan
+    meta[0] = j
