@@ -56,6 +56,7 @@ keeps its surface fire's length-to-breadth ratio, with the crown fire's head rat
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from fire_uav_common.constants import CellState, FireStatus
@@ -63,7 +64,6 @@ from fire_uav_common.scenario import Raster
 from fire_uav_common.terrain import Terrain
 
 from ..sensors import CellsSample
-from . import ring_kernel
 from .base import FireGrid, FireTruthRecord
 from .crown import FireType
 from .fuel_models import fuel_model
@@ -176,14 +176,22 @@ class RasterFireModel:
         # the compiled path's bookkeeping (ring_kernel): live cells and narrow band as buffers with
         # their counts in _meta = [n_live, n_band], band membership as a mask
         n_cells = shape[0] * shape[1]
-        self._gi, self._gf = ring_kernel.pack_geometry(self._geom)
+        self._k: Any = None  # the kernels' module, imported here (numba costs ~0.3 s to import)
+        if compiled:
+            from . import ring_kernel
+
+            self._k = ring_kernel
+            self._gi, self._gf = ring_kernel.pack_geometry(self._geom)
         self._live_buf = np.zeros(n_cells if compiled else 0, dtype=np.int64)
         self._band_buf = np.zeros(n_cells if compiled else 0, dtype=np.int64)
         self._in_band = np.zeros(n_cells if compiled else 0, dtype=bool)
         self._meta = np.zeros(2, dtype=np.int64)
         self._kst: tuple | None = None  # the kernels' arguments (_kernel_state)
         self._kst_src: np.ndarray | None = None  # the fire-type grid they were made with
-        self._active_flags = np.zeros(len(spec.ignitions) + 1, dtype=bool)  # scratch: ids burning (+1)
+        self._active_flags = np.zeros(len(spec.ignitions) + 1, dtype=bool)  # ids burning (+1), last asked
+        self._active_set: set[int] = set()  # the same as a set
+        self._kst_prop: tuple = ()
+        self._kst_act: tuple = ()
         # per-cell wavelet (1): tau(v) = A |v| - Cx vx - Cy vy  [s/m]; A = inf where nothing burns
         self._A = np.full(shape, np.inf)
         self._Cx = np.zeros(shape)
@@ -283,7 +291,7 @@ class RasterFireModel:
             return
         flat = np.ravel_multi_index(idx, self._shape).astype(np.int64)
         times = np.asarray(t, dtype=float).ravel()
-        latest = ring_kernel.ignite(
+        latest = self._k.ignite(
             flat, times, np.asarray(labels, dtype=np.int32).ravel(), *self._kernel_state()
         )
         self.last_ignition_s = max(self.last_ignition_s, latest)
@@ -323,6 +331,14 @@ class RasterFireModel:
             self._gf,
             self._meta,
         )
+        # the arguments of propagate before the seeded cells, between them and wet_until, after it
+        self._kst_prop = (
+            (*st[:10], self._seed_label.ravel()),
+            (len(self.spec.ignitions), self.burnable.ravel(), self.extinguished.ravel()),
+            (*st[12:21], self._arr_t, self._arr_lab, self._gi, self._gf, self._meta),
+        )
+        # of active_fires after (t_s, t0)
+        self._kst_act = (*st[:3], st[11], *st[17:19], st[21], st[22], st[24], self._active_flags)
         return st
 
     def _ignite_numpy(self, idx: tuple[np.ndarray, np.ndarray], t: np.ndarray, labels: np.ndarray) -> None:
@@ -403,25 +419,9 @@ class RasterFireModel:
             return
         if self._seeded.size:
             self._seeded = self._seeded[np.isfinite(self._t_seed.ravel()[self._seeded])]
-        st = self._kernel_state()
-        latest = ring_kernel.propagate(  # type: ignore[call-arg]
-            t0,
-            t1,
-            MAX_SWEEPS,
-            *st[:10],
-            self._seed_label.ravel(),
-            self._seeded,
-            len(self.spec.ignitions),
-            self.burnable.ravel(),
-            self.extinguished.ravel(),
-            self.wet_until.ravel(),
-            *st[12:21],
-            self._arr_t,
-            self._arr_lab,
-            self._gi,
-            self._gf,
-            self._meta,
-        )
+        self._kernel_state()
+        a, b, c = self._kst_prop
+        latest = self._k.propagate(t0, t1, MAX_SWEEPS, *a, self._seeded, *b, self.wet_until.ravel(), *c)
         if latest > self.last_ignition_s:
             self.last_ignition_s = latest
             self._truth_cache = None
@@ -469,7 +469,7 @@ class RasterFireModel:
         the live cells less those burnt out by ``t0`` or extinguished since (both for good)."""
         if self.compiled:
             st = self._kernel_state()
-            ring_kernel.remove_gone(
+            self._k.remove_gone(
                 t0, st[1], st[11], self._live_buf, self._live_mask, self._arr_t, self._gi, self._meta
             )
             return self._live_buf[: self._meta[0]]
@@ -535,12 +535,10 @@ class RasterFireModel:
     def _active_ids(self, t_s: float | None = None) -> set[int]:
         t = self.t_s if t_s is None else t_s
         if t >= self._t_updated and self.compiled:
-            st = self._kernel_state()
-            flags = self._active_flags
-            ring_kernel.active_fires(  # type: ignore[call-arg]
-                t, self._t_updated, *st[:3], st[11], *st[17:19], st[21], st[22], st[24], flags
-            )
-            return set(np.flatnonzero(flags[1:]).tolist())
+            self._kernel_state()
+            if self._k.active_fires(t, self._t_updated, *self._kst_act):  # the ids changed
+                self._active_set = set(np.flatnonzero(self._active_flags[1:]).tolist())
+            return self._active_set
         if t >= self._t_updated:  # every cell burning at t is live (burnt out after the last update)
             live = self._sources(self._t_updated)
             on = (self.t_ign.ravel()[live] <= t) & (t < self.t_out.ravel()[live])

@@ -367,8 +367,9 @@ def active_fires(
 ):  # pragma: no cover
     """The fire ids burning at ``t_s`` [s] >= ``t0`` [s], the last update (every cell burning then
     is live), as ``flags[id + 1]``; drops the live cells gone by ``t0`` (as :func:`remove_gone`) on
-    the way."""
+    the way. Returns whether ``flags`` changed."""
     ring = gi[0]
+    before = flags.copy()
     flags[:] = False
     j = 0
     for q in range(meta[0]):
@@ -383,3 +384,7 @@ def active_fires(
             for k in range(N_RING):
                 arr_t[c - ring[k]] = math.nan
     meta[0] = j
+    for i in range(flags.size):
+        if flags[i] != before[i]:
+            return True
+    return False
