@@ -56,6 +56,7 @@ keeps its surface fire's length-to-breadth ratio, with the crown fire's head rat
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from fire_uav_common.constants import CellState, FireStatus
@@ -81,7 +82,11 @@ MAX_SWEEPS = 64  # acceptance passes per update (each pass ignites every cell du
 
 
 class RasterFireModel:
-    """Raster fire over ``spec``'s grid; ``update_period_s`` batches propagation updates."""
+    """Raster fire over ``spec``'s grid; ``update_period_s`` batches propagation updates.
+
+    ``compiled`` (default) runs the update in the compiled kernels of :mod:`.ring_kernel`;
+    ``compiled=False`` runs the numpy reference path, which gives bit-identical arrival times
+    (kept for the tests that show it)."""
 
     def __init__(
         self,
@@ -91,8 +96,10 @@ class RasterFireModel:
         lakes: tuple = (),
         drop_radius_m: float | None = None,
         update_period_s: float = 0.5,
+        compiled: bool = True,
     ) -> None:
         self.spec = spec
+        self.compiled = compiled
         self.cs = spec.cell_size_m
         self.nx, self.ny = spec.nx, spec.ny
         self.drop_radius_m = drop_radius_m if drop_radius_m is not None else DEFAULT_DROP_RADIUS_M
@@ -166,6 +173,25 @@ class RasterFireModel:
         w = shape[1]
         self._geom = RingGeometry.of(w, self.cs)
         self._ring_flat, self._vx, self._vy = self._geom.ring_flat, self._geom.vx, self._geom.vy
+        # the compiled path's bookkeeping (ring_kernel): live cells and narrow band as buffers with
+        # their counts in _meta = [n_live, n_band], band membership as a mask
+        n_cells = shape[0] * shape[1]
+        self._k: Any = None  # the kernels' module, imported here (numba costs ~0.3 s to import)
+        if compiled:
+            from . import ring_kernel
+
+            self._k = ring_kernel
+            self._gi, self._gf = ring_kernel.pack_geometry(self._geom)
+        self._live_buf = np.zeros(n_cells if compiled else 0, dtype=np.int64)
+        self._band_buf = np.zeros(n_cells if compiled else 0, dtype=np.int64)
+        self._in_band = np.zeros(n_cells if compiled else 0, dtype=bool)
+        self._meta = np.zeros(2, dtype=np.int64)
+        self._kst: tuple | None = None  # the kernels' arguments (_kernel_state)
+        self._kst_src: np.ndarray | None = None  # the fire-type grid they were made with
+        self._active_flags = np.zeros(len(spec.ignitions) + 1, dtype=bool)  # ids burning (+1), last asked
+        self._active_set: set[int] = set()  # the same as a set
+        self._kst_prop: tuple = ()
+        self._kst_act: tuple = ()
         # per-cell wavelet (1): tau(v) = A |v| - Cx vx - Cy vy  [s/m]; A = inf where nothing burns
         self._A = np.full(shape, np.inf)
         self._Cx = np.zeros(shape)
@@ -262,6 +288,63 @@ class RasterFireModel:
 
     def _ignite(self, idx: tuple[np.ndarray, np.ndarray], t: np.ndarray, labels: np.ndarray) -> None:
         """Ignite padded cells ``idx`` at times ``t`` with fire ids ``labels``; set their burn-out time."""
+        if not self.compiled:
+            self._ignite_numpy(idx, t, labels)
+            return
+        flat = np.ravel_multi_index(idx, self._shape).astype(np.int64)
+        times = np.asarray(t, dtype=float).ravel()
+        latest = self._k.ignite(
+            flat, times, np.asarray(labels, dtype=np.int32).ravel(), *self._kernel_state()
+        )
+        self.last_ignition_s = max(self.last_ignition_s, latest)
+        self._truth_cache = None
+
+    def _kernel_state(self) -> tuple:
+        """The flat grids and bookkeeping :func:`.ring_kernel.ignite` takes after its batch (flat
+        views of the model's grids, made once; again when the fire types are a new array)."""
+        st = self._kst
+        if st is not None and self.fire_type is self._kst_src:
+            return st
+        self._kst_src = self.fire_type
+        st = self._kst = (
+            self.t_ign.ravel(),
+            self.t_out.ravel(),
+            self.label.ravel(),
+            self._burn_type.ravel(),
+            self.fire_type.ravel(),
+            self._land is not None,
+            self._shape[1],
+            PAD,
+            self.nx,
+            self._t_seed.ravel(),
+            self.burnable.ravel(),
+            self.extinguished.ravel(),
+            self._A.ravel(),
+            self._Cx.ravel(),
+            self._Cy.ravel(),
+            self._res.ravel(),
+            MAX_BURN_S,
+            self._live_buf,
+            self._live_mask,
+            self._band_buf,
+            self._in_band,
+            self._arr_t,
+            self._gi,
+            self._gf,
+            self._meta,
+        )
+        # the arguments of propagate before the seeded cells, between them and wet_until, after it
+        self._kst_prop = (
+            (*st[:10], self._seed_label.ravel()),
+            (len(self.spec.ignitions), self.burnable.ravel(), self.extinguished.ravel()),
+            (*st[12:21], self._arr_t, self._arr_lab, self._gi, self._gf, self._meta),
+        )
+        # of active_fires after (t_s, t0)
+        self._kst_act = (*st[:3], st[11], *st[17:19], st[21], st[22], st[24], self._active_flags)
+        return st
+
+    def _ignite_numpy(self, idx: tuple[np.ndarray, np.ndarray], t: np.ndarray, labels: np.ndarray) -> None:
+        """The numpy reference of :meth:`_ignite`."""
         self.t_ign[idx] = t
         if np.size(t):
             self.last_ignition_s = max(self.last_ignition_s, float(np.max(t)))
@@ -333,6 +416,20 @@ class RasterFireModel:
 
     def _propagate(self, t0: float, t1: float) -> None:
         """Ignite every cell whose arrival time (2) is <= t1 (repeated passes for multi-hop spread)."""
+        if not self.compiled:
+            self._propagate_numpy(t0, t1)
+            return
+        if self._seeded.size:
+            self._seeded = self._seeded[np.isfinite(self._t_seed.ravel()[self._seeded])]
+        self._kernel_state()
+        a, b, c = self._kst_prop
+        latest = self._k.propagate(t0, t1, MAX_SWEEPS, *a, self._seeded, *b, self.wet_until.ravel(), *c)
+        if latest > self.last_ignition_s:
+            self.last_ignition_s = latest
+            self._truth_cache = None
+
+    def _propagate_numpy(self, t0: float, t1: float) -> None:
+        """The numpy reference of :meth:`_propagate`."""
         t_ign = self.t_ign.ravel()
         ext = self.extinguished.ravel()
         burnable = self.burnable.ravel()
@@ -372,6 +469,12 @@ class RasterFireModel:
     def _sources(self, t0: float) -> np.ndarray:
         """Flat indices of the cells burning at some time after ``t0`` (up to the update's end):
         the live cells less those burnt out by ``t0`` or extinguished since (both for good)."""
+        if self.compiled:
+            st = self._kernel_state()
+            self._k.remove_gone(
+                t0, st[1], st[11], self._live_buf, self._live_mask, self._arr_t, self._gi, self._meta
+            )
+            return self._live_buf[: self._meta[0]]
         live = self._live
         keep = (self.t_out.ravel()[live] > t0) & ~self.extinguished.ravel()[live]
         gone = live[~keep]
@@ -433,6 +536,11 @@ class RasterFireModel:
 
     def _active_ids(self, t_s: float | None = None) -> set[int]:
         t = self.t_s if t_s is None else t_s
+        if t >= self._t_updated and self.compiled:
+            self._kernel_state()
+            if self._k.active_fires(t, self._t_updated, *self._kst_act):  # the ids changed
+                self._active_set = set(np.flatnonzero(self._active_flags[1:]).tolist())
+            return self._active_set
         if t >= self._t_updated:  # every cell burning at t is live (burnt out after the last update)
             live = self._sources(self._t_updated)
             on = (self.t_ign.ravel()[live] <= t) & (t < self.t_out.ravel()[live])
