@@ -84,32 +84,57 @@ class StateEkf:
         self.P = np.diag(np.square(config.initial_sigma)).astype(float)
         self._q = np.square(np.asarray(config.sigma_nu, dtype=float))
         self._k_gyro = self._q[2] / (self._q[2] + config.sigma_gyro_radps**2)
+        self._q0, self._q1, self._q2 = (float(x) for x in self._q)
+        self._a = np.eye(4)  # the Jacobian A of Eq. 17; predict sets its two yaw entries
+        self._a_t = self._a.T  # a view: follows the entries predict sets
+        self._gqg = np.zeros((4, 4))  # G Q G^T of Eq. 17; predict sets its six non-zero entries
         self.updates = {"gps": 0, "alt": 0, "gyro": 0}
 
     # --- prediction (Eqs. 16-17) ------------------------------------------------------
     def predict(self, u: np.ndarray, dt_s: float, gyro_radps: float | None = None) -> None:
-        """One substep with input u = (v_lin, v_z, omega); gyro sample of this substep if any."""
-        v, vz, om = float(u[0]), float(u[1]), float(u[2])
-        q_om = self._q[2]
+        """One substep with input u = (v_lin, v_z, omega); gyro sample of this substep if any.
+
+        The same numbers as ``P = A P A^T + G Q G^T`` with numpy's products (Eq. 17), in fewer
+        numpy calls: A lives in one array of the filter (only its two yaw entries change), and
+        G Q G^T, whose every entry is a single product (each row of G has one non-zero entry),
+        is written out in the order numpy's ``(G @ Q) @ G.T`` multiplies. A P A^T stays numpy's
+        matrix product: its entries sum two products, and BLAS's order (and fused multiply-adds)
+        is not reproduced in plain floats (a 1e-15 difference changed a 14-UAV mission, docs/profile.md).
+        """
+        self._predict(float(u[0]), float(u[1]), float(u[2]), dt_s, gyro_radps)
+
+    def _predict(self, v: float, vz: float, om: float, dt_s: float, gyro_radps: float | None) -> None:
+        """:meth:`predict` with the input as three floats (``process`` converts it once per step)."""
+        q_om = self._q2
         if gyro_radps is not None and math.isfinite(gyro_radps):
             om = om + self._k_gyro * (gyro_radps - om)  # augmented-state update (module doc)
             q_om = (1.0 - self._k_gyro) * q_om
             self.updates["gyro"] += 1
-        th = self.s[3]
+        s_old = self.s
+        th = float(s_old[3])
         c, s = math.cos(th), math.sin(th)
-        a = np.eye(4)
+        a = self._a
         a[0, 3] = -v * s * dt_s
         a[1, 3] = v * c * dt_s
-        g = np.zeros((4, 3))
-        g[0, 0] = c * dt_s
-        g[1, 0] = s * dt_s
-        g[2, 1] = dt_s
-        g[3, 2] = dt_s
-        q = np.diag([self._q[0], self._q[1], q_om])
-        self.s = self.s + np.array([v * c * dt_s, v * s * dt_s, vz * dt_s, om * dt_s])
-        self.s[3] = wrap_angle(self.s[3])
-        self.P = a @ self.P @ a.T + g @ q @ g.T
-        self._symmetrise()
+        g0, g1 = c * dt_s, s * dt_s  # G[0, 0], G[1, 0]; G[2, 1] = G[3, 2] = dt_s
+        gq0, gq1 = g0 * self._q0, g1 * self._q0  # (G Q)[0, 0], (G Q)[1, 0]
+        gqg = self._gqg
+        gqg[0, 0] = gq0 * g0
+        gqg[0, 1] = gq0 * g1
+        gqg[1, 0] = gq1 * g0
+        gqg[1, 1] = gq1 * g1
+        gqg[2, 2] = (dt_s * self._q1) * dt_s
+        gqg[3, 3] = (dt_s * q_om) * dt_s
+        self.s = np.array(
+            [
+                float(s_old[0]) + v * c * dt_s,
+                float(s_old[1]) + v * s * dt_s,
+                float(s_old[2]) + vz * dt_s,
+                wrap_angle(th + om * dt_s),
+            ]
+        )
+        p = a @ self.P @ self._a_t + gqg
+        self.P = 0.5 * (p + p.T)  # _symmetrise
 
     # --- updates (Eqs. 21-25, Joseph form) ------------------------------------------
     def _update(self, y: np.ndarray, h: np.ndarray, r: np.ndarray) -> None:
@@ -154,28 +179,30 @@ class StateEkf:
         n_sub = max(1, int(round((t1_s - t0_s) / dt)))
         eps = 1e-6 * dt
 
-        def sub_index(t: np.ndarray) -> np.ndarray:
-            j = np.ceil((t - t0_s - eps) / dt).astype(int)
-            return np.clip(j, 1, n_sub)
+        def sub_index(t: float) -> int:
+            """The substep containing stamp ``t`` [s], clipped to 1..n_sub (a non-finite stamp: 1)."""
+            x = (t - t0_s - eps) / dt
+            return min(max(math.ceil(x), 1), n_sub) if math.isfinite(x) else 1
 
         gyro_at: dict[int, float] = {}
         if samples.gyro.size:
-            for j, w in zip(sub_index(samples.gyro[:, 0]), samples.gyro[:, 1], strict=True):
+            for t, w in samples.gyro[:, :2].tolist():
                 if math.isfinite(w):
-                    gyro_at[int(j)] = float(w)  # at most one per substep at 100 Hz
+                    gyro_at[sub_index(t)] = w  # at most one per substep at 100 Hz
         events: list[tuple[int, float, int, int]] = []  # (substep, t, kind, row)
         if samples.gps.size:
-            for r, j in enumerate(sub_index(samples.gps[:, 0])):
-                events.append((int(j), float(samples.gps[r, 0]), 0, r))
+            for r, t in enumerate(samples.gps[:, 0].tolist()):
+                events.append((sub_index(t), t, 0, r))
         if samples.alt.size:
-            for r, j in enumerate(sub_index(samples.alt[:, 0])):
-                events.append((int(j), float(samples.alt[r, 0]), 1, r))
+            for r, t in enumerate(samples.alt[:, 0].tolist()):
+                events.append((sub_index(t), t, 1, r))
         events.sort()
         ei = 0
         u = np.asarray(command, dtype=float)
+        v, vz, om = float(u[0]), float(u[1]), float(u[2])
         for j in range(1, n_sub + 1):
             if moving:
-                self.predict(u, dt, gyro_at.get(j))
+                self._predict(v, vz, om, dt, gyro_at.get(j))
             while ei < len(events) and events[ei][0] == j:
                 _, _, kind, r = events[ei]
                 ei += 1

@@ -37,6 +37,10 @@ from .errors import ConfigError, InputError
 __all__ = ["UNKNOWN", "FrontCells", "FrontConfig", "FrontPicture"]
 
 UNKNOWN = -1
+_UNBURNED = int(CellState.UNBURNED)
+# row and column offsets of the 8 neighbours in the framed state grid (FrontPicture._framed)
+_NEIGHBOUR_DI = np.array([1 + di for di in (-1, 0, 1) for dj in (-1, 0, 1) if di or dj])
+_NEIGHBOUR_DJ = np.array([1 + dj for di in (-1, 0, 1) for dj in (-1, 0, 1) if di or dj])
 
 
 @dataclass(frozen=True)
@@ -99,7 +103,11 @@ class FrontPicture:
         cs = cfg.cell_size_m
         self.nx = max(1, math.ceil((x1 - x0) / cs - 1e-9))
         self.ny = max(1, math.ceil((y1 - y0) / cs - 1e-9))
-        self.state = np.full((self.ny, self.nx), UNKNOWN, dtype=np.int8)
+        # the state grid lives inside a frame of one BURNED cell (not open): the front's neighbour
+        # test reads the frame instead of padding the grid at every step
+        self._framed = np.full((self.ny + 2, self.nx + 2), CellState.BURNED, dtype=np.int8)
+        self.state = self._framed[1:-1, 1:-1]  # a view: writes to it are writes to the frame's inside
+        self.state[...] = UNKNOWN
         self.t_obs = np.full((self.ny, self.nx), -np.inf)
         self.fire_map: FireMap | None = None
         self._t_s = -math.inf
@@ -197,13 +205,9 @@ class FrontPicture:
         i, j = self._fresh_burning_ij(t_s)
         if i.size == 0:
             return i, j
-        st = np.pad(self.state, 1, constant_values=CellState.BURNED)
-        nb = np.zeros(i.size, dtype=bool)
-        for di in (-1, 0, 1):
-            for dj in (-1, 0, 1):
-                if di or dj:
-                    s = st[i + 1 + di, j + 1 + dj]
-                    nb |= (s == CellState.UNBURNED) | (s == UNKNOWN)
+        # the 8 neighbours of every cell at once, in the framed grid (row + 1, col + 1 is the cell)
+        s = self._framed[i[:, None] + _NEIGHBOUR_DI, j[:, None] + _NEIGHBOUR_DJ]  # (n, 8)
+        nb = ((s == _UNBURNED) | (s == UNKNOWN)).any(axis=1)
         return i[nb], j[nb]
 
     def _fresh_burning_ij(self, t_s: float) -> tuple[np.ndarray, np.ndarray]:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from bisect import bisect_left
+
 import numpy as np
 
 from .coverage import Grid
@@ -42,6 +44,7 @@ class StalenessSearch:
         self.horizon_s = horizon_s
         self.stale_band = stale_band
         self.last_seen = np.full(grid.points.shape[0], -horizon_s)
+        self._xs_list, self._ys_list = grid.xs.tolist(), grid.ys.tolist()  # for observe's bisection
         self._target: int | None = None  # index into grid.points of the committed waypoint
         self._chosen_s = 0.0  # when it was chosen [s]
 
@@ -58,9 +61,11 @@ class StalenessSearch:
         xs, ys, h = self.grid.xs, self.grid.ys, self.grid.resolution_m
         r = float(np.sqrt(self.r2))
         seen = self.last_seen.reshape(ys.size, xs.size)  # a view: row-major (y, x) like Grid.points
-        for px, py in p:
-            i0, i1 = np.searchsorted(xs, (px - r - h, px + r + h))
-            j0, j1 = np.searchsorted(ys, (py - r - h, py + r + h))
+        xl, yl = self._xs_list, self._ys_list
+        for px, py in p.tolist():
+            # bisect_left on the sorted centres is np.searchsorted's default side, one value at a time
+            i0, i1 = bisect_left(xl, px - r - h), bisect_left(xl, px + r + h)
+            j0, j1 = bisect_left(yl, py - r - h), bisect_left(yl, py + r + h)
             if i0 >= i1 or j0 >= j1:
                 continue
             dx = xs[i0:i1] - px

@@ -266,7 +266,8 @@ def front_weights(
         ok = np.isfinite(ros)
         if not ok.any() or not np.nanmax(ros) > 0:
             return np.ones(n)
-        ros = np.where(ok, ros, np.nanmean(ros))
+        if not ok.all():  # (np.where would take none of the mean when every cell is known)
+            ros = np.where(ok, ros, np.nanmean(ros))
         return (np.clip(ros, 0.0, None) / np.nanmax(ros)) ** cfg.head_power + cfg.min_weight
     if anchor_xy is None:
         anchor_xy = choose_anchor(front)

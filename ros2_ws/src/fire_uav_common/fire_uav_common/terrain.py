@@ -85,6 +85,10 @@ class Terrain:
 
     def elevation(self, x_m: float | np.ndarray, y_m: float | np.ndarray) -> float | np.ndarray:
         """Ground height [m] at (x_m, y_m), map frame; vectorised over arrays."""
+        if not self.hills and isinstance(x_m, float) and isinstance(y_m, float):
+            # a point on a plane (every control step asks several times): the same three IEEE
+            # operations as the array form below, in Python floats (a hill's exp stays numpy's)
+            return float(self.base_m + self.slope_x * x_m + self.slope_y * y_m)
         x = np.asarray(x_m, dtype=float)
         y = np.asarray(y_m, dtype=float)
         e = self.base_m + self.slope_x * x + self.slope_y * y
