@@ -6,8 +6,8 @@ Everything is started in one process group on a private ROS_DOMAIN_ID; the runne
 small rclpy node that follows ``/clock``, ``/world/truth`` and the events to show progress,
 inject faults at given mission times, and decide when the mission is over. It ends every
 process it started (SIGINT, then SIGKILL) on completion (once the world has exited by itself,
-its last messages acknowledged by every reader: ``_let_the_world_end``), timeout, error or Ctrl-C, prints a
-summary table and writes ``summary.json`` beside the bag and the report.
+its last messages acknowledged by every reader: ``_let_the_world_end``), timeout, error or
+Ctrl-C, prints a summary table and writes ``summary.json`` beside the bag and the report.
 """
 
 from __future__ import annotations

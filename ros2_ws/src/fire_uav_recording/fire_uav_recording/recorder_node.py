@@ -82,9 +82,9 @@ then, as without an announced end, until nothing has come for 0.1 s; at most
 ``stop_drain_wall_s``, and a second signal cuts it short. A final truth still missing then is
 named in a warning (``stop: the bag lacks the world's final /world/truth ...``). That message
 is there only if the world lived until the recorder had it: the world exits once every reader
-has acknowledged its messages, and the runner lets it (docs/recording.md, "Stopping"). Over the memory budget at a
-stop the chunk is flushed rather than a message dropped. A SIGKILL loses what the last
-``flush_period_wall_s`` wrote, as before.
+has acknowledged its messages, and the runner lets it (docs/recording.md, "Stopping"). Over
+the memory budget at a stop the chunk is flushed rather than a message dropped. A SIGKILL
+loses what the last ``flush_period_wall_s`` wrote, as before.
 """
 
 from __future__ import annotations

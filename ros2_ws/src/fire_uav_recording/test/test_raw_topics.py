@@ -1,9 +1,8 @@
 """``RawTopicFollower``'s raw subscriptions are deep enough and drained, ``take_queued`` hands
-over what is still queued at a stop (waiting on the executor for an expected message), even after
-the context is shut down, and the topics it
-follows up front keep a publisher's first messages, are announced once with the publishers' QoS
-and warn of publishers they cannot match (rclpy in this process, a private ROS domain; no other
-process)."""
+over what is still queued at a stop (waiting on the executor for an expected message), even
+after the context is shut down, and the topics it follows up front keep a publisher's first
+messages, are announced once with the publishers' QoS and warn of publishers they cannot match
+(rclpy in this process, a private ROS domain; no other process)."""
 
 from __future__ import annotations
 
