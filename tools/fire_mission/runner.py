@@ -5,8 +5,9 @@ usage: scripts/run_mission [SCENARIO] [options]   (scripts/run_mission --help)
 Everything is started in one process group on a private ROS_DOMAIN_ID; the runner itself is a
 small rclpy node that follows ``/clock``, ``/world/truth`` and the events to show progress,
 inject faults at given mission times, and decide when the mission is over. It ends every
-process it started (SIGINT, then SIGKILL) on completion, timeout, error or Ctrl-C, prints a
-summary table and writes ``summary.json`` beside the bag and the report.
+process it started (SIGINT, then SIGKILL) on completion (once the world has exited by itself,
+its last messages acknowledged by every reader: ``_let_the_world_end``), timeout, error or
+Ctrl-C, prints a summary table and writes ``summary.json`` beside the bag and the report.
 """
 
 from __future__ import annotations
@@ -798,6 +799,8 @@ def run(args: argparse.Namespace) -> int:
             print("\n[run_mission] Ctrl-C: ending every process", file=sys.stderr)
         finally:
             progress.close()
+            if outcome in ("complete", "time_limit"):
+                _let_the_world_end(procs)
             # publishers first, so the recorder (and a Foxglove bridge) take their last messages;
             # the perimeter viewer publishes the recorded /viz/perimeter
             codes = procs.stop_all(first=[*agents, "world", "perimeter_viewer"])
@@ -865,6 +868,33 @@ def _point_latest_at(out: Path) -> None:
         tmp.unlink()
     tmp.symlink_to(out.name)
     os.replace(tmp, runs / "latest")  # atomic: a concurrent run's link is replaced, never half-made
+
+
+#: [s wall] the longest the runner lets a finished world take to exit by itself: its own cap on
+#: waiting for acknowledgements (fire_world_sim.world_node.FINAL_ACK_CAP_WALL_S, 20 s) and a margin
+WORLD_EXIT_WALL_S = 30.0
+
+
+def _let_the_world_end(procs: ProcessGroup, timeout_s: float = WORLD_EXIT_WALL_S) -> None:
+    """After MISSION_COMPLETE, wait for the world to exit by itself before anything is stopped.
+
+    The world exits once every matched reader (the recorder's among them) has acknowledged its
+    messages. Signalled at once, as the runner did, it exited a few milliseconds after its final
+    publish: a final /world/truth that had not reached the recorder yet (a datagram or shared-memory
+    slot lost on a busy machine, repaired only on the writer's next heartbeat, 3 s in Fast DDS) was
+    lost with it, and the recorder, stopped next, could not take it (tests/system/
+    test_recorder_final_truth.py; the likely cause of a bag one truth short, "599 vs 600 truth
+    messages" in test_determinism)."""
+    world = procs.children.get("world")
+    if world is None:
+        return
+    try:
+        world.popen.wait(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        print(
+            f"[run_mission] the world did not exit within {timeout_s:g} s of the mission's end: stopping it",
+            file=sys.stderr,
+        )
 
 
 def _wait_for_node(sup: Supervisor, name: str, timeout_s: float, procs: ProcessGroup) -> None:

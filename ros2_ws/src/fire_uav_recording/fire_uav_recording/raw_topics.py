@@ -13,7 +13,8 @@ and the same ``ros2msg`` schema text, so they live here once.
   publisher of it or its first message comes, whichever is first.
   Every subscription is drained (``topics.drain_queue``: one callback takes the topic's whole
   queue, as ``/fleet/state`` and ``/tf`` get ~20 messages per step at 20 UAVs), and
-  :meth:`RawTopicFollower.take_queued` hands over what is still queued when the consumer stops.
+  :meth:`RawTopicFollower.take_queued` hands over what is still queued when the consumer stops
+  (its rule, what it waits for and how long: :mod:`fire_uav_recording.stop_drain`).
 - :func:`subscription_qos` is the QoS rule: the spec's QoS for a fleet topic (depth at least
   :data:`MIN_DEPTH`), rosbag2's adaptive rule for any other, relaxed to match every publisher.
 - :func:`schema_text` is the ``ros2msg`` text of a type (the message definition and every
@@ -24,7 +25,6 @@ from __future__ import annotations
 
 import importlib
 import re
-import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from functools import partial
@@ -38,6 +38,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSProf
 from rosbags.typesys.store import Typestore
 
 import fire_uav_recording as rec
+from fire_uav_recording.stop_drain import drain
 
 __all__ = [
     "MIN_DEPTH",
@@ -57,7 +58,6 @@ __all__ = [
 # busy cores must not overflow (at 100, a 20-UAV mission lost the /tf of ~2 steps at each hold-up)
 MIN_DEPTH = 1000
 STOP_QUIET_WALL_S = 0.1  # [s, wall] RawTopicFollower.take_queued ends once nothing came for this long
-_QUIET_POLL_WALL_S = 0.005  # [s, wall] between its passes over the subscriptions while waiting so
 
 
 def compile_patterns(
@@ -224,7 +224,8 @@ class RawTopicFollower:
         self._typestore = typestore
         self._on_topic = on_topic
         self.subscriptions: dict[str, Any] = {}
-        self._handlers: dict[str, Callable[[bytes], None]] = {}
+        self._counted: dict[str, Callable[[bytes], None]] = {}  # the subscriptions' callbacks
+        self.handed: dict[str, int] = {}  # messages handed to each topic's handler so far
         self._skipped: set[str] = set()
         self._pending: dict[str, tuple[_Relay, topics.TopicSpec]] = {}  # by follow(), not announced yet
         self._other_types: set[str] = set()  # topics of follow() with publishers of another type (warned)
@@ -308,9 +309,17 @@ class RawTopicFollower:
             return None
 
     def _subscribe(self, topic: str, cls: type, handler: Callable[[bytes], None], qos: QoSProfile) -> None:
-        sub = self._node.create_subscription(cls, topic, handler, qos, raw=True)
+        counted = partial(self._hand_over, topic, handler)
+        sub = self._node.create_subscription(cls, topic, counted, qos, raw=True)
         self.subscriptions[topic] = topics.drain_queue(sub)
-        self._handlers[topic] = handler
+        self._counted[topic] = counted
+        self.handed[topic] = 0
+
+    def _hand_over(self, topic: str, handler: Callable[[bytes], None], data: bytes) -> None:
+        """Every message of ``topic`` goes to its handler through here, counted in ``handed``
+        (whoever took it: the executor's callback or :meth:`take_queued`)."""
+        self.handed[topic] += 1
+        handler(data)
 
     def _discover_pending(self, topic: str) -> None:
         """Announce a topic of :meth:`follow` once the graph shows a publisher of its type."""
@@ -385,37 +394,53 @@ class RawTopicFollower:
         cap_wall_s: float,
         cancelled: Callable[[], bool] = lambda: False,
         quiet_wall_s: float = STOP_QUIET_WALL_S,
+        wait: Callable[[float], bool] | None = None,
+        expecting: Callable[[], str | None] = lambda: None,
     ) -> tuple[dict[str, int], bool]:
         """Hand every message still queued in a followed subscription to its handler (at a stop).
 
-        Passes over every subscription, taking each queue until it is empty, until no message
-        has come for ``quiet_wall_s`` [s, wall] (one a publisher sent just before it stopped may
-        still be on its way into the reader history), ``cap_wall_s`` [s, wall] has passed
-        (publishers that go on publishing) or ``cancelled()``. Needs no executor and works
-        after the context is shut down (the DDS reader histories live as long as the
-        subscriptions). Returns the messages taken per topic (topics with none left out) and
-        whether the queues were found empty and quiet (not cut short).
+        Passes over every subscription, taking each queue until it is empty. Between passes it
+        blocks in ``wait(timeout_s)``, which must return once a subscription may have a message
+        (the node's executor, :meth:`fire_uav_common.ros_io.LeanExecutor.spin_once`: its callbacks
+        take what came, counted here too) or ``timeout_s`` [s, wall] has passed, and return False
+        when it cannot wait any more (the context is shut down). It ends when ``expecting()``
+        names nothing still expected (``MissionEndWatch.missing``: the world's final truth, once
+        announced) and nothing has come for ``quiet_wall_s`` [s, wall] (a message a publisher sent
+        just before it stopped may still be on its way); when ``cap_wall_s`` [s, wall] has passed
+        (publishers that go on publishing, an expected message that never comes) or
+        ``cancelled()``. Without ``wait`` (or once it cannot wait) one pass is all it does: it
+        works with no executor and after the context is shut down (the DDS reader histories live
+        as long as the subscriptions). No sleep: only the wait on the subscriptions.
+
+        Returns the messages handed over per topic (topics with none left out) and whether it
+        ended with nothing expected left and the queues empty (not cut short).
         """
-        t0 = time.monotonic()
-        end, last = t0 + cap_wall_s, t0
-        taken: dict[str, int] = {}
-        while True:
+        start = dict(self.handed)
+
+        def take_all(stop: Callable[[], bool]) -> bool:
             for topic, sub in self.subscriptions.items():
-                handler = self._handlers[topic]
+                handler = self._counted[topic]
                 while True:
-                    now = time.monotonic()
-                    if now >= end or cancelled():
-                        return taken, False
+                    if stop():
+                        return True
                     with sub.handle:
                         got = sub.handle.take_message(sub.msg_type, sub.raw)
                     if got is None:
                         break
                     handler(got[0])
-                    taken[topic] = taken.get(topic, 0) + 1
-                    last = now
-            if time.monotonic() - last >= quiet_wall_s:
-                return taken, True
-            time.sleep(_QUIET_POLL_WALL_S)
+            return False
+
+        done = drain(
+            take_all,
+            lambda: sum(self.handed.values()),
+            cap_wall_s,
+            cancelled=cancelled,
+            quiet_wall_s=quiet_wall_s,
+            wait=wait,
+            expecting=expecting,
+        )
+        taken = {t: k - start.get(t, 0) for t, k in self.handed.items() if k > start.get(t, 0)}
+        return taken, done
 
     def _skip(self, topic: str, why: str) -> None:
         self._skipped.add(topic)

@@ -73,11 +73,18 @@ Stopping: SIGINT/SIGTERM only count (rclpy's own signal handlers are not install
 the context down at once and, for SIGINT, raise ``KeyboardInterrupt`` in whatever runs, a bag
 write included). The spin loop sees the signal within :data:`STOP_POLL_WALL_S`; then every
 message still queued in a subscription is taken and written
-(:meth:`~fire_uav_recording.raw_topics.RawTopicFollower.take_queued`: until nothing has come for
-0.1 s, at most ``stop_drain_wall_s``; a second signal cuts it short), the count is logged
-(``stop: took N queued messages ...``), and the bag is closed. Over the memory budget at a
-stop the chunk is flushed rather than a message dropped. A SIGKILL loses what the last
-``flush_period_wall_s`` wrote, as before.
+(:meth:`~fire_uav_recording.raw_topics.RawTopicFollower.take_queued`), the count is logged
+(``stop: took N queued messages ...``), and the bag is closed. Between its passes the drain waits
+on the node's executor, which wakes when a message comes (no sleep). Once the world has
+announced the end of its mission (``MISSION_COMPLETE`` on ``/world/events``, stamped with its
+final step), it waits for that step's ``/world/truth`` (:mod:`fire_uav_recording.stop_drain`),
+then, as without an announced end, until nothing has come for 0.1 s; at most
+``stop_drain_wall_s``, and a second signal cuts it short. A final truth still missing then is
+named in a warning (``stop: the bag lacks the world's final /world/truth ...``). That message
+is there only if the world lived until the recorder had it: the world exits once every reader
+has acknowledged its messages, and the runner lets it (docs/recording.md, "Stopping"). Over
+the memory budget at a stop the chunk is flushed rather than a message dropped. A SIGKILL
+loses what the last ``flush_period_wall_s`` wrote, as before.
 """
 
 from __future__ import annotations
@@ -92,6 +99,7 @@ from dataclasses import dataclass
 from functools import partial
 from importlib import metadata as _im
 from pathlib import Path
+from typing import Any
 
 import rclpy
 from fire_uav_common import topics
@@ -120,6 +128,7 @@ from fire_uav_recording.raw_topics import (  # noqa: F401  (re-exported: the rec
     subscription_qos,
     topic_wanted,
 )
+from fire_uav_recording.stop_drain import MissionEndWatch
 
 DEFAULT_TOPICS = topics.recorded_patterns()
 _INF_SEC, _INF_NSEC = rec.INFINITE_DURATION  # rosbag2 Jazzy's spelling of an infinite duration
@@ -216,6 +225,7 @@ class RecorderNode(Node):
         self._pending_bytes = 0  # [B] written since the last flush
         self._geo = self._geo_view()  # before the subscriptions: the world waits for them, not for this
         self._fix_connections: dict[str, object] = {}
+        self.mission_end = MissionEndWatch()  # the world's final truth, expected at a stop
         self._follower = RawTopicFollower(self, self.config.wants, self._typestore, self._on_topic)
         # before anything else the world waits for: see up_front_topics
         n = self._follower.follow(up_front_topics(self.config.uav_count))
@@ -344,13 +354,22 @@ class RecorderNode(Node):
             typestore=self._typestore,
             offered_qos_profiles=[to_bag_qos(q) for q in topic.offered],
         )
-        if self._geo is not None and topic.name == topics.WORLD_TRUTH:
+        if topic.name == topics.WORLD_TRUTH and topic.ros_type == topics.WORLD_TRUTH_SPEC.type:
             return partial(self._on_truth, conn)
+        if topic.name == topics.WORLD_EVENTS and topic.ros_type == topics.WORLD_EVENTS_SPEC.type:
+            return partial(self._on_event, conn)
         return partial(self._on_message, conn)
 
-    def _on_truth(self, conn: object, data: bytes) -> None:
-        """Write a ``/world/truth`` message, then each vehicle's NavSatFix derived from it."""
+    def _on_event(self, conn: object, data: bytes) -> None:
+        """Write a ``/world/events`` message; a MISSION_COMPLETE names the final truth to expect."""
         self._on_message(conn, data)
+        self.mission_end.on_event(data)
+
+    def _on_truth(self, conn: object, data: bytes) -> None:
+        """Write a ``/world/truth`` message, then (on a landscape) each vehicle's NavSatFix derived
+        from it."""
+        self._on_message(conn, data)
+        self.mission_end.on_truth(data)
         if self._closed or self._geo is None:
             return
         try:
@@ -394,21 +413,33 @@ class RecorderNode(Node):
             self._writer.flush()
             self._pending_bytes = 0
 
-    def take_queued(self, cancelled: Callable[[], bool] = lambda: False) -> int:
-        """At a stop: write every message still queued in a subscription (at most
-        ``stop_drain_wall_s``, until ``cancelled()``), log how many; returns the count."""
+    def take_queued(
+        self, cancelled: Callable[[], bool] = lambda: False, wait: Callable[[float], bool] | None = None
+    ) -> int:
+        """At a stop: write every message still queued in a subscription, log how many; returns
+        the count. ``wait(timeout_s)``: the node's executor (:func:`executor_wait`), which wakes
+        when a message comes; with it, once the world has announced the end of its mission
+        (MISSION_COMPLETE), the recorder waits for that final step's ``/world/truth`` rather than
+        for a quiet gap alone (:mod:`fire_uav_recording.stop_drain`). At most
+        ``stop_drain_wall_s``, until ``cancelled()``; what is still missing then is named in a
+        warning."""
         if self._closed:
             return 0
         self._stopping = True
         t0 = time.monotonic()
-        taken, empty = self._follower.take_queued(self.config.stop_drain_wall_s, cancelled)
+        taken, empty = self._follower.take_queued(
+            self.config.stop_drain_wall_s, cancelled, wait=wait, expecting=self.mission_end.missing
+        )
         n = sum(taken.values())
         busiest = ", ".join(f"{t} {k}" for t, k in sorted(taken.items(), key=lambda tk: -tk[1])[:5])
         why = "the queues are empty" if empty else "cut short (time cap or a second signal): more may be lost"
         # not the node's logger: the context may be shut down already (an external shutdown)
-        rclpy.logging.get_logger("recorder").info(
-            f"stop: took {n} queued messages in {time.monotonic() - t0:.3f} s ({busiest or 'none'}); {why}"
-        )
+        log = rclpy.logging.get_logger("recorder")
+        took_s = time.monotonic() - t0
+        log.info(f"stop: took {n} queued messages in {took_s:.3f} s ({busiest or 'none'}); {why}")
+        missing = self.mission_end.missing()
+        if missing is not None:
+            log.warning(f"stop: the bag lacks {missing}")
         return n
 
     def close_bag(self) -> None:
@@ -439,6 +470,21 @@ class StopSignals:
             signal.signal(sig, self)
 
 
+def executor_wait(executor: Any) -> Callable[[float], bool]:
+    """``wait(timeout_s)`` for :meth:`RecorderNode.take_queued`: one turn of ``executor`` (it
+    returns when a subscription has a message, which its callback writes, or after ``timeout_s``
+    [s, wall]); False once the context is shut down (nothing can wait on it any more)."""
+
+    def wait(timeout_s: float) -> bool:
+        try:
+            executor.spin_once(timeout_sec=max(0.0, timeout_s))
+        except ExternalShutdownException:
+            return False
+        return True
+
+    return wait
+
+
 def main(args: list[str] | None = None) -> int:
     """Run the recorder until SIGINT/SIGTERM; 0 on a clean stop, 1 on a configuration or bag error."""
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
@@ -462,14 +508,16 @@ def main(args: list[str] | None = None) -> int:
         if rclpy.ok():
             raise
     finally:
-        if executor is not None:
-            executor.shutdown()
         if node is not None:
             try:
-                node.take_queued(cancelled=lambda: stop.count > 1)
+                # the executor still waits on the subscriptions: the drain wakes when a message comes
+                wait = executor_wait(executor) if executor is not None else None
+                node.take_queued(cancelled=lambda: stop.count > 1, wait=wait)
             except Exception as err:  # the bag is closed all the same
                 rclpy.logging.get_logger("recorder").error(f"taking the queued messages failed: {err}")
                 rc = 1
+            if executor is not None:
+                executor.shutdown()
             try:
                 node.close_bag()
             except Exception as err:

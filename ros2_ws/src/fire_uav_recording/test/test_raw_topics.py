@@ -1,8 +1,8 @@
 """``RawTopicFollower``'s raw subscriptions are deep enough and drained, ``take_queued`` hands
-over what is still queued at a stop, even after the context is shut down, and the topics it
-follows up front keep a publisher's first messages, are announced once with the publishers' QoS
-and warn of publishers they cannot match (rclpy in this process, a private ROS domain; no other
-process)."""
+over what is still queued at a stop (waiting on the executor for an expected message), even
+after the context is shut down, and the topics it follows up front keep a publisher's first
+messages, are announced once with the publishers' QoS and warn of publishers they cannot match
+(rclpy in this process, a private ROS domain; no other process)."""
 
 from __future__ import annotations
 
@@ -295,3 +295,36 @@ def test_take_queued_announces_a_followed_topic_after_the_context_is_shut_down(u
     (topic,) = announced  # what a fleet publisher offers, in the graph's form
     assert topic.offered == (fleet_offered_qos(topics.FLEET_STATE_SPEC),)
     assert topic.offered[0].reliability == topics.FLEET_STATE_SPEC.qos().reliability
+
+
+def test_take_queued_waits_on_the_executor_for_what_is_expected(follower, ros_context):
+    """The recorder's stop with its executor as the wait: a message that is expected (as the
+    world's final truth once MISSION_COMPLETE is in) and comes after five quiet periods is still
+    taken, by the executor's callback, and counted; then it ends after one quiet period."""
+    import threading
+
+    from fire_uav_common.ros_io import LeanExecutor
+    from fire_uav_recording.raw_topics import STOP_QUIET_WALL_S
+
+    f, publish, got = follower
+    executor = LeanExecutor(context=ros_context)
+    executor.add_node(f._node)
+    late = threading.Timer(5 * STOP_QUIET_WALL_S, publish, args=(1,))
+    waits: list[float] = []
+
+    def wait(timeout_s: float) -> bool:
+        waits.append(timeout_s)
+        executor.spin_once(timeout_sec=timeout_s)
+        return True
+
+    late.start()
+    try:
+        taken, done = f.take_queued(
+            cap_wall_s=30.0, wait=wait, expecting=lambda: None if got else "the late message"
+        )
+    finally:
+        late.join()
+        executor.shutdown()
+    assert (taken, done) == ({"/fleet/state": 1}, True)
+    assert sequences(got) == [0]
+    assert waits[0] > 25.0  # while something is expected: up to the cap, woken by its arrival

@@ -30,6 +30,7 @@ from fire_uav_msgs.msg import MissionEvent, PayloadRequest
 from geometry_msgs.msg import TwistStamped
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
+from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.serialization import deserialize_message
@@ -56,6 +57,12 @@ _ACTIONS = frozenset(int(a) for a in PayloadAction)
 
 #: [s wall] lockstep: re-send a bundle to an agent whose answer is not in after this long
 RESEND_AFTER_WALL_S = 5.0
+#: [s wall] at the end, the longest the world waits for every reader to acknowledge its messages
+#: (a recorder held up at the end, at load ~40 on 2 cores, acknowledged after 6-7.5 s: repairs go
+#: at the writer's heartbeat, every 3 s)
+FINAL_ACK_CAP_WALL_S = 20.0
+#: [s wall] how often it asks meanwhile (a steady timer: the acknowledgements come on DDS threads)
+FINAL_ACK_POLL_WALL_S = 0.02
 
 
 def _descriptor(p: ParameterSpec) -> ParameterDescriptor:
@@ -337,8 +344,31 @@ class WorldNode(Node):
         for timer in (getattr(self, "_liveness_timer", None), getattr(self, "_rt_timer", None)):
             if timer is not None:
                 timer.cancel()
-        # keep spinning ~1 s wall so the last messages are delivered
-        self._exit_timer = self.create_timer(1.0, lambda: self.done.set_result(0), clock=self._steady)
+        # exit once every matched reader has acknowledged every message (in its reader history): a
+        # reliable writer repairs a lost sample only while it lives, and the last one's loss is
+        # seen only at its next heartbeat (Fast DDS: 3 s), so a world that exits on a timer can
+        # take its final /world/truth with it (docs/recording.md, "Stopping")
+        self._final_since_ns = self._steady.now().nanoseconds
+        self._exit_timer = self.create_timer(FINAL_ACK_POLL_WALL_S, self._exit_when_acked, clock=self._steady)
+
+    def _exit_when_acked(self) -> None:
+        """End the spin once every publisher's messages are acknowledged by all its matched readers,
+        or after :data:`FINAL_ACK_CAP_WALL_S` with a warning naming the topics still waited for."""
+        now = Duration(seconds=0)
+        pending = sorted(p.topic_name for p in self.publishers if not p.wait_for_all_acked(now))
+        waited_s = (self._steady.now().nanoseconds - self._final_since_ns) / NS_PER_S
+        if pending and waited_s < FINAL_ACK_CAP_WALL_S:
+            return
+        if pending:
+            self.get_logger().warning(
+                f"exiting with messages not acknowledged after {waited_s:.1f} s on {pending}: "
+                "a reader of those topics (a frozen or killed process?) may lack the last of them"
+            )
+        else:
+            self.get_logger().info(f"exiting: every reader has acknowledged every message ({waited_s:.2f} s)")
+        self._exit_timer.cancel()
+        if not self.done.done():
+            self.done.set_result(0)
 
     # --- publishing --------------------------------------------------------------------------
     def _publish(self, r: StepResult) -> None:
