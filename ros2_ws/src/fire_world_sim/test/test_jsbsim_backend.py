@@ -206,3 +206,23 @@ def test_altitude_and_position_are_the_integrals_of_the_flown_velocities() -> No
     dx = sum(f.airspeed_mps * math.cos(f.yaw_rad) * DT for f in traj[1:])
     dy = sum(f.airspeed_mps * math.sin(f.yaw_rad) * DT for f in traj[1:])
     assert (traj[-1].x_m - traj[0].x_m, traj[-1].y_m - traj[0].y_m) == pytest.approx((dx, dy), abs=3.0)
+
+
+def test_climbing_and_descending_turn_reversals_stay_within_the_envelope() -> None:
+    # the course turns at g n sin(phi) / v: a pull-up in a bank (n above 1 / cos(phi)) would turn
+    # it beyond g tan(bank_max) / v even with the bank within its limit (seen in the FF mission)
+    m, s = _launch()
+    traj: list[FlightState] = []
+    for cmd in [
+        Command(15.6, 5.0, 10.0),
+        Command(30.0, -5.0, -10.0),
+        Command(15.6, 5.0, -10.0),
+        Command(30.0, 5.0, 10.0),
+        Command(20.0, -5.0, 10.0),
+        Command(25.0, 0.0, -10.0),
+    ] * 2:
+        traj += _fly(m, s, cmd, 5.0)
+        s = traj[-1]
+    tan_max = math.tan(SMALL.bank_max_rad)
+    assert max(abs(f.turn_rate_radps) * f.airspeed_mps / G_MPS2 for f in traj) <= tan_max
+    assert max(abs(f.bank_rad) for f in traj) <= SMALL.bank_max_rad

@@ -103,7 +103,8 @@ class JsbsimSetup:
     on an aircraft with a smaller payload); the gains are the autopilot's (fire_world_sim.vehicles.autopilot):
     roll PID on aileron, rudder on sideslip, pitch PD on elevator, the total-energy controller's
     proportional / integral gains on throttle (``tecs_*_t``) and on pitch (``tecs_*_d``), and the
-    speed loop ``k_speed_1ps`` that turns an airspeed error into a commanded acceleration.
+    speed loop ``k_speed_1ps`` that turns an airspeed error into a commanded acceleration, ``k_load``
+    the elevator's easing of a pull that would turn the course beyond the envelope.
     """
 
     aircraft: str = "J3Cub"
@@ -114,6 +115,7 @@ class JsbsimSetup:
     water_weight_scale: float = 1.0
     bank_margin_deg: float = 5.0
     pitch_max_deg: float = 15.0
+    pitch_rate_max_degps: float = 10.0
     kp_roll: float = 3.0
     ki_roll: float = 0.1
     kd_roll: float = 0.5
@@ -127,6 +129,7 @@ class JsbsimSetup:
     k_speed_1ps: float = 0.5
     throttle_min: float = 0.1
     tecs_speed_weight: float = 0.5
+    k_load: float = 6.0
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,11 @@ principles", AIAA 83-2239, 1983):
   at idle gains speed rather than flying a shallower path than commanded). The throttle keeps a
   floor (``throttle_min``): on a propeller aircraft such as the J3Cub the propwash over the tail
   gives the elevator its authority at low speed. The pitch command goes
-  to the elevator by a PD on pitch and on the pitch rate beyond a steady turn's (B&M 6.4.1). Integrators stop while their
+  to the elevator by a PD on pitch and on the pitch rate beyond a steady turn's (B&M 6.4.1).
+- the envelope: the course turns at g n sin(phi) / v, more than g tan(phi) / v when a pull-up
+  raises the load factor n above level flight's 1 / cos(phi). The bank is further limited to
+  asin(tan(bank_max) / n) and the elevator eases the pull where n sin(phi) exceeds 0.9 tan(bank_max),
+  so the flown turn stays within the preset's g tan(bank_max) / v. Integrators stop while their
   output saturates (anti-windup).
 
 Units: SI and radians; the state in the body/NED conventions of JSBSim (phi right wing down
@@ -54,6 +58,7 @@ class AirState:
     sideslip_rad: float
     roll_rate_radps: float
     pitch_rate_radps: float
+    load_factor: float = 1.0  # normal load factor n = lift / weight [-]
 
 
 @dataclass(frozen=True)
@@ -76,6 +81,7 @@ class Autopilot:
         self.trim_pitch_rad = float(trim_pitch_rad)
         self.i_roll = 0.0
         self.phi_c_rad = 0.0  # the slewed bank command [rad]
+        self.theta_c_rad = self.trim_pitch_rad  # the slewed pitch command [rad]
         self.i_t = 0.0
         self.i_d = 0.0
         self.prev_airspeed_mps: float | None = None
@@ -100,7 +106,11 @@ class Autopilot:
         af, js = self.af, self.js
         v = max(s.airspeed_mps, 1.0)
         # lateral: coordinated-turn bank command, roll PID, rudder against sideslip
-        lim = self.bank_limit_rad(v)
+        # the course turns at g n sin(phi) / v: with the load factor n of a pull-up above level
+        # flight's, the bank that keeps it within g tan(bank_max) / v is asin(tan(bank_max) / n)
+        n = max(s.load_factor, 1.0)
+        n_lim = math.asin(min(1.0, math.tan(af.bank_max_rad) / n)) - math.radians(js.bank_margin_deg)
+        lim = max(min(self.bank_limit_rad(v), n_lim), 0.0)
         # JSBSim's bank is positive right wing down, a clockwise turn: omega_z (ccw) enters negated
         phi_target = _clip(math.atan(-omega_z_radps * v / G_MPS2), -lim, lim)
         step = math.radians(af.roll_rate_max_degps) * dt_s  # the bank command slews at the roll rate
@@ -130,9 +140,17 @@ class Autopilot:
         theta_c = _clip(th_raw, -th_max, th_max)
         if theta_c == th_raw or (th_raw > th_max) == (e_d < 0.0):
             self.i_d += e_d * dt_s
+        # the pitch command slews at pitch_rate_max (no sudden pull-up out of a descent)
+        th_step = math.radians(js.pitch_rate_max_degps) * dt_s
+        theta_c = self.theta_c_rad = _clip(theta_c, self.theta_c_rad - th_step, self.theta_c_rad + th_step)
         # pitch PD on the elevator (JSBSim's sign: positive elevator pitches nose down); the rate
         # term damps the pitch rate beyond a steady turn's, q = (g / v) tan(phi) sin(phi)
         q_turn = G_MPS2 * math.tan(s.bank_rad) * math.sin(s.bank_rad) / v
         e_q = s.pitch_rate_radps - q_turn
-        elev = _clip(-(js.kp_pitch * (theta_c - s.pitch_rad) - js.kd_pitch * e_q), -1.0, 1.0)
+        elev_raw = -(js.kp_pitch * (theta_c - s.pitch_rad) - js.kd_pitch * e_q)
+        # and the pull is eased where n sin(phi) nears tan(bank_max) (a climbing turn)
+        excess = n * abs(math.sin(s.bank_rad)) - 0.9 * math.tan(af.bank_max_rad)
+        if excess > 0.0:
+            elev_raw += js.k_load * excess
+        elev = _clip(elev_raw, -1.0, 1.0)
         return Surfaces(aileron=ail, elevator=elev, rudder=rud, throttle=thr)

@@ -172,6 +172,7 @@ class JsbsimModel:
             sideslip_rad=fdm["aero/beta-rad"],
             roll_rate_radps=fdm["velocities/p-rad_sec"],
             pitch_rate_radps=fdm["velocities/q-rad_sec"],
+            load_factor=fdm["accelerations/Nz"],
         )
 
     # --- the substep ------------------------------------------------------------------------
