@@ -38,7 +38,7 @@ import numpy as np
 from fire_uav_common.angles import wrap_angle
 from fire_uav_common.scenario import Airframe
 
-from ..errors import ConfigError
+from ..errors import ConfigError, SequenceError
 from .autopilot import AirState, Autopilot
 from .base import Command, FlightState
 
@@ -186,7 +186,7 @@ class JsbsimModel:
     ) -> list[FlightState]:
         """One substep of this instance's aircraft: ``states`` holds exactly its one state."""
         if len(states) != 1 or len(commands) != 1:
-            raise ValueError(f"jsbsim: one aircraft per model instance, got {len(states)} states")
+            raise SequenceError(f"jsbsim: one aircraft per model instance, got {len(states)} states")
         s, cmd = states[0], commands[0]
         if self.fdm is None or self.autopilot is None:
             self.launch(s, cmd, dt_s)
