@@ -154,6 +154,8 @@ class World:
         # FF Eq. 4 for the whole fleet in one numpy pass per substep (the per-vehicle backend
         # interface stays for every other model)
         self._fleet_fast = type(self.vehicle_model) is FfPaperModel
+        # a backend that holds its vehicle's state (jsbsim) gets one instance per vehicle
+        per_vehicle = getattr(self.vehicle_model, "per_vehicle", False)
         self.vehicles = [
             VehicleSim(
                 i,
@@ -162,7 +164,7 @@ class World:
                 scenario.terrain,
                 scenario.lakes,
                 stream(self.seed, "process_noise", i),
-                self.vehicle_model,
+                make_vehicle_model(scenario) if per_vehicle else self.vehicle_model,
             )
             for i, pose in enumerate(scenario.uav_start_poses(self.uav_count))
         ]

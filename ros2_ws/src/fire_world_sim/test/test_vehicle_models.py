@@ -18,7 +18,7 @@ from fire_world_sim.world import EventType, World
 
 from .conftest import make_scenario
 
-BACKENDS = ("ff_paper", "coordinated_turn")
+BACKENDS = ("ff_paper", "coordinated_turn", "jsbsim")
 SMALL = AIRFRAMES["small_uav"]
 EXACT_SENSORS = {
     "gyro": {"rate_hz": 100.0, "sigma_radps": 0.0, "p_valid": 1.0},

@@ -14,12 +14,13 @@ import dataclasses
 from typing import Any
 
 from .fields import _Ctx, _mapping, _num, _str
-from .types import G_MPS2, Airframe, Vehicle
+from .types import G_MPS2, Airframe, JsbsimSetup, Vehicle
 
 __all__ = [
     "AIRFRAMES",
     "DEFAULT_AIRFRAME",
     "G_MPS2",
+    "JsbsimSetup",
     "VEHICLE_MODELS",
     "Airframe",
     "envelope_vehicle",
@@ -27,7 +28,7 @@ __all__ = [
 ]
 
 #: ``uavs.vehicle_model`` values (fire_world_sim.vehicles has one backend per name)
-VEHICLE_MODELS = ("ff_paper", "coordinated_turn")
+VEHICLE_MODELS = ("ff_paper", "coordinated_turn", "jsbsim")
 #: the preset a fixed-wing model flies when ``uavs.airframe`` is not given
 DEFAULT_AIRFRAME = "small_uav"
 
@@ -50,6 +51,9 @@ AIRFRAMES: dict[str, Airframe] = {
         empty_mass_kg=15.0,
         water_capacity_kg=10.0,
         refill_rate_kgps=2.0,
+        # jsbsim: the lightest powered aircraft shipped with JSBSim, the Piper J-3 Cub; the water
+        # takes the pilot's point mass (docs/airframes.md: what it cannot fly of this envelope)
+        jsbsim=JsbsimSetup(aircraft="J3Cub", v_floor_mps=20.0, v_stall_mps=17.0, water_pointmass=0),
     ),
     # An amphibious single-engine scooper of the AT-802F Fire Boss class: about 3,000 kg of
     # water (800 US gal), scooped on a straight run.
@@ -67,10 +71,16 @@ AIRFRAMES: dict[str, Airframe] = {
         empty_mass_kg=4500.0,
         water_capacity_kg=3000.0,
         refill_rate_kgps=200.0,
+        # jsbsim: the Pilatus PC-7, a single-turboprop trainer (MTOW ~2,700 kg), the water in its
+        # payload point mass scaled by its payload / the tank (1,040 / 3,000 kg); not tuned further
+        jsbsim=JsbsimSetup(
+            aircraft="pc7", v_floor_mps=46.8, v_stall_mps=36.0, water_pointmass=0, water_weight_scale=0.347
+        ),
     ),
 }
 
-_FIELDS = tuple(f.name for f in dataclasses.fields(Airframe))
+#: the numeric envelope fields a scenario may override (the preset's ``jsbsim`` setup is kept)
+_FIELDS = tuple(f.name for f in dataclasses.fields(Airframe) if f.name != "jsbsim")
 
 
 def read_airframe(ctx: _Ctx, d: dict, model: str) -> Airframe | None:
@@ -103,7 +113,7 @@ def read_airframe(ctx: _Ctx, d: dict, model: str) -> Airframe | None:
     values: dict[str, Any] = {}
     for f in _FIELDS:
         values[f] = _num(ctx, a, f, p, getattr(base, f), gt=0)
-    af = Airframe(**values)
+    af = Airframe(**values, jsbsim=base.jsbsim)
     if not af.v_stall_mps < af.v_max_mps:
         raise ctx.fail(f"{p}.v_stall_mps", f"must be < v_max_mps ({af.v_max_mps:g}), got {af.v_stall_mps:g}")
     if not 0 < af.bank_max_deg <= 80:

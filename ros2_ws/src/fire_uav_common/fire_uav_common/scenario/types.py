@@ -91,6 +91,48 @@ class Vehicle:
 
 
 @dataclass(frozen=True)
+class JsbsimSetup:
+    """What the ``jsbsim`` backend flies for a preset: a JSBSim aircraft and its autopilot's gains.
+
+    ``aircraft``: a model shipped with the ``jsbsim`` wheel (``aircraft/<name>/<name>.xml``);
+    ``v_floor_mps``: the lowest airspeed [m/s] the autopilot holds on this aircraft (its own
+    slow-flight margin, which may exceed the preset's lowest commanded speed: docs/airframes.md);
+    ``v_stall_mps``: the aircraft's own lowest 1 g speed [m/s] (its bank limit at low speed);
+    ``water_pointmass``: index of the aircraft's point mass that carries the water (its weight is
+    ``base_pointmass_lbs`` + ``water_weight_scale`` x water: a scale below 1 carries the preset's tank
+    on an aircraft with a smaller payload); the gains are the autopilot's (fire_world_sim.vehicles.autopilot):
+    roll PID on aileron, rudder on sideslip, pitch PD on elevator, the total-energy controller's
+    proportional / integral gains on throttle (``tecs_*_t``) and on pitch (``tecs_*_d``), and the
+    speed loop ``k_speed_1ps`` that turns an airspeed error into a commanded acceleration, ``k_load``
+    the elevator's easing of a pull that would turn the course beyond the envelope.
+    """
+
+    aircraft: str = "J3Cub"
+    v_floor_mps: float = 20.0
+    v_stall_mps: float = 17.0
+    water_pointmass: int = 0
+    base_pointmass_lbs: float = 0.0
+    water_weight_scale: float = 1.0
+    bank_margin_deg: float = 5.0
+    pitch_max_deg: float = 15.0
+    pitch_rate_max_degps: float = 10.0
+    kp_roll: float = 3.0
+    ki_roll: float = 0.1
+    kd_roll: float = 0.5
+    k_beta: float = 2.0
+    kp_pitch: float = 3.0
+    kd_pitch: float = 0.6
+    tecs_kp_t: float = 2.0
+    tecs_ki_t: float = 0.6
+    tecs_kp_d: float = 0.6
+    tecs_ki_d: float = 1.0
+    k_speed_1ps: float = 0.5
+    throttle_min: float = 0.1
+    tecs_speed_weight: float = 0.5
+    k_load: float = 6.0
+
+
+@dataclass(frozen=True)
 class Airframe:
     """Envelope of a fixed-wing airframe for the ``coordinated_turn`` model (B&M ch. 9).
 
@@ -116,6 +158,7 @@ class Airframe:
     water_capacity_kg: float
     refill_rate_kgps: float
     min_speed_factor: float = 1.3
+    jsbsim: JsbsimSetup = field(default_factory=JsbsimSetup)  # what the jsbsim backend flies
 
     @property
     def v_min_mps(self) -> float:

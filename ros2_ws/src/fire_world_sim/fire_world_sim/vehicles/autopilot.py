@@ -1,0 +1,156 @@
+"""The autopilot that stands for a fixed-wing vehicle's own: it tracks the agent's (v, v_z, omega).
+
+Pure Python, no JSBSim in it: it reads the flown state (:class:`AirState`) and returns the
+surface and throttle commands (:class:`Surfaces`, each within its normalised range). The loops are
+the successive loop closure of Beard & McLain, *Small Unmanned Aircraft: Theory and Practice*
+(2012), ch. 6, with the longitudinal channel of a total-energy control system (TECS: A. A.
+Lambregts, "Vertical flight path and speed control autopilot design using total energy
+principles", AIAA 83-2239, 1983):
+
+- lateral (B&M 6.3.1-6.3.2): the bank command of the coordinated turn, phi_c = atan(omega_c v / g)
+  (B&M Eq. 9.14 solved for phi), limited to the preset's bank_max minus a margin for overshoot
+  and slewed at the preset's roll_rate_max;
+  aileron = k_p (phi_c - phi) + k_i int(phi_c - phi) - k_d p; the rudder holds the sideslip at zero
+  (B&M 6.3.3, turn coordination): rudder = -k_beta beta (JSBSim: positive rudder yaws left and
+  makes a positive sideslip).
+- longitudinal (TECS): with the flight-path angle gamma = asin(v_z / v) and the commanded
+  acceleration vdot_c = k_v (v_c - v) (limited to the preset's accel_max), the specific total-energy
+  rate error e_T = (gamma_c - gamma) + (vdot_c - vdot) / g goes to the throttle and the energy
+  distribution error e_D = (gamma_c - gamma) - w (vdot_c - vdot) / g to the pitch command, each
+  through a PI; both integrators at rest mean gamma = gamma_c and v = v_c. The weight w < 1
+  (``tecs_speed_weight``) gives the flight path priority when the throttle saturates (a descent
+  at idle gains speed rather than flying a shallower path than commanded). The throttle keeps a
+  floor (``throttle_min``): on a propeller aircraft such as the J3Cub the propwash over the tail
+  gives the elevator its authority at low speed. The pitch command goes
+  to the elevator by a PD on pitch and on the pitch rate beyond a steady turn's (B&M 6.4.1).
+- the envelope: the course turns at g n sin(phi) / v, more than g tan(phi) / v when a pull-up
+  raises the load factor n above level flight's 1 / cos(phi). The bank is further limited to
+  asin(tan(bank_max) / n) and the elevator eases the pull where n sin(phi) exceeds 0.9 tan(bank_max),
+  so the flown turn stays within the preset's g tan(bank_max) / v. Integrators stop while their
+  output saturates (anti-windup).
+
+Units: SI and radians; the state in the body/NED conventions of JSBSim (phi right wing down
+positive, theta nose up positive, p and q body rates).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from fire_uav_common.scenario import Airframe
+from fire_uav_common.scenario.airframes import G_MPS2
+
+
+def _clip(x: float, lo: float, hi: float) -> float:
+    return lo if x < lo else hi if x > hi else x
+
+
+@dataclass(frozen=True)
+class AirState:
+    """What the autopilot reads [SI, rad]: true airspeed, vertical speed (up), bank, pitch,
+    sideslip, body roll and pitch rates."""
+
+    airspeed_mps: float
+    climb_mps: float
+    bank_rad: float
+    pitch_rad: float
+    sideslip_rad: float
+    roll_rate_radps: float
+    pitch_rate_radps: float
+    load_factor: float = 1.0  # normal load factor n = lift / weight [-]
+
+
+@dataclass(frozen=True)
+class Surfaces:
+    """Normalised commands: aileron, elevator, rudder in [-1, 1], throttle in [0, 1]."""
+
+    aileron: float
+    elevator: float
+    rudder: float
+    throttle: float
+
+
+class Autopilot:
+    """One vehicle's autopilot; ``trim_throttle`` and ``trim_pitch_rad`` from the trimmed start."""
+
+    def __init__(self, airframe: Airframe, trim_throttle: float, trim_pitch_rad: float) -> None:
+        self.af = airframe
+        self.js = airframe.jsbsim
+        self.trim_throttle = float(trim_throttle)
+        self.trim_pitch_rad = float(trim_pitch_rad)
+        self.i_roll = 0.0
+        self.phi_c_rad = 0.0  # the slewed bank command [rad]
+        self.theta_c_rad = self.trim_pitch_rad  # the slewed pitch command [rad]
+        self.i_t = 0.0
+        self.i_d = 0.0
+        self.prev_airspeed_mps: float | None = None
+
+    def bank_limit_rad(self, v_mps: float) -> float:
+        """The largest bank the autopilot commands at airspeed v [rad]: bank_max, or less where the
+        turn's load factor n = 1 / cos(phi) needs more lift than the aircraft gives below
+        v_s sqrt(n) (phi <= acos((v_s / v)^2), v_s the aircraft's own 1 g minimum speed), each
+        less the overshoot margin."""
+        ratio = (self.js.v_stall_mps / max(v_mps, 1e-6)) ** 2
+        stall_lim = math.acos(ratio) if ratio < 1.0 else 0.0
+        return max(min(self.af.bank_max_rad, stall_lim) - math.radians(self.js.bank_margin_deg), 0.0)
+
+    def speed_command_mps(self, v_lin_mps: float) -> float:
+        """The airspeed held [m/s]: the command within [max(v_min, the aircraft's floor), v_max]."""
+        lo = max(self.af.v_min_mps, self.js.v_floor_mps)
+        return _clip(v_lin_mps, lo, max(lo, self.af.v_max_mps))
+
+    def update(
+        self, s: AirState, v_lin_mps: float, v_z_mps: float, omega_z_radps: float, dt_s: float
+    ) -> Surfaces:
+        af, js = self.af, self.js
+        v = max(s.airspeed_mps, 1.0)
+        # lateral: coordinated-turn bank command, roll PID, rudder against sideslip
+        # the course turns at g n sin(phi) / v: with the load factor n of a pull-up above level
+        # flight's, the bank that keeps it within g tan(bank_max) / v is asin(tan(bank_max) / n)
+        n = max(s.load_factor, 1.0)
+        n_lim = math.asin(min(1.0, math.tan(af.bank_max_rad) / n)) - math.radians(js.bank_margin_deg)
+        lim = max(min(self.bank_limit_rad(v), n_lim), 0.0)
+        # JSBSim's bank is positive right wing down, a clockwise turn: omega_z (ccw) enters negated
+        phi_target = _clip(math.atan(-omega_z_radps * v / G_MPS2), -lim, lim)
+        step = math.radians(af.roll_rate_max_degps) * dt_s  # the bank command slews at the roll rate
+        phi_c = self.phi_c_rad = _clip(phi_target, self.phi_c_rad - step, self.phi_c_rad + step)
+        e_phi = phi_c - s.bank_rad
+        ail_raw = js.kp_roll * e_phi + js.ki_roll * self.i_roll - js.kd_roll * s.roll_rate_radps
+        ail = _clip(ail_raw, -1.0, 1.0)
+        if ail == ail_raw:
+            self.i_roll += e_phi * dt_s
+        rud = _clip(-js.k_beta * s.sideslip_rad, -1.0, 1.0)
+        # longitudinal: TECS
+        v_c = self.speed_command_mps(v_lin_mps)
+        vz_c = _clip(v_z_mps, -af.descent_max_mps, af.climb_max_mps)
+        gamma = math.asin(_clip(s.climb_mps / v, -1.0, 1.0))
+        gamma_c = math.asin(_clip(vz_c / v, -1.0, 1.0))
+        vdot = 0.0 if self.prev_airspeed_mps is None else (s.airspeed_mps - self.prev_airspeed_mps) / dt_s
+        self.prev_airspeed_mps = s.airspeed_mps
+        vdot_c = _clip(js.k_speed_1ps * (v_c - s.airspeed_mps), -af.accel_max_mps2, af.accel_max_mps2)
+        e_t = (gamma_c - gamma) + (vdot_c - vdot) / G_MPS2
+        e_d = (gamma_c - gamma) - js.tecs_speed_weight * (vdot_c - vdot) / G_MPS2
+        thr_raw = self.trim_throttle + js.tecs_kp_t * e_t + js.tecs_ki_t * self.i_t
+        thr = _clip(thr_raw, js.throttle_min, 1.0)
+        if thr == thr_raw or (thr_raw > 1.0) == (e_t < 0.0):
+            self.i_t += e_t * dt_s
+        th_max = math.radians(js.pitch_max_deg)
+        th_raw = self.trim_pitch_rad + js.tecs_kp_d * e_d + js.tecs_ki_d * self.i_d
+        theta_c = _clip(th_raw, -th_max, th_max)
+        if theta_c == th_raw or (th_raw > th_max) == (e_d < 0.0):
+            self.i_d += e_d * dt_s
+        # the pitch command slews at pitch_rate_max (no sudden pull-up out of a descent)
+        th_step = math.radians(js.pitch_rate_max_degps) * dt_s
+        theta_c = self.theta_c_rad = _clip(theta_c, self.theta_c_rad - th_step, self.theta_c_rad + th_step)
+        # pitch PD on the elevator (JSBSim's sign: positive elevator pitches nose down); the rate
+        # term damps the pitch rate beyond a steady turn's, q = (g / v) tan(phi) sin(phi)
+        q_turn = G_MPS2 * math.tan(s.bank_rad) * math.sin(s.bank_rad) / v
+        e_q = s.pitch_rate_radps - q_turn
+        elev_raw = -(js.kp_pitch * (theta_c - s.pitch_rad) - js.kd_pitch * e_q)
+        # and the pull is eased where n sin(phi) nears tan(bank_max) (a climbing turn)
+        excess = n * abs(math.sin(s.bank_rad)) - 0.9 * math.tan(af.bank_max_rad)
+        if excess > 0.0:
+            elev_raw += js.k_load * excess
+        elev = _clip(elev_raw, -1.0, 1.0)
+        return Surfaces(aileron=ail, elevator=elev, rudder=rud, throttle=thr)
