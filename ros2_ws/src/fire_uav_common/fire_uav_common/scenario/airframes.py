@@ -50,6 +50,7 @@ AIRFRAMES: dict[str, Airframe] = {
         empty_mass_kg=15.0,
         water_capacity_kg=10.0,
         refill_rate_kgps=2.0,
+        drop_flow_lps=5.0,  # a 2 s release (a choice: no drop test of this class is published)
     ),
     # An amphibious single-engine scooper of the AT-802F Fire Boss class: about 3,000 kg of
     # water (800 US gal), scooped on a straight run.
@@ -67,6 +68,7 @@ AIRFRAMES: dict[str, Airframe] = {
         empty_mass_kg=4500.0,
         water_capacity_kg=3000.0,
         refill_rate_kgps=200.0,
+        drop_flow_lps=757.0,  # 200 US gal/s: AT-802F constant-flow settings span 77-450 gal/s
     ),
 }
 
@@ -125,7 +127,7 @@ def envelope_vehicle(vehicle: Vehicle, airframe: Airframe | None) -> Vehicle:
     ``v_stall_mps`` becomes the lowest commanded speed (takeoff and landing keep their meaning:
     a command below it lands), ``vz_max_mps`` the smaller of climb and descent rate (the agents'
     limit is symmetric), ``omega_max_radps`` the turn rate at the bank limit and the lowest speed;
-    tank and scoop rate come from the preset. Every other field stays the scenario's.
+    tank, scoop rate and drop flow rate come from the preset. Every other field stays the scenario's.
     """
     if airframe is None:
         return vehicle
@@ -137,4 +139,5 @@ def envelope_vehicle(vehicle: Vehicle, airframe: Airframe | None) -> Vehicle:
         omega_max_radps=airframe.turn_rate_max_radps(airframe.v_min_mps),
         water_capacity_kg=airframe.water_capacity_kg,
         refill_rate_kgps=airframe.refill_rate_kgps,
+        drop_flow_lps=airframe.drop_flow_lps,
     )
