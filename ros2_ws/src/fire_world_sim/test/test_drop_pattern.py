@@ -258,3 +258,18 @@ def test_the_drop_event_names_the_line_the_report_draws():
     line = drop_line("hit fires [0], 3 of 40 cells burning" + _pattern_text(p, 2))
     assert line == pytest.approx((p.x0_m, p.y0_m, p.x1_m, p.y1_m), abs=0.05)
     assert drop_line("hit fires [0], 3 of 40 cells burning") is None
+
+
+def test_ff_analytic_fires_keep_the_paper_rule_with_a_pattern():
+    """FF V-B: a drop within the fire's sigma halves it, whatever the pattern's coverage."""
+    from fire_uav_common.scenario import AnalyticFire
+    from fire_world_sim.fires import AnalyticFireModel
+
+    m = AnalyticFireModel((AnalyticFire(x_m=100.0, y_m=100.0, sigma_m=40.0),), extinction_sigma_m=2.0)
+    m.step(0.0, 0.1)
+    far = pattern_of(release(x_m=-300.0, y_m=100.0, heading_rad=0.0, ground_speed_mps=100.0))
+    assert far.length_m >= 400  # the line reaches the fire, but the release point is far from it
+    assert m.apply_pattern(far) == []
+    near = pattern_of(release(x_m=110.0, y_m=100.0, volume_l=1.0))
+    assert m.apply_pattern(near) == [0]
+    assert m.truth()[0].extent_m == pytest.approx(20.0)
