@@ -111,6 +111,24 @@ def test_report_without_a_bag_is_one_line() -> None:
             ["uavs.airframe.v_stall_mps", "must be < v_max_mps (30), got 40"],
         ),
         (
+            ("tiny_test", "--set", "fires.drop_model=splash"),
+            ["tiny_test.yaml", "fires.drop_model", "'splash'"],
+        ),
+        (
+            ("tiny_test", "--set", "vehicle.drop_flow_lps=0"),
+            ["tiny_test.yaml", "vehicle.drop_flow_lps", "> 0"],
+        ),
+        (
+            (
+                "tiny_test",
+                "--set",
+                "uavs.vehicle_model=coordinated_turn",
+                "--set",
+                "uavs.airframe.drop_flow_lps=-5",
+            ),
+            ["uavs.airframe.drop_flow_lps", "> 0", "-5"],
+        ),
+        (
             ("tiny_test", "--set", "uavs.vehicle_model=coordinated_turn", "--set", "uavs.airframe=tanker"),
             ["tiny_test.yaml", "lakes[0].diameter_m", "90 m is shorter than the tanker preset's 702 m scoop run"],
         ),

@@ -1,6 +1,7 @@
 """Suppression benchmark: burned area against the no-fleet baseline.
 
 usage: python -m fire_bench.suppression [--quick] [--jobs N] [--out DIR] [--case SC:UAVS:SEED:TACTIC ...]
+                                       [--duration S] [--drop-model disc|pattern]
        python -m fire_bench.suppression --from-runs JSONL [--from-runs JSONL ...] [--out DIR] [--update-docs]
        (or scripts/bench --only suppression)
 
@@ -46,8 +47,17 @@ _LOG: Path | None = None  # suppression_runs.jsonl of the current benchmark
 TACTICS = ("head", "flank")
 
 
-def run_case(scenario: str, uavs: int, seed: int, tactic: str, duration_s: float, monitors: int = 0) -> dict:
-    """One mission in the harness (``uavs`` 0: the fire alone); the world's measures + area history."""
+def run_case(
+    scenario: str,
+    uavs: int,
+    seed: int,
+    tactic: str,
+    duration_s: float,
+    monitors: int = 0,
+    drop_model: str = "disc",
+) -> dict:
+    """One mission in the harness (``uavs`` 0: the fire alone); the world's measures + area history.
+    ``drop_model``: the scenario's ``fires.drop_model`` (disc, or a ground pattern: docs/suppression.md)."""
     from fire_uav_agent.testing.harness import Harness, scenario_path
     from fire_uav_common.constants import EventType
     from fire_uav_common.scenario import load_scenario
@@ -58,6 +68,7 @@ def run_case(scenario: str, uavs: int, seed: int, tactic: str, duration_s: float
         sc,
         mission=dataclasses.replace(sc.mission, tactic=tactic, monitors_per_fire=monitors),
         timing=dataclasses.replace(sc.timing, max_duration_s=duration_s),
+        fires=dataclasses.replace(sc.fires, drop_model=drop_model),
     )
     wall0 = time.monotonic()
     crash_log: list[dict] = []
@@ -86,6 +97,7 @@ def run_case(scenario: str, uavs: int, seed: int, tactic: str, duration_s: float
         "seed": seed,
         "tactic": tactic if uavs else "none",
         "duration_s": duration_s,
+        "drop_model": drop_model,
         **m.as_dict(),
         "crashes": crashes,
         "crash_log": crash_log,
@@ -141,7 +153,8 @@ def _star(args: tuple) -> dict:
         with _LOG.open("a") as f:
             f.write(json.dumps(r) + "\n")
     print(
-        f"[suppression] {r['scenario']} uavs={r['uavs']} seed={r['seed']} {r['tactic']}: "
+        f"[suppression] {r['scenario']} uavs={r['uavs']} seed={r['seed']} {r['tactic']} "
+        f"{r.get('drop_model', 'disc')}: "
         f"burned {r['burned_area_m2'] / 1e4:.2f} ha, hit rate {_num(r['hit_rate'], 2)}, "
         f"contained at {_num(r['contained_at_s'], 1)} s, "
         f"crashes {r['crashes']} ({r['wall_s']} s wall)",
@@ -246,7 +259,7 @@ def _init_log(path: Path | None) -> None:
     _LOG = path
 
 
-def parse_case(text: str, duration_s: float = 900.0) -> tuple:
+def parse_case(text: str, duration_s: float = 900.0, drop_model: str = "disc") -> tuple:
     """``SCENARIO:UAVS:SEED:TACTIC`` (``--case``) -> a case of :func:`cases`."""
     parts = text.split(":")
     if len(parts) != 4:
@@ -262,7 +275,11 @@ def parse_case(text: str, duration_s: float = 900.0) -> tuple:
         raise SystemExit(f"--case {text!r}: UAVS and SEED must be integers") from None
     if n < 0:
         raise SystemExit(f"--case {text!r}: UAVS must be >= 0")
-    return (sc, n, k, tactic, duration_s)
+    return (
+        (sc, n, k, tactic, duration_s)
+        if drop_model == "disc"
+        else (sc, n, k, tactic, duration_s, 0, drop_model)
+    )
 
 
 def bench_suppression(
@@ -343,13 +360,28 @@ def main(argv: list[str] | None = None) -> int:
         metavar="SCENARIO:UAVS:SEED:TACTIC",
         help="run only these cases, in this order (repeatable; 900 s each), e.g. grass_running:6:1:head",
     )
+    p.add_argument(
+        "--duration",
+        type=float,
+        default=900.0,
+        metavar="S",
+        help="mission time limit of the --case cases [s] (default 900)",
+    )
+    p.add_argument(
+        "--drop-model",
+        choices=("disc", "pattern"),
+        default="disc",
+        help="fires.drop_model of the --case cases (default disc, the scenarios' own)",
+    )
     a = p.parse_args(argv)
     if a.out is None:
         from fire_bench.markdown import RUNS
 
         a.out = RUNS / f"suppression-{time.strftime('%Y%m%d-%H%M%S')}"
     try:
-        todo = [parse_case(c) for c in a.case] or None
+        if not a.duration > 0:
+            raise SystemExit(f"--duration must be > 0, got {a.duration:g}")
+        todo = [parse_case(c, a.duration, a.drop_model) for c in a.case] or None
     except SystemExit as e:
         p.error(str(e.code))
     if a.from_runs is not None:

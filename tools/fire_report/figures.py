@@ -6,6 +6,7 @@ A figure whose data is not in the bag is skipped (returns []), never an error.
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import matplotlib
@@ -432,6 +433,19 @@ def _grid_index(data: np.ndarray) -> np.ndarray:
     return np.select([data >= 100, data >= 60, data >= 20], [3, 2, 1], 0)
 
 
+_DROP_LINE = re.compile(r"pattern \((-?[\d.]+), (-?[\d.]+)\) -> \((-?[\d.]+), (-?[\d.]+)\) m")
+
+
+def drop_line(detail: str) -> tuple[float, float, float, float] | None:
+    """(x0, y0, x1, y1) [m] of a drop's ground pattern from its DROP event's detail (the world
+    writes ``pattern (x0, y0) -> (x1, y1) m`` there with ``fires.drop_model: pattern``), else None."""
+    m = _DROP_LINE.search(detail or "")
+    if m is None:
+        return None
+    x0, y0, x1, y1 = (float(g) for g in m.groups())
+    return (x0, y0, x1, y1)
+
+
 def fig_raster_front(mission: RecordedMission, out: Path, ground: Ground | None = None) -> list[Figure]:
     """FF Fig. 11 for a raster fire: the true grid at four times with the fleet's shared front
     (/fleet/front), the drops so far (hit: filled, missed: open) and the UAVs' Voronoi cells.
@@ -471,6 +485,9 @@ def fig_raster_front(mission: RecordedMission, out: Path, ground: Ground | None 
             if e.t_s <= t:
                 hit = e.fire_id >= 0
                 ax.plot(e.x_m, e.y_m, "o", ms=4, mfc="tab:blue" if hit else "none", mec="tab:blue", alpha=0.8)
+                line = drop_line(e.detail)
+                if line is not None:  # a ground pattern (fires.drop_model: pattern): its centre line
+                    ax.plot(line[0::2], line[1::2], "-", color="tab:blue", lw=1.2, alpha=0.8)
         _draw_crashes(ax, mission, t)
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
@@ -478,7 +495,8 @@ def fig_raster_front(mission: RecordedMission, out: Path, ground: Ground | None 
         ax.set_title(f"t = {t:.0f} s", fontsize=9)
     cap = (
         "Raster fire (grey burnt, orange burning, blue wet) with the fleet's shared front (magenta), drops "
-        "(filled: wet a burning cell) and the UAVs' Voronoi cells."
+        "(filled: wet a burning cell; a ground pattern's centre line drawn from its release) and the UAVs' "
+        "Voronoi cells."
     )
     if ground is not None:
         cap += " Under it, the ground's fuel types and terrain (see the landscape map)."

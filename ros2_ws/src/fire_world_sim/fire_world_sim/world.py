@@ -20,6 +20,7 @@ from fire_uav_common.constants import PayloadAction as Action
 from fire_uav_common.rng import stream
 from fire_uav_common.scenario import Scenario, check_fleet_size
 
+from .drop_pattern import DropPattern, Release, pattern_of
 from .errors import ConfigError
 from .fires import FireModel, FireTruthRecord, make_fire_model
 from .measures import SuppressionMeasures
@@ -178,6 +179,7 @@ class World:
         self.collisions = 0  # colliding pairs so far
         self._pairs: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # triu_indices(n, 1) by n
         self.measures = SuppressionMeasures()
+        self._pattern_drops = scenario.fires.drop_model == "pattern"
 
     # --- queries -----------------------------------------------------------------------------
     @property
@@ -500,11 +502,17 @@ class World:
             kg = v.release_water()
             if v.status != Status.AIRBORNE:
                 return []
-            hit = self.fires.apply_drop(v.x_m, v.y_m, None) if kg > 0 else []
+            pattern = self._drop_pattern(v, kg, t_ns) if kg > 0 and self._pattern_drops else None
+            if pattern is not None:
+                hit = self.fires.apply_pattern(pattern)
+            else:
+                hit = self.fires.apply_drop(v.x_m, v.y_m, None) if kg > 0 else []
             cells = self.fires.last_drop_cells if kg > 0 else None
             burning_cells, footprint_cells = cells if cells is not None else (0, 0)
             self.measures.add_drop(kg, burning_cells, footprint_cells, hit=bool(hit))
             cell_text = f", {cells[0]} of {cells[1]} cells burning" if cells is not None else ""
+            if pattern is not None:
+                cell_text += _pattern_text(pattern, getattr(self.fires, "last_drop_out_cells", None))
             ev = [
                 MissionEventRecord(
                     EventType.DROP,
@@ -528,6 +536,28 @@ class World:
         if action == Action.REFILL:
             v.request_refill()
         return []
+
+    def _drop_pattern(self, v: VehicleSim, kg: float, t_ns: int) -> DropPattern:
+        """The ground pattern of ``v``'s load of ``kg`` released now (``fires.drop_model: pattern``):
+        from its true position, heading, speed and height above the terrain, the envelope's flow
+        rate and the wind (:func:`.drop_pattern.pattern_of`). The track is the heading, plus the
+        wind for a model that drifts with it (every backend but FF's unicycle)."""
+        wind = self.wind_mps(t_ns * 1e-9)
+        vx = v.airspeed_mps * math.cos(v.yaw_rad)
+        vy = v.airspeed_mps * math.sin(v.yaw_rad)
+        if not isinstance(self.vehicle_model, FfPaperModel):
+            vx, vy = vx + wind[0], vy + wind[1]
+        release = Release(
+            x_m=v.x_m,
+            y_m=v.y_m,
+            heading_rad=math.atan2(vy, vx),
+            ground_speed_mps=math.hypot(vx, vy),
+            height_m=max(0.0, v.height_above_terrain_m()),
+            volume_l=kg,  # water: 1 kg = 1 L
+            flow_lps=self.scenario.vehicle.drop_flow_lps,
+            wind_mps=wind,
+        )
+        return pattern_of(release)
 
     def _update_measures(self, t_s: float, fires: list) -> None:
         """Burned area (sum of the fires' areas [m^2]) and containment at ``t_s`` [s].
@@ -555,3 +585,13 @@ class World:
             v.commands_clamped,
             v.commands_missed,
         )
+
+
+def _pattern_text(p: DropPattern, out_cells: int | None) -> str:
+    """The DROP event's words for a pattern: its line (start -> end), spread and peak coverage,
+    and how many burning cells it put out (the report draws the line from these)."""
+    out = f", {out_cells} put out" if out_cells is not None else ""
+    return (
+        f"{out}; pattern ({p.x0_m:.1f}, {p.y0_m:.1f}) -> ({p.x1_m:.1f}, {p.y1_m:.1f}) m, "
+        f"sigma {p.sigma_m:.1f} m, peak {p.peak_lpm2:.2f} L/m2"
+    )

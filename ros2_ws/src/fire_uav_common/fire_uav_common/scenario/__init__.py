@@ -18,7 +18,11 @@ Extensions to docs/scenario.md (all optional, defaults keep the documented behav
   (``airframes.envelope_vehicle``, docs/airframes.md).
 - ``fires.drop_radius_m``: radius [m] of a drop's footprint; ``null`` (default) means "the
   fire's sigma" for analytic fires (protocol "Payload") and 20 m for the raster fire.
-- ``fires.raster.wet_duration_s``: a wetted cell cannot ignite for this long (default 600 s).
+- ``fires.drop_model``: ``disc`` (default: every burning cell within ``drop_radius_m`` goes out)
+  or ``pattern`` (a ground pattern with a coverage per cell from the vehicle's speed, height and
+  ``drop_flow_lps``: ``vehicle.drop_flow_lps`` or the airframe preset's; docs/suppression.md).
+- ``fires.raster.wet_duration_s``: a wetted cell cannot ignite for this long (default 600 s;
+  with ``drop_model: pattern`` scaled by the cell's coverage over the coverage it needs).
 - ``fires.raster.spread_factor``: multiplies every rate of spread (default 1.0), to speed up
   demonstrations without changing the fuel physics.
 - ``fires.raster.wind_limit``: ``behave`` (default: Rothermel's 0.9 I_R limit as Behave applies
@@ -59,6 +63,7 @@ from .sections import (
     _vehicle,
 )
 from .types import (
+    DROP_MODELS,
     FIRE_MODELS,
     FUEL_MODELS,
     PRIOR_FIRES_MODES,
@@ -121,6 +126,7 @@ __all__ = [
     "Vehicle",
     "Wind",
     "WindGrid",
+    "DROP_MODELS",
     "FIRE_MODELS",
     "FUEL_MODELS",
     "PRIOR_FIRES_MODES",

@@ -54,6 +54,7 @@ AIRFRAMES: dict[str, Airframe] = {
         # jsbsim: the lightest powered aircraft shipped with JSBSim, the Piper J-3 Cub; the water
         # takes the pilot's point mass (docs/airframes.md: what it cannot fly of this envelope)
         jsbsim=JsbsimSetup(aircraft="J3Cub", v_floor_mps=20.0, v_stall_mps=17.0, water_pointmass=0),
+        drop_flow_lps=5.0,  # a 2 s release (a choice: no drop test of this class is published)
     ),
     # An amphibious single-engine scooper of the AT-802F Fire Boss class: about 3,000 kg of
     # water (800 US gal), scooped on a straight run.
@@ -76,6 +77,7 @@ AIRFRAMES: dict[str, Airframe] = {
         jsbsim=JsbsimSetup(
             aircraft="pc7", v_floor_mps=46.8, v_stall_mps=36.0, water_pointmass=0, water_weight_scale=0.347
         ),
+        drop_flow_lps=757.0,  # 200 US gal/s: AT-802F constant-flow settings span 77-450 gal/s
     ),
 }
 
@@ -135,7 +137,7 @@ def envelope_vehicle(vehicle: Vehicle, airframe: Airframe | None) -> Vehicle:
     ``v_stall_mps`` becomes the lowest commanded speed (takeoff and landing keep their meaning:
     a command below it lands), ``vz_max_mps`` the smaller of climb and descent rate (the agents'
     limit is symmetric), ``omega_max_radps`` the turn rate at the bank limit and the lowest speed;
-    tank and scoop rate come from the preset. Every other field stays the scenario's.
+    tank, scoop rate and drop flow rate come from the preset. Every other field stays the scenario's.
     """
     if airframe is None:
         return vehicle
@@ -147,4 +149,5 @@ def envelope_vehicle(vehicle: Vehicle, airframe: Airframe | None) -> Vehicle:
         omega_max_radps=airframe.turn_rate_max_radps(airframe.v_min_mps),
         water_capacity_kg=airframe.water_capacity_kg,
         refill_rate_kgps=airframe.refill_rate_kgps,
+        drop_flow_lps=airframe.drop_flow_lps,
     )

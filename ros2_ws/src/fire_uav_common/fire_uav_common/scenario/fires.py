@@ -11,6 +11,7 @@ from .ground import _repo_root, resolve_landscape_source
 from .types import (
     CROWN_METHODS,
     DEFAULT_SPEED_UNITS,
+    DROP_MODELS,
     FIRE_MODELS,
     FUEL_MODELS,
     SPEED_UNITS,
@@ -188,7 +189,9 @@ def _raster(ctx: _Ctx, raw: Any) -> Raster:
 
 def _fires(ctx: _Ctx, raw: Any) -> Fires:
     p = "fires"
-    d = _mapping(ctx, raw, p, {"model", "extinction_sigma_m", "drop_radius_m", "analytic", "raster"})
+    d = _mapping(
+        ctx, raw, p, {"model", "extinction_sigma_m", "drop_radius_m", "drop_model", "analytic", "raster"}
+    )
     model = _choice(ctx, d, "model", p, FIRE_MODELS, "analytic")
     drop_radius = None
     if d.get("drop_radius_m") is not None:
@@ -213,6 +216,7 @@ def _fires(ctx: _Ctx, raw: Any) -> Fires:
         model=model,
         extinction_sigma_m=_num(ctx, d, "extinction_sigma_m", p, 2.0, gt=0),
         drop_radius_m=drop_radius,
+        drop_model=_choice(ctx, d, "drop_model", p, DROP_MODELS, "disc"),
         analytic=analytic,
         raster=raster,
     )

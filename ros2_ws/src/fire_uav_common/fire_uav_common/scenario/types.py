@@ -29,6 +29,9 @@ CROWN_METHODS = ("none", "finney")
 WIND_LIMITS = ("behave", "andrews2013", "none")
 #: ``fires.model`` values
 FIRE_MODELS = ("analytic", "raster")
+#: ``fires.drop_model`` values: today's disc of ``drop_radius_m`` (every burning cell in it goes
+#: out), or a ground pattern with a coverage per cell (fire_world_sim.drop_pattern)
+DROP_MODELS = ("disc", "pattern")
 #: ``mission.tactic`` values: head attack (fastest front first), flank attack from an anchor, or
 #: auto (head or flank per fire from the head's intensity: ``fire_uav_agent.tactics.auto_choice``)
 TACTICS = ("head", "flank", "auto")
@@ -88,6 +91,7 @@ class Vehicle:
     landing_height_m: float = 1.0
     command_timeout_s: float = 3.0
     collision_radius_m: float = 3.0  # [m] two airborne vehicles closer than this (3-D) both crash; 0 = off
+    drop_flow_lps: float = 1000.0  # [L/s] tank flow rate of a drop (fires.drop_model: pattern only)
 
 
 @dataclass(frozen=True)
@@ -159,6 +163,7 @@ class Airframe:
     refill_rate_kgps: float
     min_speed_factor: float = 1.3
     jsbsim: JsbsimSetup = field(default_factory=JsbsimSetup)  # what the jsbsim backend flies
+    drop_flow_lps: float = 5.0  # [L/s] tank flow rate of a drop (fires.drop_model: pattern)
 
     @property
     def v_min_mps(self) -> float:
@@ -371,6 +376,7 @@ class Fires:
     model: str = "analytic"
     extinction_sigma_m: float = 2.0
     drop_radius_m: float | None = None
+    drop_model: str = "disc"  # DROP_MODELS: disc of drop_radius_m, or a ground pattern
     analytic: tuple[AnalyticFire, ...] = ()
     raster: Raster | None = None
 

@@ -16,6 +16,7 @@ import numpy as np
 from fire_uav_common.constants import FireStatus
 from fire_uav_common.scenario import AnalyticFire
 
+from ..drop_pattern import DropPattern
 from ..sensors import CellsSample
 from .base import FireGrid, FireTruthRecord
 
@@ -83,6 +84,11 @@ class AnalyticFireModel:
                     f.out = True
                 hit.append(i)
         return hit
+
+    def apply_pattern(self, pattern: DropPattern) -> list[int]:
+        """FF's fires keep the paper's rule with a pattern too: the drop is one hit at the release
+        point (a hit halves sigma, FF V-B); the pattern's coverage plays no part."""
+        return self.apply_drop(pattern.release.x_m, pattern.release.y_m, None)
 
     def drop_extinctions(self, hit: list[int]) -> list[int]:
         """A drop that brings sigma under ``extinction_sigma_m`` puts the fire out at once (FF V-B);

@@ -13,6 +13,7 @@ from typing import Protocol
 
 import numpy as np
 
+from ..drop_pattern import DropPattern
 from ..sensors import CellsSample
 
 __all__ = ["FireGrid", "FireModel", "FireTruthRecord"]
@@ -78,6 +79,11 @@ class FireModel(Protocol):
     def apply_drop(self, x_m: float, y_m: float, radius_m: float | None) -> list[int]:
         """A full load released at (x_m, y_m); radius None = model default. Returns fire ids
         hit; :meth:`drop_extinctions` tells which of them the drop itself put out."""
+        ...
+
+    def apply_pattern(self, pattern: DropPattern) -> list[int]:
+        """A full load released as the ground pattern ``pattern`` (``fires.drop_model: pattern``,
+        :mod:`fire_world_sim.drop_pattern`). Returns fire ids hit, as :meth:`apply_drop`."""
         ...
 
     def drop_extinctions(self, hit: list[int]) -> list[int]:

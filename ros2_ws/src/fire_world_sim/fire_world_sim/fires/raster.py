@@ -40,8 +40,9 @@ accepts every cell whose arrival time is <= t1 and iterates until nothing new ig
 A cell burns from ``t_ign`` until ``t_ign + max(residence + crossing time, tau to reach its
 still-unburned ring neighbours)``, then it is burnt out. A drop wets the cells within its
 radius: burning cells are extinguished (they spread no more) and unburned cells cannot ignite
-for ``wet_duration_s``. Fire ids are the ignition indices; each cell carries the id of the
-ignition that reached it first. Ignitions may start before t = 0: the model pre-burns from
+for ``wet_duration_s``; with ``fires.drop_model: pattern`` a drop is a ground pattern with a
+coverage per cell instead (:meth:`RasterFireModel.apply_pattern`, :mod:`..drop_pattern`).
+Fire ids are the ignition indices; each cell carries the id of the ignition that reached it first. Ignitions may start before t = 0: the model pre-burns from
 the earliest one to t = 0 at construction. Time unit: seconds of sim time; lengths in metres.
 
 On a landscape (``spec.landscape``, :mod:`fire_uav_common.scenario.ground`) each cell has its
@@ -63,6 +64,13 @@ from fire_uav_common.constants import CellState, FireStatus
 from fire_uav_common.scenario import Raster
 from fire_uav_common.terrain import Terrain
 
+from ..drop_pattern import (
+    L_PER_M2_PER_CL,
+    MIN_FOOTPRINT_CL,
+    DropPattern,
+    coverage_lpm2,
+    required_coverage_lpm2,
+)
 from ..sensors import CellsSample
 from .base import FireGrid, FireTruthRecord
 from .crown import FireType
@@ -126,6 +134,7 @@ class RasterFireModel:
         for lake in lakes:
             fuel[(xx - lake.x_m) ** 2 + (yy - lake.y_m) ** 2 <= (lake.diameter_m / 2) ** 2] = 0
         self.fuel = fuel
+        self._required_lpm2: np.ndarray | None = None  # coverage that puts a cell out (patterns)
         self._params = (
             {}
             if self._land is not None
@@ -211,6 +220,7 @@ class RasterFireModel:
         self._pending_events: list[tuple[int, str]] = []
         self.last_ignition_s = -math.inf  # [s] latest ignition time of any cell (containment)
         self.last_drop_cells = (0, 0)  # (burning cells wet, cells in the footprint) of the last drop
+        self.last_drop_out_cells = 0  # burning cells the last pattern drop put out
         self._set_wind(self.t_start_s)
         if self.t_start_s < 0.0:
             self._preburn()
@@ -569,6 +579,58 @@ class RasterFireModel:
             self._drops[n] += 1
         self._truth_cache = None
         return hit
+
+    def apply_pattern(self, pattern: DropPattern) -> list[int]:
+        """A drop as a ground pattern (:mod:`fire_world_sim.drop_pattern`): the coverage (P2) at each
+        cell centre [L/m^2]. The footprint is the cells with at least ``MIN_FOOTPRINT_CL``
+        (0.5 gal/100 ft^2, the drop guides' lowest contour). A burning cell goes out where the
+        coverage reaches the level its fuel model needs (``required_coverage_lpm2``); a weaker
+        wetting leaves it burning. An unburned cell in the footprint cannot ignite for
+        ``wet_duration_s`` x coverage / needed coverage: the water dries at a constant rate, so
+        that the needed coverage lasts ``wet_duration_s`` (a choice, see docs/suppression.md).
+        Returns the fires with a burning cell in the footprint, as :meth:`apply_drop`."""
+        if self._required_lpm2 is None:
+            self._required_lpm2 = required_coverage_lpm2(self.fuel)
+        x0, x1, y0, y1 = pattern.bounds_m()
+        win = self._box(x0, x1, y0, y1)
+        if win is None:
+            self.last_drop_cells = (0, 0)
+            return []
+        box, xs, ys = win
+        cov = coverage_lpm2(pattern, xs, ys)
+        inside = cov >= MIN_FOOTPRINT_CL * L_PER_M2_PER_CL
+        need = self._required_lpm2[
+            box[0].start - PAD : box[0].stop - PAD, box[1].start - PAD : box[1].stop - PAD
+        ]
+        burning = self._burning(self.t_s, box)
+        wet_burning = burning & inside
+        self.last_drop_cells = (int(wet_burning.sum()), int(inside.sum()))
+        hit = sorted(set(np.unique(self.label[box][wet_burning]).tolist()) - {-1})
+        ext = self.extinguished[box]
+        out = burning & (cov >= need)
+        ext |= out
+        self.last_drop_out_cells = int(out.sum())
+        wet = self.wet_until[box]
+        unburned = inside & ~np.isfinite(self.t_ign[box])
+        wet_s = self.spec.wet_duration_s * cov[unburned] / need[unburned]
+        wet[unburned] = np.maximum(wet[unburned], self.t_s + wet_s)
+        for n in hit:
+            self._drops[n] += 1
+        self._truth_cache = None
+        return hit
+
+    def _box(self, x0_m: float, x1_m: float, y0_m: float, y1_m: float):
+        """Padded-array slice covering the rectangle [x0, x1] x [y0, y1] [m], plus the cell-centre
+        coordinates there; None when it misses the grid."""
+        ox, oy = self.spec.origin.x_m, self.spec.origin.y_m
+        j0 = max(math.floor((x0_m - ox) / self.cs), 0)
+        j1 = min(math.floor((x1_m - ox) / self.cs) + 1, self.nx)
+        i0 = max(math.floor((y0_m - oy) / self.cs), 0)
+        i1 = min(math.floor((y1_m - oy) / self.cs) + 1, self.ny)
+        if j0 >= j1 or i0 >= i1:
+            return None
+        box = (slice(i0 + PAD, i1 + PAD), slice(j0 + PAD, j1 + PAD))
+        return box, self._xx[i0:i1, j0:j1], self._yy[i0:i1, j0:j1]
 
     def _window(self, x_m: float, y_m: float, r_m: float):
         """Padded-array slice covering the disc, plus the cell-centre coordinates there."""
