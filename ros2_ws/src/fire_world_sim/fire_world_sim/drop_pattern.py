@@ -61,6 +61,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import ConfigError
+
 __all__ = [
     "ANDERSON_CL",
     "G_MPS2",
@@ -208,12 +210,12 @@ def pattern_of(release: Release, model: PatternModel | None = None) -> DropPatte
     m = model or PatternModel()
     r = release
     if not r.flow_lps > 0:
-        raise ValueError(f"flow_lps must be > 0, got {r.flow_lps}")
+        raise ConfigError(f"flow_lps must be > 0, got {r.flow_lps}")
     if r.ground_speed_mps < 0 or r.height_m < 0 or r.volume_l < 0:
-        raise ValueError("ground_speed_mps, height_m and volume_l must be >= 0")
+        raise ConfigError("ground_speed_mps, height_m and volume_l must be >= 0")
     sigma = m.sigma0_m + m.spread_per_m * r.height_m
     if not sigma > 0:
-        raise ValueError(f"spread sigma must be > 0, got {sigma}")
+        raise ConfigError(f"spread sigma must be > 0, got {sigma}")
     length = r.ground_speed_mps * r.volume_l / r.flow_lps  # (P1)
     t_fall = math.sqrt(2.0 * r.height_m / G_MPS2)  # (P4)
     x0 = r.x_m + r.wind_mps[0] * t_fall
