@@ -43,7 +43,12 @@ def fleet(tmp_path: Path):
 
 
 class _NsWatch(threading.Thread):
-    """Which pids run in which namespace, sampled every 0.5 s while the mission runs (bounded)."""
+    """Which pids run in which namespace, sampled every 0.5 s while the mission runs (bounded).
+
+    The last namespace a pid was seen in counts: ``ip netns exec`` is forked by the runner in the
+    world's namespace and only then enters the agent's, so a sample can catch an agent's pid in
+    the world namespace for its first milliseconds (a fresh-clone CI once did).
+    """
 
     def __init__(self, fleet: NetnsFleet, limit_s: float) -> None:
         super().__init__(daemon=True)
@@ -57,7 +62,7 @@ class _NsWatch(threading.Thread):
             for ns in self.fleet.hosts:
                 out = subprocess.run(["ip", "netns", "pids", ns], capture_output=True, text=True, check=False)
                 for pid in out.stdout.split():
-                    self.seen.setdefault(int(pid), ns)
+                    self.seen[int(pid)] = ns
             self.stop.wait(0.5)
 
 
