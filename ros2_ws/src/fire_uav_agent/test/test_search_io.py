@@ -70,19 +70,9 @@ def test_conversion_round_trip(env: Envelope, back) -> None:
             assert a == b
 
 
-@pytest.fixture
-def domain_id():
-    """A ROS domain no other run or test on this host holds (a fixed id heard other runs' traffic)."""
-    from fire_mission.procs import claim_domain  # the checkout's tools (installed with the venv)
-
-    with claim_domain() as d:
-        yield d
-
-
-def test_three_agents_agree_over_dds(domain_id: int) -> None:
+def test_three_agents_agree_over_dds(ros_context) -> None:  # a private domain (conftest.py)
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    ctx = rclpy.Context()
-    rclpy.init(context=ctx, domain_id=domain_id)
+    ctx = ros_context
     nodes, links = [], []
     try:
         from rclpy.executors import SingleThreadedExecutor
@@ -117,4 +107,3 @@ def test_three_agents_agree_over_dds(domain_id: int) -> None:
     finally:
         for n in nodes:
             n.destroy_node()
-        rclpy.try_shutdown(context=ctx)

@@ -16,16 +16,11 @@ BURST = 300  # messages: more than one drained callback takes (1 + topics.DRAIN_
 @pytest.fixture
 def ros_context():
     """A private rclpy context on a ROS domain no other test or run on this host holds."""
-    rclpy = pytest.importorskip("rclpy")
-    from fire_mission.procs import claim_domain
+    pytest.importorskip("rclpy")
+    from fire_mission.procs import private_rclpy_context
 
-    with claim_domain() as domain:
-        ctx = rclpy.Context()
-        rclpy.init(context=ctx, domain_id=domain)
-        try:
-            yield ctx
-        finally:
-            rclpy.try_shutdown(context=ctx)
+    with private_rclpy_context() as ctx:
+        yield ctx
 
 
 @pytest.fixture
