@@ -259,25 +259,10 @@ def written_states(draw) -> UavState:
 
 
 def _write(m: UavState) -> bytes:
-    from fire_uav_common.codecs.uav_state import FireEntry, write_uav_state
-    from fire_uav_common.stamps import stamp_to_ns, stamp_to_s
+    from fire_uav_common.codecs.uav_state import write_uav_state
+    from fire_uav_common.stamps import stamp_to_ns
 
-    fires = [
-        FireEntry(
-            f.fire_id,
-            f.status == 0,
-            f.x_m,
-            f.y_m,
-            f.extent_m,
-            f.vx_mps,
-            f.vy_mps,
-            stamp_to_s(f.last_measurement),
-            f.front_x_m,
-            f.front_y_m,
-            f.max_spread_rate_mps,
-        )  # fmt: skip
-        for f in m.fires
-    ]
+    fires = list(rclpy_ref.to_peer_fires(m).fires)  # the FireEntry rows the message carries
     return write_uav_state(
         stamp_ns=stamp_to_ns(m.header.stamp), uav_id=m.uav_id, sequence=m.sequence, step=m.step,
         pose=(m.x_m, m.y_m, m.z_m, m.yaw_rad), covariance=list(m.covariance), objective=m.objective,
