@@ -389,6 +389,10 @@ def write_scenario(src: Path, overrides: dict[str, object], dst: Path) -> Path:
     import yaml
 
     raw = yaml.safe_load(src.read_text(encoding="utf-8"))
+    # the copy lives in the run folder: its relative file paths (landscape, wind grid) still
+    # name the files beside the original
+    if isinstance(raw, dict) and raw.get("paths_relative_to") is None:
+        raw["paths_relative_to"] = str(src.resolve().parent)
     for dotted, value in overrides.items():
         node = raw
         *parents, leaf = dotted.split(".")

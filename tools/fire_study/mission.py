@@ -41,14 +41,19 @@ def run_mission(
     seed: int,
     overrides: Sequence[Sequence[Any]] = (),
     scenario_yaml: str | None = None,
+    scenario_dir: str | None = None,
     **_: Any,
 ) -> dict:
     """Run one mission in process; returns its measures plus ``wall_s`` (kept out of the results
     file). ``scenario`` is a scenario name, or, with ``scenario_yaml`` (a scenario file's text, so
-    that a worker on another machine needs no access to the client's files), the file's name."""
+    that a worker on another machine needs no access to the client's files), the file's name.
+    ``scenario_dir`` is the client's folder of that file: where it exists on the worker, the
+    scenario's relative file paths (a landscape, a wind grid) start from it, as they would have
+    beside the original file (``paths_relative_to``)."""
     import tempfile
     from pathlib import Path
 
+    import yaml
     from fire_mission.inprocess import run_inprocess
     from fire_uav_common.scenario import load_scenario
 
@@ -58,6 +63,9 @@ def run_mission(
         if scenario_yaml is not None:
             path = Path(tmp) / Path(scenario).name
             path.write_text(scenario_yaml, encoding="utf-8")
+            own = (yaml.safe_load(scenario_yaml) or {}).get("paths_relative_to")
+            if own is None and scenario_dir is not None and Path(scenario_dir).is_dir():
+                ov["paths_relative_to"] = scenario_dir
             sc = load_scenario(path, overrides=ov)
         else:
             from fire_uav_agent.testing.harness import scenario_path

@@ -58,6 +58,7 @@ def _spec(study: Study, m: StudyMission) -> MissionSpec:
         "seed": m.seed,
         "overrides": tuple(sorted(ov.items())),
         "scenario_yaml": path.read_text(encoding="utf-8") if is_file else None,
+        "scenario_dir": str(path.resolve().parent) if is_file else None,
     }
     return MissionSpec(
         bench="study",

@@ -152,6 +152,7 @@ _TOP = {
     "fires",
     "comms",
     "mission",
+    "paths_relative_to",
 }
 
 
@@ -205,6 +206,19 @@ def _check_lake_runs(ctx: _Ctx, scenario: Scenario, owner: str) -> None:
             )
 
 
+def _base_dir(ctx: _Ctx, d: dict) -> str:
+    """``paths_relative_to``: an absolute folder the scenario's relative file paths start from,
+    instead of the scenario file's own folder. ``run_mission --set`` writes it into the copy of the
+    scenario it leaves in the run folder, so that the copy's landscape and wind grid paths still
+    name the files beside the original."""
+    base = _str(ctx, d, "paths_relative_to", "")
+    if not Path(base).is_absolute():
+        raise ctx.fail("paths_relative_to", f"must be an absolute path, got {base!r}")
+    if not Path(base).is_dir():
+        raise ctx.fail("paths_relative_to", f"{base!r} is not a directory")
+    return base
+
+
 def scenario_from_dict(
     raw: Any, *, file: str = "<dict>", overrides: Mapping[str, Any] | None = None
 ) -> Scenario:
@@ -216,6 +230,8 @@ def scenario_from_dict(
     if overrides:
         raw = _apply_overrides(ctx, raw, overrides)
     d = _mapping(ctx, raw, "", _TOP, {"name", "area"})
+    if d.get("paths_relative_to") is not None:  # before any field that names a file
+        ctx.paths_relative_to = _base_dir(ctx, d)
     seed = _int(ctx, d, "seed", "", 0, ge=0)
     uavs = _uavs(ctx, d.get("uavs"))
     scenario = Scenario(

@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any, TypeVar
 
 from ..errors import ScenarioError
@@ -21,6 +22,14 @@ T = TypeVar("T")
 class _Ctx:
     def __init__(self, file: str) -> None:
         self.file = file
+        self.paths_relative_to: str | None = None  # the scenario's `paths_relative_to`, once read
+
+    def base_dir(self) -> Path:
+        """The folder relative file paths in the scenario start from: its ``paths_relative_to``
+        if given, else the scenario file's folder (the working directory for a mapping)."""
+        if self.paths_relative_to is not None:
+            return Path(self.paths_relative_to)
+        return Path(self.file).parent if self.file != "<dict>" else Path.cwd()
 
     def fail(self, path: str, msg: str) -> ScenarioError:
         return ScenarioError(f"{self.file}: {path}: {msg}" if path else f"{self.file}: {msg}")

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 from typing import Any
 
 from .fields import _choice, _Ctx, _int, _list, _mapping, _num, _record, _str
@@ -46,7 +45,7 @@ def _fuel_patch(ctx: _Ctx, item: Any, pp: str) -> FuelPatch:
 def _grid_file(ctx: _Ctx, d: dict, key: str, p: str) -> str:
     """The absolute path of a wind grid file: relative to the scenario file, else under ``data/``."""
     name = _str(ctx, d, key, p)
-    base = Path(ctx.file).parent if ctx.file != "<dict>" else Path.cwd()
+    base = ctx.base_dir()
     for candidate in (base / name, _repo_root() / "data" / name):
         if candidate.is_file():
             return str(candidate.resolve())

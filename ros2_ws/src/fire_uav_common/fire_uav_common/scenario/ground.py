@@ -57,7 +57,7 @@ def _repo_root() -> Path:
 def resolve_landscape_source(ctx: _Ctx, name: str, path: str) -> str:
     """The absolute landscape file or directory ``name`` stands for: a path relative to the
     scenario file, else a landscape shipped in ``data/landscapes/``."""
-    base = Path(ctx.file).parent if ctx.file != "<dict>" else Path.cwd()
+    base = ctx.base_dir()
     p = (base / name).resolve()
     if p.exists():
         return str(p)
