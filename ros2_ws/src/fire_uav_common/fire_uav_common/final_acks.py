@@ -61,10 +61,11 @@ class AckOutcome:
         """One log line: a warning's text when something is pending, else an info's."""
         if self.acked:
             return f"exiting: every reader has acknowledged every message ({self.waited_wall_s:.2f} s)"
-        why = "cut short by a second signal" if self.cut_short else "not acknowledged"
+        when = "at a second signal " if self.cut_short else ""
         return (
-            f"exiting with messages {why} after {self.waited_wall_s:.1f} s on {list(self.pending)}: "
-            "a reader of those topics (a frozen or killed process?) may lack the last of them"
+            f"exiting {when}with messages not acknowledged after {self.waited_wall_s:.1f} s on "
+            f"{list(self.pending)}: a reader of those topics (a frozen or killed process?) may lack "
+            "the last of them"
         )
 
 
