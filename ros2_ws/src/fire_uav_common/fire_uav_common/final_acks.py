@@ -25,6 +25,8 @@ import time
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 
+from .errors import ArgumentError
+
 __all__ = [
     "FINAL_ACK_CAP_WALL_S",
     "FINAL_ACK_POLL_WALL_S",
@@ -75,7 +77,7 @@ class FinalAckWait:
 
     def __init__(self, start_wall_s: float, cap_wall_s: float = FINAL_ACK_CAP_WALL_S) -> None:
         if not cap_wall_s >= 0.0:  # NaN too
-            raise ValueError(f"cap_wall_s must be >= 0, not {cap_wall_s!r}")
+            raise ArgumentError(f"cap_wall_s must be >= 0, not {cap_wall_s!r}")
         self.start_wall_s = float(start_wall_s)
         self.cap_wall_s = float(cap_wall_s)
 
@@ -104,7 +106,7 @@ def wait_for_final_acks(
     pending, ``cap_wall_s`` has passed or ``cancelled()`` (e.g. a second signal); never sleeps past
     the cap. ``clock()`` and ``sleep(s)`` [s wall]."""
     if not poll_wall_s > 0.0:
-        raise ValueError(f"poll_wall_s must be > 0, not {poll_wall_s!r}")
+        raise ArgumentError(f"poll_wall_s must be > 0, not {poll_wall_s!r}")
     rule = FinalAckWait(clock(), cap_wall_s)
     while True:
         now = clock()

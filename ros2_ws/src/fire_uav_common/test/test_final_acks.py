@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from fire_uav_common.errors import ArgumentError
 from fire_uav_common.final_acks import (
     FINAL_ACK_CAP_WALL_S,
     FINAL_ACK_POLL_WALL_S,
@@ -99,13 +100,13 @@ def test_the_rule_asked_from_a_timer() -> None:
 
 @pytest.mark.parametrize("cap", [-1.0, math.nan])
 def test_a_bad_cap_is_refused(cap: float) -> None:
-    with pytest.raises(ValueError, match="cap_wall_s must be >= 0"):
+    with pytest.raises(ArgumentError, match="cap_wall_s must be >= 0"):
         FinalAckWait(0.0, cap)
 
 
 @pytest.mark.parametrize("poll", [0.0, -0.1, math.nan])
 def test_a_bad_poll_period_is_refused(poll: float) -> None:
-    with pytest.raises(ValueError, match="poll_wall_s must be > 0"):
+    with pytest.raises(ArgumentError, match="poll_wall_s must be > 0"):
         wait_for_final_acks(lambda: [], poll_wall_s=poll)
 
 
