@@ -7,7 +7,8 @@ small rclpy node that follows ``/clock``, ``/world/truth`` and the events to sho
 inject faults at given mission times, and decide when the mission is over. It ends every
 process it started (SIGINT, then SIGKILL) on completion (once the world has exited by itself,
 its last messages acknowledged by every reader: ``_let_the_world_end``), timeout, error or
-Ctrl-C, prints a summary table and writes ``summary.json`` beside the bag and the report.
+Ctrl-C, the agents first (each exits once its own last messages are acknowledged) and the
+recorder last, prints a summary table and writes ``summary.json`` beside the bag and the report.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from fire_uav_common.constants import EventType, FireStatus, VehicleStatus
+from fire_uav_common.final_acks import FINAL_ACK_CAP_WALL_S
 from fire_uav_common.scenario import LinkOutage
 from fire_uav_common.stamps import stamp_to_s
 
@@ -805,9 +807,7 @@ def run(args: argparse.Namespace) -> int:
             progress.close()
             if outcome in ("complete", "time_limit"):
                 _let_the_world_end(procs)
-            # publishers first, so the recorder (and a Foxglove bridge) take their last messages;
-            # the perimeter viewer publishes the recorded /viz/perimeter
-            codes = procs.stop_all(first=[*agents, "world", "perimeter_viewer"])
+            codes = _stop_in_order(procs, agents)
             if sup is not None:
                 # drain what is still in flight (final states, events)
                 end = time.monotonic() + 0.5
@@ -877,6 +877,28 @@ def _point_latest_at(out: Path) -> None:
 #: [s wall] the longest the runner lets a finished world take to exit by itself: its own cap on
 #: waiting for acknowledgements (fire_world_sim.world_node.FINAL_ACK_CAP_WALL_S, 20 s) and a margin
 WORLD_EXIT_WALL_S = 30.0
+
+
+#: [s wall] the agents' grace at the end (``ProcessGroup.stop``): SIGINT, then SIGTERM (to an agent,
+#: a second signal: it stops waiting for acknowledgements) after their own cap on that wait
+#: (``fire_uav_common.final_acks.FINAL_ACK_CAP_WALL_S``, 20 s) and a margin, SIGKILL as long after
+AGENT_STOP_GRACE_WALL_S = 2 * (FINAL_ACK_CAP_WALL_S + 5.0)
+
+
+def _stop_in_order(
+    procs: ProcessGroup, agents: list[str], agent_grace_s: float = AGENT_STOP_GRACE_WALL_S
+) -> dict[str, int | None]:
+    """End every process, publishers first, so that the recorder (and a Foxglove bridge) take
+    their last messages; their exit codes.
+
+    The agents first, each of which, signalled, exits once every reader has acknowledged its
+    messages (at most FINAL_ACK_CAP_WALL_S; fire_uav_common.final_acks): ``agent_grace_s`` lets
+    them; then the world (gone already after a complete mission, ``_let_the_world_end``) and the
+    perimeter viewer (it publishes the recorded /viz/perimeter from the agents' /fleet/perimeter);
+    then the rest, the recorder among them (tests/system/test_agent_last_messages.py)."""
+    codes = procs.stop([a for a in agents if a in procs.children], grace_s=agent_grace_s)
+    codes.update(procs.stop_all(first=["world", "perimeter_viewer"]))
+    return codes
 
 
 def _let_the_world_end(procs: ProcessGroup, timeout_s: float = WORLD_EXIT_WALL_S) -> None:

@@ -135,14 +135,15 @@ def profiled(fn, path: str) -> None:
         prof.dump_stats(path)
 
 
-def spin_through_bad_messages(executor, node) -> None:
-    """``executor.spin()``, except that a message rclpy cannot convert to Python is dropped.
+def spin_through_bad_messages(executor, node, stopped=lambda: False) -> None:
+    """``executor.spin()`` until ``stopped()`` (a signal: ``ros_io.StopSignals``), except that a
+    message rclpy cannot convert to Python is dropped.
 
     ``node``: the agent node (its peer link counts the rejection). A malformed peer message can fail inside rclpy's ``take_message``, before any
     callback of ours runs; ``spin()`` would then end the agent. The message is counted as a
     rejection ("undecodable") and the agent spins on; any other error still ends it.
     """
-    while rclpy.ok():
+    while rclpy.ok() and not stopped():
         try:
             executor.spin_once()
         except RuntimeError as err:

@@ -11,6 +11,7 @@ bundle, the peer state, the perimeter map and the front picture are read and wri
 
 from __future__ import annotations
 
+import functools
 import math
 
 import rclpy
@@ -22,6 +23,7 @@ from fire_uav_common.codecs.perimeter_map import read_perimeter_map
 from fire_uav_common.codecs.sensor_bundle import WireBundle, read_sensor_bundle
 from fire_uav_common.codecs.uav_state import read_uav_state
 from fire_uav_common.constants import EventType, PayloadAction, VehicleStatus
+from fire_uav_common.ros_io import PublishCounts
 from fire_uav_common.stamps import stamp_to_ns
 from fire_uav_msgs.msg import (
     FireFront,
@@ -69,6 +71,8 @@ from .search_io import attach_search
 # --- the node ------------------------------------------------------------------------------------
 class UavAgentNode(Node):
     """``uav_agent``: see the package README for topics and parameters."""
+
+    published: PublishCounts  # per topic, what this node's publishers published (create_publisher)
 
     def __init__(self, **kwargs) -> None:
         # every name given is declared first, so that read_node_config can refuse the unknown ones
@@ -128,6 +132,11 @@ class UavAgentNode(Node):
         topics.subscription(self, topics.FLEET_EVENTS_SPEC, self._on_fleet_event)
         # the start-up handshake: AGENT_READY once every fleet topic is matched with every peer
         self._ready_timer = self.create_timer(0.05, self._check_ready, clock=self._steady)
+
+    def create_publisher(self, *args, **kwargs):
+        """rclpy's, each publisher counted (``published``: the exit line of :func:`main`)."""
+        counts = self.__dict__.setdefault("published", PublishCounts())  # before Node.__init__ ends, too
+        return counts.wrap(super().create_publisher(*args, **kwargs))
 
     def _decode(self, data: bytes, msg_type: type, spec: topics.TopicSpec):
         """A raw peer message as ``msg_type``; None (counted as a rejection) if it is not one."""
@@ -404,35 +413,61 @@ class UavAgentNode(Node):
 
 def main(args: list[str] | None = None) -> int:
     """Spin one agent; 2 (and one error line naming the parameter or scenario field) on a bad
-    configuration, 0 otherwise."""
+    configuration, 0 otherwise.
+
+    SIGINT/SIGTERM end the spin but leave the context alive (``ros_io.StopSignals``): the agent
+    then exits once every matched reader has acknowledged every message it published, at most
+    ``final_acks.FINAL_ACK_CAP_WALL_S``, or at a second signal (a warning names the topics still
+    waited for), and logs how many messages it published per topic. rclpy's own handlers would
+    shut the context down at the signal, and the agent would exit with its last messages perhaps
+    still on their way to a reader held up (the recorder on a busy machine): a reliable writer
+    repairs a loss only while it lives (docs/recording.md, "Stopping")."""
     import os
 
+    from fire_uav_common.final_acks import published_line, wait_for_final_acks
+    from fire_uav_common.ros_io import StopSignals, unacked_topics
     from fire_uav_common.scenario import ScenarioError
+    from rclpy.signals import SignalHandlerOptions
 
-    rclpy.init(args=args)
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    stop = StopSignals()
     node = None
     executor = None
     code = 0
     try:
         executor = make_executor()
+        stop.install(executor)
         node = UavAgentNode()
         executor.add_node(node)
         prof_dir = os.environ.get("FIRE_UAV_PROFILE_DIR")
+        spin = functools.partial(spin_through_bad_messages, executor, node, lambda: stop.count > 0)
         if prof_dir:  # profile the whole spin: executor + callbacks (docs/profile.md)
-            profiled(executor.spin, os.path.join(prof_dir, f"agent_{node.cfg.uav_id}.prof"))
+            profiled(spin, os.path.join(prof_dir, f"agent_{node.cfg.uav_id}.prof"))
         else:
-            spin_through_bad_messages(executor, node)
+            spin()
     except (ConfigError, ScenarioError) as e:
         rclpy.logging.get_logger("uav_agent").error(str(e))
         code = 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
+        stop.detach()
+        if node is not None and rclpy.ok():
+            log = node.get_logger()
+            try:
+                done = wait_for_final_acks(
+                    lambda: unacked_topics(node.publishers), cancelled=lambda: stop.count > 1
+                )
+                (log.info if done.acked else log.warning)(done.line())
+            except Exception as err:  # the context went away meanwhile: nothing left to wait on
+                log.warning(f"exiting without waiting for acknowledgements: {err}")
+            log.info(published_line(node.published.by_topic))
         if executor is not None:
             executor.shutdown()
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()
+        stop.uninstall()
     return code
 
 

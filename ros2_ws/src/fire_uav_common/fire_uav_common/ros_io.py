@@ -7,12 +7,13 @@ fire_uav_common stays ROS-free.
 from __future__ import annotations
 
 import inspect
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterable
 from typing import Any
 
 from .errors import ExecutorAwaitError, ExecutorError
 
-__all__ = ["LeanExecutor", "make_executor", "spin"]
+__all__ = ["LeanExecutor", "PublishCounts", "StopSignals", "make_executor", "spin", "unacked_topics"]
 
 EXECUTOR_ENV = "FIRE_UAV_EXECUTOR"  # "lean" (the default) or "rclpy": which executor make_executor gives
 
@@ -241,3 +242,104 @@ def spin(node: Any, on_exit: Callable[[], None] | None = None) -> None:
         executor.shutdown()
         node.destroy_node()
         rclpy.try_shutdown()
+
+
+# --- the end of a node: its last messages acknowledged (fire_uav_common.final_acks) ----------------
+def unacked_topics(publishers: Iterable[Any]) -> list[str]:
+    """The topics of ``publishers`` whose messages some matched reader has not acknowledged yet
+    (``Publisher.wait_for_all_acked`` with no wait; a best-effort publisher never counts)."""
+    from rclpy.duration import Duration
+
+    now = Duration(seconds=0)
+    return sorted({p.topic_name for p in publishers if not p.wait_for_all_acked(now)})
+
+
+class StopSignals:
+    """SIGINT/SIGTERM as a request to stop that leaves the rclpy context alive.
+
+    rclpy's own handlers shut the context down at the signal, and a shut-down context has no
+    publisher any more: nothing can then wait for a reader's acknowledgements
+    (:func:`unacked_topics`). With ``rclpy.init(signal_handler_options=SignalHandlerOptions.NO)``
+    these handlers only count (``count``; a second signal cuts the final wait short), and a small
+    thread wakes the executor's wait (``executor.wake()``: a signal alone does not end an
+    ``rcl_wait``), so a spin loop that asks ``count`` ends at once. :meth:`uninstall` puts the
+    previous handlers back (a process that goes on, e.g. a test calling a node's ``main``).
+    """
+
+    def __init__(self) -> None:
+        self.count = 0
+        self._executor: Any = None
+        self._lock = threading.Lock()
+        self._restore: list[tuple[int, Any]] = []
+        self._old_fd = -1
+        self._write_fd: int | None = None
+
+    def __call__(self, signum: int, frame: object) -> None:
+        self.count += 1
+
+    def install(self, executor: Any) -> None:
+        """Count SIGINT/SIGTERM from now on and wake ``executor`` at each (main thread only)."""
+        import os
+        import signal
+
+        self._executor = executor
+        r, w = os.pipe()
+        os.set_blocking(w, False)
+        self._write_fd = w
+        self._old_fd = signal.set_wakeup_fd(w, warn_on_full_buffer=False)  # a byte per signal
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self._restore.append((sig, signal.signal(sig, self)))
+        threading.Thread(target=self._wake_on_signal, args=(r,), name="stop-signals", daemon=True).start()
+
+    def _wake_on_signal(self, fd: int) -> None:
+        import os
+
+        try:
+            while os.read(fd, 64):  # b"": the write end is closed (uninstall)
+                with self._lock:
+                    if self._executor is not None:
+                        self._executor.wake()
+        finally:
+            os.close(fd)
+
+    def detach(self) -> None:
+        """Stop waking the executor (before it is shut down); the signals are still counted."""
+        with self._lock:
+            self._executor = None
+
+    def uninstall(self) -> None:
+        """The previous handlers and wakeup fd back (main thread only); idempotent."""
+        import os
+        import signal
+
+        self.detach()
+        if self._write_fd is None:
+            return
+        signal.set_wakeup_fd(self._old_fd)
+        for sig, old in reversed(self._restore):
+            if old is not None:  # None: a handler not set from Python, which cannot be put back
+                signal.signal(sig, old)
+        self._restore.clear()
+        os.close(self._write_fd)
+        self._write_fd = None
+
+
+class PublishCounts:
+    """How many messages each wrapped publisher has published, per topic (``by_topic``): the
+    truth a reader's record of those topics is checked against (``final_acks.published_line``)."""
+
+    def __init__(self) -> None:
+        self.by_topic: dict[str, int] = {}
+
+    def wrap(self, publisher: Any) -> Any:
+        """Count what ``publisher`` publishes from now on (its ``publish`` wrapped); returns it."""
+        topic = publisher.topic_name
+        self.by_topic.setdefault(topic, 0)
+        inner = publisher.publish
+
+        def publish(msg: Any) -> None:
+            inner(msg)
+            self.by_topic[topic] += 1  # once published (a publish that raised sent nothing)
+
+        publisher.publish = publish
+        return publisher

@@ -23,14 +23,15 @@ from fire_uav_common.cdr import CdrError
 from fire_uav_common.codecs.payload_request import WirePayloadRequest, read_payload_request
 from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
 from fire_uav_common.constants import EventType, PayloadAction, VehicleStatus
+from fire_uav_common.final_acks import FINAL_ACK_CAP_WALL_S, FINAL_ACK_POLL_WALL_S, FinalAckWait
 from fire_uav_common.lockstep import offline_uavs
+from fire_uav_common.ros_io import unacked_topics
 from fire_uav_common.scenario import ScenarioError, load_scenario
 from fire_uav_common.stamps import NS_PER_S, stamp_to_ns
 from fire_uav_msgs.msg import MissionEvent, PayloadRequest
 from geometry_msgs.msg import TwistStamped
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
-from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.serialization import deserialize_message
@@ -57,12 +58,6 @@ _ACTIONS = frozenset(int(a) for a in PayloadAction)
 
 #: [s wall] lockstep: re-send a bundle to an agent whose answer is not in after this long
 RESEND_AFTER_WALL_S = 5.0
-#: [s wall] at the end, the longest the world waits for every reader to acknowledge its messages
-#: (a recorder held up at the end, at load ~40 on 2 cores, acknowledged after 6-7.5 s: repairs go
-#: at the writer's heartbeat, every 3 s)
-FINAL_ACK_CAP_WALL_S = 20.0
-#: [s wall] how often it asks meanwhile (a steady timer: the acknowledgements come on DDS threads)
-FINAL_ACK_POLL_WALL_S = 0.02
 
 
 def _descriptor(p: ParameterSpec) -> ParameterDescriptor:
@@ -348,24 +343,19 @@ class WorldNode(Node):
         # reliable writer repairs a lost sample only while it lives, and the last one's loss is
         # seen only at its next heartbeat (Fast DDS: 3 s), so a world that exits on a timer can
         # take its final /world/truth with it (docs/recording.md, "Stopping")
-        self._final_since_ns = self._steady.now().nanoseconds
+        self._final_acks = FinalAckWait(self._steady.now().nanoseconds / NS_PER_S, FINAL_ACK_CAP_WALL_S)
         self._exit_timer = self.create_timer(FINAL_ACK_POLL_WALL_S, self._exit_when_acked, clock=self._steady)
 
     def _exit_when_acked(self) -> None:
         """End the spin once every publisher's messages are acknowledged by all its matched readers,
-        or after :data:`FINAL_ACK_CAP_WALL_S` with a warning naming the topics still waited for."""
-        now = Duration(seconds=0)
-        pending = sorted(p.topic_name for p in self.publishers if not p.wait_for_all_acked(now))
-        waited_s = (self._steady.now().nanoseconds - self._final_since_ns) / NS_PER_S
-        if pending and waited_s < FINAL_ACK_CAP_WALL_S:
+        or after ``FINAL_ACK_CAP_WALL_S`` with a warning naming the topics still waited for
+        (``fire_uav_common.final_acks``: the agents wait by the same rule when signalled)."""
+        done = self._final_acks.check(
+            unacked_topics(self.publishers), self._steady.now().nanoseconds / NS_PER_S
+        )
+        if done is None:
             return
-        if pending:
-            self.get_logger().warning(
-                f"exiting with messages not acknowledged after {waited_s:.1f} s on {pending}: "
-                "a reader of those topics (a frozen or killed process?) may lack the last of them"
-            )
-        else:
-            self.get_logger().info(f"exiting: every reader has acknowledged every message ({waited_s:.2f} s)")
+        (self.get_logger().info if done.acked else self.get_logger().warning)(done.line())
         self._exit_timer.cancel()
         if not self.done.done():
             self.done.set_result(0)
