@@ -43,23 +43,22 @@ of the own cell nearest that centroid, so a UAV always flies at burning edge cel
   of an ``auto`` fire is its slowest front cell at each step (the heel), not frozen once.
 
 **Aims by airspace** (our addition; FF's UAVs stay in their Voronoi cells, ours leave theirs for
-the heaviest front cell when their cell holds none). The altitude stack (:func:`raster_layers`)
-has 4 layers for the defaults, so in a fleet of more than 4 UAVs ids modulo 4 share a layer,
-and adjacent layers (8 m) are inside the avoider's 10 m vertical band: both kinds of pair are
-kept apart horizontally only. Near the end of a fire every UAV whose cell holds no front cell
-aims at the same heaviest cell, and at the end at the one cell left: worcester_vt seed 1 had
-all 5 UAVs circling one cell at 100 m/s, UAVs 0 and 4 (one layer) passing at 4.88 m, UAVs of
-adjacent layers at 8.7-9.5 m, against FF's >= 10 m. The avoider (:mod:`.separation`) predicts
-straight lines over 2 s; around a shared aim the UAVs reverse every few tenths of a second,
-so it cannot be the only barrier. So a UAV does not aim within ``aim_clear_m`` (60 m: the
-avoider's ``yield_m``, the distance inside which it treats a right-of-way peer as close) of the
-aim a peer published with its last state when that peer is suppressing, has the right of way
-(lower id, as in the avoider) and shares its airspace (:func:`shares_airspace`: layers at most
-``airspace_vertical_m`` apart, the avoider's ``vertical_m``). With no front cell left farther
-than that, it waits ``aim_clear_m`` from that aim on its own side (:func:`standoff_point`) and
-takes the front as soon as the peer leaves it to refill. UAVs 16 m or more apart in height
-still work one point together (with 4 layers at most two, e.g. at 12 and 28 m): their layers
-stay more than 10 m apart within the tracking error.
+the heaviest front cell when their cell holds none). Near the end of a fire every UAV whose cell
+holds no front cell aims at the same heaviest cell, and at the very end at the one cell left:
+worcester_vt seed 1 (before this rule) had all 5 UAVs circling one cell at 100 m/s, and UAVs 0
+and 4, sharing a layer of the old 4-layer stack, passed at 4.88 m (FF reports >= 10 m). The
+avoider (:mod:`.separation`) predicts straight lines over 2 s; around a shared aim the UAVs
+reverse every few tenths of a second, so it cannot be the only barrier. The altitude stack
+(:func:`raster_layers`) keeps UAVs of different layers >= 10 m apart, but has 3 layers for
+the defaults, so in a fleet of more than 3 ids modulo 3 share one. So a UAV does not aim
+within ``aim_clear_m`` (60 m: the avoider's ``yield_m``, inside which it treats a right-of-way
+peer as close) of the aim a peer published with its last state when that peer is
+suppressing, has the right of way (lower id, as in the avoider) and shares its airspace
+(:func:`shares_airspace`: layers at most ``airspace_vertical_m`` apart, the avoider's
+``vertical_m``; for the defaults that is the same layer only). With no front cell farther than
+that, it waits ``aim_clear_m`` from that aim on its own side (:func:`standoff_point`) and takes
+the front as soon as the peer leaves it to refill. One UAV per layer (three for the defaults)
+still work one point together.
 
 **Release rule.** A UAV releases only when its own latest FireCells show at least
 ``min_burning_cells`` burning cells inside ``release_radius_m`` of its estimated position, and
@@ -163,8 +162,8 @@ class TacticConfig:
 
     def layer_height_m(self, uav_id: int) -> float:
         """Height [m above terrain] of ``uav_id``'s raster layer: ``layer_top_m`` down in steps of
-        ``layer_step_m``, UAV id modulo ``layers`` (not from the flight height: the stack is bounded
-        by the altimeter's range, see :func:`raster_layers`)."""
+        ``layer_step_m``, UAV id modulo ``layers``, the lowest id lowest (not from the flight height:
+        the stack is bounded by the altimeter's range, see :func:`raster_layers`)."""
         return self.layer_top_m - self.layer_step_m * (self.layers - 1 - uav_id % self.layers)
 
 
