@@ -388,7 +388,7 @@ class Agent:
         release, front_aim = None, None
         if self.front is not None:
             speed = max(cfg.limits.v_stall_mps, float(self.last_command[0]))
-            aim, release, front_aim = self.raster.target(bundle, s, aim, cell, speed)
+            aim, release, front_aim = self.raster.target(bundle, s, aim, cell, speed, peer_states)
         dec = self.mission.step(
             MissionView(
                 t_s=t1,

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 
 import numpy as np
 from fire_uav_common.codecs.sensor_bundle import Bundle
-from fire_uav_common.constants import VehicleStatus
+from fire_uav_common.codecs.uav_state import PeerState
+from fire_uav_common.constants import Objective, VehicleStatus
 
 from .agent_config import AgentConfig
 from .coverage import Grid, mass_centroid
@@ -22,11 +24,14 @@ from .peer_link import FireEntry
 from .tactics import (
     TacticConfig,
     aim_on_front,
+    aims_taken,
     choose_anchor,
+    free_front,
     front_density,
     front_weights,
     raster_layers,
     release_now,
+    standoff_point,
 )
 
 __all__ = ["RasterSuppression"]
@@ -44,6 +49,7 @@ class RasterSuppression:
             cfg.vehicle.collision_radius_m,
             cfg.sensors.altimeter.max_range_m,
             cfg.guidance.refill_height_fraction * cfg.vehicle.refill_height_m,
+            separation_m=cfg.separation.vertical_m,
         )
         self.tactic = TacticConfig(
             tactic=cfg.mission.tactic,
@@ -51,6 +57,7 @@ class RasterSuppression:
             layers=layers,
             layer_step_m=step,
             layer_top_m=top,
+            airspace_vertical_m=cfg.separation.vertical_m,
         )
         self.peer_fronts: list[PeerFront] = []  # received since the last step
         self.anchor: tuple[float, float] | None = None  # flank tactic: chosen once
@@ -74,11 +81,22 @@ class RasterSuppression:
         self.peer_fronts.clear()
 
     def target(
-        self, bundle: Bundle, s: np.ndarray, aim: tuple[FireEntry, ...], cell: np.ndarray, speed_mps: float
+        self,
+        bundle: Bundle,
+        s: np.ndarray,
+        aim: tuple[FireEntry, ...],
+        cell: np.ndarray,
+        speed_mps: float,
+        peers: Mapping[int, PeerState] | None = None,
     ) -> tuple[tuple[FireEntry, ...], bool | None, tuple[float, float] | None]:
         """Aim point on the front (Eq. 13' density, Lloyd centroid in the own ``cell``, tactics), the
         release verdict at ``speed_mps`` and the aim point (None: none). The active fire nearest
-        the aim point is re-centred there (extent 0)."""
+        the aim point is re-centred there (extent 0).
+
+        ``peers`` (the alive peers' last states): no aim within ``aim_clear_m`` of the published
+        aim of a suppressing right-of-way peer that shares the airspace (:func:`.tactics.aims_taken`);
+        with every front cell that close to one, the UAV waits at :func:`.tactics.standoff_point`
+        (not re-centring a fire there)."""
         assert self.front is not None
         front = self.front.front(bundle.stamp_s)
         if len(front) == 0 or not aim:
@@ -94,22 +112,36 @@ class RasterSuppression:
         gi = np.clip(np.floor((front.y_m - self.grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
         in_cell = cell[gi * nx + gj]
         near = (float(s[0]), float(s[1])) if c is None else (float(c[0]), float(c[1]))
-        xy = aim_on_front(near, front, w, in_cell)
+        taken = aims_taken(
+            self.cfg.uav_id,
+            [
+                (j, p.objective == Objective.SUPPRESS, p.centroid_x_m, p.centroid_y_m)
+                for j, p in (peers or {}).items()
+            ],
+            self.tactic,
+        )
+        xy = aim_on_front(near, front, w, in_cell, free_front(front, taken, self.tactic.aim_clear_m))
         if xy is None:
-            return aim, False, None
+            if taken.shape[0] == 0:
+                return aim, False, None
+            wait = standoff_point((float(s[0]), float(s[1])), near, taken, self.tactic.aim_clear_m)
+            return aim, self._release(bundle, s, speed_mps), wait
         k = min(range(len(aim)), key=lambda n: math.hypot(aim[n].x_m - xy[0], aim[n].y_m - xy[1]))
         aim = tuple(
             dataclasses.replace(e, x_m=xy[0], y_m=xy[1], extent_m=0.0) if n == k else e
             for n, e in enumerate(aim)
         )
-        ok = release_now(
+        return aim, self._release(bundle, s, speed_mps), xy
+
+    def _release(self, bundle: Bundle, s: np.ndarray, speed_mps: float) -> bool:
+        """The release rule (:func:`.tactics.release_now`) at the estimated pose ``s``."""
+        return release_now(
             bundle.cells,
             (float(s[0]), float(s[1])),
             float(s[3]),
             speed_mps * self.cfg.control_period_s,
             self.tactic,
         )
-        return aim, ok, xy
 
     def message(self, bundle: Bundle):
         """This step's FireFront payload (every ``front_every_steps`` steps), or None."""

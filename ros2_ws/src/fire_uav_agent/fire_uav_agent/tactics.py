@@ -42,6 +42,24 @@ of the own cell nearest that centroid, so a UAV always flies at burning edge cel
   flank attack (anchor and flank is the doctrine when the head is unknown). The flank anchor
   of an ``auto`` fire is its slowest front cell at each step (the heel), not frozen once.
 
+**Aims by airspace** (our addition; FF's UAVs stay in their Voronoi cells, ours leave theirs for
+the heaviest front cell when their cell holds none). Near the end of a fire every UAV whose cell
+holds no front cell aims at the same heaviest cell, and at the very end at the one cell left:
+worcester_vt seed 1 (before this rule) had all 5 UAVs circling one cell at 100 m/s, and UAVs 0
+and 4, sharing a layer of the old 4-layer stack, passed at 4.88 m (FF reports >= 10 m). The
+avoider (:mod:`.separation`) predicts straight lines over 2 s; around a shared aim the UAVs
+reverse every few tenths of a second, so it cannot be the only barrier. The altitude stack
+(:func:`raster_layers`) keeps UAVs of different layers >= 10 m apart, but has 3 layers for
+the defaults, so in a fleet of more than 3 ids modulo 3 share one. So a UAV does not aim
+within ``aim_clear_m`` (60 m: the avoider's ``yield_m``, inside which it treats a right-of-way
+peer as close) of the aim a peer published with its last state when that peer is
+suppressing, has the right of way (lower id, as in the avoider) and shares its airspace
+(:func:`shares_airspace`: layers at most ``airspace_vertical_m`` apart, the avoider's
+``vertical_m``; for the defaults that is the same layer only). With no front cell farther than
+that, it waits ``aim_clear_m`` from that aim on its own side (:func:`standoff_point`) and takes
+the front as soon as the peer leaves it to refill. One UAV per layer (three for the defaults)
+still work one point together.
+
 **Release rule.** A UAV releases only when its own latest FireCells show at least
 ``min_burning_cells`` burning cells inside ``release_radius_m`` of its estimated position, and
 no more of them at the position one control step ahead (it releases on the peak of the pass).
@@ -67,6 +85,7 @@ __all__ = [
     "TACTICS",
     "TacticConfig",
     "aim_on_front",
+    "aims_taken",
     "auto_choice",
     "byram_flame_length_m",
     "fire_groups",
@@ -74,10 +93,13 @@ __all__ = [
     "choose_anchor",
     "direct_run_point",
     "front_density",
+    "free_front",
     "front_weights",
     "layer_height",
     "raster_layers",
     "release_now",
+    "shares_airspace",
+    "standoff_point",
 ]
 
 
@@ -95,14 +117,18 @@ class TacticConfig:
     release_radius_m: float = 16.0  # [m] release rule (drop footprint minus an EKF margin)
     direct_spread_m: float = 25.0  # [m] radius of the direct-run points around a track centre
     direct_points: int = 6  # [-] points of the direct-run circle (one per UAV id modulo this)
-    layers: int = 4  # [-] altitude layers of the fleet over a raster fire (raster_layers)
-    layer_step_m: float = 8.0  # [m] between layers (raster_layers: 2 x 3 m radius + 2 m)
+    layers: int = 3  # [-] altitude layers of the fleet over a raster fire (raster_layers)
+    layer_step_m: float = 14.0  # [m] between layers (raster_layers: 10 m separation + 2 x 2 m)
     layer_top_m: float = 36.0  # [m above terrain] the highest layer (raster_layers)
     auto_max_flame_m: float = 2.44  # [m] auto: head attack below this head flame length (8 ft, NWCG)
     auto_heat_kj_kg: float = 18_608.0  # [kJ/kg] auto: fuel heat content H (8000 BTU/lb, Rothermel 1972)
     auto_fuel_kg_m2: float = 0.166  # [kg/m^2] auto: fuel consumed w (fuel model 1, 0.74 t/acre)
     auto_link_m: float = 100.0  # [m] auto: front cells closer than this belong to one fire (a front
     # broken up by drops stays one fire)
+    aim_clear_m: float = 60.0  # [m] no aim within this of the aim of a right-of-way peer sharing the
+    # airspace (aims_taken); 0: off
+    airspace_vertical_m: float = 10.0  # [m] layers at most this far apart share the airspace (the
+    # agent sets separation.vertical_m: the avoider's own conflict band)
 
     def __post_init__(self) -> None:
         if self.tactic not in TACTICS:
@@ -124,6 +150,9 @@ class TacticConfig:
                 raise ConfigError(f"tactic {name} must be > 0, got {getattr(self, name)}")
         if not self.layer_step_m >= 0:
             raise ConfigError(f"tactic layer_step_m must be >= 0, got {self.layer_step_m}")
+        for name in ("aim_clear_m", "airspace_vertical_m"):
+            if not getattr(self, name) >= 0:
+                raise ConfigError(f"tactic {name} must be >= 0, got {getattr(self, name)}")
         bottom = self.layer_top_m - (self.layers - 1) * self.layer_step_m
         if not bottom > 0:
             raise ConfigError(
@@ -133,8 +162,8 @@ class TacticConfig:
 
     def layer_height_m(self, uav_id: int) -> float:
         """Height [m above terrain] of ``uav_id``'s raster layer: ``layer_top_m`` down in steps of
-        ``layer_step_m``, UAV id modulo ``layers`` (not from the flight height: the stack is bounded
-        by the altimeter's range, see :func:`raster_layers`)."""
+        ``layer_step_m``, UAV id modulo ``layers``, the lowest id lowest (not from the flight height:
+        the stack is bounded by the altimeter's range, see :func:`raster_layers`)."""
         return self.layer_top_m - self.layer_step_m * (self.layers - 1 - uav_id % self.layers)
 
 
@@ -149,21 +178,29 @@ def raster_layers(
     altimeter_range_m: float,
     floor_m: float,
     tracking_error_m: float = TRACKING_ERROR_M,
+    separation_m: float = 0.0,
 ) -> tuple[int, float, float]:
     """(layers, step [m], top [m above terrain]) of the raster altitude stack (our choice, not in FF).
 
-    Two UAVs each on its own layer must not come within the collision radius R whatever their
-    horizontal tracks: step = 2 R + e, with e the measured height tracking error (the world's
-    collision is 3-D, R between centres, so R + 2 e would do; 2 R + e covers it while e <= R).
+    Two UAVs each on its own layer must stay ``separation_m`` (and at least the collision radius
+    R) apart whatever their horizontal tracks: each holds its layer within e, the measured height
+    tracking error, and the world's collision is 3-D, R between centres, so step = max(R,
+    separation) + 2 e. The agent passes the avoider's vertical band (``separation.vertical_m``,
+    10 m: FF's reported closest approach, and the height difference beyond which the avoider
+    ignores a peer): UAVs on different layers are then never closer than 10 m and never the
+    avoider's business, and only UAVs of one layer need keeping apart horizontally (by the
+    avoider, and by not aiming at one point: module doc, "Aims by airspace"). Until this change
+    the step was 2 R + e = 8 m: adjacent layers passed at 8.7-9.5 m over worcester_vt's fire, inside
+    the avoider's band, and with 4 layers 0 and 4 of 5 UAVs shared one (4.88 m).
+
     The top layer is 2 e below the altimeter's range, so that a UAV there stays inside it with
     margin (above it the EKF's height runs on dead reckoning and the error grows: the > 2 m
     errors measured were all from the old 38.75 m layer, just under the 40 m range), the bottom
     one no lower than ``floor_m`` (the refill height, the lowest the fleet flies anyway). As many
-    layers as fit, at most MAX_LAYERS: for the defaults (R 3 m, e 2 m, range 40 m, floor 7.5 m)
-    4 layers 8 m apart at 12-36 m, so a fleet of more than 4 shares layers (UAV id modulo 4) and
-    two UAVs of one layer are kept apart by the avoider (separation) alone.
+    layers as fit, at most MAX_LAYERS: for the defaults (R 3 m, e 2 m, separation 10 m, range
+    40 m, floor 7.5 m) 3 layers 14 m apart at 8, 22 and 36 m, UAV id modulo 3.
     """
-    step = 2.0 * collision_radius_m + tracking_error_m
+    step = max(collision_radius_m, separation_m) + 2.0 * tracking_error_m
     top = altimeter_range_m - 2.0 * tracking_error_m
     if not top > floor_m:
         raise ConfigError(
@@ -307,18 +344,77 @@ def aim_on_front(
     front: FrontCells,
     weights: np.ndarray,
     in_cell: np.ndarray,
+    free: np.ndarray | None = None,
 ) -> tuple[float, float] | None:
     """The aim point: the own-cell front cell nearest the Eq. 9 centroid; without one in the cell,
-    the heaviest front cell (ties: nearest the centroid); None without a front."""
+    the heaviest front cell (ties: nearest the centroid); None without a front.
+
+    ``free`` (bool per front cell, default all): only these cells may be aimed at (cells near an
+    aim a right-of-way peer sharing the airspace has taken are not, :func:`aims_taken`); None when
+    no front cell is free."""
     if len(front) == 0:
         return None
-    cand = np.flatnonzero(in_cell) if in_cell.any() else np.flatnonzero(weights >= weights.max() * (1 - 1e-9))
+    ok = np.ones(len(front), bool) if free is None else np.asarray(free, bool).reshape(-1)
+    if not ok.any():
+        return None
+    w = np.where(ok, weights, -np.inf)
+    mine = in_cell & ok
+    cand = np.flatnonzero(mine) if mine.any() else np.flatnonzero(ok & (w >= w.max() * (1 - 1e-9)))
     if centroid_xy is None:
         k = cand[int(np.argmax(weights[cand]))]
     else:
         d = np.hypot(front.x_m[cand] - centroid_xy[0], front.y_m[cand] - centroid_xy[1])
         k = cand[int(np.argmin(d))]
     return float(front.x_m[k]), float(front.y_m[k])
+
+
+def shares_airspace(uav_id: int, peer_id: int, cfg: TacticConfig) -> bool:
+    """Whether two UAVs' raster layers are at most ``airspace_vertical_m`` apart (the same layer, and
+    for the defaults also the adjacent ones: 8 m <= 10 m): the pairs that can pass within the
+    avoider's vertical band over one aim point (module doc, "Aims by airspace")."""
+    return abs(cfg.layer_height_m(uav_id) - cfg.layer_height_m(peer_id)) <= cfg.airspace_vertical_m
+
+
+def aims_taken(uav_id: int, peers: list[tuple[int, bool, float, float]], cfg: TacticConfig) -> np.ndarray:
+    """The aims [m; map] ``uav_id`` keeps ``aim_clear_m`` away from, (k, 2): of the peers (rows
+    ``(peer_id, suppressing, x_m, y_m)``: the point the peer last published it steers at) with the
+    right of way (lower id, as in :mod:`.separation`) that are suppressing and share the
+    airspace (:func:`shares_airspace`). Non-finite points are skipped."""
+    rows = [
+        (x, y)
+        for j, suppressing, x, y in peers
+        if j < uav_id
+        and suppressing
+        and math.isfinite(x)
+        and math.isfinite(y)
+        and shares_airspace(uav_id, j, cfg)
+    ]
+    return np.array(rows, dtype=float).reshape(-1, 2)
+
+
+def free_front(front: FrontCells, taken_xy: np.ndarray, clear_m: float) -> np.ndarray:
+    """Bool per front cell: farther than ``clear_m`` [m] from every row of ``taken_xy``."""
+    t = np.asarray(taken_xy, dtype=float).reshape(-1, 2)
+    if len(front) == 0 or t.shape[0] == 0 or not clear_m > 0:
+        return np.ones(len(front), bool)
+    d2 = (front.x_m[:, None] - t[None, :, 0]) ** 2 + (front.y_m[:, None] - t[None, :, 1]) ** 2
+    return np.all(d2 > clear_m * clear_m, axis=1)
+
+
+def standoff_point(
+    own_xy: tuple[float, float], near_xy: tuple[float, float], taken_xy: np.ndarray, clear_m: float
+) -> tuple[float, float]:
+    """Where a UAV whose every front cell is taken waits: ``clear_m`` [m] from the taken aim nearest
+    ``near_xy`` (its Eq. 9 centroid), on the side of ``own_xy`` (straight +x of it when the UAV is
+    over that aim). It keeps its water, and takes the front when that peer leaves it (to refill)."""
+    t = np.asarray(taken_xy, dtype=float).reshape(-1, 2)
+    k = int(np.argmin(np.hypot(t[:, 0] - near_xy[0], t[:, 1] - near_xy[1])))
+    ax, ay = float(t[k, 0]), float(t[k, 1])
+    dx, dy = own_xy[0] - ax, own_xy[1] - ay
+    n = math.hypot(dx, dy)
+    if n < 1e-6:
+        dx, dy, n = 1.0, 0.0, 1.0
+    return ax + clear_m * dx / n, ay + clear_m * dy / n
 
 
 def burning_within(

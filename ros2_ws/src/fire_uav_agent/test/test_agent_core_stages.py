@@ -21,6 +21,7 @@ import pytest
 from fire_uav_agent.agent_core import Agent, AgentConfig, Bundle, GuidanceConfig, PlannerTarget
 from fire_uav_agent.estimation import Samples
 from fire_uav_agent.peer_link import FireEntry, PeerFires, PeerState
+from fire_uav_agent.separation import SeparationConfig
 from fire_uav_common import scenario as sc
 from fire_uav_common.constants import EventType, Objective, PayloadAction, VehicleStatus
 from fire_uav_common.terrain import Lake, Terrain
@@ -757,9 +758,9 @@ def _ring_cells(cx=145.0, cy=145.0, cs=10.0):
 
 
 def test_a_raster_fire_makes_the_front_picture_and_the_uavs_fly_their_tactic_layers():
-    """raster_layers for the defaults: 4 layers 36, 28, 20, 12 m (tactics); uav 0 holds 12 m."""
+    """raster_layers for the defaults: 3 layers 36, 22, 8 m (tactics); uav 0 holds 8 m."""
     a = Agent(_cfg())
-    out = _fly(a, 0, 50.0, 50.0, z=12.0, cells=_block(), cell_size=10.0)
+    out = _fly(a, 0, 50.0, 50.0, z=8.0, cells=_block(), cell_size=10.0)
     assert a.front is not None and a.front.cfg.cell_size_m == 10.0
     assert out.command[1] == pytest.approx(0.0, abs=1e-9)  # at its layer
     f = a.front.front()
@@ -769,7 +770,7 @@ def test_a_raster_fire_makes_the_front_picture_and_the_uavs_fly_their_tactic_lay
     sent = {(float(x), float(y)) for x, y in zip(out.front.x_m, out.front.y_m, strict=True)}
     assert sent == _ring_cells() | {(145.0, 145.0)}
     b = Agent(_cfg(uid=1))
-    assert _fly(b, 0, 50.0, 50.0, z=20.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
+    assert _fly(b, 0, 50.0, 50.0, z=22.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
         0.0, abs=1e-9
     )
     c = Agent(_cfg())  # no raster: the FF layer (23 m), so 12 m climbs
@@ -1029,9 +1030,10 @@ def test_a_given_monitor_assigner_and_planner_are_used():
 
 
 def test_raster_layers_follow_the_altimeter_range_and_the_release_radius_the_footprint():
-    """Altimeter range 60 m: top 60 - 2 x 2 = 56 m, 8 m apart, 6 layers (the cap): uav 0 at 16 m."""
+    """Altimeter range 60 m: top 60 - 2 x 2 = 56 m, 14 m apart, 4 layers (56 - 3 x 14 = 14 m above the
+    7.5 m floor): uav 0 at 14 m."""
     a = Agent(_cfg(sensors=sc.Sensors(altimeter=sc.AltimeterSpec(max_range_m=60.0))))
-    assert _fly(a, 0, 50.0, 50.0, z=16.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
+    assert _fly(a, 0, 50.0, 50.0, z=14.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
         0.0, abs=1e-9
     )
     # footprint 10 m: release within 8 m, where only the centre cell burns (< 3 cells): no drop
@@ -1462,10 +1464,15 @@ def test_a_briefed_fire_is_ended_only_within_the_sensor_range_minus_its_uncertai
         assert (not outs[-1].fires[0].active) is ended
 
 
-def test_layers_follow_the_collision_radius():
-    """Collision radius 4 m: layers 2 x 4 + 2 = 10 m apart below 36 m, above 7.5 m: 36, 26, 16."""
-    a = Agent(_cfg(vehicle=sc.Vehicle(collision_radius_m=4.0)))
-    assert _fly(a, 0, 50.0, 50.0, z=16.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
+def test_layers_follow_the_collision_radius_and_the_avoiders_band():
+    """Step max(R, separation.vertical_m) + 2 x 2 m below 36 m, above 7.5 m. Collision radius 12 m:
+    16 m apart, 36 and 20 m; avoider's band 6 m (R 3 m): 10 m apart, 36, 26, 16 m."""
+    a = Agent(_cfg(vehicle=sc.Vehicle(collision_radius_m=12.0)))
+    assert _fly(a, 0, 50.0, 50.0, z=20.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
+        0.0, abs=1e-9
+    )
+    b = Agent(_cfg(separation=SeparationConfig(vertical_m=6.0)))
+    assert _fly(b, 0, 50.0, 50.0, z=16.0, cells=_block(), cell_size=10.0).command[1] == pytest.approx(
         0.0, abs=1e-9
     )
     assert Agent(_cfg()).roles == {}

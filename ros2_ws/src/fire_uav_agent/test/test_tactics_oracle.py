@@ -81,20 +81,22 @@ def test_layer_heights_are_the_stack_top_down_by_id_modulo_layers(layers, step, 
 
 
 def test_raster_layers_properties() -> None:
-    """Step 2 R + e; top 2 e below the range; as many layers as fit above the floor (capped)."""
-    for r, rng, floor, e in [
-        (3.0, 40.0, 7.5, 2.0),
-        (1.0, 60.0, 5.0, 1.0),
-        (2.0, 30.0, 10.0, 0.5),
-        (4.0, 50.0, 13.0, 2.0),
+    """Step max(R, separation) + 2 e; top 2 e below the range; as many layers as fit above the floor
+    (capped)."""
+    for r, rng, floor, e, sep in [
+        (3.0, 40.0, 7.5, 2.0, 0.0),
+        (3.0, 40.0, 7.5, 2.0, 10.0),
+        (1.0, 60.0, 5.0, 1.0, 4.0),
+        (2.0, 30.0, 10.0, 0.5, 1.0),
+        (4.0, 50.0, 13.0, 2.0, 0.0),
     ]:
-        n, step, top = raster_layers(r, rng, floor, e)
-        assert step == pytest.approx(2 * r + e) and top == pytest.approx(rng - 2 * e)
+        n, step, top = raster_layers(r, rng, floor, e, sep)
+        assert step == pytest.approx(max(r, sep) + 2 * e) and top == pytest.approx(rng - 2 * e)
         assert 1 <= n <= MAX_LAYERS
         assert top - (n - 1) * step >= floor - 1e-9
         assert n == MAX_LAYERS or top - n * step < floor
-    # exactly fitting: (36 - 12) / 8 = 3 steps -> 4 layers, the lowest on the floor
-    assert raster_layers(3.0, 40.0, 12.0, 2.0)[0] == 4
+    # exactly fitting: (36 - 8) / 14 = 2 steps -> 3 layers, the lowest on the floor
+    assert raster_layers(3.0, 40.0, 8.0, 2.0, 10.0)[0] == 3
     assert raster_layers(3.0, 40.0, 7.5) == raster_layers(3.0, 40.0, 7.5, TRACKING_ERROR_M)
     assert raster_layers(-2.0, 40.0, 7.5, 0.0)[0] == MAX_LAYERS  # no step: the cap
     with pytest.raises(ValueError, match=r"\(36 m\) is not above the floor \(36 m\)"):
@@ -245,9 +247,9 @@ def test_small_positive_sizes_are_accepted() -> None:
 
 
 def test_raster_layers_with_small_and_zero_steps() -> None:
-    """Step 1 m (R 0, e 1): top 10 m, floor 7.5 m -> layers at 10, 9, 8 m; no step at all (R 0,
+    """Step 1 m (R 0, e 0.5): top 11 m, floor 7.5 m -> layers at 11, 10, 9, 8 m; no step at all (R 0,
     e 0): every layer fits, the cap."""
-    assert raster_layers(0.0, 12.0, 7.5, 1.0) == (3, 1.0, 10.0)
+    assert raster_layers(0.0, 12.0, 7.5, 0.5) == (4, 1.0, 11.0)
     assert raster_layers(0.0, 40.0, 7.5, 0.0)[0] == MAX_LAYERS
 
 
