@@ -105,21 +105,6 @@ def claim_domain(hint: int | None = None, lock_dir: Path | None = None) -> Itera
     )
 
 
-@contextlib.contextmanager
-def private_rclpy_context() -> Iterator[object]:
-    """An initialised ``rclpy.Context`` on a domain claimed by :func:`claim_domain`, shut down on
-    exit: for tests that talk DDS inside one process (rclpy imported here, on first use)."""
-    import rclpy
-
-    with claim_domain() as domain:
-        ctx = rclpy.Context()
-        rclpy.init(context=ctx, domain_id=domain)
-        try:
-            yield ctx
-        finally:
-            rclpy.try_shutdown(context=ctx)
-
-
 @dataclass
 class Child:
     name: str

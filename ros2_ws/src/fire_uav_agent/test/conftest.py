@@ -10,7 +10,7 @@ import pytest
 def ros_context():
     """A private rclpy context on a ROS domain no other test or run on this host holds."""
     pytest.importorskip("rclpy")
-    from fire_mission.procs import private_rclpy_context
+    from fire_uav_agent.testing.ros_context import private_rclpy_context
 
     with private_rclpy_context() as ctx:
         yield ctx
