@@ -329,3 +329,10 @@ def test_the_required_coverage_is_a_float_grid():
         [1.0 * L_PER_M2_PER_CL, 6.0 * L_PER_M2_PER_CL],
         [math.inf, 1.0 * L_PER_M2_PER_CL],
     ]
+
+
+def test_the_line_is_flown_while_the_tank_empties():
+    """(P1): 3000 L at 750 L/s empty in 4 s, 200 m at 50 m/s (the ground-measured test above
+    samples the line, which a wrong length of 1e8 m would exhaust memory on)."""
+    p = pattern_of(release(ground_speed_mps=50.0, volume_l=3000.0, flow_lps=750.0, heading_rad=0.0))
+    assert (p.x1_m - p.x0_m, p.y1_m - p.y0_m) == pytest.approx((200.0, 0.0))
