@@ -450,7 +450,10 @@ def test_pair_files_of_two_shapes_or_a_missing_or_unreadable_file_are_named(tmp_
     kw: dict = {"x0": 500000.0, "y_top": 4000000.0, "cell_m": 60.0}
     vel, _ = write_asc_pair(tmp_path / "a", np.full((2, 2), 4.0), np.full((2, 2), 270.0), **kw)
     _, ang = write_asc_pair(tmp_path / "b", np.full((2, 3), 4.0), np.full((2, 3), 270.0), **kw)
-    with pytest.raises(WindGridError, match=r"b_ang\.asc: grid \(2, 3\) at .* differs from .*a_vel\.asc's$"):
+    with pytest.raises(
+        WindGridError,
+        match=r"b_ang\.asc: grid \(2, 3\) at \(60\.0, 0\.0, 500000\.0, 0\.0, -60\.0, 4000000\.0\) differs from .*a_vel\.asc's$",
+    ):
         wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land)
     with pytest.raises(WindGridError, match=r"no_ang\.asc: direction file not found$"):
         wind_on_landscape(WindGrid(str(vel), str(tmp_path / "no_ang.asc"), "mps"), land)
@@ -501,3 +504,68 @@ def test_the_domain_wind_is_the_mean_vector_and_calm_without_burnable_cells(tmp_
         0.0,
         0.0,
     )
+
+
+def _hat(q: np.ndarray, centres: np.ndarray, j: int) -> np.ndarray:
+    """The weight of grid centre j at the points q in a 1-D linear blend held flat beyond the ends."""
+    e = np.zeros(len(centres))
+    e[j] = 1.0
+    return np.interp(q, centres, e)
+
+
+@pytest.mark.parametrize("geotiff", [False, True])
+def test_a_cell_that_would_blend_a_nodata_value_is_named_and_only_those(
+    tmp_path: Path, geotiff: bool
+) -> None:
+    """A 3 x 4 grid (60 m) over a 6 x 8 landscape (30 m), one nodata value at a time, in the speed
+    or in the direction: the cells named are those whose blend gives it a weight > 0 (np.interp's
+    hat functions); a nodata value no cell blends spoils nothing."""
+    from fire_uav_common.scenario.wind_grid import WindGrid, WindGridError, wind_on_landscape
+
+    land = _flat(tmp_path, (6, 8))
+    gx, gy = 30.0 + 60.0 * np.arange(4), 30.0 + 60.0 * np.arange(3)  # from the top-left corner
+    lx, ly = 15.0 + 30.0 * np.arange(8), 15.0 + 30.0 * np.arange(6)
+    for k, (i, j, which) in enumerate(
+        [(0, 0, "vel"), (1, 2, "ang"), (2, 3, "vel"), (0, 2, "ang"), (2, 1, "vel")]
+    ):
+        speed, from_deg = np.full((3, 4), 4.0), np.full((3, 4), 270.0)
+        (speed if which == "vel" else from_deg)[i, j] = -9999.0
+        if geotiff:
+            path = tmp_path / f"n{k}.tif"
+            with rasterio.open(
+                path, "w", driver="GTiff", height=3, width=4, count=2, dtype="float64", crs=CRS,
+                transform=from_origin(500000.0, 4000000.0, 60.0, 60.0), nodata=-9999.0,
+            ) as dst:  # fmt: skip
+                dst.write(speed, 1)
+                dst.write(from_deg, 2)
+            grid = WindGrid(str(path), None, "mps")
+        else:
+            vel, ang = write_asc_pair(
+                tmp_path / f"n{k}", speed, from_deg, x0=500000.0, y_top=4000000.0, cell_m=60.0
+            )
+            grid = WindGrid(str(vel), str(ang), "mps")
+        weight = _hat(ly, gy, i)[:, None] * _hat(lx, gx, j)[None, :]
+        n = int((weight > 0).sum())
+        assert n > 0
+        with pytest.raises(WindGridError, match=rf"the wind grid does not cover {n} burnable cells"):
+            wind_on_landscape(grid, land)
+
+
+def test_negative_speeds_are_named_and_calm_and_north_are_valid(tmp_path: Path) -> None:
+    from fire_uav_common.scenario.wind_grid import WindGrid, WindGridError, wind_on_landscape
+
+    land = _flat(tmp_path, (4, 4))
+    kw: dict = {"x0": 500000.0, "y_top": 4000000.0, "cell_m": 60.0}
+    speed, from_deg = np.zeros((2, 2)), np.full((2, 2), 360.0)
+    vel, ang = write_asc_pair(tmp_path / "calm", speed, from_deg, **kw)
+    assert wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land).speed_mps == pytest.approx(
+        np.zeros((4, 4))
+    )
+    speed[1, 0], speed[1, 1] = -1.5, -2.0
+    vel, ang = write_asc_pair(tmp_path / "neg", speed, from_deg, **kw)
+    with pytest.raises(WindGridError) as err:
+        wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land)
+    assert str(err.value) == f"{vel}: speed -1.5 at row 1, col 0 is not >= 0 (2 cells)"
+    with pytest.raises(WindGridError) as err:
+        wind_on_landscape(WindGrid(str(vel), str(ang), "furlongs"), land)
+    assert str(err.value) == f"{vel}: speed units must be one of ['kph', 'kts', 'mph', 'mps'], got 'furlongs'"
