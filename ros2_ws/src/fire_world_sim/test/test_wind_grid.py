@@ -525,9 +525,8 @@ def test_a_cell_that_would_blend_a_nodata_value_is_named_and_only_those(
     land = _flat(tmp_path, (6, 8))
     gx, gy = 30.0 + 60.0 * np.arange(4), 30.0 + 60.0 * np.arange(3)  # from the top-left corner
     lx, ly = 15.0 + 30.0 * np.arange(8), 15.0 + 30.0 * np.arange(6)
-    for k, (i, j, which) in enumerate(
-        [(0, 0, "vel"), (1, 2, "ang"), (2, 3, "vel"), (0, 2, "ang"), (2, 1, "vel")]
-    ):
+    cases = [(0, 0, "vel"), (1, 2, "ang"), (2, 3, "vel"), (0, 2, "ang"), (2, 1, "vel"), (0, 1, "ang")]
+    for k, (i, j, which) in enumerate(cases):
         speed, from_deg = np.full((3, 4), 4.0), np.full((3, 4), 270.0)
         (speed if which == "vel" else from_deg)[i, j] = -9999.0
         if geotiff:
@@ -547,8 +546,15 @@ def test_a_cell_that_would_blend_a_nodata_value_is_named_and_only_those(
         weight = _hat(ly, gy, i)[:, None] * _hat(lx, gx, j)[None, :]
         n = int((weight > 0).sum())
         assert n > 0
-        with pytest.raises(WindGridError, match=rf"the wind grid does not cover {n} burnable cells"):
+        with pytest.raises(WindGridError) as err:
             wind_on_landscape(grid, land)
+        r, c = (int(q[0]) for q in np.nonzero(weight > 0))
+        x, y = 500015.0 + 30.0 * c, 3999985.0 - 30.0 * r
+        assert str(err.value) == (
+            f"{grid.speed_path}: the wind grid does not cover {n} burnable cells of the landscape "
+            f"(first at row {r}, col {c}, ({x:.0f}, {y:.0f}) m); grid extent "
+            f"({500000.0:g}, {4000000.0 - 3 * 60.0:g}, {500000.0 + 4 * 60.0:g}, {4000000.0:g})"
+        )
 
 
 def test_negative_speeds_are_named_and_calm_and_north_are_valid(tmp_path: Path) -> None:
@@ -569,3 +575,33 @@ def test_negative_speeds_are_named_and_calm_and_north_are_valid(tmp_path: Path) 
     with pytest.raises(WindGridError) as err:
         wind_on_landscape(WindGrid(str(vel), str(ang), "furlongs"), land)
     assert str(err.value) == f"{vel}: speed units must be one of ['kph', 'kts', 'mph', 'mps'], got 'furlongs'"
+
+
+def test_cells_that_cannot_burn_get_a_calm_where_the_grid_is_missing_or_nodata(tmp_path: Path) -> None:
+    """Module doc: a cell that cannot burn gets a calm (speed 0, from 0 deg), whether the grid does
+    not reach it or it would blend a nodata value; a nodata value that is NaN and blended with
+    weight 0 leaves its neighbours' wind finite."""
+    from fire_uav_common.scenario.wind_grid import WindGrid, wind_on_landscape
+
+    barren = _flat(tmp_path, (4, 4), fuel=99)
+    kw: dict = {"x0": 500000.0, "y_top": 4000000.0, "cell_m": 60.0}
+    vel, ang = write_asc_pair(tmp_path / "c", np.full((1, 1), 4.0), np.full((1, 1), 90.0), **kw)
+    w = wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), barren)
+    assert w.speed_mps[:2, :2] == pytest.approx(np.full((2, 2), 4.0))
+    assert w.from_deg[:2, :2] == pytest.approx(np.full((2, 2), 90.0))
+    outside = np.ones((4, 4), dtype=bool)
+    outside[:2, :2] = False
+    assert (w.speed_mps[outside] == 0.0).all() and (w.from_deg[outside] == 0.0).all()
+    # a NaN nodata value at the grid's south-east corner: the north-west cell blends it with weight 0
+    speed = np.full((2, 2), 4.0)
+    speed[1, 1] = np.nan
+    path = tmp_path / "nan.tif"
+    with rasterio.open(
+        path, "w", driver="GTiff", height=2, width=2, count=2, dtype="float64", crs=CRS,
+        transform=from_origin(500000.0, 4000000.0, 60.0, 60.0), nodata=np.nan,
+    ) as dst:  # fmt: skip
+        dst.write(speed, 1)
+        dst.write(np.full((2, 2), 90.0), 2)
+    w = wind_on_landscape(WindGrid(str(path), None, "mps"), barren)
+    assert w.speed_mps[0, 0] == pytest.approx(4.0) and np.isfinite(w.speed_mps).all()
+    assert (w.speed_mps[2:, 2:] == 0.0).all() and (w.from_deg[2:, 2:] == 0.0).all()
