@@ -201,3 +201,172 @@ def test_the_agent_refills_only_at_a_lake_long_enough():
     assert a._nearest_lake(np.array([300.0, 400.0])) == lakes[1] and len(a.lakes_refused) == 1
     b = Agent(AgentConfig(uav_id=0, uav_count=1, lakes=lakes))
     assert b._nearest_lake(np.array([300.0, 400.0])) == lakes[0] and b.lakes_refused == ()
+
+
+# --- edges named by the mutation run (docs/testing.md) ----------------------------------------------
+def test_a_turn_at_the_radius_flies_at_the_stall_margin_of_the_load_aboard():
+    """B&M: a banked turn at load factor n = 1 / cos(phi) stalls below V_S(m) sqrt(n). Just above the
+    full tank's stall speed the radius is the one whose bank puts the turn exactly at that margin,
+    for the full tank; the empty aircraft stalls lower and banks to bank_max."""
+    v = 12.6  # 1.05 x small_uav's full-tank stall speed (12 m/s)
+    for water_kg in (None, SMALL.water_capacity_kg):
+        phi = math.atan(v * v / (9.80665 * turn_radius_m(SMALL, v, water_kg)))
+        assert SMALL.stall_speed_mps(SMALL.water_capacity_kg) / math.sqrt(math.cos(phi)) == pytest.approx(v)
+    phi_empty = math.atan(v * v / (9.80665 * turn_radius_m(SMALL, v, 0.0)))
+    assert phi_empty == pytest.approx(SMALL.bank_max_rad)
+    assert SMALL.stall_speed_mps(0.0) / math.sqrt(math.cos(phi_empty)) < v
+
+
+def test_below_the_stall_speed_there_is_no_turn():
+    """Below V_S even level flight stalls: no bank, so the radius is effectively unbounded."""
+    assert turn_radius_m(SMALL, 0.9 * SMALL.stall_speed_mps(SMALL.water_capacity_kg)) > 1e9
+    assert turn_radius_m(SMALL, 0.9 * SMALL.stall_speed_mps(0.0), 0.0) > 1e9
+
+
+def test_a_lake_exactly_as_long_as_the_scoop_run_is_used():
+    from fire_uav_agent.airframe_model import scoop_run_m, usable_lakes
+    from fire_uav_common.terrain import Lake
+
+    exact = Lake(0.0, 0.0, scoop_run_m(SMALL))  # a disc whose diameter is the run
+    assert exact.longest_run.length_m == scoop_run_m(SMALL)
+    assert usable_lakes((exact,), SMALL) == ((exact,), ())
+
+
+def _circle_centres(pose, r):
+    """The centres of the two turn circles: r to the left and to the right, normal to the heading."""
+    x, y, th = pose
+    return [(x - r * math.sin(th), y + r * math.cos(th)), (x + r * math.sin(th), y - r * math.cos(th))]
+
+
+def test_turn_circles_off_the_axes_contain_what_lies_within_them():
+    """Poses at any place and heading: a point 0.5 m inside either circle is inside, 0.5 m outside
+    both is not; the vehicle's own position, on both circles, is not inside (it can turn either way)."""
+    r = 25.0
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        pose = (float(rng.uniform(-500, 500)), float(rng.uniform(-500, 500)), float(rng.uniform(-4, 4)))
+        assert not inside_turn_circle(pose, (pose[0], pose[1]), r)
+        centres = _circle_centres(pose, r)
+        for cx, cy in centres:
+            a = float(rng.uniform(0, 2 * math.pi))
+            for d, want in ((r - 0.5, True), (r + 0.5, None)):
+                p = (cx + d * math.cos(a), cy + d * math.sin(a))
+                if want is None:  # outside this circle: inside only if within the other one
+                    want = any(math.hypot(p[0] - ox, p[1] - oy) < r for ox, oy in centres)
+                assert inside_turn_circle(pose, p, r) == want, (pose, p)
+        assert inside_turn_circle(pose, centres[0], r) and inside_turn_circle(pose, centres[1], r)
+
+
+def _flown_against_world(af, cmds, water_kg, substeps, physics_s):
+    """(model's EKF inputs, world's per-period means, model's and world's final bank) for ``cmds``."""
+    lim = VehicleLimits.of(sc.airframes.envelope_vehicle(sc.Vehicle(), af))
+    model = CoordinatedTurnModel(af, 0.0)
+    rng = np.random.default_rng(0)
+    st = FlightState(0.0, 0.0, 30.0, 0.0, water_kg=water_kg)
+    f = FlownInput(af, lim, physics_s, substeps * physics_s)
+    got, want = [], []
+    for k, (v, vz, w) in enumerate(cmds):
+        c = Command(
+            min(max(v, lim.v_stall_mps), lim.v_max_mps),
+            min(max(vz, -lim.vz_max_mps), lim.vz_max_mps),
+            min(max(w, -lim.omega_max_radps), lim.omega_max_radps),
+        )
+        if k == 0:
+            st = model.launch(st, Command(v, vz, w))
+        acc = np.zeros(3)
+        for _ in range(substeps):
+            (st,) = model.step([st], [c], physics_s, [rng])
+            acc += (math.sqrt(st.airspeed_mps**2 - st.climb_mps**2), st.climb_mps, st.turn_rate_radps)
+        want.append(acc / substeps)
+        got.append(f.input(np.array((v, vz, w)), k > 0, AIR, water_kg))
+    return np.array(got), np.array(want), f.state.bank_rad, st.bank_rad
+
+
+def test_with_one_substep_per_period_the_input_is_the_worlds_one_step():
+    """Physics period = control period: one substep, as the world flies it."""
+    cmds = [(16.0, 3.0, 0.0)] + [(30.0, 5.0, 1.0)] * 5
+    got, want, _, _ = _flown_against_world(SMALL, cmds, 6.0, 1, 0.1)
+    assert np.max(np.abs(got - want)) < 1e-9
+
+
+def test_near_stall_the_flown_turn_is_limited_by_the_load_aboard():
+    """An airframe whose lowest speed is just above its full-tank stall: the world banks less with a
+    full tank than empty, and the on-board model follows the load it is handed."""
+    import dataclasses
+
+    af = dataclasses.replace(SMALL, min_speed_factor=1.05)
+    cmds = [(af.v_min_mps, 0.0, 0.0)] + [(af.v_min_mps, 0.0, 1.0)] * 20
+    banks = []
+    for water_kg in (0.0, af.water_capacity_kg):
+        got, want, bank, world_bank = _flown_against_world(af, cmds, water_kg, 10, 0.01)
+        assert np.max(np.abs(got - want)) < 1e-9 and bank == pytest.approx(world_bank, abs=1e-9)
+        banks.append(bank)
+    assert banks[1] < banks[0] - 0.1  # the full tank's stall margin holds the bank well below the empty one's
+
+
+def test_on_the_ground_the_modelled_flight_state_is_at_rest():
+    """Before the first takeoff and after a touchdown: no airspeed, no climb, no bank (guidance
+    reads the modelled airspeed for its turn circles)."""
+    f = FlownInput(SMALL, LIM, 0.01, 0.1)
+    assert (f.state.airspeed_mps, f.state.climb_mps, f.state.bank_rad) == (0.0, 0.0, 0.0)
+    f.input(np.array([16.0, 3.0, 0.0]), False, AIR, 0.0)
+    for _ in range(10):
+        f.input(np.array([25.0, 0.0, 0.5]), True, AIR, 0.0)
+    f.input(np.array([0.0, -0.5, 0.0]), True, LANDED, 0.0)
+    assert (f.state.airspeed_mps, f.state.climb_mps, f.state.bank_rad) == (0.0, 0.0, 0.0)
+    f.input(np.array([0.0, 0.0, 0.0]), False, GROUND, 0.0)
+    assert f.state.airspeed_mps == 0.0
+
+
+def test_without_an_airframe_low_and_negative_commands_are_clamped_too():
+    """FF Eq. 5: airborne, v to [v_stall, v_max], v_z and omega to +-their maxima."""
+    lim = VehicleLimits.of(sc.Vehicle())
+    f = FlownInput(None, lim, 0.01, 0.1)
+    assert list(f.input(np.array([0.1, -150.0, -30.0]), True, AIR, 0.0)) == [
+        lim.v_stall_mps, -lim.vz_max_mps, -lim.omega_max_radps,
+    ]  # fmt: skip
+
+
+def test_a_takeoff_point_level_with_the_centre_gets_the_axis_course():
+    area = (0.0, 600.0, 0.0, 600.0)
+    assert final_approach_course((50.0, 300.0), area, -1.0) == pytest.approx(math.pi)  # due west
+    assert final_approach_course((300.0, 40.0), area, -1.0) == pytest.approx(-math.pi / 2)  # due south
+
+
+def test_the_approach_frame_and_capture_region_on_an_oblique_course():
+    """Course 30 deg, threshold off the origin: a point built from (along, cross) reads back as
+    them; the capture region is the module doc's (within L + 3 r behind, 0.5 r past, 3 r across,
+    heading within 90 deg)."""
+    course, r, length = math.radians(30.0), 25.0, 200.0
+    ap = FinalApproach((120.0, -40.0), course, length, r)
+    c, s = math.cos(course), math.sin(course)
+
+    def at(along, cross, heading=course):
+        return (120.0 + along * c - cross * s, -40.0 + along * s + cross * c, heading)
+
+    assert ap.frame(at(-100.0, 10.0)[:2]) == pytest.approx((-100.0, 10.0))
+    assert ap.frame(at(37.0, -55.0)[:2]) == pytest.approx((37.0, -55.0))
+    assert ap.captured(at(-(length + 2.9 * r), 0.0))
+    assert not ap.captured(at(-(length + 3.5 * r), 0.0))
+    assert ap.captured(at(0.3 * r, 0.0)) and not ap.captured(at(r, 0.0))
+    assert ap.captured(at(-100.0, 2.9 * r)) and not ap.captured(at(-100.0, -3.5 * r))
+    assert ap.captured(at(-100.0, 0.0, course + 1.4)) and not ap.captured(at(-100.0, 0.0, course + 1.7))
+    # B&M Eq. 10.8 with k = 1 / r: one radius off the line the course is chi_inf / 2 = 30 deg off
+    off = math.remainder(ap.line_course(at(-100.0, r)[:2]) - course, math.tau)
+    assert off == pytest.approx(-math.radians(30.0))
+
+
+def test_the_turn_side_is_the_one_toward_the_line():
+    """Left of the line and heading along the course, the vehicle turns right (-1) toward it;
+    right of it, left (+1); heading against the course, the other way. At any place and heading
+    off a tie the side is the one whose circle centre is nearer the line."""
+    ap = FinalApproach((120.0, -40.0), math.radians(30.0), 200.0, 25.0)
+    rng = np.random.default_rng(5)
+    for _ in range(300):
+        pose = (float(rng.uniform(-300, 300)), float(rng.uniform(-300, 300)), float(rng.uniform(-4, 4)))
+        _, cross = ap.frame(pose[:2])
+        along_course = math.cos(pose[2] - ap.course_rad)
+        if abs(cross * along_course) < 1e-3:
+            continue
+        want = -1.0 if cross * along_course > 0 else 1.0
+        assert ap.turn_side(pose) == want, pose

@@ -281,3 +281,36 @@ def test_predict_is_the_matrix_form_of_eqs_16_17_bit_for_bit():
                 ref.update_gps(float(ref.s[0]) + 1.0, float(ref.s[1]) - 2.0)
             assert f.s.tobytes() == ref.s.tobytes(), (trial, step, f.s - ref.s)
             assert f.P.tobytes() == ref.P.tobytes(), (trial, step, f.P - ref.P)
+
+
+# --- edges named by the mutation run (docs/testing.md) ----------------------------------------------
+def test_the_climb_is_the_commanded_vertical_speed_and_a_fix_pins_it_in_its_substep():
+    """FF Eq. 16, z' = z + v_z dt, with v_z the command's second entry (not its turn rate): an exact
+    altimeter fix of 30.5 m in substep 2 (t = 0.015 s), then 8 substeps at 2 m/s."""
+    f = ekf(initial=(1.0, 1.0, 50.0, 0.0), sigma_alt_m=1e-4)
+    f.process(Samples(alt=np.array([[0.015, 30.5]])), np.array([0.0, 2.0, 0.0]), 0.0, 0.1)
+    assert math.isclose(f.s[2], 30.5 + 2.0 * 8 * DT, abs_tol=1e-6)
+    g = ekf()
+    g.process(Samples(), np.array([0.0, 2.0, 0.0]), 0.0, 0.1)
+    assert math.isclose(g.s[2], 30.0 + 2.0 * 0.1, rel_tol=1e-12)
+
+
+def test_a_fix_without_a_variance_takes_the_configured_one():
+    """The row has no variance (an empty gps_var_m2): sigma_gps_m^2 = 9 m^2, the exact
+    precision-weighted mean of the prior N(0, 50^2) and the fix 3 m."""
+    f = ekf(initial=(50.0, 50.0, 1.0, 0.0), sigma_gps_m=3.0)
+    f.process(Samples(np.array([[0.1, 3.0, 0.0]]), np.array([])), np.zeros(3), 0.0, 0.1)
+    assert math.isclose(f.P[0, 0], 1.0 / (1.0 / 2500.0 + 1.0 / 9.0), rel_tol=1e-12)
+    assert math.isclose(f.s[0], 3.0 * (1.0 / 9.0) / (1.0 / 2500.0 + 1.0 / 9.0), rel_tol=1e-12)
+
+
+def test_integer_configuration_and_start_state_filter_as_their_float_values():
+    """A start pose and sigmas written as integers (a YAML scenario may hold them so) give the
+    filter the float one gives."""
+    cfg_i = EkfConfig(sigma_nu=(1, 1, 1), initial_sigma=(2, 2, 1, 0))
+    cfg_f = EkfConfig(sigma_nu=(1.0, 1.0, 1.0), initial_sigma=(2.0, 2.0, 1.0, 0.0))
+    a, b = StateEkf(cfg_i, [0, 0, 30, 0]), StateEkf(cfg_f, np.array([0.0, 0.0, 30.0, 0.0]))
+    smp = Samples(np.array([[0.05, 1.0, 2.0]]), np.array([4.0]), np.array([[0.07, 29.5]]))
+    for f in (a, b):
+        f.process(smp, np.array([10, 1, 0.5]), 0.0, 0.1)
+    assert a.s.tolist() == b.s.tolist() and a.P.tolist() == b.P.tolist()

@@ -273,3 +273,119 @@ def test_bad_configuration_names_the_field() -> None:
         PeerGate(3, 3, 0.1)
     with pytest.raises(ConfigError, match="crash_threshold_steps must be >= 1, got 0"):
         PeerGate(0, 3, 0.1, crash_threshold_steps=0)
+
+
+# --- edges named by the mutation run (docs/testing.md): each against the rule the docs state --------
+def test_the_inbox_order_is_total_on_fuzzed_fields_and_sorts_them_first() -> None:
+    """Module doc: a field that is not an int sorts as -1 (before every genuine id and sequence,
+    which are >= 0); a message of another type sorts after the four kinds; the sequence decides
+    between messages of one sender, step and kind."""
+    a = PeerState(2, 5, 0, 0.0, 0.0, 30.0, 0.0, 0)
+    b = PeerState(0, 5, 0, 0.0, 0.0, 30.0, 0.0, 0)
+    fuzzed_id = PeerState(None, 5, 0, 0.0, 0.0, 30.0, 0.0, 0)  # type: ignore[arg-type]
+    assert sorted([a, fuzzed_id, b], key=inbox_order) == [fuzzed_id, b, a]
+    late, early = state(1, 0, seq=9), state(1, 0, seq=0)
+    fuzzed_seq = PeerState(1, None, 0, 10.0, 0.0, 30.0, 0.0, 0)  # type: ignore[arg-type]
+    assert sorted([late, early], key=inbox_order) == [early, late]
+    assert sorted([late, fuzzed_seq, early], key=inbox_order) == [fuzzed_seq, early, late]
+
+    class Other:  # not one of the four peer message types
+        uav_id, sequence, step = 1, 1, 0
+
+    got = sorted([Other(), front(1, 0), perimeter(1, 0)], key=inbox_order)  # type: ignore[list-item]
+    assert [type(m).__name__ for m in got] == ["PeerPerimeter", "PeerFront", "Other"]
+
+
+def test_a_threshold_of_one_step_is_accepted() -> None:
+    """crash_threshold_steps must be >= 1 (the error says so): 1 itself is a valid threshold."""
+    g: PeerGate = PeerGate(0, 3, 0.1, crash_threshold_steps=1)
+    assert g.crash_threshold_steps == 1
+
+
+def test_a_peers_scheduled_offline_steps_are_not_waited_for() -> None:
+    """Peer 1 is offline for steps 10..14 (1.0 s to 1.5 s at 0.1 s): step 11 needs nothing of it."""
+    g: PeerGate = PeerGate(0, 2, 0.1, schedule=parse_schedule("1@1.0:1.5"))
+    g.on_bundle(0, "b0")
+    for k in range(1, 11):
+        g.on_bundle(k, f"b{k}")
+        assert runs(on_state(g, 1, k - 1))
+    assert [d.step for d in runs(g.on_bundle(11, "b11"))] == [11]
+
+
+def test_only_the_agents_own_offline_windows_widen_the_plausible_steps() -> None:
+    """A peer's offline window makes that peer fall behind, never run ahead of this agent."""
+    g: PeerGate = PeerGate(0, 2, 0.1, schedule=parse_schedule("1@1.0:1.5"))
+    g.on_bundle(0, "b0")
+    assert g.on_state(b"", state(1, 2), fires(1, 2), sent(), False)[0].reason == "implausible step"
+
+
+def test_in_realtime_a_peer_may_run_ahead_by_the_crash_threshold() -> None:
+    """Without the wait a peer keeps running while this agent misses steps: up to
+    ``crash_threshold_steps`` beyond the next step before it would count this one crashed."""
+    rt: PeerGate = PeerGate(0, 2, 0.1, lockstep=False, crash_threshold_steps=4)
+    rt.on_bundle(0, "b0")
+    assert rt.on_state(b"", state(1, 5), fires(1, 5), sent(), False) == []
+    assert rt.on_state(b"", state(1, 6), fires(1, 6), sent(), False)[0].reason == "implausible step"
+
+
+def test_in_realtime_a_repeated_bundle_is_not_run_again() -> None:
+    rt: PeerGate = PeerGate(0, 2, 0.1, lockstep=False)
+    rt.on_bundle(0, "b0")
+    assert [d.step for d in runs(rt.on_bundle(2, "b2"))] == [2]
+    assert rt.on_bundle(2, "b2 again") == []
+
+
+def test_a_newer_bundle_runs_the_one_it_overtook_first() -> None:
+    g = gate(n=2)
+    assert g.on_bundle(1, "b1") == [StartWaiting(1)]
+    got = g.on_bundle(2, "b2")
+    assert got[0] == RunStep(1, "b1", ()) and got[1:] == [StartWaiting(2)]
+
+
+def test_a_perimeters_tag_is_checked_on_its_bytes_and_step() -> None:
+    calls: list[tuple] = []
+
+    def check(data: bytes, topic: str, sender: int, auth_step: int) -> bool:
+        calls.append((data, topic, sender, auth_step))
+        return data == b"signed"
+
+    g = gate(n=2, check_tag=check)
+    g.on_bundle(1, "b1")
+    assert g.on_perimeter(b"forged", perimeter(1, 0)) == [Rejected("/fleet/perimeter", 1, 0, "bad auth")]
+    assert g.on_perimeter(b"signed", perimeter(1, 0)) == []
+    assert calls == [(b"forged", "/fleet/perimeter", 1, 0), (b"signed", "/fleet/perimeter", 1, 0)]
+
+
+def test_a_coverage_message_the_state_announced_is_waited_for() -> None:
+    """The state says the peer sent one message on /fleet/coverage/weights (loss index 3)."""
+    g = gate(n=2)
+    g.on_bundle(1, "b1")
+    counts = list(sent())
+    counts[3] = 1
+    assert g.on_state(b"", state(1, 0), fires(1, 0), tuple(counts), False) == []
+    assert g.on_arrival(1, 1, 3) == []  # the peer's next step: not this one's
+    assert g.on_arrival(1, 0, 4) == []  # another topic
+    assert [d.step for d in runs(g.on_arrival(1, 0, 3))] == [1]
+
+
+def test_the_wait_is_measured_from_the_bundles_arrival() -> None:
+    g = gate(n=2)
+    g.on_bundle(1, "b1", now_ns=10 * S)
+    assert g.on_liveness(12 * S, lambda: {1}) == []  # 2 s: not long enough to report
+    got = g.on_liveness(15 * S + S // 2, lambda: {1})
+    assert got[0] == StillWaiting(1, 5.5, g.wait.describe(1))
+    assert got[1:] == [AskResend(1, 0, 5.5)]
+
+
+def test_a_peer_marked_gone_is_not_waited_for() -> None:
+    g = gate()
+    g.mark_gone(2)
+    g.on_bundle(1, "b1")
+    assert [d.step for d in runs(on_state(g, 1, 0))] == [1]
+
+
+def test_peer_0_is_a_fleet_member_and_the_fleet_size_is_not() -> None:
+    g = gate(uid=1, n=2)
+    g.on_bundle(1, "b1")
+    assert g.on_state(b"", state(2, 0), fires(2, 0), sent(), False)[0].reason == "unknown id"
+    assert [d.step for d in runs(on_state(g, 0, 0))] == [1]

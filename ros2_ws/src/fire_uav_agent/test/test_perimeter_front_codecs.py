@@ -268,3 +268,102 @@ def test_the_wire_types_are_frozen():
     w = read_fire_front(_samples()[1][1])
     with pytest.raises(dataclasses.FrozenInstanceError):
         w.uav_id = 3  # type: ignore[misc]
+
+
+# --- edges named by the mutation run (docs/testing.md) ----------------------------------------------
+def _full_samples() -> dict[str, bytes]:
+    """rclpy's bytes of each message with every array non-empty."""
+    out = dict(_samples())
+    pm = PerimeterMap(uav_id=2, sequence=1)
+    pm.header.frame_id = "map"
+    pm.outer_distance_m, pm.outer_visit_time_s = [1.0, 2.0], [3.0]
+    pm.spread_rate_mps, pm.importance = [0.5], [0.5]
+    out["PerimeterMap"] = bytes(serialize_message(pm))
+    return out
+
+
+def _messages_of_every_truncation(name: str) -> set[str]:
+    data = _full_samples()[name]
+    out = set()
+    for n in range(len(data)):
+        with pytest.raises(ValueError) as err:
+            READERS[name](data[:n])
+        out.add(str(err.value))
+    return out
+
+
+@pytest.mark.parametrize(
+    ("name", "fields"),
+    [
+        ("PerimeterMap", ("outer_distance_m", "outer_visit_time_s", "spread_rate_mps", "importance")),
+        ("FireFront", ("x_m", "y_m", "state", "observed_s", "spread_rate_mps")),
+    ],
+)
+def test_a_cut_array_or_header_is_named_in_the_one_error_line(name: str, fields: tuple[str, ...]) -> None:
+    """rclpy's bytes cut just after an array's length: the error names that field of that message,
+    the header's frame id, and the encapsulation's message."""
+    said = _messages_of_every_truncation(name)
+    for f in fields:
+        assert any(m.startswith(f"{name} {f} length ") and "runs past the end" in m for m in said), f
+    assert any(m.startswith(f"{name} header.frame_id length ") for m in said)
+    data = _full_samples()[name]
+    with pytest.raises(ValueError, match=f"^{name}: not XCDR1 little-endian"):
+        READERS[name](b"\x00\x00" + data[2:])
+    with pytest.raises(ValueError, match=f"^{name} of {len(data) + 1} bytes: expected .* not {len(data)}$"):
+        READERS[name](data + b"\x00")
+
+
+def test_a_perimeter_cut_after_its_last_array_is_truncated_not_an_overlong_array() -> None:
+    """The importance array fits in full; what is missing is direction, direction_changes and auth
+    (1 + 3 padding + 4 + 32 bytes)."""
+    data = _full_samples()["PerimeterMap"]
+    with pytest.raises(ValueError, match="^PerimeterMap truncated"):
+        read_perimeter_map(data[: len(data) - 40])
+
+
+def _perimeter(**kw) -> bytes:
+    args = dict(
+        stamp_ns=10**8, uav_id=1, sequence=1, fire_id=0, center_xy=(0.0, 0.0), outer_distance_m=[1.0],
+        outer_visit_time_s=[1.0], spread_rate_mps=[1.0], importance=[1.0], direction=0, direction_changes=0,
+    )  # fmt: skip
+    args.update(kw)
+    return write_perimeter_map(**args)
+
+
+def _front(**kw) -> bytes:
+    args = dict(
+        stamp_ns=10**8, uav_id=1, sequence=1, cell_size_m=5.0, x_m=[1.0], y_m=[2.0], state=[1],
+        observed_s=[3.0], spread_rate_mps=[0.5],
+    )  # fmt: skip
+    args.update(kw)
+    return write_fire_front(**args)
+
+
+def test_the_writers_refuse_what_the_message_cannot_hold_naming_the_field() -> None:
+    """int32 fire_id (ROS: -2**31..2**31 - 1), uint8 states and ids, a stamp before 0."""
+    for fire_id in (-(2**31), 2**31 - 1):
+        m = deserialize_message(_perimeter(fire_id=fire_id), PerimeterMap)
+        assert m.fire_id == fire_id
+    for fire_id in (-(2**31) - 1, 2**31):
+        with pytest.raises(ValueError, match=f"^PerimeterMap fire_id {fire_id} is out of int32$"):
+            _perimeter(fire_id=fire_id)
+    with pytest.raises(ValueError, match="^PerimeterMap stamp must be >= 0 ns, got -1$"):
+        _perimeter(stamp_ns=-1)
+    with pytest.raises(ValueError, match="^PerimeterMap of uav 256: a field out of range"):
+        _perimeter(uav_id=256)
+    with pytest.raises(ValueError, match="^FireFront stamp must be >= 0 ns, got -1$"):
+        _front(stamp_ns=-1)
+    with pytest.raises(ValueError, match="^FireFront of uav 256: a field out of range"):
+        _front(uav_id=256)
+    for bad in ([-1, 3], [0, 256]):
+        with pytest.raises(ValueError, match=r"^FireFront of uav 1: a state outside uint8"):
+            _front(state=bad, x_m=[1.0, 1.0], y_m=[2.0, 2.0])
+    m = deserialize_message(_front(state=[0, 255], observed_s=[1.0, 2.0]), FireFront)
+    assert bytes(m.state) == b"\x00\xff"
+
+
+def test_observation_times_go_as_float64_whatever_array_they_come_in() -> None:
+    """float32 or int inputs are written as the float64 values they hold, as rclpy converts them."""
+    for times in (np.array([3.5, 1.25], dtype=np.float32), [3, 1], np.array([3.5, 1.25])):
+        m = deserialize_message(_front(observed_s=times, state=[1, 1]), FireFront)
+        assert list(m.observed_s) == [float(t) for t in np.asarray(times, dtype=float)]

@@ -306,3 +306,65 @@ def test_the_agents_state_bytes_are_the_message_the_node_built() -> None:
             checked += 1
             fires += len(out.fires)
     assert checked > 300 and fires > 0
+
+
+# --- edges named by the mutation run (docs/testing.md) ----------------------------------------------
+def test_every_frame_id_length_puts_the_fields_after_it_where_rclpy_reads_them():
+    """Each length of header.frame_id mod 8 (0 to 8 characters), one message each: uav_id is then
+    followed by 0-3 bytes of padding before sequence, and the pose by 0 or 4 before it."""
+    for n in range(9):
+        m = UavState(uav_id=3, sequence=0x01020304, step=0x0A0B0C0D, objective=2, target_fire_id=-7)
+        m.header.frame_id = "f" * n
+        m.x_m, m.yaw_rad, m.water_kg, m.centroid_y_m = 1.5, -0.25, 4.0, 8.0
+        w = read_uav_state(serialize_message(m))
+        assert (w.uav_id, w.state.sequence, w.step, w.state.x_m, w.state.yaw_rad) == (
+            3, 0x01020304, 0x0A0B0C0D, 1.5, -0.25,
+        ), n  # fmt: skip
+        assert (w.state.objective, w.state.target_fire_id, w.state.water_kg, w.state.centroid_y_m) == (
+            2, -7, 4.0, 8.0,
+        ), n  # fmt: skip
+
+
+def test_a_fire_picture_is_finite_only_if_every_fire_is():
+    from fire_uav_common.codecs.uav_state import FireEntry, PeerFires
+
+    ok = FireEntry(1, True, 1.0, 2.0, 3.0)
+    assert PeerFires(1, 1, 0).finite() and PeerFires(1, 1, 0, (ok, ok)).finite()
+    for bad in (math.nan, math.inf, -math.inf):
+        assert not PeerFires(1, 1, 0, (ok, FireEntry(2, True, bad, 2.0, 3.0))).finite()
+        late = FireEntry(2, True, 1.0, 2.0, 3.0, last_measurement_s=bad)
+        assert not PeerFires(1, 1, 0, (late, ok)).finite()
+
+
+def test_the_writer_refuses_a_bad_stamp_or_pose_naming_them():
+    from fire_uav_common.codecs.uav_state import write_uav_state
+
+    args = dict(
+        stamp_ns=0, uav_id=0, sequence=0, step=0, pose=(0.0,) * 4, covariance=(0.0,) * 16, objective=0,
+        target_fire_id=-1, water_kg=0.0, centroid_xy=(0.0, 0.0), alive_peers=(), crashed_peers=(),
+        packets=(0, 0, 0), sent_per_topic=(), final=False, fires_sequence=0, fires=(),
+    )  # fmt: skip
+    assert deserialize_message(write_uav_state(**args), UavState).target_fire_id == -1
+    with pytest.raises(ValueError, match=r"^UavState stamp must be >= 0 ns, got -1$"):
+        write_uav_state(**{**args, "stamp_ns": -1})
+    for pose, cov in (((0.0,) * 3, (0.0,) * 16), ((0.0,) * 4, (0.0,) * 15)):
+        with pytest.raises(
+            ValueError,
+            match=rf"^UavState pose needs 4 values and covariance 16, got {len(pose)} and {len(cov)}$",
+        ):
+            write_uav_state(**{**args, "pose": pose, "covariance": cov})
+
+
+def test_a_fires_time_that_is_not_finite_or_negative_is_written_as_zero():
+    """Writer doc: last_measurement_s as whole nanoseconds, 0 when negative or not finite."""
+    from fire_uav_common.codecs.uav_state import FireEntry, write_uav_state
+
+    for t in (math.nan, math.inf, -math.inf, -3.0):
+        data = write_uav_state(
+            stamp_ns=0, uav_id=0, sequence=0, step=0, pose=(0.0,) * 4, covariance=(0.0,) * 16, objective=0,
+            target_fire_id=-1, water_kg=0.0, centroid_xy=(0.0, 0.0), alive_peers=(), crashed_peers=(),
+            packets=(0, 0, 0), sent_per_topic=(), final=False, fires_sequence=0,
+            fires=(FireEntry(1, True, 1.0, 2.0, 3.0, last_measurement_s=t),),
+        )  # fmt: skip
+        lm = deserialize_message(data, UavState).fires[0].last_measurement
+        assert (lm.sec, lm.nanosec) == (0, 0), t

@@ -210,3 +210,35 @@ def test_bad_bytes_are_counted_not_raised():
     assert w.unreadable == 3 and not w.ended
     with pytest.raises(CdrError, match="WorldTruth"):
         header_stamp_ns(b"\x00\x01\x00\x00\x00", "WorldTruth")
+
+
+# --- edges named by the mutation run (docs/testing.md) ----------------------------------------------
+def test_the_stamp_needs_only_the_encapsulation_and_the_stamp_and_names_the_message():
+    assert header_stamp_ns(_header(END)[:12], "WorldTruth") == END  # 4 + int32 sec + uint32 nanosec
+    with pytest.raises(CdrError, match="^WorldTruth: 11 bytes, too short for a header stamp$"):
+        header_stamp_ns(_header(END)[:11], "WorldTruth")
+    with pytest.raises(CdrError, match="^MissionEvent: not XCDR1 little-endian"):
+        header_stamp_ns(b"\x01\x00\x00\x00" + _header(END)[4:], "MissionEvent")
+
+
+def test_an_event_cut_right_after_its_frame_id_is_counted_not_raised():
+    w = MissionEndWatch()
+    w.on_event(_header(END))  # no type byte
+    assert w.unreadable == 1 and not w.ended
+
+
+def test_the_missing_line_says_when_no_truth_was_written_at_all():
+    w = MissionEndWatch()
+    w.on_event(event_cdr(EventType.MISSION_COMPLETE, END))
+    assert w.missing() == (
+        "the world's final /world/truth (t = 60.000 s, announced by MISSION_COMPLETE on /world/events); "
+        "the last one written: none"
+    )
+
+
+def test_the_quiet_wait_never_runs_past_the_cap():
+    """A cap shorter than the quiet gap: the last wait is cut to what is left of the cap."""
+    line = Line([(0.0, "/fleet/state", b"\x00\x01\x00\x00"), (0.03, "/fleet/state", b"\x00\x01\x00\x00")])
+    assert line.run(cap_wall_s=0.05) is False
+    assert len(line.handed) == 2 and line.now == pytest.approx(0.05)
+    assert line.waits == [pytest.approx(0.05), pytest.approx(0.02)]

@@ -21,6 +21,7 @@ from fire_world_sim.drop_pattern import (
     coverage_level,
     coverage_lpm2,
     pattern_of,
+    required_coverage_lpm2,
 )
 from fire_world_sim.fires import RasterFireModel
 
@@ -273,3 +274,65 @@ def test_ff_analytic_fires_keep_the_paper_rule_with_a_pattern():
     near = pattern_of(release(x_m=110.0, y_m=100.0, volume_l=1.0))
     assert m.apply_pattern(near) == [0]
     assert m.truth()[0].extent_m == pytest.approx(20.0)
+
+
+# --- edges named by the mutation run (docs/testing.md) ----------------------------------------------
+def _line_convolved(p, xs, ys, n=20001):
+    """(P2) by brute force: the V / L litres per metre of the line from (x0, y0) to (x1, y1), each
+    metre smeared by a round Gaussian of sigma, summed by the trapezoid rule along the line."""
+    t = np.linspace(0.0, 1.0, n)
+    lx, ly = p.x0_m + t * (p.x1_m - p.x0_m), p.y0_m + t * (p.y1_m - p.y0_m)
+    out = []
+    for x, y in zip(xs, ys, strict=True):
+        d2 = (x - lx) ** 2 + (y - ly) ** 2
+        g = np.exp(-0.5 * d2 / p.sigma_m**2) / (2 * math.pi * p.sigma_m**2)
+        out.append(p.volume_l * float(np.sum((g[1:] + g[:-1]) * 0.5) / (n - 1)))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("speed", [50.0, 2.0])  # a 200 m line, and one of 8 m: shorter than sigma
+def test_coverage_is_the_line_smeared_by_the_gaussian(speed):
+    p = pattern_of(release(ground_speed_mps=speed, height_m=18.0, heading_rad=0.7))
+    assert p.sigma_m == pytest.approx(11.0)
+    hd = p.release.heading_rad
+    pts = [(s, n) for s in (-15.0, 0.0, 6.0, 0.5 * p.length_m, p.length_m + 4.0) for n in (0.0, 9.0, -20.0)]
+    xs = [p.x0_m + s * math.cos(hd) - n * math.sin(hd) for s, n in pts]
+    ys = [p.y0_m + s * math.sin(hd) + n * math.cos(hd) for s, n in pts]
+    got = coverage_lpm2(p, np.array(xs), np.array(ys))
+    assert got == pytest.approx(_line_convolved(p, xs, ys), rel=1e-6, abs=1e-12)
+
+
+def test_release_bounds_each_refused_alone_and_zero_allowed():
+    for kw in ({"ground_speed_mps": -1.0}, {"height_m": -1.0}, {"volume_l": -1.0}):
+        with pytest.raises(ValueError, match=r"^ground_speed_mps, height_m and volume_l must be >= 0$"):
+            pattern_of(release(**kw))
+    for kw in ({"ground_speed_mps": 0.0}, {"height_m": 0.0}, {"volume_l": 0.0}, {"flow_lps": 0.5}):
+        pattern_of(release(**kw))
+    with pytest.raises(ValueError, match=r"^spread sigma must be > 0, got 0.0$"):
+        pattern_of(release(height_m=0.0), PatternModel(sigma0_m=0.0))
+    assert pattern_of(release(height_m=0.0), PatternModel(sigma0_m=0.5)).sigma_m == 0.5
+
+
+def test_a_northward_wind_drifts_it_north_by_wind_times_fall_time():
+    """From h = 2 g the fall takes 2 s (P4)."""
+    calm, windy = (
+        pattern_of(release(height_m=2 * G)),
+        pattern_of(release(height_m=2 * G, wind_mps=(0.0, 3.0))),
+    )
+    assert (windy.x0_m - calm.x0_m, windy.y0_m - calm.y0_m) == pytest.approx((0.0, 6.0), abs=1e-9)
+
+
+def test_the_required_coverage_is_a_float_grid():
+    need = required_coverage_lpm2(np.array([[1, 4], [99, 102]]))
+    assert need.dtype == np.float64
+    assert need.tolist() == [
+        [1.0 * L_PER_M2_PER_CL, 6.0 * L_PER_M2_PER_CL],
+        [math.inf, 1.0 * L_PER_M2_PER_CL],
+    ]
+
+
+def test_the_line_is_flown_while_the_tank_empties():
+    """(P1): 3000 L at 750 L/s empty in 4 s, 200 m at 50 m/s (the ground-measured test above
+    samples the line, which a wrong length of 1e8 m would exhaust memory on)."""
+    p = pattern_of(release(ground_speed_mps=50.0, volume_l=3000.0, flow_lps=750.0, heading_rad=0.0))
+    assert (p.x1_m - p.x0_m, p.y1_m - p.y0_m) == pytest.approx((200.0, 0.0))

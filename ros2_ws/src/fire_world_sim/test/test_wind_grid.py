@@ -321,3 +321,287 @@ def test_the_shipped_synthetic_grid_loads_and_turns_the_fire() -> None:
     heads = gridded._head[gridded._inner][gridded.burnable[gridded._inner]]
     assert not np.allclose(heads, uniform._head[uniform._inner][uniform.burnable[uniform._inner]])
     assert gridded.truth()[0].area_m2 > 0.0
+
+
+# --- edges named by the mutation run (docs/testing.md) ----------------------------------------------
+def _flat(tmp_path: Path, shape: tuple[int, int], fuel: int = 102) -> object:
+    """flat_grass with another fuel (99: barren, nothing burnable); the landscape itself."""
+    from fire_uav_common.landscape import load_landscape
+
+    sub = tmp_path / f"land{fuel}"
+    sub.mkdir()
+    doc = {"fuel_kind": "fbfm40"}
+    for name, value in {"fuel": fuel, "elevation": 300, "slope": 0, "aspect": -1}.items():
+        with rasterio.open(
+            sub / f"{name}.tif", "w", driver="GTiff", height=shape[0], width=shape[1], count=1,
+            dtype="int16", crs=CRS, transform=from_origin(500000.0, 4000000.0, 30.0, 30.0), nodata=32767,
+        ) as dst:  # fmt: skip
+            dst.write(np.full(shape, value, dtype=np.int16), 1)
+        doc[name] = f"{name}.tif"
+    (sub / "land.yaml").write_text(yaml.safe_dump({"landscape": doc}))
+    return load_landscape(sub / "land.yaml")
+
+
+def _tif(path: Path, speed: np.ndarray, from_deg: np.ndarray, transform) -> Path:
+    with rasterio.open(
+        path, "w", driver="GTiff", height=speed.shape[0], width=speed.shape[1], count=2, dtype="float64",
+        crs=CRS, transform=transform,
+    ) as dst:  # fmt: skip
+        dst.write(speed, 1)
+        dst.write(from_deg, 2)
+    return path
+
+
+def test_each_cell_is_the_bilinear_blend_of_its_four_grid_neighbours(tmp_path: Path) -> None:
+    """A 4 x 5 grid of 60 m cells with arbitrary winds over an 8 x 10 landscape of 30 m cells:
+    each cell's (east, north) components are np.interp along x then along y of the grid's, which
+    also holds the outermost centres' values beyond them (the module doc's edge rule)."""
+    from fire_uav_common.scenario.wind_grid import WindGrid, wind_on_landscape
+
+    land = _flat(tmp_path, (8, 10))
+    rng = np.random.default_rng(7)
+    # rounded to the 6 decimals the ASCII grid holds
+    speed, from_deg = np.round(rng.uniform(1.0, 9.0, (4, 5)), 6), np.round(rng.uniform(0.0, 360.0, (4, 5)), 6)
+    vel, ang = write_asc_pair(tmp_path / "w", speed, from_deg, x0=500000.0, y_top=4000000.0, cell_m=60.0)
+    w = wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land)
+    speed, from_deg = read_tif(vel).astype(float), read_tif(ang).astype(float)  # as the file holds them
+    u_g, v_g = -speed * np.sin(np.radians(from_deg)), -speed * np.cos(np.radians(from_deg))
+    gx, gy = 30.0 + 60.0 * np.arange(5), -(30.0 + 60.0 * np.arange(4))  # centres, from the top-left corner
+    lx, ly = 15.0 + 30.0 * np.arange(10), -(15.0 + 30.0 * np.arange(8))
+    for q_g, which in ((u_g, "u"), (v_g, "v")):
+        rows = np.array([np.interp(lx, gx, row) for row in q_g])  # (4, 10)
+        want = np.array([np.interp(-ly, -gy, rows[:, j]) for j in range(10)]).T  # (8, 10)
+        got = (
+            (-w.speed_mps * np.sin(np.radians(w.from_deg)))
+            if which == "u"
+            else (-w.speed_mps * np.cos(np.radians(w.from_deg)))
+        )
+        assert got == pytest.approx(want, abs=1e-9), which
+
+
+def test_a_grid_one_column_wide_gives_every_cell_its_column(tmp_path: Path) -> None:
+    from fire_uav_common.scenario.wind_grid import WindGrid, wind_on_landscape
+
+    land = _flat(tmp_path, (4, 2))
+    vel, ang = write_asc_pair(
+        tmp_path / "w", np.array([[3.0], [5.0]]), np.array([[90.0], [90.0]]), x0=500000.0, y_top=4000000.0,
+        cell_m=60.0,
+    )  # fmt: skip
+    w = wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land)
+    assert w.speed_mps[:, 0].tolist() == pytest.approx([3.0, 3.5, 4.5, 5.0])
+    assert w.speed_mps[:, 1].tolist() == pytest.approx([3.0, 3.5, 4.5, 5.0])
+
+
+def test_a_grid_short_in_the_west_is_named(tmp_path: Path) -> None:
+    from fire_uav_common.scenario.wind_grid import WindGrid, WindGridError, wind_on_landscape
+
+    land = _flat(tmp_path, (4, 4))
+    vel, ang = write_asc_pair(
+        tmp_path / "w",
+        np.full((2, 2), 4.0),
+        np.full((2, 2), 270.0),
+        x0=500040.0,
+        y_top=4000000.0,
+        cell_m=60.0,
+    )
+    with pytest.raises(WindGridError, match=r"w_vel\.asc: the wind grid does not cover 4 burnable cells"):
+        wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land)
+
+
+@pytest.mark.parametrize(
+    "transform",
+    [
+        rasterio.Affine(60.0, 0.0, 500000.0, 0.0, 60.0, 3999880.0),  # south-up
+        rasterio.Affine(0.5, 0.0, 500000.0, 0.0, 0.5, 3999880.0),  # south-up, small cells
+        rasterio.Affine(-60.0, 0.0, 500120.0, 0.0, -60.0, 4000000.0),  # east-west flipped
+        rasterio.Affine(60.0, 0.5, 500000.0, 0.0, -60.0, 4000000.0),  # sheared rows
+        rasterio.Affine(60.0, 0.0, 500000.0, 0.5, -60.0, 4000000.0),  # sheared columns
+    ],
+)
+def test_rotated_or_flipped_grids_are_refused_by_name(tmp_path: Path, transform) -> None:
+    from fire_uav_common.scenario.wind_grid import WindGrid, WindGridError, wind_on_landscape
+
+    land = _flat(tmp_path, (4, 4))
+    n = 240 if abs(transform.a) < 1 else 2
+    path = _tif(tmp_path / "w.tif", np.full((n, n), 4.0), np.full((n, n), 270.0), transform)
+    with pytest.raises(WindGridError, match=r"^.*w\.tif: rotated or flipped grids are not supported$"):
+        wind_on_landscape(WindGrid(str(path), None, "mps"), land)
+
+
+def test_a_grid_of_one_metre_cells_is_read(tmp_path: Path) -> None:
+    from fire_uav_common.scenario.wind_grid import WindGrid, wind_on_landscape
+
+    land = _flat(tmp_path, (4, 4))
+    path = _tif(
+        tmp_path / "w.tif",
+        np.full((120, 120), 4.0),
+        np.full((120, 120), 270.0),
+        from_origin(500000.0, 4000000.0, 1.0, 1.0),
+    )
+    assert wind_on_landscape(WindGrid(str(path), None, "mps"), land).speed_mps == pytest.approx(
+        np.full((4, 4), 4.0)
+    )
+
+
+def test_pair_files_of_two_shapes_or_a_missing_or_unreadable_file_are_named(tmp_path: Path) -> None:
+    from fire_uav_common.scenario.wind_grid import WindGrid, WindGridError, wind_on_landscape
+
+    land = _flat(tmp_path, (4, 4))
+    kw: dict = {"x0": 500000.0, "y_top": 4000000.0, "cell_m": 60.0}
+    vel, _ = write_asc_pair(tmp_path / "a", np.full((2, 2), 4.0), np.full((2, 2), 270.0), **kw)
+    _, ang = write_asc_pair(tmp_path / "b", np.full((2, 3), 4.0), np.full((2, 3), 270.0), **kw)
+    with pytest.raises(
+        WindGridError,
+        match=r"b_ang\.asc: grid \(2, 3\) at \(60\.0, 0\.0, 500000\.0, 0\.0, -60\.0, 4000000\.0\) differs from .*a_vel\.asc's$",
+    ):
+        wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land)
+    with pytest.raises(WindGridError, match=r"no_ang\.asc: direction file not found$"):
+        wind_on_landscape(WindGrid(str(vel), str(tmp_path / "no_ang.asc"), "mps"), land)
+    bad = tmp_path / "bad_ang.asc"
+    bad.write_text("this is not a grid\n")
+    with pytest.raises(WindGridError) as err:
+        wind_on_landscape(WindGrid(str(vel), str(bad), "mps"), land)
+    assert (
+        str(err.value)
+        == f"{bad}: not a readable grid ('{bad}' not recognized as being in a supported file format.)"
+    )
+
+
+def test_the_wind_grid_argument_and_its_units() -> None:
+    from fire_uav_common.scenario.wind_grid import WindGridError, parse_wind_grid_arg
+
+    g = parse_wind_grid_arg("v.asc, a.asc", "kts")
+    assert (Path(g.speed_path).name, Path(g.direction_path or "").name, g.speed_units) == (
+        "v.asc",
+        "a.asc",
+        "kts",
+    )
+    for text in ("a.asc,b.asc,c.asc", "v.asc,", ",a.asc"):
+        with pytest.raises(
+            WindGridError, match=r"^--wind-grid wants VEL\.asc,ANG\.asc or one 2-band GeoTIFF, got "
+        ):
+            parse_wind_grid_arg(text)
+    with pytest.raises(
+        WindGridError,
+        match=r"^wind grid speed units must be one of \['kph', 'kts', 'mph', 'mps'\], got 'furlongs'$",
+    ):
+        parse_wind_grid_arg("w.tif", "furlongs")
+
+
+def test_the_domain_wind_is_the_mean_vector_and_calm_without_burnable_cells(tmp_path: Path) -> None:
+    """A north wind everywhere blows toward -y: 270 deg ccw from +x; a landscape with no
+    burnable cell has no domain wind."""
+    from fire_uav_common.scenario.wind_grid import WindGrid, grid_mean_wind, wind_on_landscape
+
+    kw: dict = {"x0": 500000.0, "y_top": 4000000.0, "cell_m": 60.0}
+    vel, ang = write_asc_pair(tmp_path / "w", np.full((2, 2), 4.0), np.full((2, 2), 0.0), **kw)
+    land = _flat(tmp_path, (4, 4))
+    assert grid_mean_wind(
+        wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land), land
+    ) == pytest.approx((4.0, 270.0))
+    barren = _flat(tmp_path, (4, 4), fuel=99)
+    assert grid_mean_wind(wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), barren), barren) == (
+        0.0,
+        0.0,
+    )
+
+
+def _hat(q: np.ndarray, centres: np.ndarray, j: int) -> np.ndarray:
+    """The weight of grid centre j at the points q in a 1-D linear blend held flat beyond the ends."""
+    e = np.zeros(len(centres))
+    e[j] = 1.0
+    return np.interp(q, centres, e)
+
+
+@pytest.mark.parametrize("geotiff", [False, True])
+def test_a_cell_that_would_blend_a_nodata_value_is_named_and_only_those(
+    tmp_path: Path, geotiff: bool
+) -> None:
+    """A 3 x 4 grid (60 m) over a 6 x 8 landscape (30 m), one nodata value at a time, in the speed
+    or in the direction: the cells named are those whose blend gives it a weight > 0 (np.interp's
+    hat functions); a nodata value no cell blends spoils nothing."""
+    from fire_uav_common.scenario.wind_grid import WindGrid, WindGridError, wind_on_landscape
+
+    land = _flat(tmp_path, (6, 8))
+    gx, gy = 30.0 + 60.0 * np.arange(4), 30.0 + 60.0 * np.arange(3)  # from the top-left corner
+    lx, ly = 15.0 + 30.0 * np.arange(8), 15.0 + 30.0 * np.arange(6)
+    cases = [(0, 0, "vel"), (1, 2, "ang"), (2, 3, "vel"), (0, 2, "ang"), (2, 1, "vel"), (0, 1, "ang")]
+    for k, (i, j, which) in enumerate(cases):
+        speed, from_deg = np.full((3, 4), 4.0), np.full((3, 4), 270.0)
+        (speed if which == "vel" else from_deg)[i, j] = -9999.0
+        if geotiff:
+            path = tmp_path / f"n{k}.tif"
+            with rasterio.open(
+                path, "w", driver="GTiff", height=3, width=4, count=2, dtype="float64", crs=CRS,
+                transform=from_origin(500000.0, 4000000.0, 60.0, 60.0), nodata=-9999.0,
+            ) as dst:  # fmt: skip
+                dst.write(speed, 1)
+                dst.write(from_deg, 2)
+            grid = WindGrid(str(path), None, "mps")
+        else:
+            vel, ang = write_asc_pair(
+                tmp_path / f"n{k}", speed, from_deg, x0=500000.0, y_top=4000000.0, cell_m=60.0
+            )
+            grid = WindGrid(str(vel), str(ang), "mps")
+        weight = _hat(ly, gy, i)[:, None] * _hat(lx, gx, j)[None, :]
+        n = int((weight > 0).sum())
+        assert n > 0
+        with pytest.raises(WindGridError) as err:
+            wind_on_landscape(grid, land)
+        r, c = (int(q[0]) for q in np.nonzero(weight > 0))
+        x, y = 500015.0 + 30.0 * c, 3999985.0 - 30.0 * r
+        assert str(err.value) == (
+            f"{grid.speed_path}: the wind grid does not cover {n} burnable cells of the landscape "
+            f"(first at row {r}, col {c}, ({x:.0f}, {y:.0f}) m); grid extent "
+            f"({500000.0:g}, {4000000.0 - 3 * 60.0:g}, {500000.0 + 4 * 60.0:g}, {4000000.0:g})"
+        )
+
+
+def test_negative_speeds_are_named_and_calm_and_north_are_valid(tmp_path: Path) -> None:
+    from fire_uav_common.scenario.wind_grid import WindGrid, WindGridError, wind_on_landscape
+
+    land = _flat(tmp_path, (4, 4))
+    kw: dict = {"x0": 500000.0, "y_top": 4000000.0, "cell_m": 60.0}
+    speed, from_deg = np.zeros((2, 2)), np.full((2, 2), 360.0)
+    vel, ang = write_asc_pair(tmp_path / "calm", speed, from_deg, **kw)
+    assert wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land).speed_mps == pytest.approx(
+        np.zeros((4, 4))
+    )
+    speed[1, 0], speed[1, 1] = -1.5, -2.0
+    vel, ang = write_asc_pair(tmp_path / "neg", speed, from_deg, **kw)
+    with pytest.raises(WindGridError) as err:
+        wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), land)
+    assert str(err.value) == f"{vel}: speed -1.5 at row 1, col 0 is not >= 0 (2 cells)"
+    with pytest.raises(WindGridError) as err:
+        wind_on_landscape(WindGrid(str(vel), str(ang), "furlongs"), land)
+    assert str(err.value) == f"{vel}: speed units must be one of ['kph', 'kts', 'mph', 'mps'], got 'furlongs'"
+
+
+def test_cells_that_cannot_burn_get_a_calm_where_the_grid_is_missing_or_nodata(tmp_path: Path) -> None:
+    """Module doc: a cell that cannot burn gets a calm (speed 0, from 0 deg), whether the grid does
+    not reach it or it would blend a nodata value; a nodata value that is NaN and blended with
+    weight 0 leaves its neighbours' wind finite."""
+    from fire_uav_common.scenario.wind_grid import WindGrid, wind_on_landscape
+
+    barren = _flat(tmp_path, (4, 4), fuel=99)
+    kw: dict = {"x0": 500000.0, "y_top": 4000000.0, "cell_m": 60.0}
+    vel, ang = write_asc_pair(tmp_path / "c", np.full((1, 1), 4.0), np.full((1, 1), 90.0), **kw)
+    w = wind_on_landscape(WindGrid(str(vel), str(ang), "mps"), barren)
+    assert w.speed_mps[:2, :2] == pytest.approx(np.full((2, 2), 4.0))
+    assert w.from_deg[:2, :2] == pytest.approx(np.full((2, 2), 90.0))
+    outside = np.ones((4, 4), dtype=bool)
+    outside[:2, :2] = False
+    assert (w.speed_mps[outside] == 0.0).all() and (w.from_deg[outside] == 0.0).all()
+    # a NaN nodata value at the grid's south-east corner: the north-west cell blends it with weight 0
+    speed = np.full((2, 2), 4.0)
+    speed[1, 1] = np.nan
+    path = tmp_path / "nan.tif"
+    with rasterio.open(
+        path, "w", driver="GTiff", height=2, width=2, count=2, dtype="float64", crs=CRS,
+        transform=from_origin(500000.0, 4000000.0, 60.0, 60.0), nodata=np.nan,
+    ) as dst:  # fmt: skip
+        dst.write(speed, 1)
+        dst.write(np.full((2, 2), 90.0), 2)
+    w = wind_on_landscape(WindGrid(str(path), None, "mps"), barren)
+    assert w.speed_mps[0, 0] == pytest.approx(4.0) and np.isfinite(w.speed_mps).all()
+    assert (w.speed_mps[2:, 2:] == 0.0).all() and (w.from_deg[2:, 2:] == 0.0).all()
