@@ -108,7 +108,7 @@ _TRUNCATE = 3.0  # [sigma] Eq. 13' kernel cut-off
 
 @dataclass(frozen=True)
 class TacticConfig:
-    tactic: str = "head"  # head | flank | auto
+    tactic: str = "auto"  # head | flank | auto (the scenario default: docs/studies.md)
     sigma_m: float = 10.0  # [m] Eq. 13' kernel width
     head_power: float = 2.0  # [-] head attack: w = (R / R_max)^p
     flank_scale_m: float = 60.0  # [m] flank attack: decay length L from the anchor

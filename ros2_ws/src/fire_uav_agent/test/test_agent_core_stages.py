@@ -1044,8 +1044,8 @@ def test_raster_layers_follow_the_altimeter_range_and_the_release_radius_the_foo
 
 def test_over_a_raster_fire_the_release_rule_replaces_the_distance_rule():
     """At (137, 145) heading east the aim point is within 14 m, but one step ahead more cells burn
-    within the release radius (7 > 6): wait for the peak."""
-    a = _suppressor(fire=(145.0, 145.0, 15.0))
+    within the release radius (7 > 6): wait for the peak (a head attack: its aim is the front)."""
+    a = _suppressor(fire=(145.0, 145.0, 15.0), mission=sc.MissionSettings(tactic="head"))
     _fly(a, 0, 60.0, 145.0, cells=_block(), cell_size=10.0)
     out = _fly(a, 1, 137.0, 145.0, cells=_block(), cell_size=10.0)
     assert math.hypot(out.state.centroid_xy[0] - 137.0, out.state.centroid_xy[1] - 145.0) <= 14.0
@@ -1338,12 +1338,14 @@ def test_without_a_front_the_distance_rule_does_not_release_over_a_raster_fire()
 
 def test_with_no_front_in_the_own_cell_the_aim_is_the_front_cell_nearest_the_uav():
     """The peer at (140, 145) owns the whole fire (bisector at x = 100, the Eq. 13' kernel reaches 30 m
-    from the ring at x >= 135): no mass in the own cell, so the aim is the front cell nearest this UAV."""
-    a = _suppressor(fire=(145.0, 145.0, 15.0))
+    from the ring at x >= 135): no mass in the own cell, so the aim is the front cell nearest this UAV
+    (a head attack; ``auto`` flanks a fire whose head has no rate yet)."""
+    head = sc.MissionSettings(tactic="head")
+    a = _suppressor(fire=(145.0, 145.0, 15.0), mission=head)
     _fly(a, 0, 60.0, 145.0, cells=_block(), cell_size=10.0)
     out = _fly(a, 1, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[_peer(1, 0, 140.0, 145.0)])
     assert out.state.centroid_xy == (135.0, 145.0)
-    b = _suppressor(fire=(145.0, 145.0, 15.0))
+    b = _suppressor(fire=(145.0, 145.0, 15.0), mission=head)
     _fly(b, 0, 60.0, 170.0, cells=_block(), cell_size=10.0)
     out = _fly(b, 1, 60.0, 170.0, cells=_block(), cell_size=10.0, inbox=[_peer(1, 0, 140.0, 170.0)])
     assert out.state.centroid_xy == (135.0, 155.0)

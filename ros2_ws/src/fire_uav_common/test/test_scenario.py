@@ -258,8 +258,8 @@ def test_dataclasses_are_frozen(tmp_path: Path) -> None:
         s.area.x_min_m = 3  # type: ignore[misc]
 
 
-def test_mission_tactic_head_by_default_flank_on_request_and_a_clear_error(tmp_path: Path) -> None:
-    assert load_scenario(write(tmp_path, MINIMAL)).mission.tactic == "head"
+def test_mission_tactic_auto_by_default_flank_on_request_and_a_clear_error(tmp_path: Path) -> None:
+    assert load_scenario(write(tmp_path, MINIMAL)).mission.tactic == "auto"  # docs/studies.md, the 900 s study
     s = load_scenario(write(tmp_path, with_(mission={"tactic": "flank"})))
     assert s.mission.tactic == "flank"
     with pytest.raises(

@@ -415,7 +415,7 @@ class MissionSettings:
     safety_radius_m: float = 10.0
     monitors_per_fire: int = 0
     search_first: bool = False
-    tactic: str = "head"  # raster suppression: head | flank | auto (TACTICS; fire_uav_agent.tactics)
+    tactic: str = "auto"  # raster suppression: head | flank | auto (TACTICS; fire_uav_agent.tactics); auto: docs/studies.md
     prior_fires: str = "unknown"  # known: agents start with noisy estimates of every fire (FF III-C, IV-D c)
     prior_position_sigma_m: float = 10.0  # [m] noise of a known fire's initial centre estimate
     prior_extent_sigma_fraction: float = 0.2  # [-] relative noise of a known fire's initial extent
