@@ -43,7 +43,7 @@ from fire_uav_common.topics import FLEET_FRONT_SPEC, FLEET_PERIMETER_SPEC
 
 from .agent_config import AgentConfig, GuidanceConfig, config_from_scenario
 from .agent_types import AgentEvent, Bundle, MarkersData, OwnState, PeerPerimeter, StepOutput
-from .airframe_model import FlownInput, usable_lakes
+from .airframe_model import FlownInput, input_noise_sigma, usable_lakes
 from .consensus import ConsensusConfig, FireConsensus
 from .coverage import gaussian_density, make_grid, own_cell_on_grid
 from .estimation import EkfConfig, StateEkf
@@ -96,11 +96,12 @@ class Agent:
         self.ekf = StateEkf(
             EkfConfig(
                 dt_s=cfg.physics_period_s,
-                sigma_nu=(veh.process_noise_sigma,) * 3,
+                sigma_nu=input_noise_sigma(cfg.airframe, veh.process_noise_sigma, cfg.physics_period_s),
                 sigma_gps_m=sens.gps.sigma_m,
                 sigma_alt_m=sens.altimeter.sigma_m,
                 sigma_gyro_radps=sens.gyro.sigma_radps,
                 alt_max_range_m=sens.altimeter.max_range_m,
+                alt_min_m=-math.inf if cfg.airframe is not None else 0.0,
             ),
             np.array(cfg.start_pose, dtype=float),
             cfg.terrain,

@@ -13,6 +13,14 @@ world flies. Two uses, both ROS-free:
   EKF the mean flown (horizontal speed, vertical speed, turn rate) of the period; the gyro still
   corrects the turn rate at every substep. Without an airframe (``ff_paper``) the input is the
   command as the world clamps it (FF Eq. 5), exactly as before.
+* **The EKF's process noise** (:func:`input_noise_sigma`). FF's nu (Eq. 4) is white noise per
+  physics substep, which the world draws for ``ff_paper`` and ``coordinated_turn``. An aircraft that
+  is not the first-order model (``jsbsim``) departs from the modelled speed and climb rate by an
+  error correlated over seconds (``Airframe.model_error_mps``), which white noise of FF's size
+  covers a hundred times too little (NEES 69 on one J3Cub, its height estimate 0.19 m sure and
+  0.9 m off). Its white-noise equivalent has the same position variance growth: intensity
+  2 sigma^2 tau_c [m^2/s] (a first-order Gauss-Markov error of correlation time tau_c), that is
+  sigma_nu^2 = 2 sigma^2 tau_c / dt per substep.
 * **Turn geometry** (:func:`turn_radius_m`, :func:`inside_turn_circle`): the smallest radius
   r = v^2 / (g tan(phi_max)) (B&M Eq. 9.14 with psi_dot = v / r) that guidance and separation
   plan with, and the lined-up landing approach (:class:`FinalApproach`).
@@ -41,6 +49,7 @@ __all__ = [
     "FlownInput",
     "OnboardState",
     "final_approach_course",
+    "input_noise_sigma",
     "inside_turn_circle",
     "scoop_run_m",
     "turn_radius_m",
@@ -60,6 +69,27 @@ def turn_radius_m(airframe: Airframe, speed_mps: float, water_kg: float | None =
     """
     v = max(speed_mps, 1e-3)
     return v * v / (G_MPS2 * max(math.tan(bank_limit_rad(airframe, v, water_kg)), 1e-9))
+
+
+#: [s] correlation time of the airframe's model error (the order of the J3Cub's 3.5 s airspeed
+#: and 1.5 s climb-rate responses; docs/airframes.md)
+MODEL_ERROR_TIME_S = 2.0
+
+
+def input_noise_sigma(
+    airframe: Airframe | None, process_noise_sigma: float, physics_period_s: float
+) -> tuple[float, float, float]:
+    """The EKF's per-substep input noise sigma_nu (v_lin [m/s], v_z [m/s], omega [rad/s]) (module doc).
+
+    FF's ``process_noise_sigma`` for each input, raised for speed and climb rate to the white-noise
+    equivalent sqrt(2 sigma_m^2 tau_c / dt) of the airframe's model error sigma_m
+    (``Airframe.model_error_mps``), tau_c = :data:`MODEL_ERROR_TIME_S`, dt the physics period.
+    The turn rate keeps FF's: the gyro measures it at every substep."""
+    s = float(process_noise_sigma)
+    if airframe is None or airframe.model_error_mps <= 0.0:
+        return (s, s, s)
+    eq = math.sqrt(2.0 * airframe.model_error_mps**2 * MODEL_ERROR_TIME_S / physics_period_s)
+    return (max(s, eq), max(s, eq), s)
 
 
 def scoop_run_m(airframe: Airframe) -> float:

@@ -61,6 +61,12 @@ class EkfConfig:
     sigma_alt_m: float = 1.5
     sigma_gyro_radps: float = 0.3
     alt_max_range_m: float = 40.0  # altimeter samples above this are ignored
+    # altimeter samples below this are ignored [m]. The sensor adds its noise to the true height
+    # (the world sends a sample whenever the true height is in range), so a reading below 0 near
+    # the ground is a valid one, and dropping it biases the estimate up by up to 0.8 sigma at
+    # touch-down height (a J3Cub on the floor was estimated 0.6-0.9 m up and never touched down).
+    # 0.0 keeps FF's missions as they were (ff_paper); a fixed-wing agent uses -inf.
+    alt_min_m: float = 0.0
     initial_sigma: tuple[float, float, float, float] = (3.0, 3.0, 1.5, 0.05)  # P0 diagonal sqrt
 
     def __post_init__(self) -> None:
@@ -213,7 +219,7 @@ class StateEkf:
                         self.update_gps(float(x), float(y), var)
                 else:
                     hgt = float(samples.alt[r, 1])
-                    if math.isfinite(hgt) and 0.0 <= hgt <= self.cfg.alt_max_range_m:
+                    if math.isfinite(hgt) and self.cfg.alt_min_m <= hgt <= self.cfg.alt_max_range_m:
                         self.update_altimeter(hgt)
 
     @property

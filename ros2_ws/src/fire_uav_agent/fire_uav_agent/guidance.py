@@ -100,8 +100,17 @@ class Guide:
             self.approach = FinalApproach(start, course, max(gd.land_approach_radius_m, 4.0 * r, descent), r)
             # the height loop of Eq. 12 around the lagging flight-path angle (B&M Eq. 9.19: tau_gamma)
             # is a second-order loop, damped 0.7 at K_z = 1 / (2 tau_gamma); FF's K_z = 5 1/s rings
-            # +-0.7 m around the 0.5 m approach height and never passes below the touchdown height
-            self.land_gains = dataclasses.replace(cfg.gains, kz=min(cfg.gains.kz, 0.5 / af.tau_gamma_s))
+            # +-0.7 m around the 0.5 m approach height and never passes below the touchdown height.
+            # The heading loop of Eq. 11 around the lagging bank (B&M Eq. 9.20: tau_bank) likewise,
+            # K_a = 1 / (2 tau_bank): with FF's K_a = 5 1/s the J3Cub (tau_bank 0.9 s) swung +-20 deg
+            # about the final's course at the turn-rate limit, +-8 m across the line, and missed the
+            # touch-down point: one UAV sent home 30 s after takeoff landed at 490 s after several
+            # go-arounds on seeds 2 and 3, at 125-146 s on its first final with K_a = 0.56 1/s
+            self.land_gains = dataclasses.replace(
+                cfg.gains,
+                kz=min(cfg.gains.kz, 0.5 / af.tau_gamma_s),
+                ka=min(cfg.gains.ka, 0.5 / af.tau_bank_s),
+            )
 
     def run(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray, last_step: int) -> Guidance:
         """Stage 5, FF Eqs. 8-15: the command (v_lin [m/s], v_z [m/s], omega_z [rad/s]) for the objective.

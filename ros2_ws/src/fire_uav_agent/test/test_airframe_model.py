@@ -203,6 +203,27 @@ def test_the_agent_refills_only_at_a_lake_long_enough():
     assert b._nearest_lake(np.array([300.0, 400.0])) == lakes[0] and b.lakes_refused == ()
 
 
+def test_a_fixed_wing_on_the_ground_is_estimated_on_the_ground():
+    """The altimeter adds its noise to the true height (fire_world_sim.sensors), so at touch-down
+    height half its readings are below 0. A fixed-wing agent's EKF keeps them: flying level at
+    0.2 m over flat ground for 20 s, its height estimate is unbiased (it was 0.6-0.9 m up when it
+    dropped them, above the touch-down height of 0.8 m, and the J3Cub never touched down)."""
+    from fire_uav_agent.agent_core import Agent, AgentConfig
+    from fire_uav_common.codecs.sensor_bundle import Samples
+
+    a = Agent(AgentConfig(uav_id=0, uav_count=1, airframe=SMALL, start_pose=(0.0, 0.0, 0.2, 0.0)))
+    ekf = a.ekf
+    rng = np.random.default_rng(3)
+    errs = []
+    for k in range(200):  # 20 s, altimeter at 25 Hz, sigma 1.5 m
+        t0 = 0.1 * k
+        alt = np.array([[t0 + 0.04 * (j + 1), 0.2 + rng.normal(0.0, 1.5)] for j in range(2)])
+        smp = Samples(np.zeros((0, 3)), np.zeros(0), alt, np.zeros((0, 2)))
+        ekf.process(smp, np.array([0.0, 0.0, 0.0]), t0, t0 + 0.1)
+        errs.append(float(ekf.s[2]) - 0.2)
+    assert abs(float(np.mean(errs[50:]))) < 0.25
+
+
 # --- edges named by the mutation run (docs/testing.md) ----------------------------------------------
 def test_a_turn_at_the_radius_flies_at_the_stall_margin_of_the_load_aboard():
     """B&M: a banked turn at load factor n = 1 / cos(phi) stalls below V_S(m) sqrt(n). Just above the

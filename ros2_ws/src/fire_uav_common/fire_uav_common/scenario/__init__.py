@@ -45,7 +45,14 @@ from typing import Any
 import yaml
 
 from ..errors import ScenarioError
-from .airframes import AIRFRAMES, DEFAULT_AIRFRAME, VEHICLE_MODELS, Airframe, envelope_vehicle
+from .airframes import (
+    AIRFRAMES,
+    DEFAULT_AIRFRAME,
+    DEFAULT_AIRFRAMES,
+    VEHICLE_MODELS,
+    Airframe,
+    envelope_vehicle,
+)
 from .fields import _Ctx, _int, _mapping, _str
 from .fires import _fires
 from .ground import apply_landscape
@@ -177,14 +184,16 @@ def _preset_owner(raw_uavs: Any) -> str:
     """Whose scoop run an error line names: "the tanker preset's" (the ``uavs.airframe`` preset,
     already validated), or "uavs.airframe's" when the run is not a preset's own."""
     raw = raw_uavs.get("airframe") if isinstance(raw_uavs, Mapping) else None
+    model = raw_uavs.get("vehicle_model") if isinstance(raw_uavs, Mapping) else None
+    default = DEFAULT_AIRFRAMES.get(model, DEFAULT_AIRFRAME) if isinstance(model, str) else DEFAULT_AIRFRAME
     if raw is None:
-        return f"the {DEFAULT_AIRFRAME} preset's"
+        return f"the {default} preset's"
     if isinstance(raw, str):
         return f"the {raw} preset's"
     if isinstance(raw, Mapping):
         # a preset with fields replaced: its scoop run may no longer be the preset's
         if set(raw) <= {"preset"}:
-            return f"the {raw.get('preset', DEFAULT_AIRFRAME)} preset's"
+            return f"the {raw.get('preset', default)} preset's"
         return "uavs.airframe's"
     return "uavs.airframe's"
 

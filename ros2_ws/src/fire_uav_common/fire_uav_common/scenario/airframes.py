@@ -19,6 +19,7 @@ from .types import G_MPS2, Airframe, JsbsimSetup, Vehicle
 __all__ = [
     "AIRFRAMES",
     "DEFAULT_AIRFRAME",
+    "DEFAULT_AIRFRAMES",
     "G_MPS2",
     "JsbsimSetup",
     "VEHICLE_MODELS",
@@ -29,8 +30,11 @@ __all__ = [
 
 #: ``uavs.vehicle_model`` values (fire_world_sim.vehicles has one backend per name)
 VEHICLE_MODELS = ("ff_paper", "coordinated_turn", "jsbsim")
-#: the preset a fixed-wing model flies when ``uavs.airframe`` is not given
+#: the preset ``coordinated_turn`` flies when ``uavs.airframe`` is not given
 DEFAULT_AIRFRAME = "small_uav"
+#: per fixed-wing model, the preset it flies when ``uavs.airframe`` is not given: ``jsbsim`` flies
+#: the J3Cub, whose own envelope is ``j3cub``'s (docs/airframes.md)
+DEFAULT_AIRFRAMES = {"coordinated_turn": DEFAULT_AIRFRAME, "jsbsim": "j3cub"}
 
 
 #: Presets; their figures and sources are listed in docs/airframes.md.
@@ -55,6 +59,30 @@ AIRFRAMES: dict[str, Airframe] = {
         # takes the pilot's point mass (docs/airframes.md: what it cannot fly of this envelope)
         jsbsim=JsbsimSetup(aircraft="J3Cub", v_floor_mps=20.0, v_stall_mps=17.0, water_pointmass=0),
         drop_flow_lps=5.0,  # a 2 s release (a choice: no drop test of this class is published)
+    ),
+    # The Piper J-3 Cub as JSBSim's model flies it under the world's autopilot, measured by
+    # scripts/jsbsim_envelope.py (fire_world_sim.vehicles.jsbsim_envelope; docs/airframes.md), at
+    # small_uav's 10 kg of water: the envelope the agents plan with on ``jsbsim`` by default.
+    "j3cub": Airframe(
+        v_stall_mps=16.5,  # JSBSim's trim finds level 1 g flight down to 16.5 m/s
+        min_speed_factor=22.0 / 16.5,  # 22 m/s: the slowest speed it holds in a 37 deg level turn
+        v_max_mps=30.0,  # an operating limit: it reaches about 40 m/s at full throttle
+        bank_max_deg=40.0,  # the autopilot commands 35 deg (5 deg margin); flown at most 39.3 deg
+        roll_rate_max_degps=40.0,  # reversal at 22 m/s: 40.5 deg/s
+        climb_max_mps=1.4,  # full throttle at 22 m/s
+        descent_max_mps=1.4,  # the steepest held at 22 m/s (idle; steeper gains speed)
+        accel_max_mps2=1.7,
+        tau_airspeed_s=3.5,
+        tau_gamma_s=1.5,  # the climb rate's 63 % rise time
+        tau_bank_s=0.9,
+        empty_mass_kg=376.0,  # 830 lb: the J3Cub's 765 lb empty and 65 lb of fuel, no pilot
+        water_capacity_kg=10.0,  # as small_uav; the water takes the pilot's point mass
+        refill_rate_kgps=3.0,  # a choice: a 73 m scoop run at 22 m/s fits FF's 90 m lake
+        jsbsim=JsbsimSetup(aircraft="J3Cub", v_floor_mps=22.0, v_stall_mps=17.0, water_pointmass=0),
+        drop_flow_lps=5.0,
+        # the agents' first-order model against the J3Cub, one UAV of ff_two_fires (seed 1, first
+        # 120 s): rms 0.71 m/s in ground speed and 0.66 m/s in climb rate
+        model_error_mps=0.7,
     ),
     # An amphibious single-engine scooper of the AT-802F Fire Boss class: about 3,000 kg of
     # water (800 US gal), scooped on a straight run.
@@ -89,7 +117,7 @@ def read_airframe(ctx: _Ctx, d: dict, model: str) -> Airframe | None:
     """``uavs.airframe`` of the already-read ``uavs`` mapping ``d``: None for ``ff_paper``.
 
     A preset name, or a mapping ``{preset: NAME, <field>: value, ...}`` whose fields replace
-    the preset's. Checks: known preset, every field > 0, ``v_stall_mps < v_max_mps``,
+    the preset's. Checks: known preset, every field > 0 (``model_error_mps`` >= 0), ``v_stall_mps < v_max_mps``,
     ``bank_max_deg`` in (0, 80], ``min_speed_factor`` >= 1.
     """
     raw = d.get("airframe")
@@ -99,14 +127,15 @@ def read_airframe(ctx: _Ctx, d: dict, model: str) -> Airframe | None:
                 "uavs.airframe", "only with a fixed-wing uavs.vehicle_model (ff_paper keeps vehicle:)"
             )
         return None
+    default = DEFAULT_AIRFRAMES.get(model, DEFAULT_AIRFRAME)
     if raw is None:
-        raw = DEFAULT_AIRFRAME
+        raw = default
     p = "uavs.airframe"
     named = isinstance(raw, str)  # a bare preset name: errors name uavs.airframe itself
     if named:
         raw = {"preset": raw}
     a = _mapping(ctx, raw, p, {"preset", *_FIELDS})
-    name = _str(ctx, a, "preset", p, DEFAULT_AIRFRAME)
+    name = _str(ctx, a, "preset", p, default)
     if name not in AIRFRAMES:
         raise ctx.fail(
             p if named else f"{p}.preset", f"unknown airframe {name!r}; presets: {sorted(AIRFRAMES)}"
@@ -114,7 +143,10 @@ def read_airframe(ctx: _Ctx, d: dict, model: str) -> Airframe | None:
     base = AIRFRAMES[name]
     values: dict[str, Any] = {}
     for f in _FIELDS:
-        values[f] = _num(ctx, a, f, p, getattr(base, f), gt=0)
+        if f == "model_error_mps":
+            values[f] = _num(ctx, a, f, p, getattr(base, f), ge=0)
+        else:
+            values[f] = _num(ctx, a, f, p, getattr(base, f), gt=0)
     af = Airframe(**values, jsbsim=base.jsbsim)
     if not af.v_stall_mps < af.v_max_mps:
         raise ctx.fail(f"{p}.v_stall_mps", f"must be < v_max_mps ({af.v_max_mps:g}), got {af.v_stall_mps:g}")

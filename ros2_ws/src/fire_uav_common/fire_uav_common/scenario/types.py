@@ -164,6 +164,9 @@ class Airframe:
     min_speed_factor: float = 1.3
     jsbsim: JsbsimSetup = field(default_factory=JsbsimSetup)  # what the jsbsim backend flies
     drop_flow_lps: float = 5.0  # [L/s] tank flow rate of a drop (fires.drop_model: pattern)
+    # [m/s] rms error of the first-order model above (the agents' on-board one) against the
+    # aircraft in speed and climb rate; 0: the aircraft is that model (coordinated_turn)
+    model_error_mps: float = 0.0
 
     @property
     def v_min_mps(self) -> float:

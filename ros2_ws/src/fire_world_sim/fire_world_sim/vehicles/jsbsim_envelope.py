@@ -1,0 +1,217 @@
+"""The envelope a JSBSim aircraft flies under the world's autopilot, measured (docs/airframes.md).
+
+What a preset's envelope fields should say of the ``jsbsim`` backend, measured by stepping one
+:class:`~.jsbsim_backend.JsbsimModel` at fixed commands (no agent, calm air, 100 Hz, launched
+trimmed at 200 m), with the autopilot's own speed floor and the preset's speed ceiling lifted so
+that the aircraft, not the preset, sets each figure (the bank limit and the roll rate stay the
+preset's, which the autopilot flies by design):
+
+- ``v_trim_min_mps``: the lowest airspeed at which JSBSim's trim finds level flight (1 g);
+- ``v_hold_min_mps``: the lowest commanded airspeed the autopilot holds level (speed within
+  ``HOLD_TOL_MPS``, height rate within ``CLIMB_TOL_MPS`` over the last ``TAIL_S`` s, elevator
+  not saturated) -- the aircraft's slowest usable speed, its 1.3 V_S in a preset's terms;
+- ``v_level_max_mps``: the steady airspeed in level flight at full throttle;
+- ``climb_max_mps``: the steady climb at the slowest usable speed and full throttle, commanded
+  more than the aircraft can give;
+- ``descent_max_mps``: the steepest commanded descent the autopilot holds at the slowest usable
+  speed with the speed within ``HOLD_TOL_MPS`` (steeper, the aircraft gains speed);
+- ``bank_max_deg`` / ``turn_rate_max_radps``: the largest bank and the steady turn rate of a
+  level turn commanded at far more than the aircraft can turn, at the slowest usable speed;
+- ``roll_rate_max_degps``: the largest roll rate in a reversal from that turn to the other side;
+- ``accel_max_mps2``: the largest dV/dt (averaged over 1 s) of a level speed step from the
+  slowest usable speed to ``v_level_max_mps``;
+- ``tau_*_s``: 63 % rise times of the airspeed, climb-rate and bank responses to a step.
+
+Units: SI; degrees where the name says so.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from fire_uav_common.scenario import Airframe
+
+from .base import Command, FlightState
+from .jsbsim_backend import FT_M, JsbsimModel
+
+__all__ = ["MeasuredEnvelope", "fly", "holds_level", "lowest_trim_speed_mps", "measure_envelope"]
+
+DT_S = 0.01
+HOLD_TOL_MPS = 0.7  # [m/s] a held speed: within this of the command over the tail
+CLIMB_TOL_MPS = 0.3  # [m/s] a held climb rate: within this of the command over the tail
+TAIL_S = 5.0  # [s] the tail over which a steady value is read
+Z0_M = 200.0
+
+
+def _unlimited(af: Airframe, v_floor_mps: float) -> Airframe:
+    """The preset with the autopilot's speed floor at ``v_floor_mps`` and the limits on speed,
+    climb, descent and acceleration lifted (the autopilot clips its commands to them: the aircraft
+    sets these figures). The bank limit and roll rate stay the preset's: the autopilot flies them
+    by design (the bank figures are the flown ones under those limits)."""
+    return dataclasses.replace(
+        af,
+        v_max_mps=max(af.v_max_mps, 120.0),
+        climb_max_mps=20.0,
+        descent_max_mps=20.0,
+        accel_max_mps2=20.0,
+        min_speed_factor=1.0,
+        v_stall_mps=min(af.v_stall_mps, v_floor_mps),
+        jsbsim=dataclasses.replace(af.jsbsim, v_floor_mps=v_floor_mps),
+    )
+
+
+def fly(
+    af: Airframe, commands: list[tuple[Command, float]], v0_mps: float, water_kg: float
+) -> tuple[list[FlightState], list[float]]:
+    """Launch at ``v0_mps`` (level, trimmed) and fly each (command, seconds) in turn; the states
+    and the elevator commands of every substep."""
+    m = JsbsimModel(af)
+    s = m.launch(FlightState(0.0, 0.0, Z0_M, 0.0, water_kg=water_kg), Command(v0_mps, 0.0, 0.0), DT_S)
+    rng = [np.random.default_rng(0)]
+    out: list[FlightState] = []
+    elev: list[float] = []
+    for cmd, seconds in commands:
+        for _ in range(round(seconds / DT_S)):
+            (s,) = m.step([s], [cmd], DT_S, rng)
+            out.append(s)
+            assert m.fdm is not None
+            elev.append(float(m.fdm["fcs/elevator-cmd-norm"]))
+    return out, elev
+
+
+def lowest_trim_speed_mps(af: Airframe, water_kg: float, lo: float = 10.0, hi: float = 40.0) -> float:
+    """The lowest airspeed [m/s] JSBSim's trim finds level flight at (bisection to 0.1 m/s)."""
+
+    def trims(v: float) -> bool:
+        m = JsbsimModel(af)
+        fdm = m._new_fdm(DT_S)
+        fdm["ic/terrain-elevation-ft"] = -10000.0
+        fdm["ic/h-sl-ft"] = Z0_M / FT_M
+        fdm["ic/vt-fps"] = v / FT_M
+        m.fdm = fdm
+        m._set_water(water_kg)
+        fdm.run_ic()
+        fdm["propulsion/set-running"] = -1
+        try:
+            fdm["simulation/do_simple_trim"] = 1
+        except RuntimeError:
+            return False
+        return True
+
+    if not trims(hi):
+        return math.nan
+    while hi - lo > 0.1:
+        mid = 0.5 * (lo + hi)
+        if trims(mid):
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+def holds_level(af: Airframe, v_mps: float, water_kg: float, seconds: float = 30.0) -> bool:
+    """Whether the autopilot holds level flight at ``v_mps`` (module doc: ``v_hold_min_mps``)."""
+    a = _unlimited(af, v_mps)
+    traj, elev = fly(a, [(Command(v_mps, 0.0, 0.0), seconds)], v_mps + 2.0, water_kg)
+    n = round(TAIL_S / DT_S)
+    return (
+        all(abs(f.airspeed_mps - v_mps) < HOLD_TOL_MPS for f in traj[-n:])
+        and all(abs(f.climb_mps) < CLIMB_TOL_MPS for f in traj[-n:])
+        and all(abs(e) < 0.999 for e in elev[-n:])
+    )
+
+
+def _tau_s(values: list[float], start: float, end: float) -> float:
+    """63 % rise time [s] of ``values`` (one per substep) from ``start`` toward ``end``."""
+    goal = start + 0.632 * (end - start)
+    for i, x in enumerate(values):
+        if (x - goal) * (end - start) >= 0.0:
+            return (i + 1) * DT_S
+    return math.nan
+
+
+@dataclass(frozen=True)
+class MeasuredEnvelope:
+    """What the aircraft flies under the autopilot (module doc); ``water_kg`` the load aboard."""
+
+    water_kg: float
+    v_trim_min_mps: float
+    v_hold_min_mps: float
+    v_level_max_mps: float
+    climb_max_mps: float
+    descent_max_mps: float
+    bank_max_deg: float
+    turn_rate_max_radps: float
+    roll_rate_max_degps: float
+    accel_max_mps2: float
+    tau_airspeed_s: float
+    tau_climb_s: float
+    tau_bank_s: float
+
+
+def measure_envelope(af: Airframe, water_kg: float, v_slow_mps: float | None = None) -> MeasuredEnvelope:
+    """Measure every figure of :class:`MeasuredEnvelope` for the preset's aircraft (module doc).
+
+    Climb, descent and turn are flown at ``v_slow_mps`` (None: the autopilot's floor
+    ``jsbsim.v_floor_mps``, the slowest the backend flies in a mission)."""
+    n = round(TAIL_S / DT_S)
+    v_trim = lowest_trim_speed_mps(af, water_kg)
+    v_hold = math.ceil(v_trim)
+    while v_hold < 40.0 and not holds_level(af, float(v_hold), water_kg):
+        v_hold += 1
+    v_hold_f = float(v_hold)
+    v_slow = af.jsbsim.v_floor_mps if v_slow_mps is None else v_slow_mps
+    a = _unlimited(af, v_slow)
+    # full throttle level: the top speed; and the acceleration from the slowest usable speed
+    traj, _ = fly(a, [(Command(120.0, 0.0, 0.0), 90.0)], v_slow, water_kg)
+    v_top = float(np.mean([f.airspeed_mps for f in traj[-n:]]))
+    v = np.array([f.airspeed_mps for f in traj])
+    k = round(1.0 / DT_S)
+    accel = float(np.max((v[k:] - v[:-k]) / 1.0))
+    # speed step response at mid range (not saturated by the acceleration limit as much)
+    v_lo, v_hi = v_slow + 2.0, min(v_slow + 5.0, v_top - 1.0)
+    traj, _ = fly(a, [(Command(v_lo, 0.0, 0.0), 20.0), (Command(v_hi, 0.0, 0.0), 30.0)], v_lo, water_kg)
+    tau_v = _tau_s([f.airspeed_mps for f in traj[2000:]], traj[1999].airspeed_mps, v_hi)
+    # climb at full throttle at the slowest usable speed
+    traj, _ = fly(a, [(Command(v_slow, 10.0, 0.0), 40.0)], v_slow, water_kg)
+    climb = float(np.mean([f.climb_mps for f in traj[-n:]]))
+    tau_c = _tau_s([f.climb_mps for f in traj], 0.0, climb)
+    # the steepest descent held at that speed, in 0.1 m/s steps
+    descent = 0.0
+    for sink10 in range(1, 101):
+        sink = sink10 / 10.0
+        traj, _ = fly(a, [(Command(v_slow, -sink, 0.0), 40.0)], v_slow, water_kg)
+        ok = all(abs(f.airspeed_mps - v_slow) < HOLD_TOL_MPS for f in traj[-n:]) and all(
+            abs(f.climb_mps + sink) < CLIMB_TOL_MPS for f in traj[-n:]
+        )
+        if not ok:
+            break
+        descent = sink
+    # the hardest level turn at the slowest usable speed, then a reversal
+    traj, _ = fly(
+        a, [(Command(v_slow, 0.0, 5.0), 20.0), (Command(v_slow, 0.0, -5.0), 20.0)], v_slow, water_kg
+    )
+    bank = max(abs(f.bank_rad) for f in traj)
+    turn = float(np.mean([abs(f.turn_rate_radps) for f in traj[2000 - n : 2000]]))
+    phis = np.array([f.bank_rad for f in traj])
+    roll = float(np.max(np.abs(np.diff(phis[2000:])))) / DT_S
+    phi_ss = float(np.mean(phis[2000 - n : 2000]))
+    tau_b = _tau_s(list(phis[:2000]), 0.0, phi_ss)
+    return MeasuredEnvelope(
+        water_kg=water_kg,
+        v_trim_min_mps=v_trim,
+        v_hold_min_mps=v_hold_f,
+        v_level_max_mps=v_top,
+        climb_max_mps=climb,
+        descent_max_mps=descent,
+        bank_max_deg=math.degrees(bank),
+        turn_rate_max_radps=turn,
+        roll_rate_max_degps=math.degrees(roll),
+        accel_max_mps2=accel,
+        tau_airspeed_s=tau_v,
+        tau_climb_s=tau_c,
+        tau_bank_s=tau_b,
+    )

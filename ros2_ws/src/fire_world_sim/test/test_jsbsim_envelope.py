@@ -1,0 +1,55 @@
+"""The preset the ``jsbsim`` backend flies by default is the aircraft's own envelope, measured.
+
+The agents plan, predict and land with the preset's figures; each is checked against what JSBSim's
+J3Cub flies under the world's autopilot (``fire_world_sim.vehicles.jsbsim_envelope``, stepped at
+fixed commands), not against the preset's own numbers. With ``small_uav`` (the default before)
+the agents planned a 5 m/s climb and descent and 15.6 m/s; the J3Cub gives 1.4 m/s and 22 m/s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from fire_uav_agent.testing.harness import scenario_path
+from fire_uav_common.scenario import load_scenario
+from fire_uav_common.scenario.airframes import G_MPS2
+from fire_world_sim.vehicles.jsbsim_envelope import holds_level, measure_envelope
+
+
+@pytest.fixture(scope="module")
+def preset():
+    sc = load_scenario(scenario_path("ff_two_fires"), overrides={"uavs.vehicle_model": "jsbsim"})
+    assert sc.uavs.airframe is not None
+    return sc.uavs.airframe
+
+
+@pytest.fixture(scope="module")
+def measured(preset):
+    return measure_envelope(preset, preset.water_capacity_kg, preset.v_min_mps)
+
+
+def test_the_lowest_commanded_speed_is_one_the_aircraft_holds(preset, measured) -> None:
+    assert preset.v_min_mps >= measured.v_hold_min_mps
+    assert preset.v_stall_mps == pytest.approx(measured.v_trim_min_mps, abs=0.3)  # its 1 g minimum
+    assert holds_level(preset, preset.v_min_mps, preset.water_capacity_kg)
+
+
+def test_climb_and_descent_limits_are_what_it_flies_at_the_lowest_speed(preset, measured) -> None:
+    # the agents' height loop and their approach's length rest on these: no more than the aircraft
+    # gives, and not far below it (the climb keeps a margin of about 20 % for a full tank in a turn)
+    assert 0.75 * measured.climb_max_mps <= preset.climb_max_mps <= measured.climb_max_mps
+    assert 0.85 * measured.descent_max_mps <= preset.descent_max_mps <= measured.descent_max_mps
+
+
+def test_the_bank_limit_holds_and_the_planned_turn_is_the_flown_one(preset, measured) -> None:
+    assert measured.bank_max_deg <= preset.bank_max_deg
+    planned = G_MPS2 * math.tan(preset.bank_max_rad) / preset.v_min_mps
+    # the agents' tightest turn (their omega_max and turn radius) against the flown one
+    assert planned == pytest.approx(measured.turn_rate_max_radps, rel=0.15)
+    assert preset.roll_rate_max_degps == pytest.approx(measured.roll_rate_max_degps, rel=0.25)
+
+
+def test_speed_limits_are_within_what_it_flies(preset, measured) -> None:
+    assert preset.v_max_mps <= measured.v_level_max_mps
+    assert preset.accel_max_mps2 <= measured.accel_max_mps2
