@@ -6,14 +6,15 @@ fire_uav_common stays ROS-free.
 
 from __future__ import annotations
 
+import contextlib
 import inspect
 import threading
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
 from .errors import ExecutorAwaitError, ExecutorError
 
-__all__ = ["LeanExecutor", "PublishCounts", "StopSignals", "make_executor", "spin", "unacked_topics"]
+__all__ = ["LeanExecutor", "PublishCounts", "StopSignals", "make_executor", "private_context", "spin", "unacked_topics"]
 
 EXECUTOR_ENV = "FIRE_UAV_EXECUTOR"  # "lean" (the default) or "rclpy": which executor make_executor gives
 
@@ -343,3 +344,17 @@ class PublishCounts:
 
         publisher.publish = publish
         return publisher
+
+
+@contextlib.contextmanager
+def private_context(domain_id: int) -> Iterator[Any]:
+    """An initialised ``rclpy.Context`` on ``domain_id``, shut down on exit: for tests that talk DDS
+    inside one process (the domain claimed by ``fire_mission.procs.claim_domain``)."""
+    import rclpy
+
+    ctx = rclpy.Context()
+    rclpy.init(context=ctx, domain_id=domain_id)
+    try:
+        yield ctx
+    finally:
+        rclpy.try_shutdown(context=ctx)

@@ -17,9 +17,10 @@ BURST = 300  # messages: more than one drained callback takes (1 + topics.DRAIN_
 def ros_context():
     """A private rclpy context on a ROS domain no other test or run on this host holds."""
     pytest.importorskip("rclpy")
-    from fire_uav_agent.testing.ros_context import private_rclpy_context
+    from fire_mission.procs import claim_domain
+    from fire_uav_common.ros_io import private_context
 
-    with private_rclpy_context() as ctx:
+    with claim_domain() as domain, private_context(domain) as ctx:
         yield ctx
 
 
