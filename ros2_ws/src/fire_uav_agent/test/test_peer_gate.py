@@ -224,13 +224,19 @@ def test_a_stale_step_is_rejected_in_lockstep_only() -> None:
     assert rt.on_state(b"", state(1, 1), fires(1, 1), sent(), False) == []
 
 
-def test_the_tag_check_is_passed_in_and_runs_after_the_cheap_checks() -> None:
+def _recording_tag_check():
+    """``(calls, check)``: a tag check that passes only ``b"signed"`` and records what it was asked."""
     calls: list[tuple] = []
 
     def check(data: bytes, topic: str, sender: int, auth_step: int) -> bool:
         calls.append((data, topic, sender, auth_step))
         return data == b"signed"
 
+    return calls, check
+
+
+def test_the_tag_check_is_passed_in_and_runs_after_the_cheap_checks() -> None:
+    calls, check = _recording_tag_check()
     g = gate(n=2, check_tag=check)
     g.on_bundle(1, "b1")
     assert g.on_state(b"forged", state(1, 0), fires(1, 0), sent(), False) == [
@@ -343,12 +349,7 @@ def test_a_newer_bundle_runs_the_one_it_overtook_first() -> None:
 
 
 def test_a_perimeters_tag_is_checked_on_its_bytes_and_step() -> None:
-    calls: list[tuple] = []
-
-    def check(data: bytes, topic: str, sender: int, auth_step: int) -> bool:
-        calls.append((data, topic, sender, auth_step))
-        return data == b"signed"
-
+    calls, check = _recording_tag_check()
     g = gate(n=2, check_tag=check)
     g.on_bundle(1, "b1")
     assert g.on_perimeter(b"forged", perimeter(1, 0)) == [Rejected("/fleet/perimeter", 1, 0, "bad auth")]
