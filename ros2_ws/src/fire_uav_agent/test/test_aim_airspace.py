@@ -1,7 +1,7 @@
 """Aims by airspace (tactics.aims_taken / free_front / standoff_point): two UAVs of one layer over
 one raster front do not work the same point.
 
-Issue [layers]: worcester_vt seed 1 (5 UAVs, 4 layers) had a closest approach of 4.88 m: at
+worcester_vt seed 1 (5 UAVs, 4 layers) had a closest approach of 4.88 m: at
 97.9 s UAVs 0 and 4, both on the 12 m layer, both aimed at the one front cell left (the aim
 rule sends a UAV whose Voronoi cell holds no front cell to the heaviest front cell: the same
 for everyone) and circled it at 100 m/s, where the avoider alone let them pass at 4.88 m.

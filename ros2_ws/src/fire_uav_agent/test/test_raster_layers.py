@@ -2,7 +2,7 @@
 come within FF's 10 m.
 
 Issue [suppression]: adjacent layers were 3.5 m apart against a 3 m collision radius, so a
-height error of 0.25 m each put two crossing UAVs in collision. Issue [layers]: layers 8 m
+height error of 0.25 m each put two crossing UAVs in collision. Until session 18 layers 8 m
 apart passed at 8.7-9.5 m over worcester_vt's fire, against FF's reported >= 10 m. Truth: the
 world's collision model (two airborne vehicles closer than ``collision_radius_m`` in 3-D both
 crash), FF's closest approach (>= 10 m), the avoider's vertical band (peers farther apart in
