@@ -115,3 +115,18 @@ def test_the_published_line() -> None:
         "published: /fleet/state 31, /parameter_events 0, /uav_1/cmd 31"
     )
     assert published_line({}) == "published: nothing"
+
+
+def test_a_second_signal_exactly_at_the_cap_is_the_cap_not_a_cut() -> None:
+    """At the cap the wait has ended by the cap, whatever else happened in that instant: the line
+    must not blame a second signal."""
+    out = FinalAckWait(10.0, cap_wall_s=5.0).check(["/fleet/state"], 15.0, cut_short=True)
+    assert out is not None and not out.cut_short and out.pending == ("/fleet/state",)
+
+
+def test_the_warning_says_what_a_reader_may_lack() -> None:
+    out = AckOutcome(("/a", "/b"), 20.0)
+    assert out.line() == (
+        "exiting with messages not acknowledged after 20.0 s on ['/a', '/b']: a reader of those "
+        "topics (a frozen or killed process?) may lack the last of them"
+    )
