@@ -553,7 +553,7 @@ def test_a_cell_that_would_blend_a_nodata_value_is_named_and_only_those(
         assert str(err.value) == (
             f"{grid.speed_path}: the wind grid does not cover {n} burnable cells of the landscape "
             f"(first at row {r}, col {c}, ({x:.0f}, {y:.0f}) m); grid extent "
-            f"({500000.0:g}, {4000000.0 - 3 * 60.0:g}, {500000.0 + 4 * 60.0:g}, {4000000.0:g})"
+            "x 500000.0 to 500240.0 m, y 3999820.0 to 4000000.0 m"
         )
 
 

@@ -194,7 +194,7 @@ def wind_on_landscape(grid: WindGrid, land: Landscape) -> WindOnLandscape:
         raise WindGridError(
             f"{grid.speed_path}: the wind grid does not cover {int(missing.sum())} burnable cells of the landscape "
             f"(first at row {r}, col {col}, ({float(x):.0f}, {float(y):.0f}) m); grid extent "
-            f"({c:g}, {f + e * rows:g}, {c + a * cols:g}, {f:g})"
+            f"x {c:.1f} to {c + a * cols:.1f} m, y {f + e * rows:.1f} to {f:.1f} m"
         )
     uu = np.where(covered, lerp(np.where(nodata, 0.0, u)), 0.0)
     vv = np.where(covered, lerp(np.where(nodata, 0.0, v)), 0.0)
