@@ -18,13 +18,11 @@ every matched reader has acknowledged every message it published (``fire_uav_com
 from __future__ import annotations
 
 import re
-import signal
-import threading
-import time
 
 import pytest
 from fire_mission import runner
 from fire_mission.procs import ros_run_argv
+from held_up import HeldUp, wait_for_line
 
 pytestmark = [pytest.mark.system, pytest.mark.slow]
 
@@ -34,15 +32,6 @@ HOLD_AFTER_SIGINT_WALL_S = 1.5  # [s wall] held up until this long after the age
 HOLD_MAX_WALL_S = 6.0  # [s wall] and never longer than this (below its 10 s lease)
 # reliable topics only the agents publish on (/tf: the world too; /uav_k/viz: best effort)
 AGENT_TOPICS = re.compile(r"/fleet/(state|events|perimeter|front)|/uav_\d+/(cmd|payload)")
-
-
-def _wait_for_line(procs, name: str, text: str, timeout_s: float) -> str:
-    deadline = time.monotonic() + timeout_s
-    while text not in (log := procs.tail(name, 400)):
-        assert procs.children[name].alive() or text in procs.tail(name, 400), procs.tail(name)
-        assert time.monotonic() < deadline, f"{name}: no {text!r}:\n{procs.tail(name)}"
-        time.sleep(0.005)
-    return log
 
 
 def _published(log: str) -> dict[str, int]:
@@ -61,7 +50,7 @@ def test_a_recorder_held_up_when_the_agents_are_signalled_keeps_their_last_messa
         "recorder",
         ros_run_argv("fire_uav_recording", "recorder", ["-p", f"output:={bag}", "-p", f"uav_count:={UAVS}"]),
     )
-    _wait_for_line(procs, "recorder", "recording to", 60.0)
+    wait_for_line(procs, "recorder", "recording to", 60.0)
     common = ["-p", f"scenario_file:={scenario}", "-p", f"uav_count:={UAVS}", "-p", "auth:=false"]
     agents = [f"agent_{k}" for k in range(UAVS)]
     for k, name in enumerate(agents):
@@ -79,28 +68,15 @@ def test_a_recorder_held_up_when_the_agents_are_signalled_keeps_their_last_messa
             [*common, "-p", "wait_for_subscribers:=1", "-p", f"max_duration_s:={MAX_DURATION_S}"],
         ),
     )
-    _wait_for_line(procs, "world", "starting", 120.0)
-    procs.signal("recorder", signal.SIGSTOP)  # held up: the last steps' messages pile up unread
-    stopped = time.monotonic()
-    resume = threading.Timer(HOLD_MAX_WALL_S, lambda: procs.signal("recorder", signal.SIGCONT))
-    resume.start()
-    try:
-        _wait_for_line(procs, "world", "mission complete", 120.0)
+    wait_for_line(procs, "world", "starting", 120.0)
+    with HeldUp(procs, "recorder", HOLD_MAX_WALL_S) as held:  # the last steps' messages pile up unread
+        wait_for_line(procs, "world", "mission complete", 120.0)
         # what the runner does once the world is done (it waits for the world's exit first, which
         # here waits for the stopped recorder too: the agents' side is the point)
-        if HOLD_MAX_WALL_S - (time.monotonic() - stopped) > HOLD_AFTER_SIGINT_WALL_S:
-            resume.cancel()
-            resume = threading.Timer(
-                HOLD_AFTER_SIGINT_WALL_S, lambda: procs.signal("recorder", signal.SIGCONT)
-            )
-            resume.start()
-        held_at_sigint = time.monotonic() - stopped
+        held_at_sigint = held.release_in(HOLD_AFTER_SIGINT_WALL_S)
         codes = procs.stop(agents, grace_s=runner.AGENT_STOP_GRACE_WALL_S)
         runner._let_the_world_end(procs)
         codes.update(procs.stop_all(first=["world"]))
-    finally:
-        resume.cancel()
-        procs.signal("recorder", signal.SIGCONT)
     assert all(codes[a] == 0 for a in agents), {a: procs.tail(a) for a in agents}
     assert codes["world"] == 0, procs.tail("world")
     assert held_at_sigint < HOLD_MAX_WALL_S, (

@@ -15,14 +15,11 @@ has acknowledged its messages, and the runner waits for that exit.
 
 from __future__ import annotations
 
-import signal
-import threading
-import time
-
 import pytest
 from fire_mission import runner
 from fire_mission.procs import ros_run_argv
 from fire_uav_common.constants import EventType
+from held_up import HeldUp, wait_for_line
 
 pytestmark = pytest.mark.system
 
@@ -31,14 +28,6 @@ STEPS = 50  # the world's steps 0..49, the last at MAX_DURATION_S
 HOLD_AFTER_END_WALL_S = 1.5  # [s wall] the recorder is held up until this long after the world's end,
 HOLD_MAX_WALL_S = 6.0  # [s wall] and never longer than this: beyond its DDS lease (10 s) it would
 # count as a dead process, whose readers nothing waits for
-
-
-def _wait_for_line(procs, name: str, text: str, timeout_s: float) -> None:
-    deadline = time.monotonic() + timeout_s
-    while text not in procs.tail(name, 200):
-        assert procs.children[name].alive() or text in procs.tail(name, 200), procs.tail(name)
-        assert time.monotonic() < deadline, f"{name}: no {text!r}:\n{procs.tail(name)}"
-        time.sleep(0.005)
 
 
 def test_a_recorder_held_up_at_the_end_keeps_the_worlds_last_truth(procs, tmp_path):
@@ -50,7 +39,7 @@ def test_a_recorder_held_up_at_the_end_keeps_the_worlds_last_truth(procs, tmp_pa
         "recorder",
         ros_run_argv("fire_uav_recording", "recorder", ["-p", f"output:={bag}", "-p", "uav_count:=0"]),
     )
-    _wait_for_line(procs, "recorder", "recording to", 60.0)
+    wait_for_line(procs, "recorder", "recording to", 60.0)
     procs.start(
         "world",
         ros_run_argv(
@@ -62,23 +51,13 @@ def test_a_recorder_held_up_at_the_end_keeps_the_worlds_last_truth(procs, tmp_pa
             ],
         ),
     )
-    _wait_for_line(procs, "world", "starting", 60.0)
-    procs.signal("recorder", signal.SIGSTOP)  # held up: the world's steps pile up unread
-    stopped = time.monotonic()
-    resume = threading.Timer(HOLD_MAX_WALL_S, lambda: procs.signal("recorder", signal.SIGCONT))
-    resume.start()
-    try:
-        _wait_for_line(procs, "world", "mission complete", 120.0)
-        if HOLD_MAX_WALL_S - (time.monotonic() - stopped) > HOLD_AFTER_END_WALL_S:
-            resume.cancel()
-            resume = threading.Timer(HOLD_AFTER_END_WALL_S, lambda: procs.signal("recorder", signal.SIGCONT))
-            resume.start()
+    wait_for_line(procs, "world", "starting", 60.0)
+    with HeldUp(procs, "recorder", HOLD_MAX_WALL_S) as held:  # the world's steps pile up unread
+        wait_for_line(procs, "world", "mission complete", 120.0)
+        held.release_in(HOLD_AFTER_END_WALL_S)
         # what the runner does once MISSION_COMPLETE has reached it
         runner._let_the_world_end(procs)
         codes = procs.stop_all(first=["world"])
-    finally:
-        resume.cancel()
-        procs.signal("recorder", signal.SIGCONT)
     # (its exit code is not the point: at load ~40 a recorder still tearing down DDS after closing
     # its bag was seen to get the escalated SIGTERM, -15, in the base code too)
     assert codes["world"] == 0, procs.tail("world")

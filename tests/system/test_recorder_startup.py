@@ -20,20 +20,13 @@ import time
 from pathlib import Path
 
 import pytest
+from held_up import wait_for_line
 
 pytestmark = pytest.mark.system
 
 UAVS = 5
 STEPS = 50  # per topic, back to back: fewer than the lockstep publishers' depth (100)
 LOCKSTEP = ("sensors", "cmd", "payload")
-
-
-def _wait_for_line(procs, name: str, text: str, timeout_s: float) -> None:
-    deadline = time.monotonic() + timeout_s
-    while text not in procs.tail(name, 200):
-        ended = not procs.children[name].alive() and text not in procs.tail(name, 200)
-        assert not ended and time.monotonic() < deadline, f"{name}: no {text!r}:\n{procs.tail(name)}"
-        time.sleep(0.01)
 
 
 def test_recorder_keeps_the_first_messages_of_publishers_made_after_it_is_seen(procs, tmp_path):
@@ -47,8 +40,12 @@ def test_recorder_keeps_the_first_messages_of_publishers_made_after_it_is_seen(p
         ros_run_argv("fire_uav_recording", "recorder", ["-p", f"output:={bag}", "-p", f"uav_count:={UAVS}"]),
     )
     procs.start("world", [sys.executable, str(Path(__file__).resolve()), str(UAVS), str(STEPS)])
-    _wait_for_line(procs, "world", "acked", 60.0)  # all in the recorder's reader histories
-    _wait_for_line(procs, "recorder", "following /fleet/front", 10.0)  # its graph poll saw it
+    wait_for_line(
+        procs, "world", "acked", 60.0, lines=200, poll_s=0.01
+    )  # all in the recorder's reader histories
+    wait_for_line(
+        procs, "recorder", "following /fleet/front", 10.0, lines=200, poll_s=0.01
+    )  # its graph poll saw it
     procs.stop(["world"])
     procs.signal("recorder", signal.SIGINT)
     assert procs.children["recorder"].popen.wait(timeout=20) == 0, procs.tail("recorder")

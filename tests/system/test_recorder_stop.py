@@ -10,25 +10,17 @@ from __future__ import annotations
 
 import signal
 import sys
-import time
 from pathlib import Path
 
 import pytest
 from fire_mission.procs import ros_run_argv
+from held_up import wait_for_line
 
 HERE = Path(__file__).resolve().parent
 
 pytestmark = pytest.mark.system
 
 BURST = 3000  # messages, fewer than the recorder's /fleet/state depth (5000)
-
-
-def _wait_for_line(procs, name: str, text: str, timeout_s: float) -> None:
-    deadline = time.monotonic() + timeout_s
-    while text not in procs.tail(name, 5):
-        ended = not procs.children[name].alive() and text not in procs.tail(name, 5)
-        assert not ended and time.monotonic() < deadline, f"{name}: no {text!r}:\n{procs.tail(name)}"
-        time.sleep(0.01)
 
 
 @pytest.mark.parametrize("stop_signal", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
@@ -41,7 +33,9 @@ def test_recorder_stop_keeps_every_queued_message(procs, tmp_path, stop_signal):
         ros_run_argv("fire_uav_recording", "recorder", ["-p", f"output:={bag}", "-p", "uav_count:=20"]),
     )
     procs.start("burst", [sys.executable, str(HERE / "burst_publisher.py"), str(BURST)])
-    _wait_for_line(procs, "burst", f"acked {BURST}", 60.0)  # all in the recorder's reader history
+    wait_for_line(
+        procs, "burst", f"acked {BURST}", 60.0, lines=5, poll_s=0.01
+    )  # all in the recorder's reader history
     procs.signal("recorder", stop_signal)
     assert recorder.popen.wait(timeout=20) == 0, procs.tail("recorder")
 
