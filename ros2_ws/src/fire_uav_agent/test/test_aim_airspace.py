@@ -98,6 +98,46 @@ def test_standoff_is_the_clearance_from_the_nearest_taken_aim_toward_the_uav():
     assert standoff_point((500.0, 0.0), (490.0, 0.0), taken, 60.0) == pytest.approx((560.0, 0.0))  # over it
 
 
+def test_a_zero_clearance_is_off_and_a_zero_band_is_the_same_layer_only():
+    """``aim_clear_m`` 0 turns the rule off (its field doc) and is a valid value, as is an
+    ``airspace_vertical_m`` of 0: then only UAVs of the same layer share the airspace. Layers
+    exactly the band apart share it ("at most ``airspace_vertical_m`` apart")."""
+    off = TacticConfig(aim_clear_m=0.0, airspace_vertical_m=0.0)
+    assert TacticConfig(aim_clear_m=0.5, airspace_vertical_m=0.5).aim_clear_m == 0.5
+    assert shares_airspace(3, 0, off) and not shares_airspace(1, 0, off)
+    f = front([(0.0, 0.0), (20.0, 0.0)])
+    assert free_front(f, np.array([[0.0, 0.0]]), off.aim_clear_m).tolist() == [True, True]
+    edge = TacticConfig(layers=3, layer_step_m=10.0, layer_top_m=36.0, airspace_vertical_m=10.0)
+    assert [edge.layer_height_m(i) for i in range(3)] == [16.0, 26.0, 36.0]
+    assert shares_airspace(1, 0, edge) and shares_airspace(2, 1, edge) and not shares_airspace(2, 0, edge)
+
+
+def test_free_cells_are_those_farther_than_the_clearance_from_every_taken_aim_by_brute_force():
+    """Against distances measured one by one (math.hypot), over points off the axes; the result is a
+    boolean mask (``~free`` selects the cells too close), also on the shortcuts (nothing taken, 0 m),
+    and a clearance under 1 m still keeps a cell on a taken aim."""
+    rng = np.random.default_rng(3)
+    pts = rng.uniform(-200.0, 200.0, (300, 2))
+    taken = rng.uniform(-200.0, 200.0, (3, 2))
+    f = front(pts)
+    for clear in (0.5, 30.0, 90.0):
+        want = [all(math.hypot(px - tx, py - ty) > clear for tx, ty in taken) for px, py in pts]
+        got = free_front(f, taken, clear)
+        assert got.dtype == bool and got.tolist() == want
+    g = front([(5.0, 5.0), (5.0, 5.6)])
+    assert free_front(g, np.array([[5.0, 5.0]]), 0.5).tolist() == [False, True]
+    assert f.x_m[~free_front(f, np.zeros((0, 2)), 60.0)].size == 0
+    assert f.x_m[~free_front(f, taken, 0.0)].size == 0
+
+
+def test_standoff_by_hand_off_the_axes_and_a_uav_just_beside_the_aim():
+    """Two taken aims off the axes: the one nearest ``near_xy`` (50 m against 350 m), then 60 m
+    toward the UAV (a 3-4-5 triangle); a UAV 0.5 m west of the aim is not over it: it waits west."""
+    taken = np.array([[100.0, 200.0], [100.0, -200.0]])
+    assert standoff_point((130.0, -160.0), (100.0, -150.0), taken, 60.0) == pytest.approx((136.0, -152.0))
+    assert standoff_point((99.5, 200.0), (100.0, 190.0), taken, 60.0) == pytest.approx((40.0, 200.0))
+
+
 def test_bad_airspace_fields_are_named():
     with pytest.raises(ValueError, match="tactic aim_clear_m must be >= 0, got -1.0"):
         TacticConfig(aim_clear_m=-1.0)

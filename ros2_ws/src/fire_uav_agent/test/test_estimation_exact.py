@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 from fire_uav_agent.estimation import EkfConfig, Samples, StateEkf, wrap_angle
-from fire_uav_common.terrain import Terrain
+from fire_uav_common.terrain import Hill, Terrain
 
 DT = 0.01
 
@@ -314,3 +314,33 @@ def test_integer_configuration_and_start_state_filter_as_their_float_values():
     for f in (a, b):
         f.process(smp, np.array([10, 1, 0.5]), 0.0, 0.1)
     assert a.s.tolist() == b.s.tolist() and a.P.tolist() == b.P.tolist()
+
+
+def test_the_altimeter_over_a_hill_is_linearised_at_the_estimate():
+    """Over a Gaussian hill h(s) = z - E(x, y) is nonlinear: the EKF update (Eqs. 22-25) is the
+    Kalman update of the model linearised at the prior mean, H = [-dE/dx, -dE/dy, 1, 0] with the
+    hill's *analytic* gradient at the estimate (300, 40) (the hill is wide, so the terrain's
+    central difference agrees to ~1e-6; at (40, 300) or (300, 300) the slope is another)."""
+    hx, hy, a, sig = 120.0, -60.0, 80.0, 150.0
+    terrain = Terrain(base_m=5.0, hills=(Hill(x_m=hx, y_m=hy, height_m=a, sigma_m=sig),))
+    s0 = np.array([300.0, 40.0, 150.0, 0.3])
+    p0 = np.diag([9.0, 4.0, 2.25, 0.01])
+    f = StateEkf(EkfConfig(initial_sigma=tuple(np.sqrt(np.diag(p0))), sigma_alt_m=1.5), s0, terrain)
+    m = 60.0
+    f.update_altimeter(m)
+    dx, dy = s0[0] - hx, s0[1] - hy
+    g = a * math.exp(-(dx * dx + dy * dy) / (2.0 * sig * sig))
+    e, de_dx, de_dy = 5.0 + g, -g * dx / sig**2, -g * dy / sig**2
+    h = np.array([-de_dx, -de_dy, 1.0, 0.0])
+    k = p0 @ h / (h @ p0 @ h + 2.25)
+    s_post = s0 + k * (m - (s0[2] - e))
+    p_post = (np.eye(4) - np.outer(k, h)) @ p0
+    assert abs(de_dx) > 0.1 and abs(de_dy) > 0.03  # a slope the update must follow
+    np.testing.assert_allclose(f.s, s_post, rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(f.P, p_post, rtol=1e-5, atol=1e-8)
+
+
+def test_a_fix_with_a_nan_stamp_goes_to_the_first_substep():
+    """``process``: a non-finite stamp is taken as the window's first substep (its doc), so an exact
+    fix x = 0 stamped NaN pins x after one prediction, and 9 more at V follow."""
+    assert math.isclose(_pinned(math.nan), V * 9 * DT, abs_tol=1e-4)

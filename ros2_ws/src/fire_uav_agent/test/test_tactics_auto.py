@@ -7,6 +7,7 @@ auto's weights equal the head or flank weights of that fire alone.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -65,6 +66,45 @@ def test_each_fire_gets_the_weights_of_its_own_choice() -> None:
     # the fast fire's flank anchor is its own slowest cell (x = 620), not the slow fire's
     assert w[4 + 2] == pytest.approx(1.0 + cfg.min_weight)
     assert np.argmax(w[:4]) == 2  # the slow fire's head: its fastest cell
+
+
+def test_fire_labels_are_integer_indices_one_fire_per_chain() -> None:
+    """Labels index per-fire arrays: np.bincount counts each fire's cells (counted by hand); a
+    one-cell front is one fire, an empty front none."""
+    f = front([0, 10, 500, 20, 900], [0] * 5, [0.1] * 5)  # fires {0, 10, 20}, {500}, {900}
+    labels = fire_groups(f, 30.0)
+    assert labels.tolist() == [0, 0, 1, 0, 2]
+    assert np.bincount(labels).tolist() == [3, 1, 1]
+    assert fire_groups(front([5.0], [7.0], [0.1]), 30.0).tolist() == [0]
+    assert np.bincount(fire_groups(front([], [], []), 30.0), minlength=1).tolist() == [0]
+
+
+def test_auto_weights_of_one_fire_and_of_three_fires_by_hand() -> None:
+    """Per fire, the written head or flank rule (module doc), computed by hand: one slow fire gets
+    (R / R_max)^2 + w_min; of three fires, the two slow ones head weights of their own cells, the
+    fast one flank weights exp(-(d - d_min) / L) + w_min from its own slowest cell."""
+    cfg = TacticConfig(tactic="auto")
+    wm = cfg.min_weight
+    one = front([0.0, 10.0, 20.0], [0.0] * 3, [0.05, 0.2, 0.1])
+    np.testing.assert_allclose(front_weights(one, cfg), [0.25**2 + wm, 1.0 + wm, 0.5**2 + wm])
+    x = [0.0, 10.0, 20.0, 600.0, 610.0, 620.0, 1200.0, 1210.0]
+    ros = [0.05, 0.2, 0.1, 0.9, 0.3, 0.8, 0.1, 0.4]
+    w = front_weights(front(x, [0.0] * 8, ros), cfg)
+    flank = [math.exp(-d / cfg.flank_scale_m) + wm for d in (10.0, 0.0, 10.0)]  # anchor x = 610
+    want = [0.25**2 + wm, 1.0 + wm, 0.5**2 + wm, *flank, 0.25**2 + wm, 1.0 + wm]
+    np.testing.assert_allclose(w, want)
+
+
+def test_a_head_exactly_at_the_flame_limit_is_not_below_it() -> None:
+    """Head attack when the head's flame length is *below* ``auto_max_flame_m`` (module doc): at
+    exactly the limit, a flank attack; just under it, a head attack."""
+    base = TacticConfig(tactic="auto")
+    r = 0.4
+    lim = 0.0775 * (base.auto_heat_kj_kg * base.auto_fuel_kg_m2 * r) ** 0.46  # Byram, by hand
+    cfg = dataclasses.replace(base, auto_max_flame_m=lim)
+    assert byram_flame_length_m(r, cfg) == lim  # the boundary itself
+    assert auto_choice(np.array([r]), cfg) == "flank"
+    assert auto_choice(np.array([r * (1.0 - 1e-9)]), cfg) == "head"
 
 
 def test_bad_auto_fields_are_named() -> None:
