@@ -22,7 +22,9 @@ Fires (no suppression):
   cell around the UAV, laps of tens of minutes, 3 h from 1 h after ignition; a wind-driven
   fire (head 15x the back) and a slow fire that reaches a 4x faster fuel (PM Fig. 12a / 16a).
 
-With monitor_grass also: what the UAV's speed and footprint allow on that fire (``bounds``:
+With monitor_grass also: two monitors on the worst-angle rule, each merging the other's map,
+with the perimeter split between them by angle and by spread rate (``MonitorConfig.split``;
+rows "two (angle)" and "two (spread)"); what the UAV's speed and footprint allow on that fire (``bounds``:
 evenly spaced circling monitors, and a lower bound for any single monitor), and the scenario
 as it flies, with suppression (``run_suppressed``: the error against the true fire's hull and
 the reported fastest front against the burning tip).
@@ -66,6 +68,7 @@ from fire_perimeter_monitor.synthetic_fire import elliptical_ros, fly, spread_fi
 ALPHAS = (0.0, 0.8, 1.0, 1.2, 1.5, 5.0)
 PAPER_CHANGES = (0, 8, 11, 15, 20, 43)
 MONITORS = ("circling", "worst", "windows")
+TWO_SPLITS = ("angle", "spread")  # MonitorConfig.split of the two-monitor rows (worst-angle rule)
 
 # --- B. synthetic fires, the paper's regime -------------------------------------------------
 CELL_M = 30.0  # [m] raster cell
@@ -184,12 +187,19 @@ def _cell_speed_sensor(s: Setting, fire) -> tuple[float, float, float]:
     return CELL_M, SPEED_MPS, SENSOR_M
 
 
-def make_monitor(s: Setting, fire, kind: str, seed: int, alpha: float = 1.0, uav_id: int = 0):
+def make_monitor(
+    s: Setting, fire, kind: str, seed: int, alpha: float = 1.0, uav_id: int = 0, split: str = "angle"
+):
     cell, speed, _ = _cell_speed_sensor(s, fire)
     rng = np.random.default_rng(seed)
     direction = Direction.CCW if rng.random() < 0.5 else Direction.CW
     kw: dict = dict(
-        cell_size_m=cell, speed_mps=speed, alpha=alpha, initial_direction=direction, uav_id=uav_id
+        cell_size_m=cell,
+        speed_mps=speed,
+        alpha=alpha,
+        initial_direction=direction,
+        uav_id=uav_id,
+        split=split,
     )
     if s.center_known:
         kw.update(center_x_m=fire.ignition_xy_m[0], center_y_m=fire.ignition_xy_m[1])
@@ -250,12 +260,14 @@ def run_one(job: tuple) -> tuple:
 def run_two(job: tuple) -> tuple:
     """Two importance monitors on one fire, deployed apart, each merging the other's map at
     every step; the UAVs move one perimeter cell per step (cell / speed). Error of each
-    monitor's (merged) map, averaged over the two."""
-    setting, kind, seed = job
+    monitor's (merged) map, averaged over the two. ``job``: (fire, rule, seed[, split]),
+    split as ``MonitorConfig.split`` ("angle" by default, or "spread")."""
+    setting, kind, seed = job[:3]
+    split = job[3] if len(job) > 3 else "angle"
     s = SETTINGS[setting]
     fire = s.fire()
     cell, speed, sensor = _cell_speed_sensor(s, fire)
-    ms = [make_monitor(s, fire, kind, seed, uav_id=k) for k in (0, 1)]
+    ms = [make_monitor(s, fire, kind, seed, uav_id=k, split=split) for k in (0, 1)]
     a0 = start_angle(seed)
     pos = []
     for k in (0, 1):
@@ -515,7 +527,9 @@ def main() -> None:
     alpha_fires = [f for f in ("monitor_grass", "wind-driven") if f in fires]
     alpha_jobs = [(f, "worst", 0, a) for f in alpha_fires for a in ALPHAS]
     two_jobs = (
-        [("monitor_grass", "worst", seed) for seed in range(args.seeds)] if "monitor_grass" in fires else []
+        [("monitor_grass", "worst", seed, split) for split in TWO_SPLITS for seed in range(args.seeds)]
+        if "monitor_grass" in fires
+        else []
     )
     supp_seeds = SUPPRESSION_SEEDS if "monitor_grass" in fires else ()
     with ProcessPoolExecutor() as pool:
@@ -527,7 +541,8 @@ def main() -> None:
     for f in fires:
         rows = {k: [one[(f, k, seed, 1.0)] for seed in range(args.seeds)] for k in MONITORS}
         if f == "monitor_grass":
-            rows["two (worst)"] = [(e, fl, c, n) for _, e, fl, c, n in two]
+            for split in TWO_SPLITS:
+                rows[f"two ({split})"] = [(e, fl, c, n) for job, e, fl, c, n in two if job[3] == split]
         table(f, rows, args.seeds)
     if "monitor_grass" in fires:
         b = bounds("monitor_grass")
