@@ -50,7 +50,6 @@ __all__ = [
     "FlownInput",
     "OnboardState",
     "final_approach_course",
-    "final_length_m",
     "input_noise_sigma",
     "inside_turn_circle",
     "scoop_run_m",
@@ -110,7 +109,8 @@ def slowdown_m(airframe: Airframe, from_mps: float, to_mps: float) -> float:
     below it is not counted, so the airframe arrives within accel_max tau_airspeed of ``to_mps``
     (tanker: 4 m/s, inside the world's refill speed margin of 10 m/s over the lowest speed).
     The tanker slowing from its 75 m/s to the 49.8 m/s of the low-and-slow lake approach flies
-    1,572 m; small_uav from 30 to 18.6 m/s, 92 m.
+    1,572 m, to its 46.8 m/s final approach speed 1,717 m; small_uav from 30 to 18.6 m/s 92 m, to
+    15.6 m/s 109 m.
     """
     v0, v1 = float(from_mps), float(to_mps)
     if v0 <= v1:
@@ -271,36 +271,6 @@ def final_approach_course(
         return start_yaw_rad
     b = math.atan2(dy, dx)
     return math.remainder(round(b / (0.5 * math.pi)) * 0.5 * math.pi, math.tau)
-
-
-def final_length_m(
-    speed_mps: float, drop_m: float, kz_per_s: float, flat_fraction: float, tolerance_m: float
-) -> float:
-    """The shortest final leg [m] whose height profile the height loop settles on before the threshold.
-
-    The profile descends ``drop_m`` linearly over the first (1 - ``flat_fraction``) of the leg and
-    holds the approach height over the rest (FF IV-D d's approach by distance, guidance's
-    ``land_*``). The height loop (FF Eq. 12 at gain ``kz_per_s`` around the lagging flight-path
-    angle, damped 0.7 at K_z = 1 / (2 tau_gamma)) trails a ramp of sink rate w by w / K_z and then
-    decays as exp(-K_z t). At ``speed_mps`` on a leg of length L: w = v drop / ((1 - f) L), the
-    flat part lasts f L / v, and the height error left at the threshold is
-    (w / K_z) exp(-K_z f L / v); returned: the smallest L that leaves at most ``tolerance_m``
-    (bisection: the error falls with L). The tanker (46.8 m/s, K_z = 0.25 1/s) on a 893 m final
-    arrived 1.5-4 m high and went round again and again (ff_two_fires_tanker seed 2: one UAV
-    landed 990 s after the fleet agreed to land); small_uav (15.6 m/s, K_z = 0.625 1/s) needs 240 m.
-    """
-
-    def err(length_m: float) -> float:
-        w = speed_mps * drop_m / ((1.0 - flat_fraction) * length_m)
-        return w / kz_per_s * math.exp(-kz_per_s * flat_fraction * length_m / speed_mps)
-
-    lo, hi = 1.0, 1.0
-    while err(hi) > tolerance_m and hi < 1e6:
-        lo, hi = hi, 2.0 * hi
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if err(mid) > tolerance_m else (lo, mid)
-    return hi
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,6 @@ from .airframe_model import (
     FinalApproach,
     FlownInput,
     final_approach_course,
-    final_length_m,
     inside_turn_circle,
     slowdown_m,
     turn_radius_m,
@@ -109,23 +108,20 @@ class Guide:
             course = final_approach_course(start, cfg.area_m, float(cfg.start_pose[3]))
             # the final leg: long enough for the turn onto it (4 r), for the descent from the
             # highest layer at half the climb-rate limit (the height loop then tracks, not saturates)
-            # and for the height loop to settle on the approach height, within the gap up to the
-            # touch-down height, before the threshold (airframe_model.final_length_m)
+            # and to slow from the top speed to the approach speed (airframe_model.slowdown_m): the
+            # tanker, slowing at 1 m/s^2, captured the 893 m (4 r) final at 60-75 m/s, descended
+            # too fast for its height loop (K_z = 0.25 1/s), crossed the threshold 1-4 m up and went
+            # round again and again (ff_two_fires_tanker seed 2: one UAV landed 990 s after the fleet
+            # agreed to land); the 1,717 m it needs to slow brings it to the threshold below 0.2 m
             top = max(
                 veh.flight_height_m,
                 layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m),
             )
             low = gd.land_height_fraction * veh.landing_height_m
             descent = 2.0 * lim.v_stall_mps * (top - low) / lim.vz_max_mps
-            settle = final_length_m(
-                lim.v_stall_mps,
-                top - low,
-                self.land_gains.kz,
-                gd.land_flat_fraction,
-                (gd.touchdown_agl_fraction - gd.land_height_fraction) * veh.landing_height_m,
-            )
+            slow = slowdown_m(af, af.v_max_mps, lim.v_stall_mps)
             self.approach = FinalApproach(
-                start, course, max(gd.land_approach_radius_m, 4.0 * r, descent, settle), r
+                start, course, max(gd.land_approach_radius_m, 4.0 * r, descent, slow), r
             )
 
     def run(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray, last_step: int) -> Guidance:

@@ -15,7 +15,6 @@ from fire_uav_agent.airframe_model import (
     FinalApproach,
     FlownInput,
     final_approach_course,
-    final_length_m,
     inside_turn_circle,
     slowdown_m,
     turn_radius_m,
@@ -489,19 +488,6 @@ def test_a_tanker_pass_along_the_line_cannot_step_over_the_touchdown_point(cross
     # an airframe whose step is shorter than the disc keeps the disc alone
     assert not ap.at_threshold((0.7, 2.4), 1.56, 2.5) or math.hypot(0.7, 2.4) <= 2.5
     assert not ap.at_threshold((1.0, 2.4), 1.56, 2.5)
-
-
-@pytest.mark.parametrize("tol_m", [0.1, 0.3, 1.0])
-def test_the_final_length_settles_the_height_loop_within_the_tolerance(tol_m: float):
-    """final_length_m against the world's model: on the length it returns for a tolerance, small_uav
-    and the tanker, flying the leg at their lowest speed, arrive at most that tolerance above the
-    0.5 m approach height at the threshold (the envelope it bounds is conservative; below it is the
-    ground, which the touch-down rule does not mind)."""
-    for af in (SMALL, TANKER):
-        kz = 0.5 / af.tau_gamma_s
-        length = final_length_m(af.v_min_mps, 36.5, kz, 0.3, tol_m)
-        z = _final_height_at_threshold(af, length, kz, af.v_min_mps, 37.0)
-        assert z - 0.5 <= tol_m, (af.v_stall_mps, length, z)
 
 
 def test_slowdown_is_the_distance_the_world_flies_while_decelerating():
