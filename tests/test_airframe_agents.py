@@ -102,3 +102,49 @@ def test_a_jsbsim_uav_sent_home_lands_within_5_m_of_its_takeoff_point(seed: int)
             break
     assert v.status == VehicleStatus.LANDED and k > 300
     assert math.hypot(v.x_m - home[0], v.y_m - home[1]) <= 5.0
+
+
+def test_the_tanker_scenario_is_sized_for_the_tanker() -> None:
+    """ff_two_fires_tanker flies the tanker on coordinated_turn by default, its lake holds the
+    tanker's scoop run with a margin, and every UAV's lined-up final, with the turn onto it, lies
+    inside the area (docs/airframes.md, "A scenario sized for the tanker")."""
+    from fire_uav_agent.agent_core import Agent
+    from fire_uav_agent.airframe_model import scoop_run_m
+
+    sc = load_scenario(scenario_path("ff_two_fires_tanker"))
+    assert sc.uavs.vehicle_model == "coordinated_turn" and sc.uavs.airframe == AIRFRAMES["tanker"]
+    need = scoop_run_m(sc.uavs.airframe)
+    assert need == pytest.approx(702.0)
+    assert all(lk.diameter_m >= 1.2 * need for lk in sc.lakes)
+    a = sc.area
+    for i in range(sc.uavs.count):
+        ap = Agent(config_from_scenario(sc, i)).guide.approach
+        assert ap is not None
+        ex, ey = ap.entry_xy
+        r = ap.turn_radius_m
+        assert a.x_min_m + r <= ex <= a.x_max_m - r and a.y_min_m + r <= ey <= a.y_max_m - r
+
+
+@pytest.mark.slow
+def test_the_tanker_mission_is_safe() -> None:
+    """Issue's must-show for the tanker: ff_two_fires_tanker (coordinated_turn, tanker), 5 UAVs, seed
+    1, in process: every fire out, no collision, closest approach >= 10 m, every UAV landed within
+    5 m of its takeoff point, and the truth never turns harder than the preset's 45 deg bank allows.
+    Before the agents slowed down in time for the lake, no tanker ever refilled (one fire burned on
+    to the 3,000 s limit)."""
+    from fire_bench.envelope import envelope_share
+    from fire_mission.inprocess import run_inprocess
+
+    samples: list[tuple[int, float, float]] = []
+
+    def on_step(r) -> None:
+        samples.extend((v.status, v.v_lin_mps, v.omega_z_radps) for v in r.vehicles)
+
+    d = run_inprocess("ff_two_fires_tanker", uavs=5, seed=1, on_step=on_step)
+    assert d["outcome"] == "complete", d["detail"]
+    assert d["fires_active_at_end"] == 0
+    assert d["collisions"] == 0 and d["crashes"] == []
+    assert d["min_separation_m"] >= 10.0
+    assert len(d["landed"]) == 5 and max(d["landing_error_m"].values()) <= 5.0
+    e = envelope_share(samples, AIRFRAMES["tanker"].bank_max_deg)
+    assert e.airborne > 1000 and e.beyond == 0

@@ -25,7 +25,8 @@ world flies. Two uses, both ROS-free:
   r = v^2 / (g tan(phi_max)) (B&M Eq. 9.14 with psi_dot = v / r) that guidance and separation
   plan with, and the lined-up landing approach (:class:`FinalApproach`).
 * **Scoop run** (:func:`usable_lakes`): a fixed-wing scoops on a straight run over the water; a
-  lake too short for the run that fills the tank is not used.
+  lake too short for the run that fills the tank is not used. It must reach the water slow
+  enough to scoop: :func:`slowdown_m` is how far ahead of the lake it has to start slowing.
 
 Units: [m], [s], [m/s], [rad], [kg]; positions in the map frame.
 """
@@ -52,6 +53,7 @@ __all__ = [
     "input_noise_sigma",
     "inside_turn_circle",
     "scoop_run_m",
+    "slowdown_m",
     "turn_radius_m",
     "usable_lakes",
 ]
@@ -96,6 +98,24 @@ def scoop_run_m(airframe: Airframe) -> float:
     """The straight run [m] over water that fills the empty tank: the scoop time
     water_capacity / refill_rate at the lowest commanded speed (the slowest the airframe flies)."""
     return airframe.v_min_mps * airframe.water_capacity_kg / airframe.refill_rate_kgps
+
+
+def slowdown_m(airframe: Airframe, from_mps: float, to_mps: float) -> float:
+    """The distance [m] the airframe flies while it slows from ``from_mps`` to ``to_mps`` at its
+    deceleration limit: (v0^2 - v1^2) / (2 accel_max) (B&M Eq. 9.18's first-order airspeed response,
+    limited to |dV/dt| <= accel_max; 0 when it is not faster).
+
+    The limit holds while the speed error exceeds accel_max tau_airspeed; the first-order tail
+    below it is not counted, so the airframe arrives within accel_max tau_airspeed of ``to_mps``
+    (tanker: 4 m/s, inside the world's refill speed margin of 10 m/s over the lowest speed).
+    The tanker slowing from its 75 m/s to the 49.8 m/s of the low-and-slow lake approach flies
+    1,572 m, to its 46.8 m/s final approach speed 1,717 m; small_uav from 30 to 18.6 m/s 92 m, to
+    15.6 m/s 109 m.
+    """
+    v0, v1 = float(from_mps), float(to_mps)
+    if v0 <= v1:
+        return 0.0
+    return (v0 * v0 - v1 * v1) / (2.0 * airframe.accel_max_mps2)
 
 
 def usable_lakes(
@@ -294,6 +314,17 @@ class FinalApproach:
             and abs(cross) <= 3.0 * r
             and abs(math.remainder(pose[2] - self.course_rad, math.tau)) <= 0.5 * math.pi
         )
+
+    def at_threshold(self, xy: tuple[float, float], step_m: float, radius_m: float) -> bool:
+        """Whether to touch down here: within ``radius_m`` of the threshold, or, for an airframe that
+        flies more than ``radius_m`` in one control step (``step_m``: the tanker's 4.7 m at 46.8 m/s
+        against the 2.5 m touch-down disc), at the step nearest to it along the line (|along| <=
+        step / 2) within ``radius_m`` of the line. Without the second rule a pass stepped over the
+        disc whenever its cross-track error exceeded about 1 m, and the tanker went round again."""
+        along, cross = self.frame(xy)
+        if math.hypot(along, cross) <= radius_m:
+            return True
+        return step_m > radius_m and -0.5 * step_m <= along < 0.5 * step_m and abs(cross) <= radius_m
 
     def line_course(self, xy: tuple[float, float]) -> float:
         """B&M Eq. 10.8: the course that brings the vehicle onto the line."""

@@ -21,6 +21,7 @@ from .airframe_model import (
     FlownInput,
     final_approach_course,
     inside_turn_circle,
+    slowdown_m,
     turn_radius_m,
 )
 from .coverage import Grid, control_law, gaussian_density, mass_centroid
@@ -79,25 +80,17 @@ class Guide:
         self.start_xy = np.array(cfg.start_pose[:2], dtype=float)
         self.flown = flown  # the airframe's modelled flight state (its airspeed sets the turn radius)
         self.approach: FinalApproach | None = None  # a fixed-wing's lined-up landing approach
+        # [m] low and slow this far beyond the lake's shore (FF IV-D b); a fixed-wing starts where it
+        # can still slow from its top speed to the refill speed (airframe_model.slowdown_m): the
+        # tanker, slowing at 1 m/s^2 from 75 m/s, crossed the 150 m margin and FF's lake x 10 at
+        # 60-70 m/s, above the world's refill speed, and never refilled (ff_two_fires_tanker)
+        self.lake_margin_m = cfg.guidance.lake_approach_margin_m
         af = cfg.airframe
         if af is not None:
             start = (float(self.start_xy[0]), float(self.start_xy[1]))
             lim, gd, veh = cfg.limits, cfg.guidance, cfg.vehicle
-            r = turn_radius_m(af, lim.v_stall_mps)
-            course = final_approach_course(start, cfg.area_m, float(cfg.start_pose[3]))
-            # the final leg: long enough for the turn onto it (4 r) and for the descent from the
-            # highest layer at half the climb-rate limit (the height loop then tracks, not saturates)
-            top = max(
-                veh.flight_height_m,
-                layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m),
-            )
-            descent = (
-                2.0
-                * lim.v_stall_mps
-                * (top - gd.land_height_fraction * veh.landing_height_m)
-                / lim.vz_max_mps
-            )
-            self.approach = FinalApproach(start, course, max(gd.land_approach_radius_m, 4.0 * r, descent), r)
+            refill_v = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
+            self.lake_margin_m = max(self.lake_margin_m, slowdown_m(af, af.v_max_mps, refill_v))
             # the height loop of Eq. 12 around the lagging flight-path angle (B&M Eq. 9.19: tau_gamma)
             # is a second-order loop, damped 0.7 at K_z = 1 / (2 tau_gamma); FF's K_z = 5 1/s rings
             # +-0.7 m around the 0.5 m approach height and never passes below the touchdown height.
@@ -110,6 +103,25 @@ class Guide:
                 cfg.gains,
                 kz=min(cfg.gains.kz, 0.5 / af.tau_gamma_s),
                 ka=min(cfg.gains.ka, 0.5 / af.tau_bank_s),
+            )
+            r = turn_radius_m(af, lim.v_stall_mps)
+            course = final_approach_course(start, cfg.area_m, float(cfg.start_pose[3]))
+            # the final leg: long enough for the turn onto it (4 r), for the descent from the
+            # highest layer at half the climb-rate limit (the height loop then tracks, not saturates)
+            # and to slow from the top speed to the approach speed (airframe_model.slowdown_m): the
+            # tanker, slowing at 1 m/s^2, captured the 893 m (4 r) final at 60-75 m/s, descended
+            # too fast for its height loop (K_z = 0.25 1/s), crossed the threshold 1-4 m up and went
+            # round again and again (ff_two_fires_tanker seed 2: one UAV landed 990 s after the fleet
+            # agreed to land); the 1,717 m it needs to slow brings it to the threshold below 0.2 m
+            top = max(
+                veh.flight_height_m,
+                layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m),
+            )
+            low = gd.land_height_fraction * veh.landing_height_m
+            descent = 2.0 * lim.v_stall_mps * (top - low) / lim.vz_max_mps
+            slow = slowdown_m(af, af.v_max_mps, lim.v_stall_mps)
+            self.approach = FinalApproach(
+                start, course, max(gd.land_approach_radius_m, 4.0 * r, descent, slow), r
             )
 
     def run(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray, last_step: int) -> Guidance:
@@ -162,10 +174,7 @@ class Guide:
             else:
                 dens = gaussian_density(self.grid, [lake_xy], [cfg.mission.sigma_water_m])  # Eq. 14
                 target = self._centroid_of(dens, lake_xy, cell)
-            if (
-                math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m)
-                < lake.diameter_m / 2 + gd.lake_approach_margin_m
-            ):
+            if math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m) < lake.diameter_m / 2 + self.lake_margin_m:
                 height = gd.refill_height_fraction * veh.refill_height_m  # low ...
                 v_cap = (
                     lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
@@ -279,8 +288,10 @@ class Guide:
             if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
                 height = max(height, cruise)  # keep the layer over a landing right-of-way peer
             agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
-            d = math.hypot(pos[0] - start[0], pos[1] - start[1])
-            if agl < gd.touchdown_agl_fraction * veh.landing_height_m and d <= gd.touchdown_radius_m:
+            step_m = lim.v_stall_mps * cfg.control_period_s  # the final is flown at the lowest speed
+            if agl < gd.touchdown_agl_fraction * veh.landing_height_m and ap.at_threshold(
+                pos, step_m, gd.touchdown_radius_m
+            ):
                 return Guidance((0.0, -gd.touchdown_sink_mps, 0.0))  # below stall speed: it lands
             chi = ap.line_course(pos)
             aim = (pos[0] + 4.0 * r * math.cos(chi), pos[1] + 4.0 * r * math.sin(chi))

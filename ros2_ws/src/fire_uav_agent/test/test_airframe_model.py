@@ -16,6 +16,7 @@ from fire_uav_agent.airframe_model import (
     FlownInput,
     final_approach_course,
     inside_turn_circle,
+    slowdown_m,
     turn_radius_m,
 )
 from fire_uav_agent.coverage import VehicleLimits
@@ -391,3 +392,116 @@ def test_the_turn_side_is_the_one_toward_the_line():
             continue
         want = -1.0 if cross * along_course > 0 else 1.0
         assert ap.turn_side(pose) == want, pose
+
+
+# --- the tanker: reaching the lake slow enough, a final it settles on, a touch-down it cannot step over
+TANKER = AIRFRAMES["tanker"]
+
+
+def _tanker_agent(uav_id: int = 0):
+    from fire_uav_agent.agent_config import config_from_scenario
+    from fire_uav_agent.agent_core import Agent
+    from fire_uav_agent.testing.harness import scenario_path
+
+    scen = sc.load_scenario(scenario_path("ff_two_fires_tanker"))
+    return Agent(config_from_scenario(scen, uav_id)), scen
+
+
+def test_a_tanker_entering_the_lake_approach_at_top_speed_reaches_the_shore_slow_enough_to_scoop():
+    """The world's coordinated-turn tanker, commanded the refill speed where the agent's low-and-slow
+    zone begins, at its top speed: at the shore it flies within the world's refill speed
+    (v_stall + refill_speed_margin_mps; world.vehicle.refill_conditions). With FF's 150 m margin it
+    reached the shore at 73 m/s (the mission never refilled)."""
+    a, scen = _tanker_agent()
+    margin = a.guide.lake_margin_m
+    v_refill_world = a.cfg.limits.v_stall_mps + scen.vehicle.refill_speed_margin_mps
+    gd = a.cfg.guidance
+    v_cmd = a.cfg.limits.v_stall_mps + gd.refill_speed_fraction * scen.vehicle.refill_speed_margin_mps
+    model = CoordinatedTurnModel(TANKER, 0.0)
+    rng = np.random.default_rng(0)
+
+    def speed_after(distance_m: float) -> float:
+        st = model.launch(FlightState(0.0, 0.0, 30.0, 0.0, water_kg=0.0), Command(TANKER.v_max_mps, 0.0, 0.0))
+        while st.x_m < distance_m:
+            (st,) = model.step([st], [Command(v_cmd, 0.0, 0.0)], 0.01, [rng])
+        return st.airspeed_mps
+
+    assert speed_after(margin) <= v_refill_world
+    assert speed_after(gd.lake_approach_margin_m) > v_refill_world  # FF's margin is too short for it
+
+
+def _final_height_at_threshold(
+    af, length_m: float, kz: float, v_mps: float, top_m: float, entry_mps: float | None = None
+) -> float:
+    """Fly the world's coordinated-turn model down the lined-up final's height profile (guidance's
+    ``land_*``: linear from ``top_m`` to 0.5 m over 70 % of the leg, then flat) at ``v_mps``,
+    entering it at ``entry_mps`` (default ``v_mps``), the height loop FF Eq. 12 at ``kz``; its true
+    height at the threshold."""
+    model = CoordinatedTurnModel(af, 0.0)
+    rng = np.random.default_rng(0)
+    v0 = v_mps if entry_mps is None else entry_mps
+    st = model.launch(FlightState(-length_m, 0.0, top_m, 0.0, water_kg=0.0), Command(v0, 0.0, 0.0))
+    low, flat = 0.5, 0.3
+    vz_max = min(af.climb_max_mps, af.descent_max_mps)
+    while st.x_m < 0.0:
+        dist = -st.x_m
+        h = low + (top_m - low) * min(1.0, max(0.0, (dist - flat * length_m) / ((1.0 - flat) * length_m)))
+        vz = max(-vz_max, min(vz_max, kz * (h - st.z_m)))
+        for _ in range(10):
+            (st,) = model.step([st], [Command(v_mps, vz, 0.0)], 0.01, [rng])
+    return st.z_m
+
+
+@pytest.mark.parametrize("entry_mps", [46.8, 60.0, 75.0])
+def test_the_tankers_final_is_long_enough_to_arrive_below_the_touchdown_height(entry_mps: float):
+    """On the agent's final leg the world's tanker is below the 0.8 m touch-down height at the
+    threshold, however fast it enters the leg (it slows at 1 m/s^2: it captured the line at 60-72
+    m/s in the mission). On the final it flew before (4 turn radii, 893 m) it arrived 1-4 m high
+    when it entered at 60-75 m/s and went round (ff_two_fires_tanker seed 2: one UAV landed 990 s
+    after the fleet agreed to land)."""
+    a, _ = _tanker_agent(3)  # UAV 3 flies the upper layer (37 m)
+    ap = a.guide.approach
+    kz, v = a.guide.land_gains.kz, a.cfg.limits.v_stall_mps
+    top = 37.0
+    assert _final_height_at_threshold(TANKER, ap.length_m, kz, v, top, entry_mps) < 0.8
+    if entry_mps >= 60.0:
+        assert _final_height_at_threshold(TANKER, 4.0 * ap.turn_radius_m, kz, v, top, entry_mps) > 0.8
+
+
+@pytest.mark.parametrize("cross_m", [0.0, 1.5, 2.4])
+def test_a_tanker_pass_along_the_line_cannot_step_over_the_touchdown_point(cross_m: float):
+    """At 46.8 m/s a control step is 4.7 m, wider than the 2.5 m touch-down disc: for every phase of
+    the steps against the threshold, a pass within 2.5 m of the line has a step that touches down,
+    and that step is within 2.5 m along and across of the threshold. The disc alone is missed for
+    some phases once the pass is more than about 1 m off the line (the tanker went round)."""
+    ap = FinalApproach((0.0, 0.0), math.pi, 1800.0, 223.0)
+    step = TANKER.v_min_mps * 0.1
+    missed_by_disc = 0
+    for k in range(50):
+        phase = step * k / 50
+        xs = [20.0 - phase - step * i for i in range(12)]  # flying west (course pi) past x = 0
+        hits = [x for x in xs if ap.at_threshold((x, -cross_m), step, 2.5)]
+        assert hits, f"phase {phase:.2f} m"
+        assert abs(hits[0]) <= 0.5 * step + 1e-9 or math.hypot(hits[0], cross_m) <= 2.5
+        missed_by_disc += not any(math.hypot(x, cross_m) <= 2.5 for x in xs)
+    assert missed_by_disc > 0 or cross_m < 1.0  # the disc's chord, 2 sqrt(2.5^2 - cross^2), < 4.7 m
+    # an airframe whose step is shorter than the disc keeps the disc alone
+    assert not ap.at_threshold((0.7, 2.4), 1.56, 2.5) or math.hypot(0.7, 2.4) <= 2.5
+    assert not ap.at_threshold((1.0, 2.4), 1.56, 2.5)
+
+
+def test_slowdown_is_the_distance_the_world_flies_while_decelerating():
+    """slowdown_m(tanker, 75, 49.8) against the world's model: commanded 49.8 m/s from 75 m/s, the
+    tanker is within accel_max tau_airspeed (4 m/s) of it after that distance, not at 75 % of it."""
+    d = slowdown_m(TANKER, 75.0, 49.8)
+    model = CoordinatedTurnModel(TANKER, 0.0)
+    rng = np.random.default_rng(0)
+    st = model.launch(FlightState(0.0, 0.0, 30.0, 0.0, water_kg=0.0), Command(75.0, 0.0, 0.0))
+    at_75 = None
+    while st.x_m < d:
+        (st,) = model.step([st], [Command(49.8, 0.0, 0.0)], 0.01, [rng])
+        if at_75 is None and st.x_m >= 0.75 * d:
+            at_75 = st.airspeed_mps
+    assert st.airspeed_mps <= 49.8 + TANKER.accel_max_mps2 * TANKER.tau_airspeed_s + 1e-6
+    assert at_75 is not None and at_75 > 49.8 + TANKER.accel_max_mps2 * TANKER.tau_airspeed_s
+    assert slowdown_m(TANKER, 40.0, 49.8) == 0.0
