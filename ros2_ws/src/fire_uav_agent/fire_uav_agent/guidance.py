@@ -226,8 +226,6 @@ class Guide:
             v_cap = plan.speed_cap_mps
         if self.raster.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
             height = self.raster.tactic.layer_height_m(cfg.uav_id)
-            if lake is not None and self._in_lake_zone(pos, lake):
-                height = max(height, self._hold_height_m())  # never at the scoop height over the lake
         cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
         if self.raster.front is None:  # analytic fires only (_within_turn)
             cmd = self._within_turn(s, cmd, target)

@@ -26,9 +26,11 @@ Scooper Operations Unit standards). Here over a raster fire (:meth:`.guidance.Gu
 the lake holds :func:`scoop_slots` lanes, points far enough apart that two UAVs circling
 neighbouring points at the scoop speed stay ``radius_m`` apart, UAV i scoops at lane
 ``i % len(lanes)``, and it descends to the scoop height only when :func:`scoop_cleared` (no
-peer with precedence is refilling on its lane inside the lake zone); until then it holds over
-its lane at least ``vertical_m`` plus the tracking margin above the scoop height. Every other
-UAV crosses the lake zone at that holding height too, never at the scoop height.
+peer with precedence is refilling on its lane inside the lake zone) and no low peer is below it
+within ``radius_m`` (:func:`hold_layer`); until then it holds over
+its lane at least ``vertical_m`` plus the tracking margin above the scoop height. Other phases
+keep their layers over the lake: raising the 8 m layer to that holding height (22 m) crowded the
+22 m layer there and the closest approaches fell (docs/suppression.md, "The lake: scoop lanes").
 
 Right of way (our addition). At 100 m/s two UAVs close 20 m per 0.1 s step and turn at
 up to 10 rad/s, so a peer's straight-line prediction from its last two states is wrong exactly
