@@ -28,7 +28,7 @@ from .mission import Decision
 from .peer_link import FireEntry, PeerLink
 from .planning import Planner, PlannerView
 from .raster_role import RasterSuppression
-from .separation import PeerAvoidance, hold_layer, scoop_cleared, scoop_slots
+from .separation import PeerAvoidance, hold_layer
 from .staleness_search import StalenessSearch
 from .tactics import direct_run_point, layer_height
 
@@ -155,8 +155,6 @@ class Guide:
                     self.grid, [(f.x_m, f.y_m) for f in active], [f.extent_m for f in active]
                 )  # Eq. 13
                 target = self._centroid_of(dens, (tgt.x_m, tgt.y_m), cell)
-        elif obj == Objective.REFILL and lake is not None and self.raster.front is not None:
-            target, height, v_cap = self._scoop_lane(s, lake)
         elif obj == Objective.REFILL and lake is not None:
             lake_xy = (lake.x_m, lake.y_m)
             if dec.direct:
@@ -230,61 +228,6 @@ class Guide:
         if self.raster.front is None:  # analytic fires only (_within_turn)
             cmd = self._within_turn(s, cmd, target)
         return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
-
-    def _in_lake_zone(self, xy: tuple[float, float], lake: Lake) -> bool:
-        """Within ``lake_approach_margin_m`` of the shore: where refilling UAVs fly low and slow."""
-        return math.hypot(xy[0] - lake.x_m, xy[1] - lake.y_m) < (
-            lake.diameter_m / 2 + self.cfg.guidance.lake_approach_margin_m
-        )
-
-    def _hold_height_m(self) -> float:
-        """[m above terrain] The lowest height a UAV not on a scoop run flies in the lake zone: one
-        layer step (:func:`.tactics.raster_layers`: the avoider's vertical band plus twice the height
-        tracking error) above the scoop height."""
-        gd, veh = self.cfg.guidance, self.cfg.vehicle
-        return gd.refill_height_fraction * veh.refill_height_m + self.raster.tactic.layer_step_m
-
-    def _scoop_lane(self, s: np.ndarray, lake: Lake) -> tuple[tuple[float, float], float, float | None]:
-        """REFILL over a raster fire: target, height [m above terrain] and speed cap [m/s] (None: none)
-        on this UAV's scoop lane (:func:`.separation.scoop_slots`, :func:`.separation.scoop_cleared`).
-
-        Cleared: FF IV-D b's low and slow approach inside the lake zone, at the lane's point. Not
-        cleared (a peer with precedence refills on the lane): over the lane at the holding height,
-        at the law's speed, until the peer is gone. Outside the zone: to the lane at the layer
-        height (:meth:`run` applies it)."""
-        cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
-        low_m = gd.refill_height_fraction * veh.refill_height_m
-        hold_m = self._hold_height_m()
-        v_scoop = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
-        af = cfg.airframe
-        turn_m = v_scoop / lim.omega_max_radps if af is None else turn_radius_m(af, v_scoop)
-        lanes = scoop_slots((lake.x_m, lake.y_m), lake.diameter_m / 2, 2.0 * turn_m, cfg.separation.radius_m)
-        lane = cfg.uav_id % len(lanes)
-        target = lanes[lane]
-        pos = (float(s[0]), float(s[1]))
-        if not self._in_lake_zone(pos, lake):
-            return target, veh.flight_height_m, None
-        low_below_m = hold_m - 0.5 * self.raster.tactic.layer_step_m  # descending: below this
-        states = {
-            j: (p, float(p.z_m - cfg.terrain.elevation(p.x_m, p.y_m)) < low_below_m)
-            for j, p in self.link.alive_states().items()
-            if p.objective not in (Objective.GROUNDED, Objective.LANDED)
-        }
-        queue = [
-            (j, j % len(lanes), low_j)
-            for j, (p, low_j) in states.items()
-            if p.objective == Objective.REFILL and self._in_lake_zone((p.x_m, p.y_m), lake)
-        ]
-        low = float(s[2] - cfg.terrain.elevation(*pos)) < low_below_m
-        # and not down onto a peer that is low already (any phase): two UAVs that dropped together
-        # flew to the lake side by side on their layers, 8 and 22 m, and one descended onto the
-        # other (grass_running, 6 UAVs, seed 1, 868 s: 5.66 m)
-        under = [(p.x_m, p.y_m, p.z_m) for p, low_j in states.values() if low_j]
-        if scoop_cleared(cfg.uav_id, lane, low, queue) and (
-            low or not hold_layer((pos[0], pos[1], float(s[2])), under, cfg.separation)
-        ):
-            return target, low_m, v_scoop
-        return target, max(hold_m, self.raster.tactic.layer_height_m(cfg.uav_id)), None
 
     def _home_in_area(self) -> bool:
         x0, x1, y0, y1 = self.cfg.area_m

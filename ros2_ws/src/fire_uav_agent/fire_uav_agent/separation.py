@@ -16,22 +16,6 @@ heading change of up to 1 rad per 0.1 s control step is available and the filter
 the heading (speed kept at the law's value, lowered to stall speed when no heading is clear).
 Positions [m; map frame], velocities [m/s], headings [rad] ccw from +x.
 
-The lake: scoop lanes and one UAV per lane (our addition; FF IV-D b says only "low and slow").
-Every UAV that refills descends to the scoop height near the lake, so the altitude layers that
-keep them apart over the fire do not help there, and FF's lake density (Eq. 14) sends every
-refilling UAV to (nearly) the same point over the water. Scooper crews work a water source
-sequenced, one aircraft on a scoop run at a time and the others holding clear of it above
-(USDA Forest Service, *Amphibious Water Scooper Aircraft Operations Plan*, 2016; NWCG Water
-Scooper Operations Unit standards). Here over a raster fire (:meth:`.guidance.Guide.run`):
-the lake holds :func:`scoop_slots` lanes, points far enough apart that two UAVs circling
-neighbouring points at the scoop speed stay ``radius_m`` apart, UAV i scoops at lane
-``i % len(lanes)``, and it descends to the scoop height only when :func:`scoop_cleared` (no
-peer with precedence is refilling on its lane inside the lake zone) and no low peer is below it
-within ``radius_m`` (:func:`hold_layer`); until then it holds over
-its lane at least ``vertical_m`` plus the tracking margin above the scoop height. Other phases
-keep their layers over the lake: raising the 8 m layer to that holding height (22 m) crowded the
-22 m layer there and the closest approaches fell (docs/suppression.md, "The lake: scoop lanes").
-
 Right of way (our addition). At 100 m/s two UAVs close 20 m per 0.1 s step and turn at
 up to 10 rad/s, so a peer's straight-line prediction from its last two states is wrong exactly
 when it matters (after a drop a UAV reverses towards the lake; measured: 3.0-3.6 m passes, 8
@@ -55,7 +39,7 @@ instead of 31 s; 160 s instead of 89 s): the UAVs that yield need them, the othe
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -73,8 +57,6 @@ __all__ = [
     "closest_approach_m",
     "hold_layer",
     "peer_rows",
-    "scoop_cleared",
-    "scoop_slots",
     "turning_approach_m",
 ]
 
@@ -127,50 +109,6 @@ def hold_layer(
     """
     x, y, z = own_xyz_m
     return any(math.hypot(px - x, py - y) < cfg.radius_m and pz < z for px, py, pz in right_of_way_xyz_m)
-
-
-def scoop_slots(
-    lake_xy_m: tuple[float, float], lake_radius_m: float, circle_radius_m: float, clearance_m: float
-) -> tuple[tuple[float, float], ...]:
-    """Scoop lanes [m; map] over a lake of centre ``lake_xy_m`` and radius ``lake_radius_m`` (module doc).
-
-    A UAV at the scoop speed circles its lane's point within ``circle_radius_m`` (the guidance
-    passes twice the minimum turn radius: FF's unicycle pursuing a point at 47.7 m/s and 10 rad/s,
-    a 4.8 m turn, flew 5-7 m from it); the points lie evenly spaced on the circle of radius
-    ``lake_radius_m - circle_radius_m`` (so the circles stay over the water), as many as keep
-    neighbouring points ``clearance_m + 2 circle_radius_m`` apart (two UAVs each on its own circle
-    then stay ``clearance_m`` apart). One lane, the lake centre, when fewer than two fit: every UAV
-    then scoops there, one at a time.
-    """
-    cx, cy = lake_xy_m
-    ring_m = lake_radius_m - circle_radius_m
-    need_m = clearance_m + 2.0 * circle_radius_m
-    if not ring_m > 0 or need_m >= 2.0 * ring_m:
-        return ((float(cx), float(cy)),)
-    n = int(math.pi // math.asin(need_m / (2.0 * ring_m)))  # chord 2 r sin(pi / n) >= need
-    if n < 2:
-        return ((float(cx), float(cy)),)
-    return tuple(
-        (float(cx + ring_m * math.cos(math.tau * k / n)), float(cy + ring_m * math.sin(math.tau * k / n)))
-        for k in range(n)
-    )
-
-
-def scoop_cleared(uav_id: int, lane: int, low: bool, peers: Iterable[tuple[int, int, bool]]) -> bool:
-    """Whether UAV ``uav_id`` may fly its scoop run on ``lane`` now (module doc).
-
-    ``peers``: (id, lane, low) of every alive peer refilling inside the lake zone (its last state);
-    ``low``: below the holding height (descending or scooping). A peer on the same lane has
-    precedence when it is low and this UAV is not (it is on the run already), or when both are
-    equally low and its id is lower (the same right of way as :func:`avoid_heading`). Every UAV
-    applies the same rule to the same states, so at most one of a lane's UAVs keeps descending.
-    """
-    for j, lane_j, low_j in peers:
-        if j == uav_id or lane_j != lane:
-            continue
-        if (low_j and not low) or (low_j == low and j < uav_id):
-            return False
-    return True
 
 
 def peer_rows(
