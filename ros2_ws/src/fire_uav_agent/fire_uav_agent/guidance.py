@@ -179,6 +179,13 @@ class Guide:
                 v_cap = (
                     lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
                 )  # ... and slow
+                if self.raster.front is not None and self._onto_low_peer(s):
+                    # not down onto a peer at the scoop height below it: keep a layer step above
+                    height = max(
+                        height + self.raster.tactic.layer_step_m,
+                        self.raster.tactic.layer_height_m(cfg.uav_id),
+                    )
+                    v_cap = None
         elif obj == Objective.LAND and self.approach is not None and self._home_in_area():
             return self._land_lined_up(s, cruise, last_step)
         elif obj == Objective.LAND:
@@ -237,6 +244,32 @@ class Guide:
         if self.raster.front is None:  # analytic fires only (_within_turn)
             cmd = self._within_turn(s, cmd, target)
         return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
+
+    def _onto_low_peer(self, s: np.ndarray) -> bool:
+        """Whether a refilling UAV above the scoop height would descend onto a peer near it that is
+        low already (raster fires; our addition, FF IV-D b says only "low and slow").
+
+        Over a raster fire the layers (8 / 22 / 36 m) keep UAVs apart, but near the lake every
+        refilling UAV descends to the 7.5 m scoop height: two UAVs that dropped together flew to
+        the lake side by side on the 8 and 22 m layers, and UAV 1 descended onto UAV 0 (grass_running,
+        6 UAVs, head, seed 1, 868.0 s: 5.66 m). Scooper crews hold above the water while another
+        aircraft is on the scoop run (USDA Forest Service, Amphibious Water Scooper Aircraft
+        Operations Plan, 2016), so this UAV holds a layer step (the avoider's vertical band plus
+        twice the height tracking error, :func:`.tactics.raster_layers`) above the scoop height while
+        any peer below half a step above it is within ``separation.radius_m`` horizontally and
+        below it (:func:`.separation.hold_layer`, the landing's rule). Peers' states are the step's
+        before (0.1 s old)."""
+        cfg, gd, veh = self.cfg, self.cfg.guidance, self.cfg.vehicle
+        low_below_m = gd.refill_height_fraction * veh.refill_height_m + 0.5 * self.raster.tactic.layer_step_m
+        if float(s[2] - cfg.terrain.elevation(float(s[0]), float(s[1]))) < low_below_m:
+            return False  # low already: on its scoop run
+        under = [
+            (p.x_m, p.y_m, p.z_m)
+            for p in self.link.alive_states().values()
+            if p.objective not in (Objective.GROUNDED, Objective.LANDED)
+            and float(p.z_m - cfg.terrain.elevation(p.x_m, p.y_m)) < low_below_m
+        ]
+        return hold_layer((float(s[0]), float(s[1]), float(s[2])), under, cfg.separation)
 
     def _home_in_area(self) -> bool:
         x0, x1, y0, y1 = self.cfg.area_m
