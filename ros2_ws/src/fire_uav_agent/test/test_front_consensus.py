@@ -13,7 +13,7 @@ import pytest
 from fire_uav_agent.fire_front import FrontCells, FrontConfig, FrontPicture
 from fire_uav_agent.front_consensus import FrontSharing, PeerFront, concat
 from fire_uav_common.constants import CellState
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 B, N, U = int(CellState.BURNING), int(CellState.BURNED), int(CellState.UNBURNED)
@@ -121,17 +121,24 @@ def test_concat_keeps_every_column_in_order() -> None:
         st.tuples(st.integers(0, 2), st.integers(0, 5), st.sampled_from([U, B, N])), min_size=1, max_size=14
     ),
 )
+@example(sightings=[(2, 4, N), (0, 0, U), (1, 4, B), (1, 5, B), (2, 5, B)])
 def test_one_agents_front_reaches_the_far_end_of_a_line_of_three(sightings) -> None:
     """Agent 0 sees random cells of a 3 x 6 raster at t = 1, 2, ... (any order of states); then,
     with no new sightings, each round every agent merges its neighbours' messages (line
     0 - 1 - 2). After two rounds (the diameter) agents 1 and 2 hold agent 0's front, which is
-    the front of everything seen. (Several observers: the next test.)"""
+    the front of everything seen. (Several observers: the next test.)
+
+    The messages start only after the last sighting, so their window of recent sightings spans
+    them all (agents send one every step, each carrying the sightings of its last ``recent_s``).
+    With the default 3 s window the example above failed: cell (2, 4), seen BURNED at t = 1 and
+    never on the front, was in no message, so the peers kept its burning neighbour (2, 5) on
+    their front (a test error, not the module's: agents share from their first sighting on)."""
     agents = [pic(), pic(), pic()]
     for t, (i, j, s) in enumerate(sightings, start=1):
         x, y = xy([(i, j)])
         agents[0].observe(x, y, np.array([s]), float(t))
     t_end = float(len(sightings))
-    sharing = [FrontSharing(), FrontSharing(), FrontSharing()]
+    sharing = [FrontSharing(recent_s=t_end) for _ in range(3)]
     for _ in range(2):
         msgs = [sharing[k].message(agents[k], t_end) for k in range(3)]
         for k, nbrs in ((0, (1,)), (1, (0, 2)), (2, (1,))):
