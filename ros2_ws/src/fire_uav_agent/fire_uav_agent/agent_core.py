@@ -520,7 +520,7 @@ class Agent:
                 m.merge(p.summary, peer_id=p.uav_id, peer_pos_m=flying.get(p.uav_id), t_s=t_s)
                 self.perimeter_received += 1
             except ValueError:
-                self.perimeter_lost += 0  # malformed: ignored (counted nowhere else)
+                pass  # malformed: ignored (perimeter_lost counts the injected loss only)
 
     def _collect_fronts(self, active: tuple[FireEntry, ...]) -> None:
         """Fastest-spreading fronts: own monitors first, else peers' published fronts."""
