@@ -18,7 +18,7 @@ from typing import Any, TextIO
 from fire_bench.sweep import Executor, Finished, MissionSpec
 
 from .spec import Arm, Study, mission_overrides, scenario_path_of
-from .store import KEY_FIELDS, ResultStore
+from .store import KEY_FIELDS, ResultStore, run_lock
 
 __all__ = ["StudyMission", "RunReport", "missions", "run_study"]
 
@@ -110,6 +110,13 @@ def run_study(
 ) -> RunReport:
     """Run the missions of ``study`` not yet in ``out_dir/results.jsonl`` (at most ``limit`` of them);
     rewrites the file in mission order once every mission is in."""
+    with run_lock(Path(out_dir)):
+        return _run_locked(study, out_dir, executor, stream, limit)
+
+
+def _run_locked(
+    study: Study, out_dir: Path, executor: Executor, stream: TextIO, limit: int | None
+) -> RunReport:
     store = ResultStore(out_dir, study)
     order = missions(study)
     done = store.done()

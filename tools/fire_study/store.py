@@ -8,20 +8,28 @@ of this study's file changed since (other seeds, tactics, overrides, ...), is re
 two studies are never mixed. A line cut short by a kill (no newline at the end) is dropped.
 When every mission is in, the file is rewritten in the study's own mission order, so a study
 resumed after a kill ends with the same file as one run straight through.
+
+One run at a time per directory: :func:`run_lock` holds an exclusive ``flock`` on
+``DIR/results.lock`` while missions run, so a second run on the same directory (which would
+append the same missions twice, or rewrite the file under the first) stops at once with an error
+naming the directory and the holder's process id. The kernel drops the lock when its process
+ends, killed or not, so a lock is never left stale.
 """
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import json
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
 from .errors import StudyError
 from .spec import Study
 
-__all__ = ["FORMAT", "KEY_FIELDS", "ResultStore", "mission_key", "read_results"]
+__all__ = ["FORMAT", "KEY_FIELDS", "ResultStore", "mission_key", "read_results", "run_lock"]
 
 FORMAT = "fire_study/1"
 KEY_FIELDS = ("scenario", "airframe", "uavs", "tactic", "seed")
@@ -33,6 +41,34 @@ def mission_key(row: dict[str, Any]) -> tuple:
 
 def _dumps(obj: Any) -> str:
     return json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+@contextlib.contextmanager
+def run_lock(out_dir: Path) -> Iterator[Path]:
+    """Hold ``out_dir/results.lock`` (module doc) for the ``with`` block; :class:`StudyError` if
+    another process holds it."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    path = out_dir / "results.lock"
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(fd, 64, 0).decode(errors="replace").strip() or "unknown"
+            raise StudyError(
+                f"{out_dir}: another study run is writing these results (process {holder}, lock {path}); "
+                "wait for it to end, stop it, or use another --out directory"
+            ) from None
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        try:
+            yield path
+        finally:
+            os.ftruncate(fd, 0)
+            fcntl.flock(fd, fcntl.LOCK_UN)
+    finally:
+        os.close(fd)
 
 
 def read_results(path: Path) -> tuple[dict, list[dict]]:
