@@ -64,6 +64,17 @@ def test_no_peer_owns_all_and_bad_input_is_named():
         arc_work(np.ones((2, 5)), 1.0)
 
 
+def test_an_unknown_spread_rate_counts_as_no_spread():
+    """NaN (a cell not yet timed) weighs as a cell spreading at 0 m/s, not at 1 m/s."""
+    assert np.array_equal(arc_work([math.nan, 2.0, 0.5], 5.0), arc_work([0.0, 2.0, 0.5], 5.0))
+    assert not np.array_equal(arc_work([1.0, 2.0, 0.5], 5.0), arc_work([0.0, 2.0, 0.5], 5.0))
+
+
+def test_two_cells_and_a_peer_on_the_other_each_own_one():
+    """The smallest perimeter a split is defined on: our cell and the peer's."""
+    assert work_bisector_split(arc_work([1.0, 1.0], 5.0), [1]).tolist() == [True, False]
+
+
 def test_two_peers_the_nearest_each_way_bound_the_arc():
     w = arc_work(np.full(M, 1.0), 1.0)
     owned = work_bisector_split(w, np.array([100, 200, 300]))
