@@ -106,24 +106,103 @@ def arrival_batch(tgt, t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, 
 
 
 @njit(cache=True)
-def remove_gone(t0, t_out, ext, live_buf, live_mask, arr_t, gi, meta):  # pragma: no cover
+def _sift_down(heap, n, i, key):  # pragma: no cover
+    """Restore the min-heap ``heap[:n]`` (of cells keyed by ``key[cell]``) below position ``i``."""
+    c = heap[i]
+    k = key[c]
+    while True:
+        lo = 2 * i + 1
+        if lo >= n:
+            break
+        m = lo
+        if lo + 1 < n and key[heap[lo + 1]] < key[heap[lo]]:
+            m = lo + 1
+        if key[heap[m]] < k:
+            heap[i] = heap[m]
+            i = m
+        else:
+            break
+    heap[i] = c
+
+
+@njit(cache=True)
+def _sift_up(heap, i, key):  # pragma: no cover
+    """Restore the min-heap above position ``i`` (a cell just placed there)."""
+    c = heap[i]
+    k = key[c]
+    while i > 0:
+        p = (i - 1) // 2
+        if k < key[heap[p]]:
+            heap[i] = heap[p]
+            i = p
+        else:
+            break
+    heap[i] = c
+
+
+@njit(cache=True)
+def _mark_dirty(b, dirty_buf, is_dirty, nd):  # pragma: no cover
+    """Queue cell ``b`` (its arrival time was just invalidated); returns the queue's length."""
+    if not is_dirty[b]:
+        is_dirty[b] = True
+        dirty_buf[nd] = b
+        nd += 1
+    return nd
+
+
+@njit(cache=True)
+def remove_gone(
+    t0, t_out, ext, label, live_buf, live_mask, arr_t, dirty_buf, is_dirty, counts, gi, meta, tnext
+):  # pragma: no cover
     """Drop from the live cells those burnt out by ``t0`` [s] or extinguished (both for good);
-    their targets' arrival times are to be computed again (NaN). Returns how many left."""
+    their targets' arrival times are to be computed again (NaN, queued). The live cells are a
+    min-heap by burn-out time, so this pops only the cells that go; after a drop (extinguished
+    cells) or a changed burn-out time (``meta[3]`` set) it filters them all and rebuilds the heap.
+    Sets ``tnext[1]``, the earliest burn-out time left. Returns how many left."""
     ring = gi[0]
     n = meta[0]
-    j = 0
+    nd = meta[2]
     gone = 0
-    for q in range(n):
-        c = live_buf[q]
-        if t_out[c] > t0 and not ext[c]:
-            live_buf[j] = c
-            j += 1
-        else:
-            live_mask[c] = False
+    if meta[3]:
+        j = 0
+        for q in range(n):
+            c = live_buf[q]
+            if t_out[c] > t0 and not ext[c]:
+                live_buf[j] = c
+                j += 1
+            else:
+                gone += 1
+                live_mask[c] = False
+                counts[label[c] + 1] -= 1
+                for k in range(N_RING):
+                    b = c - ring[k]
+                    arr_t[b] = math.nan
+                    nd = _mark_dirty(b, dirty_buf, is_dirty, nd)
+        n = j
+        for i in range(n // 2 - 1, -1, -1):
+            _sift_down(live_buf, n, i, t_out)
+        meta[3] = 0
+    else:
+        while n > 0:
+            c = live_buf[0]
+            if t_out[c] > t0:
+                break
+            n -= 1
+            live_buf[0] = live_buf[n]
+            if n > 1:
+                _sift_down(live_buf, n, 0, t_out)
             gone += 1
+            live_mask[c] = False
+            counts[label[c] + 1] -= 1
             for k in range(N_RING):
-                arr_t[c - ring[k]] = math.nan
-    meta[0] = j
+                b = c - ring[k]
+                arr_t[b] = math.nan
+                nd = _mark_dirty(b, dirty_buf, is_dirty, nd)
+    meta[0] = n
+    meta[2] = nd
+    if gone:
+        tnext[0] = -math.inf  # arrival times to compute again: no idle update can be assumed
+    tnext[1] = t_out[live_buf[0]] if n > 0 else math.inf
     return gone
 
 
@@ -154,45 +233,56 @@ def ignite(
     band_buf,
     in_band,
     arr_t,
+    dirty_buf,
+    is_dirty,
+    counts,
     gi,
     gf,
     meta,
+    tnext,
 ):  # pragma: no cover
     """Ignite flat cells ``cells`` at ``times`` [s] with fire ids ``labels`` (all first, then each
     one's burn-out time from the ignition times of the whole batch, as the numpy path): the
-    cells join the live buffer, their ring joins the band and their targets are invalidated.
-    Returns the latest ignition time (-inf for none)."""
+    cells join the live heap, their ring joins the band and their targets are invalidated
+    (queued). Returns the latest ignition time (-inf for none)."""
     ring = gi[0]
     vx, vy, vn = gf[0], gf[1], gf[2]
     n = cells.size
     latest = -math.inf
-    n_live = meta[0]
+    n_live0 = meta[0]
+    n_live = n_live0
     n_band = meta[1]
+    nd = meta[2]
     for q in range(n):
         c = cells[q]
         t = times[q]
         t_ign[c] = t
         if t > latest:
             latest = t
+        if live_mask[c]:  # burning again under a new wind: its burn-out time (its key) changes
+            counts[label[c] + 1] -= 1
+            meta[3] = 1
+        else:
+            live_mask[c] = True
+            live_buf[n_live] = c
+            n_live += 1
         label[c] = labels[q]
+        counts[labels[q] + 1] += 1
         if has_land:  # the highest type under the winds it burned in
             f = fire_type[(c // width - pad) * nx + (c % width - pad)]
             if f > burn_type[c]:
                 burn_type[c] = f
         t_seed[c] = math.inf
-        if not live_mask[c]:
-            live_mask[c] = True
-            live_buf[n_live] = c
-            n_live += 1
-        for k in range(N_RING):
-            arr_t[c - ring[k]] = math.nan
+        for k in range(N_RING):  # the ring is symmetric: its cells are the ones c is a node for
             b = c + ring[k]
+            arr_t[b] = math.nan
+            nd = _mark_dirty(b, dirty_buf, is_dirty, nd)
             if not in_band[b]:
                 in_band[b] = True
                 band_buf[n_band] = b
                 n_band += 1
-    meta[0] = n_live
     meta[1] = n_band
+    meta[2] = nd
     for q in range(n):
         c = cells[q]
         t = times[q]
@@ -206,6 +296,11 @@ def ignite(
         r = res_s[c]
         longest = r if (r > longest or math.isnan(r)) else longest
         t_out[c] = t + (longest if longest < max_burn_s else max_burn_s)
+    if not meta[3]:
+        for i in range(n_live0, n_live):
+            _sift_up(live_buf, i, t_out)
+    meta[0] = n_live
+    tnext[1] = -math.inf if meta[3] else (t_out[live_buf[0]] if n_live > 0 else math.inf)
     return latest
 
 
@@ -226,7 +321,6 @@ def propagate(
     t_seed,
     seed_label,
     seeded,
-    n_fires,
     burnable,
     ext,
     wet_until,
@@ -241,20 +335,27 @@ def propagate(
     in_band,
     arr_t,
     arr_lab,
+    dirty_buf,
+    is_dirty,
+    counts,
     gi,
     gf,
     meta,
+    tnext,
 ):  # pragma: no cover
     """Ignite every cell whose arrival time (2) is <= ``t1`` [s], in passes: each pass drops the
     sources burnt out by ``t0`` [s] or extinguished, takes every band cell due by ``t1`` from the
     state at the pass' start (seed times (1) of ``seeded`` on top while their fire burns, no
     earlier than the cell's ``wet_until``) and ignites them together, until a pass ignites
-    nothing or ``max_sweeps`` passes. Returns the latest ignition time (-inf for none)."""
+    nothing or ``max_sweeps`` passes. The first pass reads the whole band; a later one only the
+    cells whose arrival time was invalidated since (the others were not due by ``t1`` and have
+    not changed), unless seed times apply (they depend on which fires burn). Sets ``tnext[0]``,
+    a lower bound of the band's next arrival time (-inf when unknown). Returns the latest
+    ignition time (-inf for none)."""
     ring = gi[0]
     latest = -math.inf
     tn = np.empty(N_RING)
     br = np.empty(N_RING, dtype=np.bool_)
-    burning_fires = np.zeros(n_fires + 1, dtype=np.bool_)
     new_c = np.empty(16, dtype=np.int64)
     new_t = np.empty(16)
     new_l = np.empty(16, dtype=label.dtype)
@@ -267,20 +368,38 @@ def propagate(
             band_buf[n_band] = c
             n_band += 1
     meta[1] = n_band
+    full = True
+    mn = math.inf  # the earliest arrival time not due by t1 among the cells read
     for _ in range(max_sweeps):
-        remove_gone(t0, t_out, ext, live_buf, live_mask, arr_t, gi, meta)
+        remove_gone(
+            t0, t_out, ext, label, live_buf, live_mask, arr_t, dirty_buf, is_dirty, counts, gi, meta, tnext
+        )
         n_live = meta[0]
         if n_live == 0 and seeded.size == 0:
+            tnext[0] = math.inf  # nothing burns: nothing ignites before a new ignition
             return latest
-        fires_known = False
-        n_band = meta[1]
-        j = 0
         m = 0
-        for q in range(n_band):
-            c = band_buf[q]
-            if not burnable[c] or math.isfinite(t_ign[c]) or ext[c]:  # no longer a target
-                in_band[c] = False
-                continue
+        nd = meta[2]
+        if full:
+            mn = math.inf
+            for q in range(nd):  # every band cell is read: the queue is moot
+                is_dirty[dirty_buf[q]] = False
+            meta[2] = 0
+            n_scan = meta[1]
+        else:
+            n_scan = nd
+        j = 0
+        for q in range(n_scan):
+            if full:
+                c = band_buf[q]
+                if not burnable[c] or math.isfinite(t_ign[c]) or ext[c]:  # no longer a target
+                    in_band[c] = False
+                    continue
+            else:
+                c = dirty_buf[q]
+                is_dirty[c] = False
+                if not in_band[c] or not burnable[c] or math.isfinite(t_ign[c]) or ext[c]:
+                    continue  # left in the band, dropped by the next whole read
             if math.isnan(arr_t[c]):
                 near = math.isfinite(t_seed[c])
                 if not near:
@@ -289,27 +408,24 @@ def propagate(
                             near = True
                             break
                 if not near:  # back when one of its ring nodes ignites
-                    in_band[c] = False
+                    if full:
+                        in_band[c] = False
                     continue
                 b, lb = _arrival_one(
                     c, t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, gi, gf, tn, br
                 )
                 arr_t[c] = b
                 arr_lab[c] = lb
-            band_buf[j] = c
-            j += 1
+            if full:
+                band_buf[j] = c
+                j += 1
             best = arr_t[c]
             lab = arr_lab[c]
             # exact times from the ignition points, while their fire still burns
             seed = t_seed[c]
             if seed < best:
-                if not fires_known:
-                    burning_fires[:] = False
-                    for p in range(n_live):
-                        burning_fires[label[live_buf[p]] + 1] = True
-                    fires_known = True
                 sf = seed_label[c]
-                if burning_fires[sf + 1]:
+                if counts[sf + 1] > 0:
                     best = seed
                     lab = sf
             w = wet_until[c]
@@ -323,8 +439,14 @@ def propagate(
                 new_t[m] = t_arr
                 new_l[m] = lab
                 m += 1
-        meta[1] = j
+            elif t_arr < mn:
+                mn = t_arr
+        if full:
+            meta[1] = j
+        else:
+            meta[2] = 0
         if m == 0:
+            tnext[0] = mn
             return latest
         last = ignite(
             new_c[:m],
@@ -352,39 +474,81 @@ def propagate(
             band_buf,
             in_band,
             arr_t,
+            dirty_buf,
+            is_dirty,
+            counts,
             gi,
             gf,
             meta,
+            tnext,
         )
         if last > latest:
             latest = last
+        full = seeded.size > 0
+    tnext[0] = -math.inf  # passes left undone
     return latest
 
 
 @njit(cache=True)
 def active_fires(
-    t_s, t0, t_ign, t_out, label, ext, live_buf, live_mask, arr_t, gi, meta, flags
+    t_s,
+    t0,
+    ign_ok,
+    t_ign,
+    t_out,
+    ext,
+    label,
+    live_buf,
+    live_mask,
+    arr_t,
+    dirty_buf,
+    is_dirty,
+    counts,
+    gi,
+    meta,
+    tnext,
+    flags,
 ):  # pragma: no cover
     """The fire ids burning at ``t_s`` [s] >= ``t0`` [s], the last update (every cell burning then
-    is live), as ``flags[id + 1]``; drops the live cells gone by ``t0`` (as :func:`remove_gone`) on
-    the way. Returns whether ``flags`` changed."""
-    ring = gi[0]
-    before = flags.copy()
-    flags[:] = False
-    j = 0
-    for q in range(meta[0]):
-        c = live_buf[q]
-        if t_out[c] > t0 and not ext[c]:
-            live_buf[j] = c
-            j += 1
+    is live), as ``flags[id + 1]``; drops the live cells gone by ``t0`` (:func:`remove_gone`) on
+    the way. With ``ign_ok`` (no cell ignites after ``t_s``) from the live cells per fire less
+    those of the heap's top burnt out by ``t_s``; else from every live cell. Returns whether
+    ``flags`` changed."""
+    remove_gone(
+        t0, t_out, ext, label, live_buf, live_mask, arr_t, dirty_buf, is_dirty, counts, gi, meta, tnext
+    )
+    n = meta[0]
+    on = np.zeros(flags.size, dtype=np.int64)
+    if ign_ok:
+        for i in range(flags.size):
+            on[i] = counts[i]
+        if n > 0 and not (t_out[live_buf[0]] > t_s):  # the burnt out by t_s: the heap above them
+            stack = np.empty(n, dtype=np.int64)
+            stack[0] = 0
+            sp = 1
+            while sp > 0:
+                sp -= 1
+                i = stack[sp]
+                c = live_buf[i]
+                if t_out[c] > t_s:
+                    continue
+                on[label[c] + 1] -= 1
+                lo = 2 * i + 1
+                if lo < n:
+                    stack[sp] = lo
+                    sp += 1
+                    if lo + 1 < n:
+                        stack[sp] = lo + 1
+                        sp += 1
+    else:
+        for q in range(n):
+            c = live_buf[q]
             if t_ign[c] <= t_s and t_s < t_out[c]:
-                flags[label[c] + 1] = True
-        else:
-            live_mask[c] = False
-            for k in range(N_RING):
-                arr_t[c - ring[k]] = math.nan
-    meta[0] = j
+                on[label[c] + 1] += 1
+    changed = False
     for i in range(flags.size):
-        if flags[i] != before[i]:
-            return True
-    return False
+        f = on[i] > 0
+        if f != flags[i]:
+            flags[i] = f
+            changed = True
+    return changed
