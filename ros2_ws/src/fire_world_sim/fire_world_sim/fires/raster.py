@@ -184,7 +184,7 @@ class RasterFireModel:
         self._ring_flat, self._vx, self._vy = self._geom.ring_flat, self._geom.vx, self._geom.vy
         # the compiled path's bookkeeping (ring_kernel): live cells (a min-heap by burn-out time),
         # narrow band and the queue of cells whose arrival time was invalidated, as buffers with
-        # _meta = [n_live, n_band, n_queued, rebuild the live heap], band and queue membership as
+        # _meta = [n_live, n_band, n_queued, rebuild the live heap, ...], band and queue membership as
         # masks, live cells per fire id (+1), and _tnext = [a lower bound of the band's next
         # arrival time, the earliest burn-out time]: an update due before both changes nothing
         n_cells = shape[0] * shape[1]
@@ -200,7 +200,17 @@ class RasterFireModel:
         self._dirty_buf = np.zeros(n_cells if compiled else 0, dtype=np.int64)
         self._is_dirty = np.zeros(n_cells if compiled else 0, dtype=bool)
         self._live_count = np.zeros(len(spec.ignitions) + 1, dtype=np.int64)
-        self._meta = np.zeros(4, dtype=np.int64)
+        # the band's arrival times as a min-heap of (time [s], cell, cell version, fire id), an
+        # entry stale once its cell's version moved on; its size in _meta[4]
+        n_heap = n_cells + 1 if compiled else 0
+        self._ver = np.zeros(n_cells if compiled else 0, dtype=np.int64)
+        self._heap = (
+            np.empty(n_heap),
+            np.empty(n_heap, dtype=np.int64),
+            np.empty(n_heap, dtype=np.int64),
+            np.empty(n_heap, dtype=np.int32),
+        )
+        self._meta = np.array([0, 0, 0, 0, 0, 1], dtype=np.int64)  # _meta[5]: rebuild the band heap
         self._tnext = np.full(2, -np.inf)  # [s]
         self._kst: tuple | None = None  # the kernels' arguments (_kernel_state)
         self._kst_src: np.ndarray | None = None  # the fire-type grid they were made with
@@ -295,6 +305,7 @@ class RasterFireModel:
         self._head_dir[inner] = hdir
         self._res[inner] = res + np.where(ok, self.cs / rh, 0.0)
         self._arr_t[:] = np.nan  # every wavelet changed
+        self._meta[5] = 1  # the compiled path reads its whole band again
         return True
 
     def _tau(self, idx: np.ndarray, vx: np.ndarray, vy: np.ndarray) -> np.ndarray:
@@ -363,7 +374,8 @@ class RasterFireModel:
         # the arguments of propagate before the seeded cells and after them
         self._kst_prop = (
             (*st[:10], self._seed_label.ravel()),
-            (*st[10:12], self.wet_until.ravel(), *st[12:21], self._arr_t, self._arr_lab, *st[22:]),
+            (*st[10:12], self.wet_until.ravel(), *st[12:21], self._arr_t, self._arr_lab, *st[22:25])
+            + (self._ver, *self._heap, *st[25:]),
         )
         # of remove_gone after t0, and of active_fires after (t_s, t0, ign_ok)
         live = (self._live_buf, self._live_mask, self._arr_t, self._dirty_buf, self._is_dirty)
@@ -645,6 +657,7 @@ class RasterFireModel:
         """A drop changed extinguished cells and wet ones: the compiled path filters its live
         cells again and assumes no idle update until its next one."""
         self._meta[3] = 1
+        self._meta[5] = 1
         self._tnext[:] = -np.inf
         self._truth_cache = None
 

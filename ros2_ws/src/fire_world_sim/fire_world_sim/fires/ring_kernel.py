@@ -305,6 +305,73 @@ def ignite(
 
 
 @njit(cache=True)
+def _bh_push(hkey, hcell, hver, hlab, nh, key, c, v, lb):  # pragma: no cover
+    """Push (key, cell, version, fire id) on the band's min-heap of ``nh`` entries."""
+    i = nh
+    while i > 0:
+        p = (i - 1) // 2
+        if key < hkey[p]:
+            hkey[i] = hkey[p]
+            hcell[i] = hcell[p]
+            hver[i] = hver[p]
+            hlab[i] = hlab[p]
+            i = p
+        else:
+            break
+    hkey[i] = key
+    hcell[i] = c
+    hver[i] = v
+    hlab[i] = lb
+    return nh + 1
+
+
+@njit(cache=True)
+def _bh_down(hkey, hcell, hver, hlab, n, i):  # pragma: no cover
+    """Restore the band's min-heap ``[:n]`` below position ``i``."""
+    key = hkey[i]
+    c = hcell[i]
+    v = hver[i]
+    lb = hlab[i]
+    while True:
+        lo = 2 * i + 1
+        if lo >= n:
+            break
+        m = lo
+        if lo + 1 < n and hkey[lo + 1] < hkey[lo]:
+            m = lo + 1
+        if hkey[m] < key:
+            hkey[i] = hkey[m]
+            hcell[i] = hcell[m]
+            hver[i] = hver[m]
+            hlab[i] = hlab[m]
+            i = m
+        else:
+            break
+    hkey[i] = key
+    hcell[i] = c
+    hver[i] = v
+    hlab[i] = lb
+
+
+@njit(cache=True)
+def _bh_compact(hkey, hcell, hver, hlab, n, ver, in_band, burnable, t_ign, ext):  # pragma: no cover
+    """Drop the band heap's stale entries (an older version of their cell, or a cell no longer a
+    band target) and heapify what is left; returns its size."""
+    j = 0
+    for q in range(n):
+        c = hcell[q]
+        if hver[q] == ver[c] and in_band[c] and burnable[c] and not math.isfinite(t_ign[c]) and not ext[c]:
+            hkey[j] = hkey[q]
+            hcell[j] = c
+            hver[j] = hver[q]
+            hlab[j] = hlab[q]
+            j += 1
+    for i in range(j // 2 - 1, -1, -1):
+        _bh_down(hkey, hcell, hver, hlab, j, i)
+    return j
+
+
+@njit(cache=True)
 def propagate(
     t0,
     t1,
@@ -338,6 +405,11 @@ def propagate(
     dirty_buf,
     is_dirty,
     counts,
+    ver,
+    hkey,
+    hcell,
+    hver,
+    hlab,
     gi,
     gf,
     meta,
@@ -347,11 +419,14 @@ def propagate(
     sources burnt out by ``t0`` [s] or extinguished, takes every band cell due by ``t1`` from the
     state at the pass' start (seed times (1) of ``seeded`` on top while their fire burns, no
     earlier than the cell's ``wet_until``) and ignites them together, until a pass ignites
-    nothing or ``max_sweeps`` passes. The first pass reads the whole band; a later one only the
-    cells whose arrival time was invalidated since (the others were not due by ``t1`` and have
-    not changed), unless seed times apply (they depend on which fires burn). Sets ``tnext[0]``,
-    a lower bound of the band's next arrival time (-inf when unknown). Returns the latest
-    ignition time (-inf for none)."""
+    nothing or ``max_sweeps`` passes.
+
+    The band's arrival times wait in a min-heap (entries carry their cell's version; a newer
+    one makes them stale): a pass computes only the queued cells (arrival time invalidated, or
+    seeded: their seed time counts while their fire burns) and pops the entries due by ``t1``.
+    After a new wind or a drop (``meta[5]``) it reads the whole band and rebuilds the heap.
+    Sets ``tnext[0]``, a lower bound of the band's next arrival time (-inf when unknown).
+    Returns the latest ignition time (-inf for none)."""
     ring = gi[0]
     latest = -math.inf
     tn = np.empty(N_RING)
@@ -368,8 +443,7 @@ def propagate(
             band_buf[n_band] = c
             n_band += 1
     meta[1] = n_band
-    full = True
-    mn = math.inf  # the earliest arrival time not due by t1 among the cells read
+    cap = hkey.size
     for _ in range(max_sweeps):
         remove_gone(
             t0, t_out, ext, label, live_buf, live_mask, arr_t, dirty_buf, is_dirty, counts, gi, meta, tnext
@@ -378,19 +452,22 @@ def propagate(
         if n_live == 0 and seeded.size == 0:
             tnext[0] = math.inf  # nothing burns: nothing ignites before a new ignition
             return latest
-        m = 0
         nd = meta[2]
-        if full:
-            mn = math.inf
-            for q in range(nd):  # every band cell is read: the queue is moot
+        for q in range(seeded.size):
+            nd = _mark_dirty(seeded[q], dirty_buf, is_dirty, nd)
+        nh = meta[4]
+        rebuild = meta[5] != 0
+        if rebuild:  # every band cell: the queue is moot, the heap starts again
+            for q in range(nd):
                 is_dirty[dirty_buf[q]] = False
-            meta[2] = 0
+            nd = 0
+            nh = 0
             n_scan = meta[1]
         else:
             n_scan = nd
         j = 0
         for q in range(n_scan):
-            if full:
+            if rebuild:
                 c = band_buf[q]
                 if not burnable[c] or math.isfinite(t_ign[c]) or ext[c]:  # no longer a target
                     in_band[c] = False
@@ -398,8 +475,9 @@ def propagate(
             else:
                 c = dirty_buf[q]
                 is_dirty[c] = False
+                ver[c] += 1  # its entry in the heap, if any, is stale
                 if not in_band[c] or not burnable[c] or math.isfinite(t_ign[c]) or ext[c]:
-                    continue  # left in the band, dropped by the next whole read
+                    continue  # left in the band: dropped by the next rebuild
             if math.isnan(arr_t[c]):
                 near = math.isfinite(t_seed[c])
                 if not near:
@@ -408,7 +486,7 @@ def propagate(
                             near = True
                             break
                 if not near:  # back when one of its ring nodes ignites
-                    if full:
+                    if rebuild:
                         in_band[c] = False
                     continue
                 b, lb = _arrival_one(
@@ -416,9 +494,10 @@ def propagate(
                 )
                 arr_t[c] = b
                 arr_lab[c] = lb
-            if full:
+            if rebuild:
                 band_buf[j] = c
                 j += 1
+                ver[c] += 1
             best = arr_t[c]
             lab = arr_lab[c]
             # exact times from the ignition points, while their fire still burns
@@ -430,23 +509,42 @@ def propagate(
                     lab = sf
             w = wet_until[c]
             t_arr = w if (w > best or math.isnan(w)) else best
-            if t_arr <= t1:
-                if m == new_c.size:
-                    new_c = np.concatenate((new_c, np.empty(m, dtype=np.int64)))
-                    new_t = np.concatenate((new_t, np.empty(m)))
-                    new_l = np.concatenate((new_l, np.empty(m, dtype=label.dtype)))
-                new_c[m] = c
-                new_t[m] = t_arr
-                new_l[m] = lab
-                m += 1
-            elif t_arr < mn:
-                mn = t_arr
-        if full:
+            if t_arr < math.inf:
+                if nh == cap:
+                    nh = _bh_compact(hkey, hcell, hver, hlab, nh, ver, in_band, burnable, t_ign, ext)
+                nh = _bh_push(hkey, hcell, hver, hlab, nh, t_arr, c, ver[c], lab)
+        if rebuild:
             meta[1] = j
-        else:
-            meta[2] = 0
+            meta[5] = 0
+        meta[2] = 0
+        # every band cell due by t1, from the heap
+        m = 0
+        while nh > 0 and hkey[0] <= t1:
+            t_arr = hkey[0]
+            c = hcell[0]
+            v = hver[0]
+            lab = hlab[0]
+            nh -= 1
+            if nh > 0:
+                hkey[0] = hkey[nh]
+                hcell[0] = hcell[nh]
+                hver[0] = hver[nh]
+                hlab[0] = hlab[nh]
+                _bh_down(hkey, hcell, hver, hlab, nh, 0)
+            if v != ver[c] or not in_band[c] or not burnable[c] or math.isfinite(t_ign[c]) or ext[c]:
+                continue  # stale
+            ver[c] += 1
+            if m == new_c.size:
+                new_c = np.concatenate((new_c, np.empty(m, dtype=np.int64)))
+                new_t = np.concatenate((new_t, np.empty(m)))
+                new_l = np.concatenate((new_l, np.empty(m, dtype=label.dtype)))
+            new_c[m] = c
+            new_t[m] = t_arr
+            new_l[m] = lab
+            m += 1
+        meta[4] = nh
         if m == 0:
-            tnext[0] = mn
+            tnext[0] = hkey[0] if nh > 0 else math.inf
             return latest
         last = ignite(
             new_c[:m],
@@ -484,7 +582,6 @@ def propagate(
         )
         if last > latest:
             latest = last
-        full = seeded.size > 0
     tnext[0] = -math.inf  # passes left undone
     return latest
 
