@@ -401,6 +401,18 @@ def main_spread(args: argparse.Namespace) -> None:
             "burned_intersection_over_union": round(float(both.sum() / max(either.sum(), 1)), 3),
         }
     print(json.dumps(report, indent=2))
+    if args.pyretechnics_python:  # the row of docs/fire_behavior.md's table
+        r = report
+        rate = float(r["ours_cells_per_cpu_s"]) / float(r["pyretechnics_cells_per_cpu_s"])  # type: ignore[arg-type]
+        cells = (
+            f"{r['ours_cells_burned']:,} / {r['ours_cpu_s']} | {r['ours_cells_per_cpu_s']:,} | "
+            f"{r['pyretechnics_cells_burned']:,} / {r['pyretechnics_cpu_s']} | {r['pyretechnics_cells_per_cpu_s']:,}"
+        )
+        print(
+            f"| {'grass 600 x 600' if args.grass else 'worcester_vt'} | {args.hours:g} | {args.wind_20ft_mps:g} | "
+            f"{cells} | {rate:.2f} | {r['burned_area_ratio_ours_over_pyretechnics']:.2f} | "
+            f"{r['burned_intersection_over_union']:.3f} |"
+        )
 
 
 def main() -> None:

@@ -246,3 +246,16 @@ def test_burning_fires_from_the_burn_out_heap_equal_a_scan(seed, t_s, behind_s) 
         keys = t_out[heap]
         assert all(keys[(i - 1) // 2] <= keys[i] for i in range(1, keys.size))  # a min-heap
         assert np.array_equal(book[5], np.bincount(label[left] + 1, minlength=n_fires + 1))
+
+
+def test_band_heap_compacted_when_full_gives_the_same_fire() -> None:
+    """A band heap far smaller than the grid (400 entries) fills up with stale entries many
+    times over a fire of 800+ cells and is compacted in place: still the numpy path's fire."""
+    ref, got = grass(False), grass(True)
+    got._heap = (np.empty(400), *(np.empty(400, dtype=d) for d in (np.int64, np.int64, np.int32)))
+    got._kst = None  # the kernels' arguments again, with this heap
+    got._meta[5] = 1  # rebuilt from the band (the pre-burn's entries were in the other one)
+    ev_ref, ev_got = step_both([ref, got], 1000.0, 1.0)
+    assert np.isfinite(ref.t_ign).sum() > 800  # more cells ignited (one push each at least) than entries
+    same_fire(ref, got)
+    assert ev_ref == ev_got
