@@ -36,7 +36,10 @@ from the point itself, so the first cell hops do not bias the fire.
 
 Propagation is batched every ``update_period_s``: the update runs over the narrow band of
 unburned cells within two cells of a burning one (numpy, gathered by flat index, memory O(band)),
-accepts every cell whose arrival time is <= t1 and iterates until nothing new ignites.
+accepts every cell whose arrival time is <= t1 and iterates until nothing new ignites. The
+compiled path (:mod:`.ring_kernel`) keeps the band's arrival times and the burning cells'
+burn-out times in heaps and skips an update due before both the next arrival and the next
+burn-out (it would change nothing): the same bits, fewer reads.
 A cell burns from ``t_ign`` until ``t_ign + max(residence + crossing time, tau to reach its
 still-unburned ring neighbours)``, then it is burnt out. A drop wets the cells within its
 radius: burning cells are extinguished (they spread no more) and unburned cells cannot ignite

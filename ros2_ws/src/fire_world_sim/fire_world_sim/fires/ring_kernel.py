@@ -4,13 +4,26 @@ The same arithmetic as the numpy reference (:func:`.ring_update.arrival` and the
 :class:`.raster.RasterFireModel`), operation by operation and in the same order, compiled without
 fast-math, so every IEEE result is the same: arrival times, burn-out times and fire ids are
 bit-identical to the numpy path (``numpy.array_equal``, tested). What changes is the
-bookkeeping around them: the passes of one update run in one call, the narrow band is kept
-cell by cell (a cell joins it when one of its ring nodes ignites and leaves it when it is no
-longer a target, or when its arrival time is to be computed and no ring node burns), and the
-live cells (ignited, not burnt out, not extinguished) are a buffer compacted in place.
+bookkeeping around them, which decides only WHICH cells are read, never a value:
+
+- the passes of one update run in one call;
+- the narrow band is kept cell by cell (a cell joins it when one of its ring nodes ignites);
+  its arrival times wait in a min-heap of (time, cell, cell version, fire id) entries, so that
+  a pass computes only the cells queued since the last (their arrival time was invalidated by
+  a ring node that ignited or burnt out, or they hold a seed time (1), which counts only while
+  its fire burns) and pops the entries due by ``t1``; an entry whose cell has a newer version,
+  or is no longer a target, is stale and skipped. After a new wind or a drop the whole band is
+  read again and the heap rebuilt (``meta[5]``);
+- the live cells (ignited, not burnt out, not extinguished) are a min-heap by burn-out time,
+  counted per fire id, so that a pass pops only the cells that burn out, and which fires burn
+  comes from the counts (less the heap's top burnt out since the last update); after a drop or
+  a changed burn-out time (``meta[3]``) they are filtered whole and the heap rebuilt;
+- ``tnext = [a lower bound of the band's next arrival time, the earliest burn-out time]``: an
+  update due before both would ignite nothing and burn nothing out, and the model skips it.
 
 Arrays are the model's flat (raveled, padded) grids; ``meta`` is an int64 array
-``[n_live, n_band]`` and the geometry comes from :class:`.ring_update.RingGeometry` packed by
+``[n_live, n_band, n_queued, rebuild the live heap, n_heap, rebuild the band heap]`` and the
+geometry comes from :class:`.ring_update.RingGeometry` packed by
 :func:`pack_geometry`: ``gi = [ring_flat, s1, s2]`` (3, 24) int64 and
 ``gf = [vx, vy, vn, dx, dy, dn, p_par, p_perp]`` (8, 24) float64 [m]. No ROS, no state.
 Compiled on first use and cached on disk (``cache=True``) beside this module.
