@@ -170,3 +170,92 @@ def test_head_arrival_is_distance_over_head_rate() -> None:
     assert ok.sum() > 40
     expected = d[ok] / r_h
     assert np.max(np.abs(row[ok] - expected)) <= cs / r_h  # within one cell's travel at the head rate
+
+
+def test_truth_between_updates_is_the_same_compiled_and_in_numpy() -> None:
+    """The world's 0.1 s steps against a 0.5 s update, asking the truth at every step: which
+    fires burn between two updates (cells burnt out since the last one), drops and a new
+    ignition included, as the numpy path says; and the compiled path skips updates that
+    cannot change the fire without changing it."""
+    drops = [
+        (300.2 + 23.0 * k, 150.0 + (71.0 * k) % 300.0, 150.0 + (53.0 * k) % 250.0, 40.0) for k in range(12)
+    ]
+    ref, got = grass(False), grass(True)
+    for m in (ref, got):
+        m._records = []  # type: ignore[attr-defined]
+    t = 0.0
+    while t < 900.0 - 1e-9:
+        for m in (ref, got):
+            ev = m.step(t, 0.1)
+            for td, x, y, r in drops:
+                if abs(t + 0.1 - td) < 0.05:
+                    ev.append(("drop", tuple(m.apply_drop(x, y, r))))
+            m._records.append((ev, m.truth(), m.all_out))  # type: ignore[attr-defined]
+        t += 0.1
+    same_fire(ref, got)
+    assert ref._records == got._records  # type: ignore[attr-defined]
+    statuses = {tuple(r.status for r in rec[1]) for rec in ref._records}  # type: ignore[attr-defined]
+    assert len(statuses) > 2  # fires started and went out along the way
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.floats(0.0, 100.0), st.floats(0.0, 60.0))
+def test_burning_fires_from_the_burn_out_heap_equal_a_scan(seed, t_s, behind_s) -> None:
+    """ring_kernel.active_fires from the live cells per fire less the heap's top (cells burnt out
+    between the last update t0 and t_s), against a scan of every cell: burning at t_s is
+    t_ign <= t_s < t_out; the cells gone by t0 leave the heap, which stays a heap."""
+    rng = np.random.default_rng(seed)
+    width, n_fires = 10, 4
+    geom = RingGeometry.of(width, 30.0)
+    gi, _ = ring_kernel.pack_geometry(geom)
+    inner = np.array([i * width + j for i in range(PAD, width - PAD) for j in range(PAD, width - PAD)])
+    cells = rng.choice(inner, size=int(rng.integers(1, inner.size + 1)), replace=False).astype(np.int64)
+    n = width * width
+    t_ign = np.full(n, np.inf)
+    t_ign[cells] = rng.uniform(-50.0, 0.0, cells.size)
+    t_out = np.full(n, np.inf)
+    t_out[cells] = t_ign[cells] + rng.uniform(0.0, 150.0, cells.size)
+    label = np.full(n, -1, dtype=np.int32)
+    label[cells] = rng.integers(0, n_fires, cells.size)
+    ext = np.zeros(n, dtype=bool)
+    live_buf = np.zeros(n, dtype=np.int64)
+    live_buf[: cells.size] = cells
+    live_mask = np.zeros(n, dtype=bool)
+    live_mask[cells] = True
+    counts = np.bincount(label[cells] + 1, minlength=n_fires + 1).astype(np.int64)
+    meta = np.array([cells.size, 0, 0, 1, 0, 0], dtype=np.int64)  # meta[3]: build the heap
+    t0 = t_s - behind_s
+    burning = (t_ign[cells] <= t_s) & (t_s < t_out[cells]) & (t_out[cells] > t0)
+    expected = np.zeros(n_fires + 1, dtype=bool)
+    expected[label[cells][burning] + 1] = True
+    left = cells[t_out[cells] > t0]
+    for ign_ok in (True, False):
+        st_ = (
+            live_buf.copy(),
+            live_mask.copy(),
+            np.zeros(n),
+            np.zeros(n, dtype=np.int64),
+            np.zeros(n, dtype=bool),
+        )
+        book = (*st_, counts.copy(), gi, meta.copy(), np.zeros(2))
+        flags = np.zeros(n_fires + 1, dtype=bool)
+        ring_kernel.active_fires(t_s, t0, ign_ok, t_ign, t_out, ext, label, *book, flags)
+        assert np.array_equal(flags, expected)
+        heap = book[0][: book[-2][0]]
+        assert sorted(heap.tolist()) == sorted(left.tolist())
+        keys = t_out[heap]
+        assert all(keys[(i - 1) // 2] <= keys[i] for i in range(1, keys.size))  # a min-heap
+        assert np.array_equal(book[5], np.bincount(label[left] + 1, minlength=n_fires + 1))
+
+
+def test_band_heap_compacted_when_full_gives_the_same_fire() -> None:
+    """A band heap far smaller than the grid (400 entries) fills up with stale entries many
+    times over a fire of 800+ cells and is compacted in place: still the numpy path's fire."""
+    ref, got = grass(False), grass(True)
+    got._heap = (np.empty(400), *(np.empty(400, dtype=d) for d in (np.int64, np.int64, np.int32)))
+    got._kst = None  # the kernels' arguments again, with this heap
+    got._meta[5] = 1  # rebuilt from the band (the pre-burn's entries were in the other one)
+    ev_ref, ev_got = step_both([ref, got], 1000.0, 1.0)
+    assert np.isfinite(ref.t_ign).sum() > 800  # more cells ignited (one push each at least) than entries
+    same_fire(ref, got)
+    assert ev_ref == ev_got

@@ -36,7 +36,10 @@ from the point itself, so the first cell hops do not bias the fire.
 
 Propagation is batched every ``update_period_s``: the update runs over the narrow band of
 unburned cells within two cells of a burning one (numpy, gathered by flat index, memory O(band)),
-accepts every cell whose arrival time is <= t1 and iterates until nothing new ignites.
+accepts every cell whose arrival time is <= t1 and iterates until nothing new ignites. The
+compiled path (:mod:`.ring_kernel`) keeps the band's arrival times and the burning cells'
+burn-out times in heaps and skips an update due before both the next arrival and the next
+burn-out (it would change nothing): the same bits, fewer reads.
 A cell burns from ``t_ign`` until ``t_ign + max(residence + crossing time, tau to reach its
 still-unburned ring neighbours)``, then it is burnt out. A drop wets the cells within its
 radius: burning cells are extinguished (they spread no more) and unburned cells cannot ignite
@@ -182,8 +185,11 @@ class RasterFireModel:
         w = shape[1]
         self._geom = RingGeometry.of(w, self.cs)
         self._ring_flat, self._vx, self._vy = self._geom.ring_flat, self._geom.vx, self._geom.vy
-        # the compiled path's bookkeeping (ring_kernel): live cells and narrow band as buffers with
-        # their counts in _meta = [n_live, n_band], band membership as a mask
+        # the compiled path's bookkeeping (ring_kernel): live cells (a min-heap by burn-out time),
+        # narrow band and the queue of cells whose arrival time was invalidated, as buffers with
+        # _meta = [n_live, n_band, n_queued, rebuild the live heap, ...], band and queue membership as
+        # masks, live cells per fire id (+1), and _tnext = [a lower bound of the band's next
+        # arrival time, the earliest burn-out time]: an update due before both changes nothing
         n_cells = shape[0] * shape[1]
         self._k: Any = None  # the kernels' module, imported here (numba costs ~0.3 s to import)
         if compiled:
@@ -194,13 +200,29 @@ class RasterFireModel:
         self._live_buf = np.zeros(n_cells if compiled else 0, dtype=np.int64)
         self._band_buf = np.zeros(n_cells if compiled else 0, dtype=np.int64)
         self._in_band = np.zeros(n_cells if compiled else 0, dtype=bool)
-        self._meta = np.zeros(2, dtype=np.int64)
+        self._dirty_buf = np.zeros(n_cells if compiled else 0, dtype=np.int64)
+        self._is_dirty = np.zeros(n_cells if compiled else 0, dtype=bool)
+        self._live_count = np.zeros(len(spec.ignitions) + 1, dtype=np.int64)
+        # the band's arrival times as a min-heap of (time [s], cell, cell version, fire id), an
+        # entry stale once its cell's version moved on; its size in _meta[4]
+        n_heap = n_cells + 1 if compiled else 0
+        self._ver = np.zeros(n_cells if compiled else 0, dtype=np.int64)
+        self._heap = (
+            np.empty(n_heap),
+            np.empty(n_heap, dtype=np.int64),
+            np.empty(n_heap, dtype=np.int64),
+            np.empty(n_heap, dtype=np.int32),
+        )
+        self._meta = np.array([0, 0, 0, 0, 0, 1], dtype=np.int64)  # _meta[5]: rebuild the band heap
+        self._tnext = np.full(2, -np.inf)  # [s]
         self._kst: tuple | None = None  # the kernels' arguments (_kernel_state)
         self._kst_src: np.ndarray | None = None  # the fire-type grid they were made with
         self._active_flags = np.zeros(len(spec.ignitions) + 1, dtype=bool)  # ids burning (+1), last asked
         self._active_set: set[int] = set()  # the same as a set
         self._kst_prop: tuple = ()
         self._kst_act: tuple = ()
+        self._kst_gone: tuple = ()
+        self._wind_next_s = -math.inf  # [s] the wind segment cannot change before this
         # per-cell wavelet (1): tau(v) = A |v| - Cx vx - Cy vy  [s/m]; A = inf where nothing burns
         self._A = np.full(shape, np.inf)
         self._Cx = np.zeros(shape)
@@ -241,7 +263,11 @@ class RasterFireModel:
         return w.speed_mps, math.radians(w.direction_deg)
 
     def _set_wind(self, t_s: float) -> bool:
+        if t_s + 1e-9 < self._wind_next_s:  # no segment starts before t_s
+            return False
         idx = self._segment_index(t_s)
+        later = [w.start_s for w in self.spec.wind if w.start_s > t_s + 1e-9]
+        self._wind_next_s = min(later, default=math.inf)  # time runs forward from here
         if idx == self._wind_index:
             return False
         self._wind_index = idx
@@ -282,6 +308,7 @@ class RasterFireModel:
         self._head_dir[inner] = hdir
         self._res[inner] = res + np.where(ok, self.cs / rh, 0.0)
         self._arr_t[:] = np.nan  # every wavelet changed
+        self._meta[5] = 1  # the compiled path reads its whole band again
         return True
 
     def _tau(self, idx: np.ndarray, vx: np.ndarray, vy: np.ndarray) -> np.ndarray:
@@ -339,18 +366,24 @@ class RasterFireModel:
             self._band_buf,
             self._in_band,
             self._arr_t,
+            self._dirty_buf,
+            self._is_dirty,
+            self._live_count,
             self._gi,
             self._gf,
             self._meta,
+            self._tnext,
         )
-        # the arguments of propagate before the seeded cells, between them and wet_until, after it
+        # the arguments of propagate before the seeded cells and after them
         self._kst_prop = (
             (*st[:10], self._seed_label.ravel()),
-            (len(self.spec.ignitions), self.burnable.ravel(), self.extinguished.ravel()),
-            (*st[12:21], self._arr_t, self._arr_lab, self._gi, self._gf, self._meta),
+            (*st[10:12], self.wet_until.ravel(), *st[12:21], self._arr_t, self._arr_lab, *st[22:25])
+            + (self._ver, *self._heap, *st[25:]),
         )
-        # of active_fires after (t_s, t0)
-        self._kst_act = (*st[:3], st[11], *st[17:19], st[21], st[22], st[24], self._active_flags)
+        # of remove_gone after t0, and of active_fires after (t_s, t0, ign_ok)
+        live = (self._live_buf, self._live_mask, self._arr_t, self._dirty_buf, self._is_dirty)
+        self._kst_gone = (st[1], st[11], st[2], *live, self._live_count, self._gi, self._meta, self._tnext)
+        self._kst_act = (st[0], *self._kst_gone, self._active_flags)
         return st
 
     def _ignite_numpy(self, idx: tuple[np.ndarray, np.ndarray], t: np.ndarray, labels: np.ndarray) -> None:
@@ -432,8 +465,8 @@ class RasterFireModel:
         if self._seeded.size:
             self._seeded = self._seeded[np.isfinite(self._t_seed.ravel()[self._seeded])]
         self._kernel_state()
-        a, b, c = self._kst_prop
-        latest = self._k.propagate(t0, t1, MAX_SWEEPS, *a, self._seeded, *b, self.wet_until.ravel(), *c)
+        a, b = self._kst_prop
+        latest = self._k.propagate(t0, t1, MAX_SWEEPS, *a, self._seeded, *b)
         if latest > self.last_ignition_s:
             self.last_ignition_s = latest
             self._truth_cache = None
@@ -480,10 +513,8 @@ class RasterFireModel:
         """Flat indices of the cells burning at some time after ``t0`` (up to the update's end):
         the live cells less those burnt out by ``t0`` or extinguished since (both for good)."""
         if self.compiled:
-            st = self._kernel_state()
-            self._k.remove_gone(
-                t0, st[1], st[11], self._live_buf, self._live_mask, self._arr_t, self._gi, self._meta
-            )
+            self._kernel_state()
+            self._k.remove_gone(t0, *self._kst_gone)
             return self._live_buf[: self._meta[0]]
         live = self._live
         keep = (self.t_out.ravel()[live] > t0) & ~self.extinguished.ravel()[live]
@@ -525,6 +556,11 @@ class RasterFireModel:
         self.t_s = t1
         events = [(n, "ignition") for n in self._start_ignitions(t1)]
         if t1 - self._t_updated >= self.update_period_s - 1e-9 or events:
+            tn = self._tnext  # compiled: before the next arrival and burn-out nothing changes
+            if not events and t1 < tn[0] and t1 < tn[1] and t1 + 1e-9 < self._wind_next_s:
+                self._t_updated = t1  # the update would ignite nothing and burn nothing out
+                self._truth_cache = None
+                return events
             # burning at the previous update, as it was then: recomputed now, a drop since then
             # would already have removed a fire it put out, and its event would be lost
             was_active = self._active_at_update
@@ -548,7 +584,8 @@ class RasterFireModel:
         t = self.t_s if t_s is None else t_s
         if t >= self._t_updated and self.compiled:
             self._kernel_state()
-            if self._k.active_fires(t, self._t_updated, *self._kst_act):  # the ids changed
+            ign_ok = self.last_ignition_s <= t
+            if self._k.active_fires(t, self._t_updated, ign_ok, *self._kst_act):  # the ids changed
                 self._active_set = set(np.flatnonzero(self._active_flags[1:]).tolist())
             return self._active_set
         if t >= self._t_updated:  # every cell burning at t is live (burnt out after the last update)
@@ -577,7 +614,7 @@ class RasterFireModel:
         wet[unburned] = np.maximum(wet[unburned], self.t_s + self.spec.wet_duration_s)
         for n in hit:
             self._drops[n] += 1
-        self._truth_cache = None
+        self._wetted()
         return hit
 
     def apply_pattern(self, pattern: DropPattern) -> list[int]:
@@ -616,8 +653,16 @@ class RasterFireModel:
         wet[unburned] = np.maximum(wet[unburned], self.t_s + wet_s)
         for n in hit:
             self._drops[n] += 1
-        self._truth_cache = None
+        self._wetted()
         return hit
+
+    def _wetted(self) -> None:
+        """A drop changed extinguished cells and wet ones: the compiled path filters its live
+        cells again and assumes no idle update until its next one."""
+        self._meta[3] = 1
+        self._meta[5] = 1
+        self._tnext[:] = -np.inf
+        self._truth_cache = None
 
     def _box(self, x0_m: float, x1_m: float, y0_m: float, y1_m: float):
         """Padded-array slice covering the rectangle [x0, x1] x [y0, y1] [m], plus the cell-centre
