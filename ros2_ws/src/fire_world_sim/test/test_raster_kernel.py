@@ -18,7 +18,7 @@ from fire_uav_common.terrain import Lake, Terrain
 from fire_world_sim.fires import ring_kernel
 from fire_world_sim.fires.fuel_models import fuel_model
 from fire_world_sim.fires.raster import PAD, RasterFireModel
-from fire_world_sim.fires.ring_update import RingGeometry, arrival
+from fire_world_sim.fires.ring_update import RingGeometry, arrival, blocked_nodes
 from fire_world_sim.fires.rothermel import head_spread, spread_params
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -75,16 +75,18 @@ def landscapes(draw):
     tgt = (ii * nx + jj).ravel().astype(np.int64)
     t1 = draw(st.floats(-20.0, 120.0))
     cell = draw(st.sampled_from([1.0, 5.0, 30.0]))
-    return RingGeometry.of(nx, cell), tgt, t1, t_ign, ext, label, live, a, cx, cy
+    # ring nodes blocked by a non-burnable cell on the path (blocked_nodes of random barriers)
+    blk = blocked_nodes(rng.random((ny, nx)) < draw(st.floats(0.0, 0.3))).ravel()
+    return RingGeometry.of(nx, cell), tgt, t1, t_ign, ext, label, live, a, cx, cy, blk
 
 
 @settings(max_examples=60, deadline=None)
 @given(landscapes())
 def test_compiled_arrival_equals_numpy_arrival(case) -> None:
-    geom, tgt, t1, t_ign, ext, label, live, a, cx, cy = case
-    ref_t, ref_lab = arrival(geom, tgt, live, t1, t_ign, ext, label, a, cx, cy)
+    geom, tgt, t1, t_ign, ext, label, live, a, cx, cy, blk = case
+    ref_t, ref_lab = arrival(geom, tgt, live, t1, t_ign, ext, label, a, cx, cy, blk)
     gi, gf = ring_kernel.pack_geometry(geom)
-    got_t, got_lab = ring_kernel.arrival_batch(tgt, t1, t_ign, ext, label, live, a, cx, cy, gi, gf)
+    got_t, got_lab = ring_kernel.arrival_batch(tgt, t1, t_ign, ext, label, live, a, cx, cy, gi, gf, blk)
     assert np.array_equal(got_t, ref_t)
     finite = np.isfinite(ref_t)
     assert np.array_equal(got_lab[finite], ref_lab[finite])  # the id of an unreachable cell is moot

@@ -78,7 +78,9 @@ def test_fire_type_grid_holds_the_type_each_ignited_cell_burned_with() -> None:
     assert not grid[~ignited].any()
     counts = np.bincount(grid[ignited], minlength=4)
     assert counts[FireType.UNBURNABLE] == 0
-    assert counts[FireType.SURFACE] > 100 and counts[FireType.PASSIVE] + counts[FireType.ACTIVE] > 0
+    # (about 70 surface cells: the grass patch the fire starts in, held by the one-cell roads and
+    # streams around it, which it crossed before the spread stopped at non-burnable cells)
+    assert counts[FireType.SURFACE] > 50 and counts[FireType.PASSIVE] + counts[FireType.ACTIVE] > 0
 
 
 def test_a_cell_keeps_the_highest_type_of_the_winds_it_burned_in() -> None:

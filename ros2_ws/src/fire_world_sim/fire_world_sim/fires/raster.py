@@ -31,8 +31,13 @@ from the crossing point to x: a semi-Lagrangian (ordered-upwind, Sethian & Vladi
 update whose minimiser has a closed form because (1) is a norm plus a linear term. With the
 segment end points (single-node Huygens updates) included, directions are no longer tied to
 the grid. tau is that of the TARGET cell (the fuel being burnt into), which also makes a
-non-burnable cell unreachable. Cells within 3 cells of an ignition point get the exact (1)
-from the point itself, so the first cell hops do not bias the fire.
+non-burnable cell unreachable. A node whose straight path to the target crosses a non-burnable
+cell (or squeezes between two at a corner) is not used for that target
+(:func:`.ring_update.blocked_nodes`): the 16-neighbour ring would otherwise carry the fire over a
+one-cell road or stream, which minimum-travel-time spread (Finney 2002), FARSITE's barriers and
+pyretechnics' level set do not cross. Cells within 3 cells of an ignition point get the exact (1)
+from the point itself, so the first cell hops do not bias the fire (not across a non-burnable
+cell either).
 
 Propagation is batched every ``update_period_s``: the update runs over the narrow band of
 unburned cells within two cells of a burning one (numpy, gathered by flat index, memory O(band)),
@@ -79,7 +84,7 @@ from .base import FireGrid, FireTruthRecord
 from .crown import FireType
 from .fuel_models import fuel_model
 from .landscape_cells import LandscapeCells
-from .ring_update import RING, RingGeometry, _unique, arrival
+from .ring_update import RING, RingGeometry, _unique, arrival, blocked_nodes
 from .rothermel import ellipse_eccentricity, head_spread, length_to_breadth, spread_params
 
 __all__ = ["RING", "RasterFireModel"]
@@ -160,6 +165,8 @@ class RasterFireModel:
         if self._land is not None:  # no wind, the cells' own slope: > 0 wherever the fuel can burn
             r0 = self._land.behavior(fuel, 0.0, 0.0, self.wind_limit).surface_ros_mps
         self.burnable[inner] = r0 > 0
+        # per cell, the ring nodes whose path to it crosses a non-burnable cell (static: fuel, water)
+        self._blocked = blocked_nodes(~self.burnable).ravel()
         # dynamic state (padded)
         self.t_ign = np.full(shape, np.inf)
         self.t_out = np.full(shape, np.inf)
@@ -373,6 +380,7 @@ class RasterFireModel:
             self._gf,
             self._meta,
             self._tnext,
+            self._blocked,
         )
         # the arguments of propagate before the seeded cells and after them
         self._kst_prop = (
@@ -404,7 +412,10 @@ class RasterFireModel:
         self._band = None
         nb = flat[:, None] - self._ring_flat[None, :]  # the cells this one is a node for
         pending = (
-            self.burnable.ravel()[nb] & (self.t_ign.ravel()[nb] > t[:, None]) & ~self.extinguished.ravel()[nb]
+            self.burnable.ravel()[nb]
+            & (self.t_ign.ravel()[nb] > t[:, None])
+            & ~self.extinguished.ravel()[nb]
+            & (((self._blocked[nb] >> np.arange(len(self._ring_flat), dtype=np.uint32)[None, :]) & 1) == 0)
         )
         tau = self._tau(nb, self._vx[None, :], self._vy[None, :])
         longest = np.max(np.where(pending, tau, 0.0), axis=1, initial=0.0)
@@ -452,10 +463,21 @@ class RasterFireModel:
         flat = np.ravel_multi_index((ii, jj), self._shape)
         t = ig.start_s + self._tau(flat, vx, vy)
         sel = self.burnable[ii, jj] & ~np.isfinite(self.t_ign[ii, jj]) & (t < self._t_seed[ii, jj])
+        sel &= self._clear_path(ig.x_m, ig.y_m, ii, jj)
         self._t_seed[ii[sel], jj[sel]] = t[sel]
         self._seed_label[ii[sel], jj[sel]] = n
         self._seeded = np.concatenate([self._seeded, flat[sel]])
         self._band = None
+
+    def _clear_path(self, x_m: float, y_m: float, ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
+        """Whether the straight path from (x_m, y_m) to the centre of each padded cell (ii, jj)
+        stays on burnable cells (sampled every 1/8 of a cell: at most 3 cells here)."""
+        f = np.linspace(0.0, 1.0, 8 * SEED_RADIUS_CELLS + 1)[None, :]
+        px = x_m + (self.xc[jj - PAD][:, None] - x_m) * f
+        py = y_m + (self.yc[ii - PAD][:, None] - y_m) * f
+        pj = np.clip(np.floor((px - self.spec.origin.x_m) / self.cs).astype(np.intp), 0, self.nx - 1) + PAD
+        pi = np.clip(np.floor((py - self.spec.origin.y_m) / self.cs).astype(np.intp), 0, self.ny - 1) + PAD
+        return self.burnable[pi, pj].all(axis=1)
 
     def _propagate(self, t0: float, t1: float) -> None:
         """Ignite every cell whose arrival time (2) is <= t1 (repeated passes for multi-hop spread)."""
@@ -534,7 +556,8 @@ class RasterFireModel:
     def _arrival(self, tgt: np.ndarray, src: np.ndarray, t1: float) -> tuple[np.ndarray, np.ndarray]:
         """Arrival time (2) [s] and fire id of the flat target cells ``tgt`` (:func:`.ring_update.arrival`)."""
         flat = (self.t_ign.ravel(), self.extinguished.ravel(), self.label.ravel())
-        return arrival(self._geom, tgt, src, t1, *flat, self._A.ravel(), self._Cx.ravel(), self._Cy.ravel())
+        cells = (self._A.ravel(), self._Cx.ravel(), self._Cy.ravel(), self._blocked)
+        return arrival(self._geom, tgt, src, t1, *flat, *cells)
 
     def _preburn(self) -> None:
         """Burn from the earliest ignition (start_s < 0) to t = 0; their ignitions are reported

@@ -54,15 +54,17 @@ def pack_geometry(geom: RingGeometry) -> tuple[np.ndarray, np.ndarray]:
 
 @njit(cache=True)
 def _arrival_one(
-    tg, t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, gi, gf, tn, br
+    tg, t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, gi, gf, tn, br, blk
 ):  # pragma: no cover
     """Arrival time (2) [s] and fire id of flat target cell ``tg`` (:func:`.ring_update.arrival`
-    for one cell; ``tn``/``br`` are scratch arrays of 24)."""
+    for one cell; ``tn``/``br`` are scratch arrays of 24; ``blk``: per cell, the ring nodes whose
+    path to it crosses a non-burnable cell, :func:`.ring_update.blocked_nodes`)."""
     ring = gi[0]
+    bt = blk[tg]
     for k in range(N_RING):
         nd = tg + ring[k]
         t = t_ign[nd]
-        tn[k] = t if (t <= t1 and not ext[nd]) else math.inf
+        tn[k] = t if (t <= t1 and not ext[nd] and not (bt >> k) & 1) else math.inf
         br[k] = live_mask[nd]
     a = a_spm[tg]
     cx = cx_spm[tg]
@@ -104,7 +106,9 @@ def _arrival_one(
 
 
 @njit(cache=True)
-def arrival_batch(tgt, t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, gi, gf):  # pragma: no cover
+def arrival_batch(
+    tgt, t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, gi, gf, blk
+):  # pragma: no cover
     """:func:`.ring_update.arrival` over the flat target cells ``tgt`` (for the tests)."""
     n = tgt.size
     best = np.empty(n)
@@ -112,7 +116,9 @@ def arrival_batch(tgt, t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, 
     tn = np.empty(N_RING)
     br = np.empty(N_RING, dtype=np.bool_)
     for q in range(n):
-        b, lb = _arrival_one(tgt[q], t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, gi, gf, tn, br)
+        b, lb = _arrival_one(
+            tgt[q], t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, gi, gf, tn, br, blk
+        )
         best[q] = b
         lab[q] = lb
     return best, lab
@@ -253,6 +259,7 @@ def ignite(
     gf,
     meta,
     tnext,
+    blk,
 ):  # pragma: no cover
     """Ignite flat cells ``cells`` at ``times`` [s] with fire ids ``labels`` (all first, then each
     one's burn-out time from the ignition times of the whole batch, as the numpy path): the
@@ -301,8 +308,8 @@ def ignite(
         t = times[q]
         longest = 0.0
         for k in range(N_RING):
-            nb = c - ring[k]  # a cell this one is a node for
-            if burnable[nb] and t_ign[nb] > t and not ext[nb]:
+            nb = c - ring[k]  # a cell this one is a node for (unless its path is blocked)
+            if burnable[nb] and t_ign[nb] > t and not ext[nb] and not (blk[nb] >> k) & 1:
                 tau = a_spm[nb] * vn[k] - cx_spm[nb] * vx[k] - cy_spm[nb] * vy[k]
                 if tau > longest or math.isnan(tau):
                     longest = tau
@@ -427,6 +434,7 @@ def propagate(
     gf,
     meta,
     tnext,
+    blk,
 ):  # pragma: no cover
     """Ignite every cell whose arrival time (2) is <= ``t1`` [s], in passes: each pass drops the
     sources burnt out by ``t0`` [s] or extinguished, takes every band cell due by ``t1`` from the
@@ -503,7 +511,7 @@ def propagate(
                         in_band[c] = False
                     continue
                 b, lb = _arrival_one(
-                    c, t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, gi, gf, tn, br
+                    c, t1, t_ign, ext, label, live_mask, a_spm, cx_spm, cy_spm, gi, gf, tn, br, blk
                 )
                 arr_t[c] = b
                 arr_lab[c] = lb
@@ -592,6 +600,7 @@ def propagate(
             gf,
             meta,
             tnext,
+            blk,
         )
         if last > latest:
             latest = last

@@ -3,7 +3,8 @@ neighbour rings, as pure numpy functions of flat (raveled, padded) arrays.
 
 :class:`RingGeometry` holds the node offsets of the rings and their vectors to the target cell;
 :func:`arrival` is the update's minimum over single nodes and ring segments for a batch of target
-cells. No ROS, no state.
+cells. :func:`blocked_nodes` marks, per target cell, the ring nodes whose straight path to it
+crosses a non-burnable cell. No ROS, no state.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["RING", "SEGMENTS", "RingGeometry", "arrival"]
+__all__ = ["RING", "SEGMENTS", "RingGeometry", "arrival", "blocked_nodes", "crossed_cells"]
 
 
 def _unique(a: np.ndarray, mark: np.ndarray | None = None) -> np.ndarray:
@@ -43,6 +44,69 @@ def _ring(r: int) -> list[tuple[int, int]]:
 RING = tuple(_ring(1) + _ring(2))
 #: segments (index pairs into RING) of consecutive nodes of each ring
 SEGMENTS = tuple((i, (i + 1) % 8) for i in range(8)) + tuple((8 + i, 8 + (i + 1) % 16) for i in range(16))
+
+
+def crossed_cells(
+    di: int, dj: int
+) -> tuple[list[tuple[int, int]], list[tuple[tuple[int, int], tuple[int, int]]]]:
+    """The cells the straight path from the cell centre at offset (di, dj) to (0, 0) runs
+    through (their interior, end cells left out), and the pairs of cells it squeezes between where
+    it passes exactly through a cell corner (the two cells beside the corner, off the path).
+
+    Exact for these small integer offsets: the path crosses a row boundary at i = k + 1/2 and a
+    column boundary at j = k + 1/2; between consecutive crossings it is inside one cell, and where a
+    row and a column crossing coincide it passes through a corner."""
+    ts = {0.0, 1.0}
+    for n in (di, dj):
+        if n:
+            ts |= {(k + 0.5) / abs(n) for k in range(abs(n))}
+    ts_sorted = sorted(ts)
+    cells: list[tuple[int, int]] = []
+    for a, b in zip(ts_sorted[:-1], ts_sorted[1:], strict=True):
+        m = 0.5 * (a + b)
+        c = (round(di * (1 - m)), round(dj * (1 - m)))
+        if c not in ((di, dj), (0, 0)) and c not in cells:
+            cells.append(c)
+    corners = []
+    si, sj = (di > 0) - (di < 0), (dj > 0) - (dj < 0)
+    for t in ts_sorted[1:-1]:
+        pi, pj = di * (1 - t), dj * (1 - t)
+        if si and sj and abs(pi - round(pi - 0.5) - 0.5) < 1e-12 and abs(pj - round(pj - 0.5) - 0.5) < 1e-12:
+            # on the way from the node toward the target the path goes -si, -sj: the corner's two
+            # side cells are the one ahead in rows only and the one ahead in columns only
+            ahead_i, ahead_j = round(pi - 0.5 * si), round(pj - 0.5 * sj)
+            behind_i, behind_j = round(pi + 0.5 * si), round(pj + 0.5 * sj)
+            corners.append(((ahead_i, behind_j), (behind_i, ahead_j)))
+    return cells, corners
+
+
+def blocked_nodes(nonburn: np.ndarray) -> np.ndarray:
+    """Per cell of the padded grid ``nonburn`` (True: never burns: a non-burnable fuel, water,
+    outside the data), a bit mask of the ring nodes (bit k: ``RING[k]``) whose straight path to
+    the cell crosses a non-burnable cell or squeezes between two at a corner (uint32; the
+    grid's outer two rows and columns are left 0, the padding has no targets).
+
+    Without it, the 16-neighbour ring lets fire jump a one-cell barrier (a road or a stream 30 m
+    wide), which a fire spreading cell to cell across the barrier cannot: minimum-travel-time
+    spread (Finney 2002) sums the travel time through every cell a path crosses, so a non-burnable
+    cell on the path stops it, and the level-set spread of pyretechnics and FARSITE's barriers
+    stop it too."""
+    ny, nx = nonburn.shape
+    out = np.zeros((ny, nx), dtype=np.uint32)
+    inner = (slice(2, ny - 2), slice(2, nx - 2))
+
+    def at(oi: int, oj: int) -> np.ndarray:
+        return nonburn[2 + oi : ny - 2 + oi, 2 + oj : nx - 2 + oj]
+
+    for k, (di, dj) in enumerate(RING):
+        cells, corners = crossed_cells(di, dj)
+        hit = np.zeros((ny - 4, nx - 4), dtype=bool)
+        for oi, oj in cells:
+            hit |= at(oi, oj)
+        for (ai, aj), (bi, bj) in corners:
+            hit |= at(ai, aj) & at(bi, bj)
+        out[inner] |= hit.astype(np.uint32) << np.uint32(k)
+    return out
 
 
 @dataclass(frozen=True)
@@ -99,14 +163,18 @@ def arrival(
     a_spm: np.ndarray,
     cx_spm: np.ndarray,
     cy_spm: np.ndarray,
+    blocked: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Arrival time (2) [s] and fire id of the flat target cells ``tgt`` from their ring nodes
     (every ignited node ignited at or before ``t1``; ``src`` marks the burning ones). The flat
     arrays: ignition times [s], extinguished, fire ids, and the wavelet (1) tau(v) = A |v| - Cx vx
-    - Cy vy [s/m] of each cell."""
+    - Cy vy [s/m] of each cell; ``blocked`` (:func:`blocked_nodes`, flat): nodes whose path to the
+    target crosses a non-burnable cell count as not ignited (nor as segment end points)."""
     nodes = tgt[:, None] + geom.ring_flat[None, :]  # (n, 24)
     t_node = t_ign[nodes]
     valid = (t_node <= t1) & ~extinguished[nodes]
+    if blocked is not None:
+        valid &= ((blocked[tgt][:, None] >> np.arange(len(RING), dtype=np.uint32)[None, :]) & 1) == 0
     t_node = np.where(valid, t_node, np.inf)
     burning = src[nodes]
     a = a_spm[tgt][:, None]
