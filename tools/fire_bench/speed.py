@@ -12,7 +12,11 @@ Rows:
 
 - ``inprocess``: ``python -m fire_mission.inprocess SCENARIO --uavs N --seed 1`` (world and
   agents in one process, no DDS): CPU seconds per second of mission, its inverse (times real
-  time), and whether the summary is the same as the base's (wall-time fields left out);
+  time), and whether the summary is the same as the base's (wall-time fields left out). Those
+  include the start-up (imports, numba's kernels, a raster fire's pre-burn), which a 900 s
+  mission amortises: the same command at ``timing.max_duration_s`` = :data:`STARTUP_MISSION_S`
+  gives the start-up CPU, and "x real time after start-up" is
+  ``(mission - STARTUP_MISSION_S) / (CPU - start-up CPU)`` (:func:`after_startup`);
 - ``world``: ``fire_bench/speed_probe.py world`` (this checkout's file, run under each
   environment): CPU ms per ``World.step`` at 20 UAVs and a digest of the truth;
 - ``dds``: ``python -m fire_mission.runner ff_two_fires --uavs N --no-record --no-report``:
@@ -46,6 +50,8 @@ SPEED_TARGETS = {
     "agent_rss_mb": 100.0,
 }
 SUMMARY_NOISE = {"wall_time_s", "steps_per_wall_s", "processes", "runner"}  # not the mission
+#: [s] of mission the start-up run flies (its own steps are taken out of both sides of the ratio)
+STARTUP_MISSION_S = 1.0
 
 
 def commit_of(root: Path) -> str:
@@ -88,34 +94,68 @@ def _mission_fields(summary: dict) -> dict:
     return {k: v for k, v in summary.items() if k not in SUMMARY_NOISE}
 
 
+def after_startup(
+    mission_s: float | None, cpu_s: float | None, startup_mission_s: float | None, startup_cpu_s: float | None
+) -> float | None:
+    """Times real time once started: the mission flown after the start-up run's
+    (``mission_s - startup_mission_s``) over the CPU spent on it (``cpu_s - startup_cpu_s``);
+    None if a figure is missing or the difference is not positive (the run was no longer than
+    its start-up: nothing to amortise)."""
+    if mission_s is None or cpu_s is None or startup_mission_s is None or startup_cpu_s is None:
+        return None
+    flown, spent = mission_s - startup_mission_s, cpu_s - startup_cpu_s
+    if not (flown > 0 and spent > 0):
+        return None
+    return round(flown / spent, 1)
+
+
+def _inprocess_argv(scenario: str, uavs: int | None, duration: float | None, json_path: Path) -> list[str]:
+    argv = ["python", "-m", "fire_mission.inprocess", scenario, "--seed", "1", "--json", str(json_path)]
+    argv += ["--uavs", str(uavs)] if uavs is not None else []
+    if duration is not None:
+        argv += ["--set", f"timing.max_duration_s={duration:g}"]
+    return argv
+
+
+def _inprocess_run(root: Path, scenario: str, uavs: int | None, duration: float | None) -> tuple[float, dict]:
+    """One in-process mission under ``root``: its CPU seconds and its summary ({} if none)."""
+    with tempfile.TemporaryDirectory() as d:
+        js = Path(d) / "summary.json"
+        cpu, _ = _run(root, _inprocess_argv(scenario, uavs, duration, js), 3600)
+        return cpu, json.loads(js.read_text()) if js.is_file() else {}
+
+
 def inprocess_row(
     roots: dict[str, Path], scenario: str, uavs: int | None, duration: float | None, repeats: int
 ) -> dict:
     """One scenario in one process under each root, ``repeats`` times alternating (base, head,
-    base, head, ...); the least CPU of each root's runs (the load of a shared machine only adds)."""
+    base, head, ...); the least CPU of each root's runs (the load of a shared machine only adds).
+    Each repeat also runs the same command for :data:`STARTUP_MISSION_S` of mission (the
+    start-up CPU, least of the runs too) for the "x real time after start-up" column."""
     row: dict = {"scenario": scenario, "repeats": repeats}
     summaries = {}
     cpus: dict[str, list[float]] = {tag: [] for tag in roots}
+    startup_cpus: dict[str, list[float]] = {tag: [] for tag in roots}
+    startup_mission: dict[str, float | None] = {}
     for _ in range(repeats):
         for tag, root in roots.items():
-            with tempfile.TemporaryDirectory() as d:
-                js = Path(d) / "summary.json"
-                argv = ["python", "-m", "fire_mission.inprocess", scenario, "--seed", "1", "--json", str(js)]
-                argv += ["--uavs", str(uavs)] if uavs is not None else []
-                if duration is not None:
-                    argv += ["--set", f"timing.max_duration_s={duration:g}"]
-                cpu, _ = _run(root, argv, 3600)
-                summaries[tag] = json.loads(js.read_text()) if js.is_file() else {}
+            cpu, summaries[tag] = _inprocess_run(root, scenario, uavs, duration)
             cpus[tag].append(cpu)
+            cpu0, s0 = _inprocess_run(root, scenario, uavs, STARTUP_MISSION_S)
+            startup_cpus[tag].append(cpu0)
+            startup_mission[tag] = s0.get("mission_time_s")
     for tag in roots:
         s = summaries[tag]
         cpu = min(cpus[tag])
+        cpu0 = min(startup_cpus[tag])
         row["uavs"] = s.get("uav_count", uavs)
         mt = s.get("mission_time_s")
         row[f"{tag}_cpu_s"] = round(cpu, 2)
         row["mission_time_s"] = mt
         row[f"{tag}_cpu_per_mission_s"] = round(cpu / mt, 4) if mt else None
         row[f"{tag}_x_real_time"] = round(mt / cpu, 1) if mt and cpu else None
+        row[f"{tag}_startup_cpu_s"] = round(cpu0, 2)
+        row[f"{tag}_x_real_time_after_startup"] = after_startup(mt, cpu, startup_mission[tag], cpu0)
     if "base" in summaries:
         row["summary_same"] = _mission_fields(summaries["base"]) == _mission_fields(summaries["head"])
     return row

@@ -50,6 +50,24 @@ from .errors import ConfigError
 
 __all__ = ["EkfConfig", "Samples", "StateEkf", "wrap_angle"]
 
+_I4 = np.eye(4)
+_I4.flags.writeable = False
+_H_GPS = np.zeros((2, 4))  # GPS rows of H (Eq. 19): x and y
+_H_GPS[0, 0] = _H_GPS[1, 1] = 1.0
+_H_GPS.flags.writeable = False
+_solve_gufunc = np.linalg._umath_linalg.solve  # type: ignore[attr-defined]
+
+
+def _solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.linalg.solve(a, b)`` for float64 matrices, bit for bit: the same LAPACK gufunc, without
+    the wrapper's checks and error-state context (~10 us of each EKF update). A result that is not
+    finite (a singular or non-finite ``a``) is computed again by ``np.linalg.solve``, which raises
+    its ``LinAlgError`` or returns the same numbers."""
+    x = _solve_gufunc(a, b, signature="dd->d")
+    if not math.isfinite(float(x.sum())):
+        return np.linalg.solve(a, b)
+    return x
+
 
 @dataclass(frozen=True)
 class EkfConfig:
@@ -95,6 +113,8 @@ class StateEkf:
         self._a_t = self._a.T  # a view: follows the entries predict sets
         self._gqg = np.zeros((4, 4))  # G Q G^T of Eq. 17; predict sets its six non-zero entries
         self.updates = {"gps": 0, "alt": 0, "gyro": 0}
+        self._r_alt = np.array([[config.sigma_alt_m**2]])  # R of the altimeter row (Eq. 20)
+        self._r_alt.flags.writeable = False
 
     # --- prediction (Eqs. 16-17) ------------------------------------------------------
     def predict(self, u: np.ndarray, dt_s: float, gyro_radps: float | None = None) -> None:
@@ -110,14 +130,30 @@ class StateEkf:
         self._predict(float(u[0]), float(u[1]), float(u[2]), dt_s, gyro_radps)
 
     def _predict(self, v: float, vz: float, om: float, dt_s: float, gyro_radps: float | None) -> None:
-        """:meth:`predict` with the input as three floats (``process`` converts it once per step)."""
+        """:meth:`predict` with the input as three floats."""
+        x, y, z, th = self.s.tolist()
+        self.s = np.array(self._predict_floats(x, y, z, th, v, vz, om, dt_s, gyro_radps))
+
+    def _predict_floats(
+        self,
+        x: float,
+        y: float,
+        z: float,
+        th: float,
+        v: float,
+        vz: float,
+        om: float,
+        dt_s: float,
+        gyro_radps: float | None,
+    ) -> tuple[float, float, float, float]:
+        """One substep of Eqs. 16-17 on the state as four floats (returned), P updated. ``process``
+        keeps the state in floats from one measurement update to the next (no array per substep);
+        each float is the one ``float(s[i])`` gave, so the numbers are the same."""
         q_om = self._q2
         if gyro_radps is not None and math.isfinite(gyro_radps):
             om = om + self._k_gyro * (gyro_radps - om)  # augmented-state update (module doc)
             q_om = (1.0 - self._k_gyro) * q_om
             self.updates["gyro"] += 1
-        s_old = self.s
-        th = float(s_old[3])
         c, s = math.cos(th), math.sin(th)
         a = self._a
         a[0, 3] = -v * s * dt_s
@@ -131,32 +167,24 @@ class StateEkf:
         gqg[1, 1] = gq1 * g1
         gqg[2, 2] = (dt_s * self._q1) * dt_s
         gqg[3, 3] = (dt_s * q_om) * dt_s
-        self.s = np.array(
-            [
-                float(s_old[0]) + v * c * dt_s,
-                float(s_old[1]) + v * s * dt_s,
-                float(s_old[2]) + vz * dt_s,
-                wrap_angle(th + om * dt_s),
-            ]
-        )
         p = a @ self.P @ self._a_t + gqg
         self.P = 0.5 * (p + p.T)  # _symmetrise
+        return x + v * c * dt_s, y + v * s * dt_s, z + vz * dt_s, wrap_angle(th + om * dt_s)
 
     # --- updates (Eqs. 21-25, Joseph form) ------------------------------------------
     def _update(self, y: np.ndarray, h: np.ndarray, r: np.ndarray) -> None:
-        s_mat = h @ self.P @ h.T + r  # Eq. 22
-        k = np.linalg.solve(s_mat, h @ self.P).T  # Eq. 23 (P symmetric)
+        hp = h @ self.P  # (h @ P) @ h.T is how ``h @ P @ h.T`` groups: the same product
+        s_mat = hp @ h.T + r  # Eq. 22
+        k = _solve(s_mat, hp).T  # Eq. 23 (P symmetric)
         self.s = self.s + k @ y  # Eq. 24
         self.s[3] = wrap_angle(self.s[3])
-        ikh = np.eye(4) - k @ h
+        ikh = _I4 - k @ h
         self.P = ikh @ self.P @ ikh.T + k @ r @ k.T  # Joseph form of Eq. 25
         self._symmetrise()
 
     def update_gps(self, x_m: float, y_m: float, var_m2: float | None = None) -> None:
         var = var_m2 if var_m2 is not None and var_m2 > 0 else self.cfg.sigma_gps_m**2
-        h = np.zeros((2, 4))
-        h[0, 0] = h[1, 1] = 1.0
-        self._update(np.array([x_m - self.s[0], y_m - self.s[1]]), h, np.eye(2) * var)
+        self._update(np.array([x_m - self.s[0], y_m - self.s[1]]), _H_GPS, np.eye(2) * var)
         self.updates["gps"] += 1
 
     def update_altimeter(self, height_m: float) -> None:
@@ -165,7 +193,7 @@ class StateEkf:
         dex, dey = self.terrain.gradient(self.s[0], self.s[1])
         h = np.array([[-dex, -dey, 1.0, 0.0]])
         y = np.array([height_m - (self.s[2] - e)])
-        self._update(y, h, np.array([[self.cfg.sigma_alt_m**2]]))
+        self._update(y, h, self._r_alt)
         self.updates["alt"] += 1
 
     def _symmetrise(self) -> None:
@@ -204,23 +232,31 @@ class StateEkf:
                 events.append((sub_index(t), t, 1, r))
         events.sort()
         ei = 0
+        n_ev = len(events)
         u = np.asarray(command, dtype=float)
         v, vz, om = float(u[0]), float(u[1]), float(u[2])
-        for j in range(1, n_sub + 1):
+        j = 1
+        while j <= n_sub:
+            # the substeps up to the next one with a measurement (or the last), on the state as floats
+            j_end = min(events[ei][0], n_sub) if ei < n_ev else n_sub
             if moving:
-                self._predict(v, vz, om, dt, gyro_at.get(j))
-            while ei < len(events) and events[ei][0] == j:
+                x, y, z, th = self.s.tolist()
+                for i in range(j, j_end + 1):
+                    x, y, z, th = self._predict_floats(x, y, z, th, v, vz, om, dt, gyro_at.get(i))
+                self.s = np.array([x, y, z, th])
+            while ei < n_ev and events[ei][0] == j_end:
                 _, _, kind, r = events[ei]
                 ei += 1
                 if kind == 0:
-                    x, y = samples.gps[r, 1], samples.gps[r, 2]
+                    gx, gy = samples.gps[r, 1], samples.gps[r, 2]
                     var = float(samples.gps_var_m2[r]) if samples.gps_var_m2.size > r else 0.0
-                    if math.isfinite(x) and math.isfinite(y):
-                        self.update_gps(float(x), float(y), var)
+                    if math.isfinite(gx) and math.isfinite(gy):
+                        self.update_gps(float(gx), float(gy), var)
                 else:
                     hgt = float(samples.alt[r, 1])
                     if math.isfinite(hgt) and self.cfg.alt_min_m <= hgt <= self.cfg.alt_max_range_m:
                         self.update_altimeter(hgt)
+            j = j_end + 1
 
     @property
     def yaw_rad(self) -> float:

@@ -131,6 +131,8 @@ class PeerLink:
 
     # --- loss model ----------------------------------------------------------------------
     def in_outage(self, sender: int, step: int) -> bool:
+        if not self.outages:  # the common case: no schedule, nothing to compute
+            return False
         t = (step + 1) * self.period_s
         return any(
             o.from_id == sender and o.to_id == self.uav_id and o.start_s <= t < o.end_s for o in self.outages

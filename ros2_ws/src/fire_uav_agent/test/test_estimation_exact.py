@@ -344,3 +344,75 @@ def test_a_fix_with_a_nan_stamp_goes_to_the_first_substep():
     """``process``: a non-finite stamp is taken as the window's first substep (its doc), so an exact
     fix x = 0 stamped NaN pins x after one prediction, and 9 more at V follow."""
     assert math.isclose(_pinned(math.nan), V * 9 * DT, abs_tol=1e-4)
+
+
+def _reference_process(f: StateEkf, samples: Samples, u, t0: float, t1: float, moving: bool) -> None:
+    """``process`` as it was written before it kept the state in floats between measurements: one
+    ``predict`` (numpy state) per substep, then that substep's fixes in time order."""
+    dt = f.cfg.dt_s
+    n_sub = max(1, int(round((t1 - t0) / dt)))
+
+    def sub(t):
+        x = (t - t0 - 1e-6 * dt) / dt
+        return min(max(math.ceil(x), 1), n_sub) if math.isfinite(x) else 1
+
+    gyro = {sub(t): w for t, w in samples.gyro.tolist() if math.isfinite(w)}
+    ev = sorted(
+        [(sub(t), t, 0, r) for r, t in enumerate(samples.gps[:, 0].tolist())]
+        + [(sub(t), t, 1, r) for r, t in enumerate(samples.alt[:, 0].tolist())]
+    )
+    for j in range(1, n_sub + 1):
+        if moving:
+            f.predict(np.asarray(u, dtype=float), dt, gyro.get(j))
+        for _, _, kind, r in [e for e in ev if e[0] == j]:
+            if kind == 0:
+                f.update_gps(float(samples.gps[r, 1]), float(samples.gps[r, 2]), float(samples.gps_var_m2[r]))
+            elif 0.0 <= samples.alt[r, 1] <= f.cfg.alt_max_range_m:
+                f.update_altimeter(float(samples.alt[r, 1]))
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_process_is_substep_by_substep_predict_and_updates_bit_for_bit(seed):
+    """``process`` runs the substeps between two fixes on the state as floats (no array per substep):
+    state and covariance must be byte for byte those of one ``predict`` per substep and the fixes
+    in their substeps, over random steps with GPS, altimeter and gyro samples at random instants."""
+    rng = np.random.default_rng(seed)
+    kw = dict(sigma_nu=(1.0, 0.5, 0.2), initial=(3.0, 3.0, 1.5, 0.05), s0=(5.0, -3.0, 20.0, 3.1))
+    terrain = Terrain(base_m=2.0, slope_x=0.01, slope_y=-0.02)
+    a, b = (StateEkf(EkfConfig(sigma_nu=kw["sigma_nu"], initial_sigma=kw["initial"]), np.array(kw["s0"]), terrain)
+            for _ in range(2))  # fmt: skip
+    t0 = 0.0
+    for k in range(60):
+        t1 = t0 + 0.1
+        n_gps, n_alt, n_gyro = rng.integers(0, 3), rng.integers(0, 4), rng.integers(0, 11)
+        gps_t = np.sort(rng.uniform(t0, t1, n_gps))
+        samples = Samples(
+            np.column_stack([gps_t, rng.normal(0, 50, n_gps), rng.normal(0, 50, n_gps)]).reshape(-1, 3),
+            rng.uniform(1.0, 16.0, n_gps),
+            np.column_stack([rng.uniform(t0, t1, n_alt), rng.uniform(-1.0, 45.0, n_alt)]).reshape(-1, 2),
+            np.column_stack([t0 + 0.01 * np.arange(1, n_gyro + 1), rng.normal(0.1, 0.3, n_gyro)]).reshape(
+                -1, 2
+            ),
+        )
+        u = (rng.uniform(10, 25), rng.normal(0, 1), rng.normal(0, 0.3))
+        moving = k % 13 != 5
+        a.process(samples, np.array(u), t0, t1, moving=moving)
+        _reference_process(b, samples, u, t0, t1, moving)
+        assert a.s.tobytes() == b.s.tobytes(), k
+        assert a.P.tobytes() == b.P.tobytes(), k
+        t0 = t1
+    assert a.updates == b.updates and a.updates["gps"] > 0 and a.updates["alt"] > 0
+
+
+def test_the_update_solve_is_numpys_bit_for_bit_and_raises_as_numpy_does():
+    from fire_uav_agent.estimation import _solve
+
+    rng = np.random.default_rng(3)
+    for n in (1, 2):
+        for _ in range(200):
+            m = rng.normal(size=(n, n))
+            a = m @ m.T + rng.uniform(0.1, 5.0) * np.eye(n)
+            b = rng.normal(size=(n, 4))
+            assert _solve(a, b).tobytes() == np.linalg.solve(a, b).tobytes()
+    with pytest.raises(np.linalg.LinAlgError):
+        _solve(np.zeros((2, 2)), np.ones((2, 4)))

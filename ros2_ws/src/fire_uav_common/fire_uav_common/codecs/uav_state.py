@@ -79,7 +79,8 @@ class PeerState:
     centroid_y_m: float = math.nan
 
     def finite(self) -> bool:
-        return all(math.isfinite(v) for v in (self.x_m, self.y_m, self.z_m, self.yaw_rad, self.water_kg))
+        isf = math.isfinite  # one test per field, no generator (called for every peer state received)
+        return isf(self.x_m) and isf(self.y_m) and isf(self.z_m) and isf(self.yaw_rad) and isf(self.water_kg)
 
 
 @dataclass(frozen=True)
@@ -92,9 +93,12 @@ class PeerFires:
     fires: tuple[FireEntry, ...] = ()
 
     def finite(self) -> bool:
+        isf = math.isfinite
         for f in self.fires:
-            vals = (f.x_m, f.y_m, f.extent_m, f.vx_mps, f.vy_mps, f.last_measurement_s)
-            if not all(math.isfinite(v) for v in vals):
+            if not (
+                isf(f.x_m) and isf(f.y_m) and isf(f.extent_m) and isf(f.vx_mps) and isf(f.vy_mps)
+                and isf(f.last_measurement_s)
+            ):  # fmt: skip
                 return False
         return True
 

@@ -1,0 +1,75 @@
+"""The speed benchmark's in-process row: start-up CPU and x real time after start-up, with a fake runner."""
+
+import json
+from pathlib import Path
+
+import pytest
+from fire_bench import speed
+from fire_bench.markdown import write_markdown
+
+# fake CPU model: start-up [s] per root, then CPU per second of mission
+_STARTUP = {"base": 3.0, "head": 2.0}
+_PER_S = {"base": 0.1, "head": 0.05}
+
+
+def _fake_run(root: Path, argv: list[str], timeout_s: float) -> tuple[float, str]:
+    """Writes the summary the mission would, and returns start-up + CPU per mission second."""
+    tag = root.name
+    js = Path(argv[argv.index("--json") + 1])
+    mission = 90.0
+    for i, a in enumerate(argv):
+        if a == "--set" and argv[i + 1].startswith("timing.max_duration_s="):
+            mission = min(mission, float(argv[i + 1].split("=")[1]))
+    js.write_text(json.dumps({"uav_count": 5, "mission_time_s": mission, "outcome": "ok"}))
+    return _STARTUP[tag] + _PER_S[tag] * mission, ""
+
+
+@pytest.fixture
+def fake(monkeypatch):
+    calls = []
+
+    def run(root, argv, timeout_s):
+        calls.append((root.name, argv))
+        return _fake_run(root, argv, timeout_s)
+
+    monkeypatch.setattr(speed, "_run", run)
+    return calls
+
+
+def test_after_startup_arithmetic():
+    assert speed.after_startup(91.0, 11.0, 1.0, 2.0) == 10.0  # 90 s flown after start-up in 9 s
+    assert speed.after_startup(1.0, 3.0, 1.0, 2.0) is None  # nothing flown after the start-up run
+    assert speed.after_startup(90.0, 2.0, 1.0, 2.0) is None  # no CPU left: refuse, do not divide
+    assert speed.after_startup(None, 2.0, 1.0, 2.0) is None
+
+
+def test_the_row_keeps_its_columns_and_adds_the_startup_ones(fake):
+    roots = {"base": Path("/x/base"), "head": Path("/x/head")}
+    row = speed.inprocess_row(roots, "ff_two_fires", 5, None, repeats=2)
+    # the existing columns, as before: whole CPU over the whole mission
+    assert row["base_cpu_s"] == 12.0 and row["head_cpu_s"] == 6.5
+    assert row["base_x_real_time"] == round(90 / 12.0, 1) and row["head_x_real_time"] == round(90 / 6.5, 1)
+    assert row["summary_same"] is True
+    # the start-up run: the same command at 1 s of mission
+    assert row["base_startup_cpu_s"] == 3.1 and row["head_startup_cpu_s"] == 2.05
+    # after start-up: 89 s of mission for 8.9 s (base) and 4.45 s (head) of CPU: the fake's 1 / per-s
+    assert row["base_x_real_time_after_startup"] == 10.0
+    assert row["head_x_real_time_after_startup"] == 20.0
+    # each repeat runs base then head, each the mission then its start-up run
+    assert [c[0] for c in fake] == ["base", "base", "head", "head"] * 2
+    startup = [c[1] for c in fake if "timing.max_duration_s=1" in c[1]]
+    assert len(startup) == 4 and all("ff_two_fires" in a and "5" in a for a in startup)
+
+
+def test_the_page_shows_the_startup_columns(fake, tmp_path):
+    roots = {"base": Path("/x/base"), "head": Path("/x/head")}
+    row = speed.inprocess_row(roots, "ff_two_fires", 5, None, repeats=1)
+    results = {"speed": {"command": "c", "inprocess": [row], "head_commit": "h", "base_commit": "b"}}
+    md = tmp_path / "benchmarks.md"
+    write_markdown(results, tmp_path, md)
+    head = next(x for x in md.read_text().splitlines() if x.startswith("| scenario"))
+    cols = [c.strip() for c in head.strip("|").split("|")]
+    assert "x real time b" in cols and "start-up CPU s h" in cols and "x real time after start-up h" in cols
+    line = next(x for x in md.read_text().splitlines() if x.startswith("| ff_two_fires"))
+    cells = dict(zip(cols, (c.strip() for c in line.strip("|").split("|")), strict=True))
+    assert float(cells["x real time after start-up h"]) == 20.0
