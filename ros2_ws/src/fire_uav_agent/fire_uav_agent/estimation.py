@@ -55,7 +55,9 @@ _I4.flags.writeable = False
 _H_GPS = np.zeros((2, 4))  # GPS rows of H (Eq. 19): x and y
 _H_GPS[0, 0] = _H_GPS[1, 1] = 1.0
 _H_GPS.flags.writeable = False
-_solve_gufunc = np.linalg._umath_linalg.solve  # type: ignore[attr-defined]
+# numpy's LAPACK gufunc behind np.linalg.solve (a private module of numpy, pinned in
+# requirements/py.txt); a numpy without it falls back to np.linalg.solve itself
+_solve_gufunc = getattr(getattr(np.linalg, "_umath_linalg", None), "solve", None)
 
 
 def _solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -63,6 +65,8 @@ def _solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     the wrapper's checks and error-state context (~10 us of each EKF update). A result that is not
     finite (a singular or non-finite ``a``) is computed again by ``np.linalg.solve``, which raises
     its ``LinAlgError`` or returns the same numbers."""
+    if _solve_gufunc is None:  # pragma: no cover - numpy 2.4.6 has it
+        return np.linalg.solve(a, b)
     x = _solve_gufunc(a, b, signature="dd->d")
     if not math.isfinite(float(x.sum())):
         return np.linalg.solve(a, b)
