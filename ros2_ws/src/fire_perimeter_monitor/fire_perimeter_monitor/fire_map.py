@@ -360,6 +360,10 @@ class FireMap:
 
         A peer cell is taken where it is newer than ours (then it is a visit by the peer,
         with the same inner-cell rules as :meth:`record`); cells are re-binned in our frame.
+        A peer cell is a visit of its bin in time order (ties: in the order given): per bin the
+        cells go in time order, each taken if newer than the bin's outer cell at that moment.
+        The count includes taken cells that were not a visit (nearer than the outer cell: never
+        inward without evidence, and a peer's cell is no evidence).
         """
         x = np.asarray(x_m, dtype=float)
         y = np.asarray(y_m, dtype=float)
@@ -370,24 +374,80 @@ class FireMap:
             return 0
         b = self.bin_of(x, y)
         d = np.hypot(x - self.center_x_m, y - self.center_y_m)
-        # A peer cell is a visit of its bin in time order: per bin the cells go in time order,
-        # each taken if newer than the bin's outer cell at that moment. Bins are independent,
-        # so round r takes the r-th cell (in time) of every bin at once.
-        order = np.argsort(t, kind="stable")
-        b, x, y, d, t = b[order], x[order], y[order], d[order], t[order]
-        by_bin = np.argsort(b, kind="stable")
-        bs = b[by_bin]
-        first = np.r_[True, bs[1:] != bs[:-1]]
-        rank = np.empty(b.size, dtype=np.int64)
-        rank[by_bin] = np.arange(b.size) - np.maximum.accumulate(np.where(first, np.arange(b.size), 0))
+        # The outer time of a bin only grows, so a cell no newer than its bin's outer cell now is
+        # never taken: drop those at once. What is left is a scan per bin in time order, which
+        # each cell's outcome depends on (the bin's outer cell the previous one left): a short
+        # loop of Python floats (the same IEEE operations as the arrays', so the same bits).
+        ours = self.outer_t_s[b]
+        keep = np.isnan(ours) | (t > ours)
+        if not keep.any():
+            return 0
+        b, x, y, d, t = b[keep], x[keep], y[keep], d[keep], t[keep]
+        order = np.lexsort((t, b))  # by bin, then time; stable: ties in the order given
+        return self._merge_scan(
+            b[order].tolist(), x[order].tolist(), y[order].tolist(), d[order].tolist(), t[order].tolist()
+        )
+
+    def _merge_scan(self, bl: list, xl: list, yl: list, dl: list, tl: list) -> int:
+        """:meth:`merge_outer`'s per-bin scan over cells sorted by bin, then time; returns the
+        cells taken. :meth:`_visit` for one cell at a time without ``seen_unburned``."""
+        gap = self.revisit_gap_s
+        base_s = self.ros_baseline_s
+        cells = self.ros_baseline_cells
+        scale = cells * self.cell_size_m  # Eq. 1 baseline: cells * cell / ROS, in _baseline_s's order
+        ign = math.nan if self.ignition_time_s is None else float(self.ignition_time_s)
+        oxa, oya, oda, ota, ida, ita = (
+            self.outer_x_m,
+            self.outer_y_m,
+            self.outer_d_m,
+            self.outer_t_s,
+            self.inner_d_m,
+            self.inner_t_s,
+        )
         taken = 0
-        for r in range(int(rank.max()) + 1):
-            sel = np.flatnonzero(rank == r)
-            ours = self.outer_t_s[b[sel]]
-            sel = sel[np.isnan(ours) | (t[sel] > ours)]
-            if sel.size:
-                self._visit(b[sel], x[sel], y[sel], d[sel], t[sel])
-                taken += int(sel.size)
+        n = len(bl)
+        k = 0
+        while k < n:
+            kb = bl[k]
+            ox, oy, od, ot, idd, it = (
+                float(oxa[kb]),
+                float(oya[kb]),
+                float(oda[kb]),
+                float(ota[kb]),
+                float(ida[kb]),
+                float(ita[kb]),
+            )
+            changed = False
+            while k < n and bl[k] == kb:
+                tk = tl[k]
+                if ot == ot and not tk > ot:  # not newer than the outer cell (NaN: none yet)
+                    k += 1
+                    continue
+                taken += 1
+                if ot != ot:  # Listing 2 (iii): the ignition point is the first inner cell
+                    idd, it = 0.0, ign
+                elif dl[k] < od:  # never inward without evidence
+                    k += 1
+                    continue
+                elif tk - ot >= gap:  # a new visit (else the same visit: only the outer cell moves)
+                    if it != it:
+                        idd, it = od, ot
+                    else:
+                        base = base_s
+                        if cells > 0:  # _baseline_s over Eq. 1's ROS (rate_of_spread), per bin
+                            dt = ot - it
+                            ros = (od - idd) / dt if dt > 0 else math.nan
+                            if ros == ros:
+                                ros = max(ros, 0.0)  # a negative ROS is clipped to 0
+                                if math.isfinite(ros):  # a ROS of 0: no baseline is long enough
+                                    base = max(base, scale / ros if ros > 0 else math.inf)
+                        if tk - ot >= base:  # PM IV-A: the previous outer cell becomes the inner one
+                            idd, it = od, ot
+                ox, oy, od, ot = xl[k], yl[k], dl[k], tk
+                changed = True
+                k += 1
+            if changed:
+                oxa[kb], oya[kb], oda[kb], ota[kb], ida[kb], ita[kb] = ox, oy, od, ot, idd, it
         return taken
 
     def set_center(self, center_x_m: float, center_y_m: float, cells) -> None:
