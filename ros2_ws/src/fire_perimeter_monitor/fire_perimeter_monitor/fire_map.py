@@ -264,7 +264,9 @@ class FireMap:
         b = self.bin_of(x, y)
         order = np.lexsort((d, b))  # by bin, then distance: the last of each bin is the farthest
         b_sorted = b[order]
-        last = np.r_[b_sorted[1:] != b_sorted[:-1], True]
+        last = np.empty(b_sorted.size, dtype=bool)
+        np.not_equal(b_sorted[1:], b_sorted[:-1], out=last[:-1])
+        last[-1] = True
         sel = order[last]
         bins, xs, ys, ds = b[sel], x[sel], y[sel], d[sel]
         if link_m > 0 and bins.size >= 2:
@@ -273,8 +275,11 @@ class FireMap:
         return bins
 
     def _fill_skipped(self, bins, xs, ys, ds, link_m):
+        """:meth:`record`'s fill of skipped bins; ``bins`` distinct and ascending."""
         nb = self.bin_count
-        nxt = np.roll(np.arange(bins.size), -1)
+        n = bins.size
+        nxt = np.arange(1, n + 1)
+        nxt[-1] = 0  # the next cell round the circle
         gap = (bins[nxt] - bins) % nb
         close = np.hypot(xs[nxt] - xs, ys[nxt] - ys) <= link_m
         ks = np.flatnonzero(close & (gap >= 2) & (gap <= nb // 4))
@@ -291,14 +296,25 @@ class FireMap:
         den = ux * ey - uy * ex
         with np.errstate(divide="ignore", invalid="ignore"):
             r = (px * ey - py * ex) / den
-        ok = np.isfinite(r) & (r > 0)
-        ab, ax, ay = fb[ok], self.center_x_m + r[ok] * ux[ok], self.center_y_m + r[ok] * uy[ok]
-        keep = ~np.isin(ab, bins)
-        ab, ax, ay = ab[keep], ax[keep], ay[keep]
-        ab, first = np.unique(ab, return_index=True)
-        ax, ay = ax[first], ay[first]
+        present = np.zeros(nb, dtype=bool)
+        present[bins] = True
+        ok = np.isfinite(r) & (r > 0) & ~present[fb]  # a bin with a cell of its own keeps it
+        ab, r, ux, uy = fb[ok], r[ok], ux[ok], uy[ok]
+        # several crossings of one bin: the first in the order of the gaps (np.unique's index)
+        by_bin = np.argsort(ab, kind="stable")
+        ab = ab[by_bin]
+        first = np.empty(ab.size, dtype=bool)
+        first[:1] = True
+        np.not_equal(ab[1:], ab[:-1], out=first[1:])
+        ab, sel = ab[first], by_bin[first]
+        ax, ay = self.center_x_m + r[sel] * ux[sel], self.center_y_m + r[sel] * uy[sel]
         ad = np.hypot(ax - self.center_x_m, ay - self.center_y_m)
-        return np.r_[bins, ab], np.r_[xs, ax], np.r_[ys, ay], np.r_[ds, ad]
+        return (
+            np.concatenate((bins, ab)),
+            np.concatenate((xs, ax)),
+            np.concatenate((ys, ay)),
+            np.concatenate((ds, ad)),
+        )
 
     def _visit(
         self,
@@ -306,11 +322,10 @@ class FireMap:
         x: np.ndarray,
         y: np.ndarray,
         d: np.ndarray,
-        t_s,
+        t_s: float,
         seen_unburned: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
     ) -> None:
-        """Visits of distinct ``bins`` at time ``t_s`` [s] (one time, or one per bin)."""
-        t_s = np.broadcast_to(np.asarray(t_s, dtype=float), bins.shape)
+        """Visits of distinct ``bins`` at time ``t_s`` [s]."""
         prev_t = self.outer_t_s[bins]
         first = np.isnan(prev_t)
         # never inward without evidence (module docstring)
@@ -324,30 +339,41 @@ class FireMap:
         same_visit = seen & ~first & (t_s >= prev_t) & (t_s - prev_t < self.revisit_gap_s)  # older: ignored
         new_visit = seen & ~first & ~same_visit & (t_s > prev_t)
         # Listing 2 (iii): the ignition point is the first inner cell.
-        fb = bins[first]
-        self.inner_d_m[fb] = 0.0
-        self.inner_t_s[fb] = np.nan if self.ignition_time_s is None else self.ignition_time_s
+        if first.any():
+            fb = bins[first]
+            self.inner_d_m[fb] = 0.0
+            self.inner_t_s[fb] = np.nan if self.ignition_time_s is None else self.ignition_time_s
         # PM IV-A: a new visit turns the previous outer cell into the inner cell (if old enough).
-        nv = new_visit & ((t_s - prev_t >= self._baseline_s(bins)) | np.isnan(self.inner_t_s[bins]))
-        nb = bins[nv]
-        self.inner_d_m[nb] = self.outer_d_m[nb]
-        self.inner_t_s[nb] = self.outer_t_s[nb]
+        if new_visit.any():
+            nv = new_visit & np.isnan(self.inner_t_s[bins])
+            k = np.flatnonzero(new_visit & ~nv)
+            if k.size:
+                nv[k] = t_s - prev_t[k] >= self._baseline_s(bins[k])
+            nb = bins[nv]
+            self.inner_d_m[nb] = self.outer_d_m[nb]
+            self.inner_t_s[nb] = self.outer_t_s[nb]
         # a bin moved inward on evidence: its Eq. 1 history is void
-        cb = bins[cleared & (same_visit | new_visit)]
-        self.inner_d_m[cb] = d[cleared & (same_visit | new_visit)]
-        self.inner_t_s[cb] = np.nan
+        moved = cleared & (same_visit | new_visit)
+        if moved.any():
+            cb = bins[moved]
+            self.inner_d_m[cb] = d[moved]
+            self.inner_t_s[cb] = np.nan
         upd = first | same_visit | new_visit
         ub = bins[upd]
         self.outer_x_m[ub] = x[upd]
         self.outer_y_m[ub] = y[upd]
         self.outer_d_m[ub] = d[upd]
-        self.outer_t_s[ub] = t_s[upd]
+        self.outer_t_s[ub] = t_s
 
     def _baseline_s(self, bins: np.ndarray) -> np.ndarray:
         """Eq. 1 baseline [s] per bin: ``max(ros_baseline_s, ros_baseline_cells * cell / ROS)``."""
         base = np.full(bins.size, self.ros_baseline_s)
         if self.ros_baseline_cells > 0:
-            ros = self.ros_mps()[bins]
+            from .importance import rate_of_spread
+
+            ros = rate_of_spread(  # ros_mps() of these bins only (elementwise: the same values)
+                self.outer_d_m[bins], self.inner_d_m[bins], self.outer_t_s[bins], self.inner_t_s[bins]
+            )
             with np.errstate(divide="ignore"):
                 scaled = np.where(
                     ros > 0, self.ros_baseline_cells * self.cell_size_m / np.where(ros > 0, ros, 1.0), np.inf

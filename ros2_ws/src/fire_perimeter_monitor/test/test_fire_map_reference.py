@@ -22,7 +22,8 @@ ARRAYS = ("outer_x_m", "outer_y_m", "outer_d_m", "outer_t_s", "inner_d_m", "inne
 
 
 class _Reference(FireMap):
-    """FireMap's updates as of commit 1a20769 (verbatim but for names)."""
+    """FireMap's updates as of commit 1a20769 (verbatim but for names): ``merge_outer`` and
+    ``record`` with its fill of skipped bins, its visit and the Eq. 1 baseline."""
 
     def merge_outer(self, x_m, y_m, t_s) -> int:
         x = np.asarray(x_m, dtype=float)
@@ -50,6 +51,51 @@ class _Reference(FireMap):
                 self._ref_visit(b[sel], x[sel], y[sel], d[sel], t[sel])
                 taken += int(sel.size)
         return taken
+
+    def record(self, x_m, y_m, t_s, link_m=0.0, seen_unburned=None):
+        x = np.asarray(x_m, dtype=float).ravel()
+        y = np.asarray(y_m, dtype=float).ravel()
+        if x.size == 0:
+            return np.zeros(0, dtype=np.int64)
+        d = np.hypot(x - self.center_x_m, y - self.center_y_m)
+        b = self.bin_of(x, y)
+        order = np.lexsort((d, b))
+        b_sorted = b[order]
+        last = np.r_[b_sorted[1:] != b_sorted[:-1], True]
+        sel = order[last]
+        bins, xs, ys, ds = b[sel], x[sel], y[sel], d[sel]
+        if link_m > 0 and bins.size >= 2:
+            bins, xs, ys, ds = self._ref_fill_skipped(bins, xs, ys, ds, link_m)
+        self._ref_visit(bins, xs, ys, ds, float(t_s), seen_unburned)
+        return bins
+
+    def _ref_fill_skipped(self, bins, xs, ys, ds, link_m):
+        nb = self.bin_count
+        nxt = np.roll(np.arange(bins.size), -1)
+        gap = (bins[nxt] - bins) % nb
+        close = np.hypot(xs[nxt] - xs, ys[nxt] - ys) <= link_m
+        ks = np.flatnonzero(close & (gap >= 2) & (gap <= nb // 4))
+        if ks.size == 0:
+            return bins, xs, ys, ds
+        counts = gap[ks] - 1
+        k = np.repeat(ks, counts)
+        step = np.arange(k.size) - np.repeat(np.cumsum(counts) - counts, counts) + 1
+        px, py = xs[k] - self.center_x_m, ys[k] - self.center_y_m
+        ex, ey = xs[nxt[k]] - xs[k], ys[nxt[k]] - ys[k]
+        fb = (bins[k] + step) % nb
+        th = (fb + 0.5) * (2 * np.pi / nb)
+        ux, uy = np.cos(th), np.sin(th)
+        den = ux * ey - uy * ex
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = (px * ey - py * ex) / den
+        ok = np.isfinite(r) & (r > 0)
+        ab, ax, ay = fb[ok], self.center_x_m + r[ok] * ux[ok], self.center_y_m + r[ok] * uy[ok]
+        keep = ~np.isin(ab, bins)
+        ab, ax, ay = ab[keep], ax[keep], ay[keep]
+        ab, first = np.unique(ab, return_index=True)
+        ax, ay = ax[first], ay[first]
+        ad = np.hypot(ax - self.center_x_m, ay - self.center_y_m)
+        return np.r_[bins, ab], np.r_[xs, ax], np.r_[ys, ay], np.r_[ds, ad]
 
     def _ref_visit(self, bins, x, y, d, t_s, seen_unburned=None) -> None:
         t_s = np.broadcast_to(np.asarray(t_s, dtype=float), bins.shape)
@@ -147,8 +193,8 @@ def test_merge_outer_is_the_round_by_round_merge(seed):
         t += float(rng.choice([0.5, 1.5, 5.0, 12.0]))
         if rng.random() < 0.5:  # own sightings in between, as a monitor has (same code for both)
             x, y, s = _footprint(rng, t)
-            for m in (fast, ref):
-                FireMap.record(m, x, y, t, link_m=7.5, seen_unburned=unburned_lookup(x, y, s, 5.0))
+            look = unburned_lookup(x, y, s, 5.0)
+            assert np.array_equal(fast.record(x, y, t, 7.5, look), ref.record(x, y, t, 7.5, look))
         x, y, tt = _peer_cells(rng, t, int(rng.integers(1, 400)))
         assert fast.merge_outer(x, y, tt) == ref.merge_outer(x, y, tt)
         _assert_same_bits(fast, ref, f"merge {step}")
@@ -174,6 +220,29 @@ def test_merge_outer_branches_by_hand():
     for c in calls[:4]:
         probe.merge_outer(*c)
     assert probe.inner_t_s[0] == 6.0 and probe.inner_d_m[0] == np.hypot(12.0, 1.0)
+
+
+@settings(max_examples=150, deadline=None, phases=NO_SHRINK)
+@given(st.integers(0, 2**32 - 1))
+def test_record_is_the_old_record(seed):
+    """Footprints of perimeter cells, with the fill of skipped bins and the sighting's unburned
+    cells as evidence, on maps that also take peers' cells."""
+    rng = np.random.default_rng(seed)
+    fast, ref = _maps(rng)
+    t = 0.0
+    for step in range(int(rng.integers(1, 12))):
+        t += float(rng.choice([0.5, 1.5, 5.0, 12.0]))
+        x, y, s = _footprint(rng, t)
+        per = rng.random(x.size) < 0.6  # any subset: the map does not need a true perimeter
+        link = float(rng.choice([0.0, 7.5, 25.0]))
+        look = unburned_lookup(x, y, s, 5.0) if rng.random() < 0.8 else None
+        assert np.array_equal(
+            fast.record(x[per], y[per], t, link, look), ref.record(x[per], y[per], t, link, look)
+        )
+        _assert_same_bits(fast, ref, f"record {step}")
+        if rng.random() < 0.3:
+            px, py, pt = _peer_cells(rng, t, 50)
+            assert fast.merge_outer(px, py, pt) == ref.merge_outer(px, py, pt)
 
 
 @pytest.mark.parametrize("n", [0, 1])
