@@ -40,6 +40,8 @@ from fire_uav_common.constants import CellState, PerimeterDirection
 
 from .errors import ConfigError, InputError
 
+_UNBURNED = int(CellState.UNBURNED)  # a module constant: no enum attribute lookup per call
+
 __all__ = [
     "CellGrid",
     "CellState",
@@ -51,6 +53,7 @@ __all__ = [
     "direction_sign",
     "reversed_direction",
     "perimeter_mask",
+    "sighting",
     "unburned_lookup",
 ]
 
@@ -122,45 +125,55 @@ def perimeter_mask(x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_siz
     neighbour outside the footprint is unknown and does not count, so the footprint's edge
     does not create a false perimeter.
     """
-    x, y, s = as_cell_arrays((x_m, y_m, state))
-    if x.size == 0:
-        return np.zeros(0, dtype=bool)
-    grid = CellGrid(float(x[0]), float(y[0]), cell_size_m)
-    i, j = grid.index(x, y)
-    # A dense raster over the footprint's bounding box, one cell of margin on every side so
-    # that the four neighbours of every cell are inside it.
-    i = i - i.min() + 1
-    j = j - j.min() + 1
-    unburned = np.zeros((int(i.max()) + 2, int(j.max()) + 2), dtype=bool)
-    u = s == CellState.UNBURNED
-    unburned[i[u], j[u]] = True
-    near = unburned[i + 1, j] | unburned[i - 1, j] | unburned[i, j + 1] | unburned[i, j - 1]
-    return ~u & near
+    return sighting(x_m, y_m, state, cell_size_m)[0]
 
 
 def unburned_lookup(
     x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_size_m: float
 ) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
     """Vectorised test "was the cell at (x_m, y_m) seen unburned in this sighting" [m]."""
-    x, y, s = as_cell_arrays((x_m, y_m, state))
-    u = s == CellState.UNBURNED
-    if not u.any():
-        return lambda px, py: np.zeros(np.shape(px), dtype=bool)
+    return sighting(x_m, y_m, state, cell_size_m)[1]
+
+
+def sighting(
+    x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_size_m: float, *, checked: bool = False
+) -> tuple[np.ndarray, Callable[[np.ndarray, np.ndarray], np.ndarray]]:
+    """:func:`perimeter_mask` and :func:`unburned_lookup` of one sighting, indexed once.
+
+    ``checked``: the arrays are already :func:`as_cell_arrays`' (float, float, int64), as a
+    monitor's update has them. Cells are indexed on a grid anchored at the first cell.
+    """
+    x, y, s = (x_m, y_m, state) if checked else as_cell_arrays((x_m, y_m, state))
+    if x.size == 0:
+        return np.zeros(0, dtype=bool), _nothing_unburned
     grid = CellGrid(float(x[0]), float(y[0]), cell_size_m)
-    i, j = grid.index(x[u], y[u])
-    i0, j0 = int(i.min()), int(j.min())
-    seen = np.zeros((int(i.max()) - i0 + 1, int(j.max()) - j0 + 1), dtype=bool)
-    seen[i - i0, j - j0] = True
+    i, j = grid.index(x, y)
+    # A dense raster over the footprint's bounding box, one cell of margin on every side so
+    # that the four neighbours of every cell are inside it.
+    i0, j0 = int(i.min()) - 1, int(j.min()) - 1
+    i = i - i0
+    j = j - j0
+    unburned = np.zeros((int(i.max()) + 2, int(j.max()) + 2), dtype=bool)
+    u = s == _UNBURNED
+    unburned[i[u], j[u]] = True
+    near = unburned[i + 1, j] | unburned[i - 1, j] | unburned[i, j + 1] | unburned[i, j - 1]
+    per = ~u & near
+    if not u.any():
+        return per, _nothing_unburned
 
     def lookup(px: np.ndarray, py: np.ndarray) -> np.ndarray:
         a, b = grid.index(px, py)
         a, b = a - i0, b - j0
-        ok = (a >= 0) & (a < seen.shape[0]) & (b >= 0) & (b < seen.shape[1])
+        ok = (a >= 0) & (a < unburned.shape[0]) & (b >= 0) & (b < unburned.shape[1])
         out = np.zeros(np.shape(a), dtype=bool)
-        out[ok] = seen[a[ok], b[ok]]
+        out[ok] = unburned[a[ok], b[ok]]
         return out
 
-    return lookup
+    return per, lookup
+
+
+def _nothing_unburned(px: np.ndarray, py: np.ndarray) -> np.ndarray:
+    return np.zeros(np.shape(px), dtype=bool)
 
 
 def angle_bin(x_m, y_m, center_x_m: float, center_y_m: float, bin_count: int = 360) -> np.ndarray:

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .boundary import lookup_from_cells, nearest_boundary_cell, next_boundary_cell
+from .boundary import fire_lookup, nearest_boundary_cell, next_boundary_cell
 from .errors import ConfigError, InputError, SequenceError
 from .fire_map import (
     CellGrid,
@@ -40,9 +40,8 @@ from .fire_map import (
     as_cell_arrays,
     circular_fill,
     direction_sign,
-    perimeter_mask,
     reversed_direction,
-    unburned_lookup,
+    sighting,
 )
 from .importance import (
     WindowImportance,
@@ -215,9 +214,8 @@ class PerimeterMonitor:
         self.uav_xy, self.t_s = (ux, uy), float(t_s)
         if x.size:
             self.footprint_m = max(self.footprint_m, float(np.max(np.hypot(x - ux, y - uy))))
-        self._lookup = lookup_from_cells((x, y, s), self.grid)
-        per = perimeter_mask(x, y, s, self.config.cell_size_m)
-        unburned = unburned_lookup(x, y, s, self.config.cell_size_m)
+        self._lookup = fire_lookup(x, y, s, self.grid)
+        per, unburned = sighting(x, y, s, self.config.cell_size_m, checked=True)
         if self.center_known:
             self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m, seen_unburned=unburned)
         else:

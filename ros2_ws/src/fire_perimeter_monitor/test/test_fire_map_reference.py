@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from fire_perimeter_monitor.fire_map import FireMap, unburned_lookup
+from fire_perimeter_monitor.fire_map import FireMap, perimeter_mask, sighting, unburned_lookup
 from hypothesis import Phase, given, settings
 from hypothesis import strategies as st
 
@@ -252,3 +252,36 @@ def test_merge_outer_of_nothing_new(n):
     before = [getattr(fm, a).copy() for a in ARRAYS]
     assert fm.merge_outer([20.0] * n, [0.0] * n, [5.0] * n) == 0  # not newer: nothing taken
     assert all(np.array_equal(a, getattr(fm, k), equal_nan=True) for a, k in zip(before, ARRAYS, strict=True))
+
+
+@settings(max_examples=100, deadline=None, phases=NO_SHRINK)
+@given(st.integers(0, 2**32 - 1))
+def test_sighting_is_the_perimeter_and_the_unburned_cells(seed):
+    """sighting() indexes a footprint once for both answers: the perimeter mask is the
+    brute-force 4-neighbour scan, the lookup is membership in the set of unburned cells (any
+    query point, inside the footprint's box or far outside it)."""
+    rng = np.random.default_rng(seed)
+    x, y, s = _footprint(rng, float(rng.uniform(0.0, 60.0)))
+    keep = rng.random(x.size) < float(rng.uniform(0.3, 1.0))  # footprints with holes
+    x, y, s = x[keep], y[keep], s[keep]
+    per, look = sighting(x, y, s, 5.0)
+    assert np.array_equal(per, perimeter_mask(x, y, s, 5.0))
+    cells = {(round(a / 5.0), round(b / 5.0)): int(c) for a, b, c in zip(x - 2.5, y + 7.5, s, strict=True)}
+    want = [
+        c != 0 and any(cells.get((i + di, j + dj)) == 0 for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1)))
+        for (i, j), c in (
+            (k, cells[k])
+            for k in zip(
+                np.rint((x - 2.5) / 5.0).astype(int), np.rint((y + 7.5) / 5.0).astype(int), strict=True
+            )
+        )
+    ]
+    assert per.tolist() == want
+    qi = rng.integers(-25, 26, 300)
+    qj = rng.integers(-25, 26, 300)
+    qx = 2.5 + 5.0 * qi + rng.uniform(-2.4, 2.4, 300)
+    qy = -7.5 + 5.0 * qj + rng.uniform(-2.4, 2.4, 300)
+    got = look(qx, qy)
+    assert got.dtype == bool and got.shape == qx.shape
+    assert got.tolist() == [cells.get((int(a), int(b))) == 0 for a, b in zip(qi, qj, strict=True)]
+    assert np.array_equal(got, unburned_lookup(x, y, s, 5.0)(qx, qy))
