@@ -507,7 +507,8 @@ class ImportanceMonitor(PerimeterMonitor):
         ros = smooth_circular(circular_fill(fm.ros_mps(), 0.0), c.ros_smooth_bins)[bins]
         t_outer = circular_fill(fm.outer_t_s, self.t_s)[bins]
         since = np.maximum(self.t_s - t_outer, 0.0)
-        weight = self._peer_weight(cells, adjust_heterogeneity(ros, c.alpha))
+        # Eq. 7's ROS only for the spread split (the angle split does not read it)
+        weight = self._peer_weight(cells, adjust_heterogeneity(ros, c.alpha) if c.split == "spread" else None)
         w = window_importance(ros, since, spacing, c.speed_mps, c.alpha, weight=weight)
         self.last_window, self.last_cells_m = w, cells
         min_run = max(c.min_run_cells, int(math.ceil(c.min_run_fraction * cells.shape[0])))
