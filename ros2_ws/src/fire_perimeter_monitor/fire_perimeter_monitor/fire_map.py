@@ -234,6 +234,7 @@ class FireMap:
         self.outer_t_s = nan.copy()
         self.inner_d_m = nan.copy()
         self.inner_t_s = nan.copy()
+        self._ros_cache: tuple[bytes, np.ndarray] | None = None  # see ros_mps
 
     # --- geometry ------------------------------------------------------------------------
     def bin_of(self, x_m, y_m) -> np.ndarray:
@@ -514,10 +515,26 @@ class FireMap:
 
     # --- derived per-bin quantities ------------------------------------------------------
     def ros_mps(self) -> np.ndarray:
-        """Rate of spread per bin [m/s] (PM Eq. 1), NaN where unknown."""
+        """Rate of spread per bin [m/s] (PM Eq. 1), NaN where unknown.
+
+        A monitor's step reads it several times between two changes of the map (planning, its
+        front, its summary): the last result is kept with the bytes of the four arrays it was
+        computed from (a pure function of them, so a write to the arrays from anywhere is seen),
+        and a copy returned.
+        """
         from .importance import rate_of_spread
 
-        return rate_of_spread(self.outer_d_m, self.inner_d_m, self.outer_t_s, self.inner_t_s)
+        key = (
+            self.outer_d_m.tobytes()
+            + self.inner_d_m.tobytes()
+            + self.outer_t_s.tobytes()
+            + self.inner_t_s.tobytes()
+        )
+        cached = getattr(self, "_ros_cache", None)
+        if cached is None or cached[0] != key:
+            cached = (key, rate_of_spread(self.outer_d_m, self.inner_d_m, self.outer_t_s, self.inner_t_s))
+            self._ros_cache = cached
+        return cached[1].copy()
 
     def filled(self, values: np.ndarray, default: float = 0.0) -> np.ndarray:
         """Per-bin values with NaNs filled by circular linear interpolation over the bins."""

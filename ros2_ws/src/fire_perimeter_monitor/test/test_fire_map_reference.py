@@ -285,3 +285,24 @@ def test_sighting_is_the_perimeter_and_the_unburned_cells(seed):
     assert got.dtype == bool and got.shape == qx.shape
     assert got.tolist() == [cells.get((int(a), int(b))) == 0 for a, b in zip(qi, qj, strict=True)]
     assert np.array_equal(got, unburned_lookup(x, y, s, 5.0)(qx, qy))
+
+
+def test_ros_mps_is_recomputed_whenever_an_array_changes():
+    """ros_mps keeps its last result: a write to any of the four arrays, by the map or from
+    outside, gives the new Eq. 1 values; writing into a returned array changes nothing."""
+    fm = FireMap(0.0, 0.0, ignition_time_s=0.0, revisit_gap_s=1.0)
+    fm.record([100.0], [0.0], 50.0)
+    first = fm.ros_mps()
+    assert first[0] == 2.0
+    first[0] = 99.0  # the caller's copy
+    assert fm.ros_mps()[0] == 2.0
+    fm.record([150.0], [0.0], 100.0)  # a new visit: (150 - 100) / 50
+    assert fm.ros_mps()[0] == 1.0
+    for name, value, want in (
+        ("outer_d_m", 200.0, 2.0),
+        ("inner_d_m", 50.0, 3.0),
+        ("outer_t_s", 150.0, 1.5),
+        ("inner_t_s", 0.0, 1.0),
+    ):
+        getattr(fm, name)[0] = value
+        assert fm.ros_mps()[0] == want, name
