@@ -17,6 +17,7 @@ from .fire_map import CellGrid, CellState, Direction, as_cell_arrays
 
 __all__ = [
     "FireLookup",
+    "fire_lookup",
     "lookup_from_cells",
     "lookup_from_grid",
     "next_boundary_cell",
@@ -27,20 +28,26 @@ __all__ = [
 Cell = tuple[int, int]
 FireLookup = Callable[[int, int], bool]  # True: fire cell; False: unburned or unseen
 
+_UNBURNED = int(CellState.UNBURNED)
+
 # The 8 neighbours in CCW order starting east.
 RING: tuple[Cell, ...] = ((1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1))
 
 
 def lookup_from_cells(observed_cells, grid: CellGrid) -> FireLookup:
     """Fire lookup over the cells a sensor reported (FireCells); unseen cells are outside."""
-    x, y, s = as_cell_arrays(observed_cells)
-    if x.size == 0:
+    return fire_lookup(*as_cell_arrays(observed_cells), grid)
+
+
+def fire_lookup(x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, grid: CellGrid) -> FireLookup:
+    """:func:`lookup_from_cells` of arrays already checked by ``as_cell_arrays``."""
+    if x_m.size == 0:
         return lambda a, b: False
-    i, j = grid.index(x, y)
+    i, j = grid.index(x_m, y_m)
     i0, j0 = int(i.min()), int(j.min())
     ni, nj = int(i.max()) - i0 + 1, int(j.max()) - j0 + 1
     fire = np.zeros((ni, nj), dtype=bool)
-    f = s != CellState.UNBURNED
+    f = state != _UNBURNED
     fire[i[f] - i0, j[f] - j0] = True
 
     def is_fire(a: int, b: int) -> bool:

@@ -40,6 +40,8 @@ from fire_uav_common.constants import CellState, PerimeterDirection
 
 from .errors import ConfigError, InputError
 
+_UNBURNED = int(CellState.UNBURNED)  # a module constant: no enum attribute lookup per call
+
 __all__ = [
     "CellGrid",
     "CellState",
@@ -51,6 +53,7 @@ __all__ = [
     "direction_sign",
     "reversed_direction",
     "perimeter_mask",
+    "sighting",
     "unburned_lookup",
 ]
 
@@ -122,45 +125,55 @@ def perimeter_mask(x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_siz
     neighbour outside the footprint is unknown and does not count, so the footprint's edge
     does not create a false perimeter.
     """
-    x, y, s = as_cell_arrays((x_m, y_m, state))
-    if x.size == 0:
-        return np.zeros(0, dtype=bool)
-    grid = CellGrid(float(x[0]), float(y[0]), cell_size_m)
-    i, j = grid.index(x, y)
-    # A dense raster over the footprint's bounding box, one cell of margin on every side so
-    # that the four neighbours of every cell are inside it.
-    i = i - i.min() + 1
-    j = j - j.min() + 1
-    unburned = np.zeros((int(i.max()) + 2, int(j.max()) + 2), dtype=bool)
-    u = s == CellState.UNBURNED
-    unburned[i[u], j[u]] = True
-    near = unburned[i + 1, j] | unburned[i - 1, j] | unburned[i, j + 1] | unburned[i, j - 1]
-    return ~u & near
+    return sighting(x_m, y_m, state, cell_size_m)[0]
 
 
 def unburned_lookup(
     x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_size_m: float
 ) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
     """Vectorised test "was the cell at (x_m, y_m) seen unburned in this sighting" [m]."""
-    x, y, s = as_cell_arrays((x_m, y_m, state))
-    u = s == CellState.UNBURNED
-    if not u.any():
-        return lambda px, py: np.zeros(np.shape(px), dtype=bool)
+    return sighting(x_m, y_m, state, cell_size_m)[1]
+
+
+def sighting(
+    x_m: np.ndarray, y_m: np.ndarray, state: np.ndarray, cell_size_m: float, *, checked: bool = False
+) -> tuple[np.ndarray, Callable[[np.ndarray, np.ndarray], np.ndarray]]:
+    """:func:`perimeter_mask` and :func:`unburned_lookup` of one sighting, indexed once.
+
+    ``checked``: the arrays are already :func:`as_cell_arrays`' (float, float, int64), as a
+    monitor's update has them. Cells are indexed on a grid anchored at the first cell.
+    """
+    x, y, s = (x_m, y_m, state) if checked else as_cell_arrays((x_m, y_m, state))
+    if x.size == 0:
+        return np.zeros(0, dtype=bool), _nothing_unburned
     grid = CellGrid(float(x[0]), float(y[0]), cell_size_m)
-    i, j = grid.index(x[u], y[u])
-    i0, j0 = int(i.min()), int(j.min())
-    seen = np.zeros((int(i.max()) - i0 + 1, int(j.max()) - j0 + 1), dtype=bool)
-    seen[i - i0, j - j0] = True
+    i, j = grid.index(x, y)
+    # A dense raster over the footprint's bounding box, one cell of margin on every side so
+    # that the four neighbours of every cell are inside it.
+    i0, j0 = int(i.min()) - 1, int(j.min()) - 1
+    i = i - i0
+    j = j - j0
+    unburned = np.zeros((int(i.max()) + 2, int(j.max()) + 2), dtype=bool)
+    u = s == _UNBURNED
+    unburned[i[u], j[u]] = True
+    near = unburned[i + 1, j] | unburned[i - 1, j] | unburned[i, j + 1] | unburned[i, j - 1]
+    per = ~u & near
+    if not u.any():
+        return per, _nothing_unburned
 
     def lookup(px: np.ndarray, py: np.ndarray) -> np.ndarray:
         a, b = grid.index(px, py)
         a, b = a - i0, b - j0
-        ok = (a >= 0) & (a < seen.shape[0]) & (b >= 0) & (b < seen.shape[1])
+        ok = (a >= 0) & (a < unburned.shape[0]) & (b >= 0) & (b < unburned.shape[1])
         out = np.zeros(np.shape(a), dtype=bool)
-        out[ok] = seen[a[ok], b[ok]]
+        out[ok] = unburned[a[ok], b[ok]]
         return out
 
-    return lookup
+    return per, lookup
+
+
+def _nothing_unburned(px: np.ndarray, py: np.ndarray) -> np.ndarray:
+    return np.zeros(np.shape(px), dtype=bool)
 
 
 def angle_bin(x_m, y_m, center_x_m: float, center_y_m: float, bin_count: int = 360) -> np.ndarray:
@@ -221,6 +234,7 @@ class FireMap:
         self.outer_t_s = nan.copy()
         self.inner_d_m = nan.copy()
         self.inner_t_s = nan.copy()
+        self._ros_cache: tuple[bytes, np.ndarray] | None = None  # see ros_mps
 
     # --- geometry ------------------------------------------------------------------------
     def bin_of(self, x_m, y_m) -> np.ndarray:
@@ -264,7 +278,9 @@ class FireMap:
         b = self.bin_of(x, y)
         order = np.lexsort((d, b))  # by bin, then distance: the last of each bin is the farthest
         b_sorted = b[order]
-        last = np.r_[b_sorted[1:] != b_sorted[:-1], True]
+        last = np.empty(b_sorted.size, dtype=bool)
+        np.not_equal(b_sorted[1:], b_sorted[:-1], out=last[:-1])
+        last[-1] = True
         sel = order[last]
         bins, xs, ys, ds = b[sel], x[sel], y[sel], d[sel]
         if link_m > 0 and bins.size >= 2:
@@ -273,8 +289,11 @@ class FireMap:
         return bins
 
     def _fill_skipped(self, bins, xs, ys, ds, link_m):
+        """:meth:`record`'s fill of skipped bins; ``bins`` distinct and ascending."""
         nb = self.bin_count
-        nxt = np.roll(np.arange(bins.size), -1)
+        n = bins.size
+        nxt = np.arange(1, n + 1)
+        nxt[-1] = 0  # the next cell round the circle
         gap = (bins[nxt] - bins) % nb
         close = np.hypot(xs[nxt] - xs, ys[nxt] - ys) <= link_m
         ks = np.flatnonzero(close & (gap >= 2) & (gap <= nb // 4))
@@ -291,14 +310,25 @@ class FireMap:
         den = ux * ey - uy * ex
         with np.errstate(divide="ignore", invalid="ignore"):
             r = (px * ey - py * ex) / den
-        ok = np.isfinite(r) & (r > 0)
-        ab, ax, ay = fb[ok], self.center_x_m + r[ok] * ux[ok], self.center_y_m + r[ok] * uy[ok]
-        keep = ~np.isin(ab, bins)
-        ab, ax, ay = ab[keep], ax[keep], ay[keep]
-        ab, first = np.unique(ab, return_index=True)
-        ax, ay = ax[first], ay[first]
+        present = np.zeros(nb, dtype=bool)
+        present[bins] = True
+        ok = np.isfinite(r) & (r > 0) & ~present[fb]  # a bin with a cell of its own keeps it
+        ab, r, ux, uy = fb[ok], r[ok], ux[ok], uy[ok]
+        # several crossings of one bin: the first in the order of the gaps (np.unique's index)
+        by_bin = np.argsort(ab, kind="stable")
+        ab = ab[by_bin]
+        first = np.empty(ab.size, dtype=bool)
+        first[:1] = True
+        np.not_equal(ab[1:], ab[:-1], out=first[1:])
+        ab, sel = ab[first], by_bin[first]
+        ax, ay = self.center_x_m + r[sel] * ux[sel], self.center_y_m + r[sel] * uy[sel]
         ad = np.hypot(ax - self.center_x_m, ay - self.center_y_m)
-        return np.r_[bins, ab], np.r_[xs, ax], np.r_[ys, ay], np.r_[ds, ad]
+        return (
+            np.concatenate((bins, ab)),
+            np.concatenate((xs, ax)),
+            np.concatenate((ys, ay)),
+            np.concatenate((ds, ad)),
+        )
 
     def _visit(
         self,
@@ -306,11 +336,10 @@ class FireMap:
         x: np.ndarray,
         y: np.ndarray,
         d: np.ndarray,
-        t_s,
+        t_s: float,
         seen_unburned: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
     ) -> None:
-        """Visits of distinct ``bins`` at time ``t_s`` [s] (one time, or one per bin)."""
-        t_s = np.broadcast_to(np.asarray(t_s, dtype=float), bins.shape)
+        """Visits of distinct ``bins`` at time ``t_s`` [s]."""
         prev_t = self.outer_t_s[bins]
         first = np.isnan(prev_t)
         # never inward without evidence (module docstring)
@@ -324,30 +353,41 @@ class FireMap:
         same_visit = seen & ~first & (t_s >= prev_t) & (t_s - prev_t < self.revisit_gap_s)  # older: ignored
         new_visit = seen & ~first & ~same_visit & (t_s > prev_t)
         # Listing 2 (iii): the ignition point is the first inner cell.
-        fb = bins[first]
-        self.inner_d_m[fb] = 0.0
-        self.inner_t_s[fb] = np.nan if self.ignition_time_s is None else self.ignition_time_s
+        if first.any():
+            fb = bins[first]
+            self.inner_d_m[fb] = 0.0
+            self.inner_t_s[fb] = np.nan if self.ignition_time_s is None else self.ignition_time_s
         # PM IV-A: a new visit turns the previous outer cell into the inner cell (if old enough).
-        nv = new_visit & ((t_s - prev_t >= self._baseline_s(bins)) | np.isnan(self.inner_t_s[bins]))
-        nb = bins[nv]
-        self.inner_d_m[nb] = self.outer_d_m[nb]
-        self.inner_t_s[nb] = self.outer_t_s[nb]
+        if new_visit.any():
+            nv = new_visit & np.isnan(self.inner_t_s[bins])
+            k = np.flatnonzero(new_visit & ~nv)
+            if k.size:
+                nv[k] = t_s - prev_t[k] >= self._baseline_s(bins[k])
+            nb = bins[nv]
+            self.inner_d_m[nb] = self.outer_d_m[nb]
+            self.inner_t_s[nb] = self.outer_t_s[nb]
         # a bin moved inward on evidence: its Eq. 1 history is void
-        cb = bins[cleared & (same_visit | new_visit)]
-        self.inner_d_m[cb] = d[cleared & (same_visit | new_visit)]
-        self.inner_t_s[cb] = np.nan
+        moved = cleared & (same_visit | new_visit)
+        if moved.any():
+            cb = bins[moved]
+            self.inner_d_m[cb] = d[moved]
+            self.inner_t_s[cb] = np.nan
         upd = first | same_visit | new_visit
         ub = bins[upd]
         self.outer_x_m[ub] = x[upd]
         self.outer_y_m[ub] = y[upd]
         self.outer_d_m[ub] = d[upd]
-        self.outer_t_s[ub] = t_s[upd]
+        self.outer_t_s[ub] = t_s
 
     def _baseline_s(self, bins: np.ndarray) -> np.ndarray:
         """Eq. 1 baseline [s] per bin: ``max(ros_baseline_s, ros_baseline_cells * cell / ROS)``."""
         base = np.full(bins.size, self.ros_baseline_s)
         if self.ros_baseline_cells > 0:
-            ros = self.ros_mps()[bins]
+            from .importance import rate_of_spread
+
+            ros = rate_of_spread(  # ros_mps() of these bins only (elementwise: the same values)
+                self.outer_d_m[bins], self.inner_d_m[bins], self.outer_t_s[bins], self.inner_t_s[bins]
+            )
             with np.errstate(divide="ignore"):
                 scaled = np.where(
                     ros > 0, self.ros_baseline_cells * self.cell_size_m / np.where(ros > 0, ros, 1.0), np.inf
@@ -360,6 +400,10 @@ class FireMap:
 
         A peer cell is taken where it is newer than ours (then it is a visit by the peer,
         with the same inner-cell rules as :meth:`record`); cells are re-binned in our frame.
+        A peer cell is a visit of its bin in time order (ties: in the order given): per bin the
+        cells go in time order, each taken if newer than the bin's outer cell at that moment.
+        The count includes taken cells that were not a visit (nearer than the outer cell: never
+        inward without evidence, and a peer's cell is no evidence).
         """
         x = np.asarray(x_m, dtype=float)
         y = np.asarray(y_m, dtype=float)
@@ -370,24 +414,80 @@ class FireMap:
             return 0
         b = self.bin_of(x, y)
         d = np.hypot(x - self.center_x_m, y - self.center_y_m)
-        # A peer cell is a visit of its bin in time order: per bin the cells go in time order,
-        # each taken if newer than the bin's outer cell at that moment. Bins are independent,
-        # so round r takes the r-th cell (in time) of every bin at once.
-        order = np.argsort(t, kind="stable")
-        b, x, y, d, t = b[order], x[order], y[order], d[order], t[order]
-        by_bin = np.argsort(b, kind="stable")
-        bs = b[by_bin]
-        first = np.r_[True, bs[1:] != bs[:-1]]
-        rank = np.empty(b.size, dtype=np.int64)
-        rank[by_bin] = np.arange(b.size) - np.maximum.accumulate(np.where(first, np.arange(b.size), 0))
+        # The outer time of a bin only grows, so a cell no newer than its bin's outer cell now is
+        # never taken: drop those at once. What is left is a scan per bin in time order, which
+        # each cell's outcome depends on (the bin's outer cell the previous one left): a short
+        # loop of Python floats (the same IEEE operations as the arrays', so the same bits).
+        ours = self.outer_t_s[b]
+        keep = np.isnan(ours) | (t > ours)
+        if not keep.any():
+            return 0
+        b, x, y, d, t = b[keep], x[keep], y[keep], d[keep], t[keep]
+        order = np.lexsort((t, b))  # by bin, then time; stable: ties in the order given
+        return self._merge_scan(
+            b[order].tolist(), x[order].tolist(), y[order].tolist(), d[order].tolist(), t[order].tolist()
+        )
+
+    def _merge_scan(self, bl: list, xl: list, yl: list, dl: list, tl: list) -> int:
+        """:meth:`merge_outer`'s per-bin scan over cells sorted by bin, then time; returns the
+        cells taken. :meth:`_visit` for one cell at a time without ``seen_unburned``."""
+        gap = self.revisit_gap_s
+        base_s = self.ros_baseline_s
+        cells = self.ros_baseline_cells
+        scale = cells * self.cell_size_m  # Eq. 1 baseline: cells * cell / ROS, in _baseline_s's order
+        ign = math.nan if self.ignition_time_s is None else float(self.ignition_time_s)
+        oxa, oya, oda, ota, ida, ita = (
+            self.outer_x_m,
+            self.outer_y_m,
+            self.outer_d_m,
+            self.outer_t_s,
+            self.inner_d_m,
+            self.inner_t_s,
+        )
         taken = 0
-        for r in range(int(rank.max()) + 1):
-            sel = np.flatnonzero(rank == r)
-            ours = self.outer_t_s[b[sel]]
-            sel = sel[np.isnan(ours) | (t[sel] > ours)]
-            if sel.size:
-                self._visit(b[sel], x[sel], y[sel], d[sel], t[sel])
-                taken += int(sel.size)
+        n = len(bl)
+        k = 0
+        while k < n:
+            kb = bl[k]
+            ox, oy, od, ot, idd, it = (
+                float(oxa[kb]),
+                float(oya[kb]),
+                float(oda[kb]),
+                float(ota[kb]),
+                float(ida[kb]),
+                float(ita[kb]),
+            )
+            changed = False
+            while k < n and bl[k] == kb:
+                tk = tl[k]
+                if ot == ot and not tk > ot:  # not newer than the outer cell (NaN: none yet)
+                    k += 1
+                    continue
+                taken += 1
+                if ot != ot:  # Listing 2 (iii): the ignition point is the first inner cell
+                    idd, it = 0.0, ign
+                elif dl[k] < od:  # never inward without evidence
+                    k += 1
+                    continue
+                elif tk - ot >= gap:  # a new visit (else the same visit: only the outer cell moves)
+                    if it != it:
+                        idd, it = od, ot
+                    else:
+                        base = base_s
+                        if cells > 0:  # _baseline_s over Eq. 1's ROS (rate_of_spread), per bin
+                            dt = ot - it
+                            ros = (od - idd) / dt if dt > 0 else math.nan
+                            if ros == ros:
+                                ros = max(ros, 0.0)  # a negative ROS is clipped to 0
+                                if math.isfinite(ros):  # a ROS of 0: no baseline is long enough
+                                    base = max(base, scale / ros if ros > 0 else math.inf)
+                        if tk - ot >= base:  # PM IV-A: the previous outer cell becomes the inner one
+                            idd, it = od, ot
+                ox, oy, od, ot = xl[k], yl[k], dl[k], tk
+                changed = True
+                k += 1
+            if changed:
+                oxa[kb], oya[kb], oda[kb], ota[kb], ida[kb], ita[kb] = ox, oy, od, ot, idd, it
         return taken
 
     def set_center(self, center_x_m: float, center_y_m: float, cells) -> None:
@@ -415,10 +515,26 @@ class FireMap:
 
     # --- derived per-bin quantities ------------------------------------------------------
     def ros_mps(self) -> np.ndarray:
-        """Rate of spread per bin [m/s] (PM Eq. 1), NaN where unknown."""
+        """Rate of spread per bin [m/s] (PM Eq. 1), NaN where unknown.
+
+        A monitor's step reads it several times between two changes of the map (planning, its
+        front, its summary): the last result is kept with the bytes of the four arrays it was
+        computed from (a pure function of them, so a write to the arrays from anywhere is seen),
+        and a copy returned.
+        """
         from .importance import rate_of_spread
 
-        return rate_of_spread(self.outer_d_m, self.inner_d_m, self.outer_t_s, self.inner_t_s)
+        key = (
+            self.outer_d_m.tobytes()
+            + self.inner_d_m.tobytes()
+            + self.outer_t_s.tobytes()
+            + self.inner_t_s.tobytes()
+        )
+        cached = getattr(self, "_ros_cache", None)
+        if cached is None or cached[0] != key:
+            cached = (key, rate_of_spread(self.outer_d_m, self.inner_d_m, self.outer_t_s, self.inner_t_s))
+            self._ros_cache = cached
+        return cached[1].copy()
 
     def filled(self, values: np.ndarray, default: float = 0.0) -> np.ndarray:
         """Per-bin values with NaNs filled by circular linear interpolation over the bins."""

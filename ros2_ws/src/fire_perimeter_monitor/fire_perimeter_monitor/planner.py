@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .boundary import lookup_from_cells, nearest_boundary_cell, next_boundary_cell
+from .boundary import fire_lookup, nearest_boundary_cell, next_boundary_cell
 from .errors import ConfigError, InputError, SequenceError
 from .fire_map import (
     CellGrid,
@@ -40,9 +40,8 @@ from .fire_map import (
     as_cell_arrays,
     circular_fill,
     direction_sign,
-    perimeter_mask,
     reversed_direction,
-    unburned_lookup,
+    sighting,
 )
 from .importance import (
     WindowImportance,
@@ -215,9 +214,8 @@ class PerimeterMonitor:
         self.uav_xy, self.t_s = (ux, uy), float(t_s)
         if x.size:
             self.footprint_m = max(self.footprint_m, float(np.max(np.hypot(x - ux, y - uy))))
-        self._lookup = lookup_from_cells((x, y, s), self.grid)
-        per = perimeter_mask(x, y, s, self.config.cell_size_m)
-        unburned = unburned_lookup(x, y, s, self.config.cell_size_m)
+        self._lookup = fire_lookup(x, y, s, self.grid)
+        per, unburned = sighting(x, y, s, self.config.cell_size_m, checked=True)
         if self.center_known:
             self.fire_map.record(x[per], y[per], t_s, link_m=self._link_m, seen_unburned=unburned)
         else:
@@ -509,7 +507,8 @@ class ImportanceMonitor(PerimeterMonitor):
         ros = smooth_circular(circular_fill(fm.ros_mps(), 0.0), c.ros_smooth_bins)[bins]
         t_outer = circular_fill(fm.outer_t_s, self.t_s)[bins]
         since = np.maximum(self.t_s - t_outer, 0.0)
-        weight = self._peer_weight(cells, adjust_heterogeneity(ros, c.alpha))
+        # Eq. 7's ROS only for the spread split (the angle split does not read it)
+        weight = self._peer_weight(cells, adjust_heterogeneity(ros, c.alpha) if c.split == "spread" else None)
         w = window_importance(ros, since, spacing, c.speed_mps, c.alpha, weight=weight)
         self.last_window, self.last_cells_m = w, cells
         min_run = max(c.min_run_cells, int(math.ceil(c.min_run_fraction * cells.shape[0])))

@@ -82,10 +82,10 @@ def construct_perimeter(
     vec = pts[cand] - anchor
     bearing = np.unwrap(np.arctan2(vec[:, 1], vec[:, 0]))
     # CCW flight: the view of the stale perimeter ahead turns clockwise up to the tangent point.
-    s = -sign * bearing
+    s = (-sign * bearing).tolist()  # Python floats: the same values, without numpy scalars in the loop
     best = 0
     run_max = s[0]
-    for k in range(1, s.size):
+    for k in range(1, len(s)):
         if s[k] < s[k - 1] - angle_tol_rad:
             break
         if s[k] >= run_max:
