@@ -200,14 +200,18 @@ def gaussian_density(grid: Grid, centres: ArrayLike, sigmas: ArrayLike) -> np.nd
     """Eqs. 13-15: sum of isotropic Gaussians exp(-|q - c|^2 / (2 sigma^2)) on the grid, (M,)."""
     centres = np.asarray(centres, dtype=float).reshape(-1, 2)
     sigmas = np.broadcast_to(np.asarray(sigmas, dtype=float), (centres.shape[0],))
-    out = np.zeros(grid.shape)
+    out = None
     for (cx, cy), s in zip(centres, sigmas, strict=True):
         if not s > 0:
             continue
         gx = np.exp(-((grid.xs - cx) ** 2) / (2 * s * s))
         gy = np.exp(-((grid.ys - cy) ** 2) / (2 * s * s))
-        out += np.outer(gy, gx)  # separable: exp(-(dx^2+dy^2)/2s^2) = gx * gy
-    return out.ravel()
+        term = np.outer(gy, gx)  # separable: exp(-(dx^2+dy^2)/2s^2) = gx * gy
+        if out is None:
+            out = term  # the first term as it is: 0 + v is v for every v >= 0 (no zeros, no add)
+        else:
+            out += term
+    return (np.zeros(grid.shape) if out is None else out).ravel()
 
 
 def mass_centroid(
