@@ -372,3 +372,22 @@ def test_points_near_two_bounds_with_opposite_answers_are_each_decided():
     xs = g.points[:, 0]
     assert want[np.isclose(xs, 72.5)].all() and not want[np.isclose(xs, 22.5)].any()
     assert np.array_equal(own_cell_on_grid(g, p, others), want)
+
+
+@pytest.mark.parametrize("band", [None, 20.0])
+def test_own_cell_on_grid_on_a_grid_wider_than_2_16_columns_and_with_a_nan_peer(band):
+    """A 70,000-column grid (the row ranges' wide integer type) and a peer at NaN (the bounds are
+    NaN: the comparisons over the whole grid decide): the same mask as :func:`own_cell`."""
+    from fire_uav_agent.coverage import make_grid, own_cell, own_cell_on_grid
+
+    wide = make_grid(0.0, 70_000.0, 0.0, 3.0, 1.0)
+    assert wide.shape == (3, 70_000)
+    p = np.array([35_000.2, 1.5])
+    for others in (np.array([[35_100.0, 1.0], [1_000.0, 2.0]]), np.array([[35_000.2, 1.5]])):
+        want = own_cell(wide.points, p, others, band)
+        assert want.any() and not want.all()
+        assert np.array_equal(own_cell_on_grid(wide, p, others, band), want)
+    g = make_grid(0.0, 300.0, 0.0, 300.0, 5.0)
+    others = np.array([[np.nan, 100.0], [200.0, 150.0]])
+    p = np.array([120.0, 140.0])
+    assert np.array_equal(own_cell_on_grid(g, p, others, band), own_cell(g.points, p, others, band))
