@@ -186,28 +186,66 @@ def own_cell_on_grid(
         row_out = (cz <= -_SURE_M).any(axis=1)
         hi_in = np.where(row_in, hi_in, -inf)
         hi_out = np.where(row_out, -inf, hi_out)
-    sure_in = (rx[None, :] > lo_in[:, None]) & (rx[None, :] < hi_in[:, None])
-    sure_out = (rx[None, :] < lo_out[:, None]) | (rx[None, :] > hi_out[:, None])
-    mask = sure_in.ravel()
-    near = np.flatnonzero(~(mask | sure_out.ravel()))
+    if np.isnan(rx).any() or np.isnan(np.concatenate([lo_in, hi_in, lo_out, hi_out])).any():
+        sure_in = (rx[None, :] > lo_in[:, None]) & (rx[None, :] < hi_in[:, None])
+        sure_out = (rx[None, :] < lo_out[:, None]) | (rx[None, :] > hi_out[:, None])
+        mask = sure_in.ravel()
+        near = np.flatnonzero(~(mask | sure_out.ravel()))
+    else:
+        mask, near = _row_intervals(rx, lo_in, hi_in, lo_out, hi_out)
     if near.size:
         proj = (grid.points[near] - p_i[None, :]) @ unit.T
         mask[near] = (proj <= lim[None, :]).all(axis=1)
     return mask
 
 
+def _row_intervals(
+    rx: np.ndarray, lo_in: np.ndarray, hi_in: np.ndarray, lo_out: np.ndarray, hi_out: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`own_cell_on_grid`'s rows from their bounds (no NaN among the arguments): the flat mask
+    of the points surely in (lo_in < rx < hi_in) and the flat indices, ascending, of the points
+    neither surely in nor surely out (rx < lo_out or rx > hi_out). Exactly
+    ``sure_in.ravel()`` and ``flatnonzero(~(sure_in | sure_out))`` of the comparisons over the
+    whole grid, found by binary search in the columns' ``rx`` (non-decreasing: the grid's x
+    minus one number), each row then being a range of columns; ~3x less time than four float
+    comparisons of every point against its row's bounds."""
+    ny, nx = lo_in.size, rx.size
+    a = np.searchsorted(rx, lo_in, "right")  # first column with rx > lo_in
+    b = np.searchsorted(rx, hi_in, "left")  # first column with rx >= hi_in: surely in, [a, b)
+    oa = np.searchsorted(rx, lo_out, "left")  # first column with rx >= lo_out
+    ob = np.searchsorted(rx, hi_out, "right")  # first column with rx > hi_out: not surely out, [oa, ob)
+    b = np.maximum(a, b)  # an empty [a, b) as a = b (the pieces of [oa, ob) below then tile it)
+    # a <= col < b as one unsigned comparison: for col < a, col - a wraps to 2^16 - (a - col) >= b - a
+    # (b <= nx <= 2^16 - 1)
+    u = np.uint16 if nx < 2**16 else np.uint64
+    cols = np.arange(nx, dtype=u)
+    mask = ((cols[None, :] - a.astype(u)[:, None]) < (b - a).astype(u)[:, None]).ravel()
+    # [oa, ob) without [a, b): [oa, min(ob, a)) then [max(oa, b), ob), in ascending order
+    starts = np.column_stack([oa, np.maximum(oa, b)])
+    lens = np.maximum(np.column_stack([np.minimum(ob, a), ob]) - starts, 0).ravel()
+    total = int(lens.sum())
+    if total == 0:
+        return mask, np.zeros(0, dtype=np.intp)
+    first = (starts + (np.arange(ny) * nx)[:, None]).ravel()
+    return mask, np.arange(total) + np.repeat(first - (np.cumsum(lens) - lens), lens)
+
+
 def gaussian_density(grid: Grid, centres: ArrayLike, sigmas: ArrayLike) -> np.ndarray:
     """Eqs. 13-15: sum of isotropic Gaussians exp(-|q - c|^2 / (2 sigma^2)) on the grid, (M,)."""
     centres = np.asarray(centres, dtype=float).reshape(-1, 2)
     sigmas = np.broadcast_to(np.asarray(sigmas, dtype=float), (centres.shape[0],))
-    out = np.zeros(grid.shape)
+    out = None
     for (cx, cy), s in zip(centres, sigmas, strict=True):
         if not s > 0:
             continue
         gx = np.exp(-((grid.xs - cx) ** 2) / (2 * s * s))
         gy = np.exp(-((grid.ys - cy) ** 2) / (2 * s * s))
-        out += np.outer(gy, gx)  # separable: exp(-(dx^2+dy^2)/2s^2) = gx * gy
-    return out.ravel()
+        term = np.outer(gy, gx)  # separable: exp(-(dx^2+dy^2)/2s^2) = gx * gy
+        if out is None:
+            out = term  # the first term as it is: 0 + v is v for every v >= 0 (no zeros, no add)
+        else:
+            out += term
+    return (np.zeros(grid.shape) if out is None else out).ravel()
 
 
 def mass_centroid(

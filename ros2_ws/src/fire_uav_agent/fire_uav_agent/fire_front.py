@@ -115,6 +115,9 @@ class FrontPicture:
         self._version = 0  # bumped by every observe/merge (the front cache's key)
         self._front_cache: tuple[tuple[int, float], FrontCells] | None = None
         self._burning_cache: tuple[tuple[int, float], tuple[np.ndarray, np.ndarray]] | None = None
+        # rows i0..i1 and columns j0..j1 (inclusive) holding every cell ever written BURNING: the
+        # only block the search for burning cells has to read (empty while i1 < i0)
+        self._burn_box = [self.ny, -1, self.nx, -1]
 
     # --- geometry ------------------------------------------------------------------------
     def index(self, x_m: np.ndarray, y_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -139,6 +142,7 @@ class FrontPicture:
         i, j, st = i[ok], j[ok], st[ok]
         self.state[i, j] = st
         self.t_obs[i, j] = t_s
+        self._grow_burn_box(i, j, st)
         self._version += 1
         self._t_s = max(self._t_s, t_s)
         if self.fire_map is None:
@@ -171,6 +175,7 @@ class FrontPicture:
         order = np.argsort(t, kind="stable")
         self.state[i[order], j[order]] = st[order]
         self.t_obs[i[order], j[order]] = t[order]
+        self._grow_burn_box(i, j, st)
         self._version += 1
         if self.fire_map is None:
             self._maybe_centre()
@@ -181,6 +186,18 @@ class FrontPicture:
                     np.asarray(cells.x_m)[b], np.asarray(cells.y_m)[b], np.asarray(cells.t_obs_s)[b]
                 )
         return int(newer.sum())
+
+    def _grow_burn_box(self, i: np.ndarray, j: np.ndarray, st: np.ndarray) -> None:
+        """Widen the block of cells ever written BURNING by the cells ``(i, j)`` written ``st``."""
+        b = st == CellState.BURNING
+        if not b.any():
+            return
+        bi, bj = i[b], j[b]
+        box = self._burn_box
+        box[0] = min(box[0], int(bi.min()))
+        box[1] = max(box[1], int(bi.max()))
+        box[2] = min(box[2], int(bj.min()))
+        box[3] = max(box[3], int(bj.max()))
 
     def _maybe_centre(self) -> None:
         fire = (self.state == CellState.BURNING) | (self.state == CellState.BURNED)
@@ -212,11 +229,16 @@ class FrontPicture:
 
     def _fresh_burning_ij(self, t_s: float) -> tuple[np.ndarray, np.ndarray]:
         """(row, col) of the cells last seen BURNING within ``max_age_s`` of ``t_s`` [s]; cached
-        until the next ``observe``/``merge`` (the front and the consensus both ask each step)."""
+        until the next ``observe``/``merge`` (the front and the consensus both ask each step).
+        Searched in the block of cells ever written BURNING (``_burn_box``), not the whole grid."""
         key = (self._version, t_s)
         if self._burning_cache is not None and self._burning_cache[0] == key:
             return self._burning_cache[1]
-        i, j = np.nonzero(self.state == CellState.BURNING)
+        i0, i1, j0, j1 = self._burn_box
+        # a BURNING cell lies in the block: its row-major order is the whole grid's
+        i, j = np.nonzero(self.state[i0 : i1 + 1, j0 : j1 + 1] == CellState.BURNING)
+        i += i0
+        j += j0
         with np.errstate(invalid="ignore"):
             fresh = t_s - self.t_obs[i, j] <= self.cfg.max_age_s
         out = (i[fresh], j[fresh])

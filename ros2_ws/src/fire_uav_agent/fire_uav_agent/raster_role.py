@@ -18,7 +18,7 @@ from fire_uav_common.constants import Objective, VehicleStatus
 
 from .agent_config import AgentConfig
 from .coverage import Grid, mass_centroid
-from .fire_front import FrontConfig, FrontPicture
+from .fire_front import FrontCells, FrontConfig, FrontPicture
 from .front_consensus import FrontSharing, PeerFront
 from .peer_link import FireEntry
 from .tactics import (
@@ -62,6 +62,8 @@ class RasterSuppression:
         self.peer_fronts: list[PeerFront] = []  # received since the last step
         self.anchor: tuple[float, float] | None = None  # flank tactic: chosen once
         self.fronts_received = 0
+        # the tactic's weights, Eq. 13' density and grid index of the last front (see _weighted)
+        self._weighted_cache: tuple[tuple, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
 
     def fuse(self, bundle: Bundle, vehicle: VehicleStatus, t_s: float) -> None:
         """Own FireCells (airborne) and the peers' shared fronts into this UAV's front picture."""
@@ -103,14 +105,9 @@ class RasterSuppression:
             return aim, None if not aim else False, None
         if self.tactic.tactic == "flank" and self.anchor is None:
             self.anchor = choose_anchor(front)
-        w = front_weights(front, self.tactic, self.anchor)
-        dens = front_density(self.grid, front, w, self.tactic.sigma_m)
+        w, dens, on_grid = self._weighted(front)
         _, c = mass_centroid(self.grid.points, dens, cell, self.grid.cell_area_m2)
-        res = self.grid.resolution_m
-        ny, nx = self.grid.shape
-        gj = np.clip(np.floor((front.x_m - self.grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
-        gi = np.clip(np.floor((front.y_m - self.grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
-        in_cell = cell[gi * nx + gj]
+        in_cell = cell[on_grid]
         near = (float(s[0]), float(s[1])) if c is None else (float(c[0]), float(c[1]))
         taken = aims_taken(
             self.cfg.uav_id,
@@ -132,6 +129,29 @@ class RasterSuppression:
             for n, e in enumerate(aim)
         )
         return aim, self._release(bundle, s, speed_mps), xy
+
+    def _weighted(self, front: FrontCells) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The tactic's weights w_i, the Eq. 13' density on the grid and each front cell's flat grid
+        index, for ``front``.
+
+        These depend only on the front cells' centres and ROS (and the flank anchor), which stay
+        the same over most control steps (a cell burns or goes out every few seconds; the picture's
+        version changes at every observation, with the cells' observation times): they are kept
+        for the last front and recomputed only when those bytes change. Read-only arrays."""
+        key = (front.x_m.tobytes(), front.y_m.tobytes(), front.ros_mps.tobytes(), self.anchor)
+        if self._weighted_cache is not None and self._weighted_cache[0] == key:
+            return self._weighted_cache[1]
+        w = front_weights(front, self.tactic, self.anchor)
+        dens = front_density(self.grid, front, w, self.tactic.sigma_m)
+        res = self.grid.resolution_m
+        ny, nx = self.grid.shape
+        gj = np.clip(np.floor((front.x_m - self.grid.xs[0]) / res + 0.5).astype(int), 0, nx - 1)
+        gi = np.clip(np.floor((front.y_m - self.grid.ys[0]) / res + 0.5).astype(int), 0, ny - 1)
+        out = (w, dens, gi * nx + gj)
+        for a in out:
+            a.setflags(write=False)
+        self._weighted_cache = (key, out)
+        return out
 
     def _release(self, bundle: Bundle, s: np.ndarray, speed_mps: float) -> bool:
         """The release rule (:func:`.tactics.release_now`) at the estimated pose ``s``."""

@@ -203,6 +203,33 @@ def test_gaussian_density_is_the_sum_of_unit_peak_gaussians():
     assert math.isclose(d0.sum() * 100.0, 2 * math.pi * 40.0**2, rel_tol=1e-3)
 
 
+def test_gaussian_density_is_the_accumulated_sum_bit_for_bit():
+    """The density is the same bits as summing every term into a grid of zeros in order (the
+    missions' Eq. 8 masses and Eq. 9 centroids depend on them): one centre, several (a sigma <= 0
+    skipped, first or later), none; and the zero grid when no sigma is positive."""
+    g = make_grid(-50, 930, 10, 770, 5.0)
+    rng = np.random.default_rng(7)
+    cases = [
+        ([(205.3, 305.1)], [40.0]),
+        ([(205.3, 305.1), (705.0, 605.9), (-80.0, 900.0)], [40.0, 3.7, 120.0]),
+        ([(1.0, 2.0), (300.0, 300.0), (500.5, 20.0)], [0.0, 12.5, 60.0]),
+        ([(300.0, 300.0), (500.5, 20.0)], [12.5, -1.0]),
+        (list(map(tuple, rng.uniform(0, 900, (9, 2)))), list(rng.uniform(0.5, 200, 9))),
+        ([(1.0, 2.0)], [0.0]),
+        ([], []),
+    ]
+    for centres, sigmas in cases:
+        ref = np.zeros(g.shape)
+        for (cx, cy), s in zip(centres, sigmas, strict=True):
+            if s > 0:
+                ref += np.outer(
+                    np.exp(-((g.ys - cy) ** 2) / (2 * s * s)), np.exp(-((g.xs - cx) ** 2) / (2 * s * s))
+                )
+        got = gaussian_density(g, centres, sigmas)
+        assert got.shape == (g.points.shape[0],)
+        assert got.tobytes() == ref.ravel().tobytes()
+
+
 def test_vehicle_limits_of_a_scenario_vehicle():
     lim = VehicleLimits.of(Vehicle(v_stall_mps=30.0, v_max_mps=80.0, vz_max_mps=7.0, omega_max_radps=0.5))
     assert lim == VehicleLimits(30.0, 80.0, 7.0, 0.5)
@@ -345,3 +372,22 @@ def test_points_near_two_bounds_with_opposite_answers_are_each_decided():
     xs = g.points[:, 0]
     assert want[np.isclose(xs, 72.5)].all() and not want[np.isclose(xs, 22.5)].any()
     assert np.array_equal(own_cell_on_grid(g, p, others), want)
+
+
+@pytest.mark.parametrize("band", [None, 20.0])
+def test_own_cell_on_grid_on_a_grid_wider_than_2_16_columns_and_with_a_nan_peer(band):
+    """A 70,000-column grid (the row ranges' wide integer type) and a peer at NaN (the bounds are
+    NaN: the comparisons over the whole grid decide): the same mask as :func:`own_cell`."""
+    from fire_uav_agent.coverage import make_grid, own_cell, own_cell_on_grid
+
+    wide = make_grid(0.0, 70_000.0, 0.0, 3.0, 1.0)
+    assert wide.shape == (3, 70_000)
+    p = np.array([35_000.2, 1.5])
+    for others in (np.array([[35_100.0, 1.0], [1_000.0, 2.0]]), np.array([[35_000.2, 1.5]])):
+        want = own_cell(wide.points, p, others, band)
+        assert want.any() and not want.all()
+        assert np.array_equal(own_cell_on_grid(wide, p, others, band), want)
+    g = make_grid(0.0, 300.0, 0.0, 300.0, 5.0)
+    others = np.array([[np.nan, 100.0], [200.0, 150.0]])
+    p = np.array([120.0, 140.0])
+    assert np.array_equal(own_cell_on_grid(g, p, others, band), own_cell(g.points, p, others, band))

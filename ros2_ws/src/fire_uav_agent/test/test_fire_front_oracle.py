@@ -409,3 +409,38 @@ def test_neighbouring_front_cells_are_linked_in_the_pm_map_and_a_gap_is_not() ->
     assert b_left - b_right == 3  # two bins between the cells
     assert fm.known[b_right] and fm.known[b_left]
     assert not fm.known[b_right + 1] and not fm.known[b_right + 2]
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), t_query=st.integers(3, 12))
+def test_front_and_burning_cells_in_row_major_order_on_a_larger_grid(seed: int, t_query: int) -> None:
+    """A 30 x 40 picture written by a random run of own samples and peers' merges, burning cells
+    in patches anywhere (edges included), later rewritten unburned or burned: the front and the
+    fresh burning cells are the brute-force loop's, listed in the grid's row-major order (the
+    order the tactics' sums see), whichever of ``observe`` and ``merge`` wrote them."""
+    rng = np.random.default_rng(seed)
+    ny, nx, cs, x0, y0, max_age = 30, 40, 5.0, -100.0, 20.0, 4.0
+    p = FrontPicture(FrontConfig((x0, x0 + nx * cs, y0, y0 + ny * cs), cs, max_age_s=max_age))
+    codes = np.full((ny, nx), UNKNOWN)
+    times = np.full((ny, nx), -np.inf)
+    for t in range(1, 11):
+        ci, cj = int(rng.integers(0, ny)), int(rng.integers(0, nx))
+        h, w = int(rng.integers(1, 6)), int(rng.integers(1, 6))
+        ii, jj = np.meshgrid(np.arange(ci, min(ci + h, ny)), np.arange(cj, min(cj + w, nx)), indexing="ij")
+        ii, jj = ii.ravel(), jj.ravel()
+        st_ = rng.choice([U, B, B, N], size=ii.size)
+        xs, ys = x0 + (jj + 0.5) * cs, y0 + (ii + 0.5) * cs
+        if rng.random() < 0.5:
+            p.observe(xs, ys, st_, float(t))
+        else:
+            p.merge(_cells(list(zip(xs, ys, strict=True)), list(st_), [float(t)] * ii.size))
+        codes[ii, jj] = st_
+        times[ii, jj] = t
+    order = sorted(oracle_front(codes, times, float(t_query), max_age))
+    f = p.front(float(t_query))
+    assert [(int((y - y0) // cs), int((x - x0) // cs)) for x, y in zip(f.x_m, f.y_m, strict=True)] == order
+    fresh = [
+        (i, j) for i in range(ny) for j in range(nx) if codes[i, j] == B and t_query - times[i, j] <= max_age
+    ]
+    bxy = p.burning_xy(float(t_query))
+    assert [(int((y - y0) // cs), int((x - x0) // cs)) for x, y in bxy] == fresh

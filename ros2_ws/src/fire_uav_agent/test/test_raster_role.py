@@ -173,3 +173,38 @@ def test_the_active_fire_nearest_the_aim_point_is_recentred_there() -> None:
     aim, _, xy = _aim(ag, _front([(250.0, 50.0)]), np.ones(3600, bool), aim=(b, c, d, a_))
     assert xy == (250.0, 50.0)
     assert aim == (b, c, d, dataclasses.replace(a_, x_m=250.0, y_m=50.0, extent_m=0.0))
+
+
+def _with_t_obs(f: FrontCells, t_s: float) -> FrontCells:
+    return FrontCells(f.x_m.copy(), f.y_m.copy(), f.state.copy(), np.full(len(f), t_s), f.ros_mps.copy())
+
+
+@pytest.mark.parametrize("tactic", ["head", "flank", "auto"])
+def test_the_aim_follows_every_change_of_the_front_step_after_step(tactic) -> None:
+    """One agent aims at a sequence of fronts (the weights and density of an unchanged front are
+    kept between steps, :meth:`RasterSuppression._weighted`); at every step its answer is a fresh
+    agent's on that front alone, and its weights and density are the tactics functions' on that
+    front. The sequence: the same cells seen again later (kept), the ROS of the two ends swapped (and
+    seen again), one cell moved north, then east, a cell gone, a cell moved, the first front again."""
+    from fire_uav_agent.tactics import front_density, front_weights
+
+    west = [(50.0 + 5.0 * m, 50.0) for m in range(4)]
+    east = [(230.0 + 5.0 * m, 250.0) for m in range(4)]
+    f1 = _front(west + east, ros=[0.9, 0.8, 0.7, 0.6, 0.05, 0.06, 0.07, 0.08])
+    swapped = _front(west + east, ros=[0.05, 0.06, 0.07, 0.08, 0.9, 0.8, 0.7, 0.6])
+    gone = _front(west[1:] + east, ros=[0.8, 0.7, 0.6, 0.05, 0.06, 0.07, 0.08])
+    moved = _front([(20.0, 280.0)] + west[1:] + east, ros=[0.9, 0.8, 0.7, 0.6, 0.05, 0.06, 0.07, 0.08])
+    north = _front([(50.0, 70.0)] + west[1:] + east, ros=swapped.ros_mps)  # one cell moved in y only
+    east_x = _front([(40.0, 70.0)] + west[1:] + east, ros=swapped.ros_mps)  # then in x only
+    seq = [f1, _with_t_obs(f1, 5.0), swapped, _with_t_obs(swapped, 7.0), north, east_x, gone, moved, f1]
+    cell = np.zeros(3600, bool)
+    cell[:1800] = True  # the southern half: the west cells are in it, the east ones not
+    a = _agent(tactic=tactic)
+    for f in seq:
+        got = _aim(a, f, cell)
+        fresh = _agent(tactic=tactic)
+        fresh.raster.anchor = a.raster.anchor  # flank: the anchor is chosen once, at the first front
+        assert got == _aim(fresh, f, cell)
+        w, dens, _ = a.raster._weighted(f)
+        np.testing.assert_array_equal(w, front_weights(f, a.raster.tactic, a.raster.anchor))
+        np.testing.assert_array_equal(dens, front_density(a.grid, f, w, a.raster.tactic.sigma_m))
