@@ -19,6 +19,7 @@ from .agent_config import AgentConfig
 from .airframe_model import (
     FinalApproach,
     FlownInput,
+    descent_m,
     final_approach_course,
     inside_turn_circle,
     slowdown_m,
@@ -91,6 +92,14 @@ class Guide:
             lim, gd, veh = cfg.limits, cfg.guidance, cfg.vehicle
             refill_v = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
             self.lake_margin_m = max(self.lake_margin_m, slowdown_m(af, af.v_max_mps, refill_v))
+            # ... and where it can still descend from its layer to the scoop height at its descent
+            # limit (airframe_model.descent_m): the J3Cub (1.4 m/s) reached the shore from the 37 m
+            # layer 150 m out at about 27 m, above the world's 15 m refill height, flew over, turned
+            # on its 59 m radius and tried again (ff_two_fires on jsbsim, 5 UAVs, seed 1: 5 refills
+            # in 700 s, four UAVs in REFILL from 86-133 s to the end of the suppression at 697 s)
+            layer = layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m)
+            scoop_h = gd.refill_height_fraction * veh.refill_height_m
+            self.lake_margin_m = max(self.lake_margin_m, descent_m(af, refill_v, layer - scoop_h))
             # the height loop of Eq. 12 around the lagging flight-path angle (B&M Eq. 9.19: tau_gamma)
             # is a second-order loop, damped 0.7 at K_z = 1 / (2 tau_gamma); FF's K_z = 5 1/s rings
             # +-0.7 m around the 0.5 m approach height and never passes below the touchdown height.
