@@ -211,17 +211,13 @@ def avoid_heading(
     yield_to: np.ndarray | None = None,
     turn_rate_radps: float | None = None,
     heading_rad: float = 0.0,
-    turn_side: float = 0.0,
 ) -> tuple[float, bool, bool]:
     """Heading [rad] to fly, whether it differs from the desired one, and whether it is clear.
 
     ``turn_rate_radps`` (a fixed-wing's achievable rate, g tan(phi_max) / v): own motion toward a
     candidate heading is predicted as a turn from ``heading_rad`` at that rate, then straight
     (:func:`turning_approach_m`), over at least the time of a quarter turn; None: the heading is
-    taken at once (FF's unicycle turns at 10 rad/s), as before. ``turn_side`` (+1 left, -1 right,
-    0 none; with ``turn_rate_radps`` only): the side the fixed-wing is already turning to avoid;
-    when no heading is clear, the one with the largest closest approach is taken on that side
-    (:class:`Avoider`).
+    taken at once (FF's unicycle turns at 10 rad/s), as before.
 
     ``margin_m`` raises the clearance the desired heading needs (:class:`Avoider`'s hysteresis);
     ``prefer_heading_rad`` (default: the desired heading) is what a deviation stays nearest to.
@@ -277,19 +273,8 @@ def avoid_heading(
     if away.shape[0]:  # nothing clear: straight away from the nearest right-of-way peer
         a = away[int(np.argmin(np.hypot(away[:, 0], away[:, 1])))]
         return float(math.atan2(a[1], a[0])), True, True  # at full speed: gain distance fast
-    if turn_rate_radps is not None and turn_side != 0.0:
-        # a fixed-wing keeps turning the way it began: near head-on the largest closest approach
-        # lies left one step and right the next, and a J3Cub whose command flips every 0.1 s
-        # flies straight on (ff_two_fires on jsbsim, seed 1: 8.9 m over the lake)
-        delta = np.remainder(cand - heading_rad + math.pi, math.tau) - math.pi
-        same = (np.sign(delta) == turn_side) | (np.abs(delta) <= math.pi / cfg.headings)
-        d = np.where(same, d, -np.inf)
     k = int(np.lexsort((dev, -d))[0])  # largest closest approach, then nearest the desired heading
     return float(wrap_angle(float(cand[k]))), True, False
-
-
-#: [rad] a deviation this far off the heading is a reversal, turned on the committed side (:class:`Avoider`)
-REVERSAL_RAD = math.radians(150.0)
 
 
 class Avoider:
@@ -300,19 +285,11 @@ class Avoider:
     "reciprocal dance" of velocity obstacles; seen here at 0.6 m in a 143 deg crossing). Once a
     UAV deviates it keeps to its deviation (the nearest clear heading to it) until the desired
     heading clears ``radius_m + release_margin_m``.
-
-    A fixed-wing (``turn_rate_radps`` given) also commits to the side it turns while it deviates
-    (``turn_side``): with no heading clear it takes the best one on that side, and a deviation more
-    than :data:`REVERSAL_RAD` off its heading is turned the same way as before, or to the right at
-    the start, as 14 CFR 91.113(e) has aircraft approaching head-on alter course (the shorter way
-    round flips with every degree there). Before, the turn command of a J3Cub closing head-on on a
-    peer flipped between left and right every 0.1 s step and it flew on nearly straight (8.9 m).
     """
 
     def __init__(self, cfg: SeparationConfig) -> None:
         self.cfg = cfg
         self.heading_rad: float | None = None  # current deviation, None when not avoiding
-        self.turn_side = 0.0  # +1 left, -1 right: a fixed-wing's committed turn (0: none)
 
     def step(
         self,
@@ -327,17 +304,9 @@ class Avoider:
         margin = 0.0 if self.heading_rad is None else self.cfg.release_margin_m
         head, changed, clear = avoid_heading(
             own_xyz_m, speed_mps, desired_heading_rad, peers, self.cfg, margin, self.heading_rad, yield_to,
-            turn_rate_radps, heading_rad, self.turn_side,
+            turn_rate_radps, heading_rad,
         )  # fmt: skip
         self.heading_rad = head if changed else None
-        if not changed or turn_rate_radps is None:
-            self.turn_side = 0.0
-        else:
-            delta = wrap_angle(head - heading_rad)
-            if abs(delta) > REVERSAL_RAD:
-                self.turn_side = self.turn_side or -1.0  # keep the side; at the start, the right
-            elif abs(delta) > math.pi / self.cfg.headings:
-                self.turn_side = math.copysign(1.0, delta)
         return head, changed, clear
 
 
@@ -429,8 +398,5 @@ class PeerAvoidance:
             return cmd
         self.steps_changed += 1
         err = float(np.arctan2(math.sin(head - s[3]), math.cos(head - s[3])))
-        side = self.avoider.turn_side
-        if side != 0.0 and abs(err) > REVERSAL_RAD:
-            err = side * abs(err)  # a reversal: the committed side (Avoider), not the shorter way
         om = max(-self.omega_max_radps, min(self.omega_max_radps, err / T))
         return (v if clear else self.v_stall_mps, vz, om)
