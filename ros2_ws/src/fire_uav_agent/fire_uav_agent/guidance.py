@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -19,6 +20,7 @@ from .agent_config import AgentConfig
 from .airframe_model import (
     FinalApproach,
     FlownInput,
+    descent_m,
     final_approach_course,
     inside_turn_circle,
     slowdown_m,
@@ -80,6 +82,9 @@ class Guide:
         self.start_xy = np.array(cfg.start_pose[:2], dtype=float)
         self.flown = flown  # the airframe's modelled flight state (its airspeed sets the turn radius)
         self.approach: FinalApproach | None = None  # a fixed-wing's lined-up landing approach
+        self.on_final = False  # established on the final (_land_lined_up)
+        # [m] the estimated heights above ground of the last second on the final (_land_lined_up)
+        self._final_agl: deque[float] = deque(maxlen=max(1, round(1.0 / cfg.control_period_s)))
         # [m] low and slow this far beyond the lake's shore (FF IV-D b); a fixed-wing starts where it
         # can still slow from its top speed to the refill speed (airframe_model.slowdown_m): the
         # tanker, slowing at 1 m/s^2 from 75 m/s, crossed the 150 m margin and FF's lake x 10 at
@@ -91,6 +96,14 @@ class Guide:
             lim, gd, veh = cfg.limits, cfg.guidance, cfg.vehicle
             refill_v = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
             self.lake_margin_m = max(self.lake_margin_m, slowdown_m(af, af.v_max_mps, refill_v))
+            # ... and where it can still descend from its layer to the scoop height at its descent
+            # limit (airframe_model.descent_m): the J3Cub (1.4 m/s) reached the shore from the 37 m
+            # layer 150 m out at about 27 m, above the world's 15 m refill height, flew over, turned
+            # on its 59 m radius and tried again (ff_two_fires on jsbsim, 5 UAVs, seed 1: 5 refills
+            # in 700 s, four UAVs in REFILL from 86-133 s to the end of the suppression at 697 s)
+            layer = layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m)
+            scoop_h = gd.refill_height_fraction * veh.refill_height_m
+            self.lake_margin_m = max(self.lake_margin_m, descent_m(af, refill_v, layer - scoop_h))
             # the height loop of Eq. 12 around the lagging flight-path angle (B&M Eq. 9.19: tau_gamma)
             # is a second-order loop, damped 0.7 at K_z = 1 / (2 tau_gamma); FF's K_z = 5 1/s rings
             # +-0.7 m around the 0.5 m approach height and never passes below the touchdown height.
@@ -309,20 +322,41 @@ class Guide:
             for j, p in self.link.alive_states().items()
             if j < cfg.uav_id and p.objective not in (Objective.GROUNDED, Objective.LANDED)
         ]
-        if ap.captured(pose):
+        low = gd.land_height_fraction * veh.landing_height_m
+        flat = gd.land_flat_fraction
+        length = ap.length_m
+        agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
+        captured = ap.captured(pose)
+        if captured and not self.on_final:
+            # established only at or below the glide path, or above it by no more than the spare
+            # descent (half the limit less the path's) brings it down before the flat: a UAV told
+            # to land while inside the capture zone 300-600 m out on its layer took the final there,
+            # crossed the threshold 4-21 m up and went round, 110 s a circuit (ff_two_fires on
+            # jsbsim, seeds 1 and 2); above the path it flies to the entry instead
+            dist = max(-ap.frame(pos)[0], 0.0)
+            path_rate = (cruise - low) / ((1.0 - flat) * length)  # [m/m] the path's descent
+            spare = max(0.0, 0.5 * lim.vz_max_mps / lim.v_stall_mps - path_rate)
+            above = agl - _glide_height(dist, cruise, low, flat, length)
+            self.on_final = above <= max(2.0, spare * max(0.0, dist - flat * length))
+        if not captured:
+            self.on_final = False
+            self._final_agl.clear()
+        if self.on_final:
             along, _ = ap.frame(pos)
             dist = max(-along, 0.0)
-            low = gd.land_height_fraction * veh.landing_height_m
-            flat = gd.land_flat_fraction
-            length = ap.length_m
-            height = low + (cruise - low) * min(
-                1.0, max(0.0, (dist - flat * length) / ((1.0 - flat) * length))
-            )
+            height = _glide_height(dist, cruise, low, flat, length)
             if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
                 height = max(height, cruise)  # keep the layer over a landing right-of-way peer
-            agl = float(s[2] - cfg.terrain.elevation(pos[0], pos[1]))
+            self._final_agl.append(agl)
+            # the height decides on the mean estimate of the last second: the EKF's height is
+            # +-0.7 m (1 sd) about a J3Cub flying level at 0.5 m, over 0.8 m on one of the two or
+            # three steps in the touch-down disc, and one UAV went round twice on the line at
+            # 0.3-0.5 m (ff_two_fires on jsbsim, seed 1; the world lands it below 1 m)
+            settled = len(self._final_agl) == self._final_agl.maxlen and (
+                sum(self._final_agl) / len(self._final_agl) < gd.touchdown_agl_fraction * veh.landing_height_m
+            )
             step_m = lim.v_stall_mps * cfg.control_period_s  # the final is flown at the lowest speed
-            if agl < gd.touchdown_agl_fraction * veh.landing_height_m and ap.at_threshold(
+            if (agl < gd.touchdown_agl_fraction * veh.landing_height_m or settled) and ap.at_threshold(
                 pos, step_m, gd.touchdown_radius_m
             ):
                 return Guidance((0.0, -gd.touchdown_sink_mps, 0.0))  # below stall speed: it lands
@@ -362,3 +396,12 @@ class Guide:
     ) -> tuple[float, float]:
         _, c = mass_centroid(self.grid.points, density, cell, self.grid.cell_area_m2)
         return (float(c[0]), float(c[1])) if c is not None else fallback_xy
+
+
+def _glide_height(dist_m: float, cruise_m: float, low_m: float, flat: float, length_m: float) -> float:
+    """The lined-up final's height [m above terrain] ``dist_m`` before the threshold: the layer
+    ``cruise_m`` down to ``low_m`` linearly over the leg's first (1 - ``flat``) of ``length_m``,
+    then flat (FF IV-D d's approach by distance, ``guidance.land_*``)."""
+    return low_m + (cruise_m - low_m) * min(
+        1.0, max(0.0, (dist_m - flat * length_m) / ((1.0 - flat) * length_m))
+    )

@@ -505,3 +505,42 @@ def test_slowdown_is_the_distance_the_world_flies_while_decelerating():
     assert st.airspeed_mps <= 49.8 + TANKER.accel_max_mps2 * TANKER.tau_airspeed_s + 1e-6
     assert at_75 is not None and at_75 > 49.8 + TANKER.accel_max_mps2 * TANKER.tau_airspeed_s
     assert slowdown_m(TANKER, 40.0, 49.8) == 0.0
+
+
+# --- the J3Cub (jsbsim): reaching the lake low enough to scoop
+def test_a_j3cub_entering_the_lake_approach_on_the_top_layer_reaches_the_shore_low_enough_to_scoop():
+    """The world's JSBSim J3Cub under its autopilot, on the FF scenario's top layer (37 m, UAV 1),
+    commanded the scoop height (FF Eq. 12's height loop at the agent's K_z, within the agent's
+    climb-rate limit) and the refill speed where the agent's low-and-slow zone begins: at the shore
+    it is within the world's refill height (``vehicle.refill_height_m``; world.vehicle.refill_conditions).
+    With FF's 150 m margin it reached the shore at about 27 m and flew over the lake without
+    scooping (ff_two_fires on jsbsim, 5 UAVs, seed 1: 5 refills in 700 s)."""
+    from fire_uav_agent.agent_config import config_from_scenario
+    from fire_uav_agent.agent_core import Agent
+    from fire_uav_agent.testing.harness import scenario_path
+    from fire_world_sim.vehicles.jsbsim_backend import JsbsimModel
+
+    scen = sc.load_scenario(scenario_path("ff_two_fires"), overrides={"uavs.vehicle_model": "jsbsim"})
+    a = Agent(config_from_scenario(scen, 1))
+    cfg, gd = a.cfg, a.cfg.guidance
+    top = scen.vehicle.flight_height_m + 0.5 * gd.ff_layer_step_m  # UAV 1's layer: 37 m
+    scoop_h = gd.refill_height_fraction * scen.vehicle.refill_height_m
+    v_cmd = cfg.limits.v_stall_mps + gd.refill_speed_fraction * scen.vehicle.refill_speed_margin_mps
+
+    def height_after(distance_m: float) -> float:
+        m = JsbsimModel(scen.uavs.airframe)
+        st = m.launch(FlightState(0.0, 0.0, top, 0.0, water_kg=0.0), Command(v_cmd, 0.0, 0.0))
+        rng = [np.random.default_rng(0)]
+        k = 0
+        while st.x_m < distance_m:
+            if k % 10 == 0:  # the agent's control period, 0.1 s
+                vz = float(
+                    np.clip(cfg.gains.kz * (scoop_h - st.z_m), -cfg.limits.vz_max_mps, cfg.limits.vz_max_mps)
+                )
+            (st,) = m.step([st], [Command(v_cmd, vz, 0.0)], 0.01, rng)
+            k += 1
+        return st.z_m
+
+    assert a.guide.lake_margin_m > gd.lake_approach_margin_m
+    assert height_after(a.guide.lake_margin_m) <= scen.vehicle.refill_height_m
+    assert height_after(gd.lake_approach_margin_m) > scen.vehicle.refill_height_m  # FF's margin is too short
