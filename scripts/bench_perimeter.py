@@ -23,8 +23,8 @@ Fires (no suppression):
   fire (head 15x the back) and a slow fire that reaches a 4x faster fuel (PM Fig. 12a / 16a).
 
 With monitor_grass also: two monitors on the worst-angle rule, each merging the other's map,
-with the perimeter split between them by angle and by spread rate (``MonitorConfig.split``;
-rows "two (angle)" and "two (spread)"); what the UAV's speed and footprint allow on that fire (``bounds``:
+with the perimeter split between them by angle, by spread rate, and as a relay at the head
+(``MonitorConfig.split``; rows "two (angle)", "two (spread)" and "two (relay)"); what the UAV's speed and footprint allow on that fire (``bounds``:
 evenly spaced circling monitors, and a lower bound for any single monitor), and the scenario
 as it flies, with suppression (``run_suppressed``: the error against the true fire's hull and
 the reported fastest front against the burning tip).
@@ -68,7 +68,7 @@ from fire_perimeter_monitor.synthetic_fire import elliptical_ros, fly, spread_fi
 ALPHAS = (0.0, 0.8, 1.0, 1.2, 1.5, 5.0)
 PAPER_CHANGES = (0, 8, 11, 15, 20, 43)
 MONITORS = ("circling", "worst", "windows")
-TWO_SPLITS = ("angle", "spread")  # MonitorConfig.split of the two-monitor rows (worst-angle rule)
+TWO_SPLITS = ("angle", "spread", "relay")  # MonitorConfig.split of the two-monitor rows (worst-angle rule)
 
 # --- B. synthetic fires, the paper's regime -------------------------------------------------
 CELL_M = 30.0  # [m] raster cell
@@ -261,7 +261,7 @@ def run_two(job: tuple) -> tuple:
     """Two importance monitors on one fire, deployed apart, each merging the other's map at
     every step; the UAVs move one perimeter cell per step (cell / speed). Error of each
     monitor's (merged) map, averaged over the two. ``job``: (fire, rule, seed[, split]),
-    split as ``MonitorConfig.split`` ("angle" by default, or "spread")."""
+    split as ``MonitorConfig.split`` ("angle" by default, "spread" or "relay")."""
     setting, kind, seed = job[:3]
     split = job[3] if len(job) > 3 else "angle"
     s = SETTINGS[setting]

@@ -17,10 +17,13 @@ the perimeter is split between the monitors: a cell of a live peer's arc has imp
 our windows. ``MonitorConfig.split`` chooses where the arcs meet: "angle" (the default) at
 the bisectors of the monitors' angles about the centre; "spread" halfway, in spread rate x
 perimeter length, between neighbouring monitors (:mod:`.split`, the balanced responsibility
-of the multi-UAS work PM cites as [3]). A monitor thus works its own arc, back and forth
+of the multi-UAS work PM cites as [3]); "relay" (two monitors): the one nearer the head holds
+an arc about it, the other the rest, the roles swapping as they pass (:func:`.split.relay_split`).
+A monitor thus works its own arc, back and forth
 when the peer's arc is ahead (as in [3]), and two monitors that meet fly apart in opposite
 directions. On monitor_grass the spread split measured worse than the angle split (two
-monitors, 10 seeds: 12.8 m against 12.0 m; the package README), so it is not the default.
+monitors, 10 seeds: 12.8 m against 12.0 m; the package README), so it is not the default;
+the relay measured the same 12.0 m, and is not the default either.
 """
 
 from __future__ import annotations
@@ -51,7 +54,7 @@ from .importance import (
     worst_angle_turn,
 )
 from .shape import construct_perimeter, perimeter_cells_hull, resample_closed
-from .split import arc_work, work_bisector_split
+from .split import arc_work, relay_split, work_bisector_split
 
 __all__ = ["CirclingMonitor", "ImportanceMonitor", "MonitorConfig", "PerimeterMonitor"]
 
@@ -95,8 +98,16 @@ class MonitorConfig:
     reach_m: float | None = None
     # Split of the perimeter with live peers: "angle" (the bisectors of the monitors' angles
     # about the centre) or "spread" (split.work_bisector_split: each boundary halfway in Eq. 7
-    # spread rate x length between neighbouring monitors; measured worse on monitor_grass)
+    # spread rate x length between neighbouring monitors; measured worse on monitor_grass) or
+    # "relay" (split.relay_split, with exactly one live peer: the monitor nearer the fastest
+    # cell holds the head, the other the rest; more peers: by angle)
     split: str = "angle"
+    # relay: the holder's arc reaches reach + speed * relay_head_period_s / 2 either side of
+    # the head, so sweeping it the head is out of the footprint at most this long [s]
+    relay_head_period_s: float = 3.5
+    # relay: the holder's arc also spans the stretch about the head whose Eq. 7 ROS is at least
+    # this fraction of the head's (0: off)
+    relay_fast_fraction: float = 0.5
 
     def __post_init__(self) -> None:
         if not self.cell_size_m > 0:
@@ -114,8 +125,13 @@ class MonitorConfig:
             )
         if self.rule not in ("worst", "windows"):
             raise ConfigError(f"rule must be 'worst' or 'windows', got {self.rule!r}")
-        if self.split not in ("spread", "angle"):
-            raise ConfigError(f"split must be 'spread' or 'angle', got {self.split!r}")
+        if self.split not in ("spread", "angle", "relay"):
+            raise ConfigError(f"split must be 'spread', 'angle' or 'relay', got {self.split!r}")
+        if not self.relay_head_period_s >= 0 or not 0 <= self.relay_fast_fraction <= 1:
+            raise ConfigError(
+                "relay_head_period_s must be >= 0 and relay_fast_fraction in [0, 1]; got "
+                f"{self.relay_head_period_s}, {self.relay_fast_fraction}"
+            )
         if self.reach_m is not None and not self.reach_m >= 0:
             raise ConfigError(f"reach_m must be >= 0 or None, got {self.reach_m}")
         if self.front_smooth_bins < 0 or not 0 <= self.front_ros_fraction <= 1:
@@ -434,8 +450,10 @@ class PerimeterMonitor:
         """Per-cell weight (1 ours, 0 a live peer's) of the constructed perimeter ``cells_m``
         (index 0 the UAV's cell, growing against the flying direction), or None without a
         live peer. ``MonitorConfig.split``: "spread" with ``ros_mps`` (the cells' Eq. 7 ROS)
-        splits halfway in spread rate x length (:func:`split.work_bisector_split`); otherwise
-        at the bisectors of the monitors' angles about the centre."""
+        splits halfway in spread rate x length (:func:`split.work_bisector_split`); "relay"
+        with ``ros_mps`` and one live peer gives the head's arc to the monitor nearer it and
+        the rest to the other (:func:`split.relay_split`); otherwise at the bisectors of the
+        monitors' angles about the centre."""
         live = [p for p in self._peers.values() if self.t_s - p.heard_s <= self.config.peer_timeout_s]
         if not live or self.uav_xy is None:
             return None
@@ -447,6 +465,16 @@ class PerimeterMonitor:
             return np.abs((a - b + np.pi) % (2 * np.pi) - np.pi)
 
         m = cells_m.shape[0]
+        if self.config.split == "relay" and ros_mps is not None and m >= 3 and len(live) == 1:
+            p = live[0]
+            k = int(np.argmin(adist(ang, p.angle_rad)))
+            if k == 0:  # on our cell: the lower id keeps the arc ahead (the peer is just behind)
+                k = 1 if self.config.uav_id < p.peer_id else m - 1
+            spacing = float(np.mean(np.hypot(*np.diff(np.vstack([cells_m, cells_m[:1]]), axis=0).T)))
+            half = self.reach_m + self.config.speed_mps * self.config.relay_head_period_s / 2
+            return relay_split(
+                ros_mps, spacing, k, half, self.config.uav_id < p.peer_id, self.config.relay_fast_fraction
+            ).astype(float)
         if self.config.split == "spread" and ros_mps is not None and m >= 3:
             at = []
             for p in live:
@@ -507,8 +535,10 @@ class ImportanceMonitor(PerimeterMonitor):
         ros = smooth_circular(circular_fill(fm.ros_mps(), 0.0), c.ros_smooth_bins)[bins]
         t_outer = circular_fill(fm.outer_t_s, self.t_s)[bins]
         since = np.maximum(self.t_s - t_outer, 0.0)
-        # Eq. 7's ROS only for the spread split (the angle split does not read it)
-        weight = self._peer_weight(cells, adjust_heterogeneity(ros, c.alpha) if c.split == "spread" else None)
+        # Eq. 7's ROS only for the spread split and the relay (the angle split does not read it)
+        weight = self._peer_weight(
+            cells, adjust_heterogeneity(ros, c.alpha) if c.split in ("spread", "relay") else None
+        )
         w = window_importance(ros, since, spacing, c.speed_mps, c.alpha, weight=weight)
         self.last_window, self.last_cells_m = w, cells
         min_run = max(c.min_run_cells, int(math.ceil(c.min_run_fraction * cells.shape[0])))

@@ -153,5 +153,5 @@ def test_spread_split_on_the_same_cell_by_id(me, peer, ahead):
 
 
 def test_split_setting_is_checked():
-    with pytest.raises(ValueError, match="split must be 'spread' or 'angle'"):
+    with pytest.raises(ValueError, match="split must be 'spread', 'angle' or 'relay'"):
         MonitorConfig(cell_size_m=5.0, speed_mps=50.0, split="work")
