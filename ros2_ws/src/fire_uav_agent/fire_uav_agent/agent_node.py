@@ -18,6 +18,7 @@ import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
 from fire_uav_common.cdr import CdrError
+from fire_uav_common.codecs.agent_pose import write_twist_stamped
 from fire_uav_common.codecs.fire_front import read_fire_front
 from fire_uav_common.codecs.payload_request import write_payload_request
 from fire_uav_common.codecs.perimeter_map import read_perimeter_map
@@ -33,7 +34,6 @@ from fire_uav_msgs.msg import (
     SensorBundle,
     UavState,
 )
-from geometry_msgs.msg import TwistStamped
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -48,7 +48,7 @@ from .agent_io import (
     profiled,
     read_node_config,
     spin_through_bad_messages,
-    tf_estimate_msg,
+    tf_estimate_bytes,
 )
 from .agent_types import StepOutput
 from .errors import ConfigError
@@ -390,10 +390,8 @@ class UavAgentNode(Node):
             plan = self.search_link.plan_marker(stamp)
             if plan is not None:
                 self.pub_viz.publish(plan)
-        cmd = TwistStamped()
-        cmd.header.stamp = stamp
-        cmd.header.frame_id = f"uav_{uid}"
-        cmd.twist.linear.x, cmd.twist.linear.z, cmd.twist.angular.z = v_lin, v_z, omega_z
+        # CDR bytes published raw (codecs.agent_pose): a TwistStamped to every reader
+        cmd = write_twist_stamped(stamp.sec, stamp.nanosec, f"uav_{uid}", v_lin, v_z, omega_z)
         self.pub_cmd.publish(cmd)
         answer.append((self.pub_cmd, cmd))
         self._answer = (out.step, answer)
@@ -401,7 +399,7 @@ class UavAgentNode(Node):
             self.pub_viz.publish(markers_msg(out, stamp, f"uav_{uid}"))
         if getattr(self, "_pub_tf", None) is None:
             self._pub_tf = topics.publisher(self, topics.TF_SPEC)
-        self._pub_tf.publish(tf_estimate_msg(out, stamp, uid))
+        self._pub_tf.publish(tf_estimate_bytes(out, stamp, uid))
         for ev in out.events:
             self.pub_events.publish(
                 event_msg(ev.type, uid, ev.peer_id, ev.fire_id, ev.x_m, ev.y_m, ev.value, ev.detail, stamp)
