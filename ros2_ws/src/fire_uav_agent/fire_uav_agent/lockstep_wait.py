@@ -47,6 +47,8 @@ class PeerWait:
     # beyond what arrived, kept as messages come so ``missing`` needs no pass over the topics (it
     # runs at every arrival while a bundle waits: ~30 peers x ~10 topics at 30 UAVs)
     _owed: dict[tuple[int, int], int] = field(default_factory=dict)
+    # step -> live_peers(step), kept until a final state, a peer gone or a prune changes it
+    _live: dict[int, list[int]] = field(default_factory=dict)
     _gone: set[int] = field(default_factory=set)
 
     def __post_init__(self) -> None:
@@ -67,6 +69,7 @@ class PeerWait:
         self.on_message(sender, step, STATE_INDEX)
         if final:
             self._final_step[sender] = min(step, self._final_step.get(sender, step))
+            self._live.clear()
 
     def on_message(self, sender: int, step: int, loss_index: int) -> None:
         """Any other peer message of ``step`` on the topic with ``loss_index`` arrived."""
@@ -82,16 +85,24 @@ class PeerWait:
     def mark_gone(self, sender: int) -> None:
         """The peer's process left the DDS graph (unscheduled death): stop waiting for it."""
         self._gone.add(sender)
+        self._live.clear()
 
     def prune(self, step: int) -> None:
         """Forget bookkeeping of steps before ``step - 1`` (call after running ``step``)."""
         for d in (self._sent, self._arrived, self._owed):
             for key in [k for k in d if k[0] < step - 1]:
                 del d[key]
+        self._live.clear()
 
     # --- queries -------------------------------------------------------------------------------
     def live_peers(self, step: int) -> list[int]:
-        """Peers that send messages at ``step``, in id order."""
+        """Peers that send messages at ``step``, in id order (a new list)."""
+        live = self._live.get(step)
+        if live is None:
+            live = self._live[step] = self._live_peers(step)
+        return list(live)
+
+    def _live_peers(self, step: int) -> list[int]:
         off = offline_uavs(self.schedule, step, self.period_s)
         return [
             j
@@ -109,7 +120,10 @@ class PeerWait:
         prev = step - 1
         owed = self._owed
         # no entry: its state is not in yet; else a topic still short (the count above)
-        return [j for j in self.live_peers(prev) if owed.get((prev, j), 1) > 0]
+        live = self._live.get(prev)
+        if live is None:
+            live = self._live[prev] = self._live_peers(prev)
+        return [j for j in live if owed.get((prev, j), 1) > 0]
 
     def describe(self, step: int) -> str:
         """What is still missing for ``step``, for a log line (``"uav 2: state; uav 3: 1/2 on topic 5"``)."""
