@@ -10,6 +10,7 @@ import math
 
 import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
+from fire_uav_common.codecs.agent_pose import write_tf_one
 from fire_uav_common.constants import EventType
 from fire_uav_msgs.msg import MissionEvent
 from geometry_msgs.msg import Point
@@ -37,7 +38,7 @@ __all__ = [
     "markers_msg",
     "profiled",
     "spin_through_bad_messages",
-    "tf_estimate_msg",
+    "tf_estimate_bytes",
 ]
 
 
@@ -68,18 +69,12 @@ def markers_msg(out: StepOutput, stamp: TimeMsg, ns: str) -> MarkerArray:
     return arr
 
 
-def tf_estimate_msg(out: StepOutput, stamp: TimeMsg, uav_id: int):
-    """``/tf``: ``map -> uav_<k>/estimate``, the agent's own pose estimate (x, y, z [m], yaw [rad])."""
-    from geometry_msgs.msg import TransformStamped
-    from tf2_msgs.msg import TFMessage
-
+def tf_estimate_bytes(out: StepOutput, stamp: TimeMsg, uav_id: int) -> bytes:
+    """``/tf`` as CDR bytes (``codecs.agent_pose``, published raw): ``map -> uav_<k>/estimate``, the
+    agent's own pose estimate (x, y, z [m], yaw [rad])."""
     x, y, z, yaw = (float(v) for v in out.state.s[:4])
-    t = TransformStamped()
-    t.header.stamp, t.header.frame_id = stamp, "map"
-    t.child_frame_id = f"uav_{uav_id}/estimate"
-    t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = x, y, z
-    t.transform.rotation.z, t.transform.rotation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-    return TFMessage(transforms=[t])
+    rotation = (0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
+    return write_tf_one(stamp.sec, stamp.nanosec, "map", f"uav_{uav_id}/estimate", (x, y, z), rotation)
 
 
 def event_msg(

@@ -18,7 +18,9 @@ import rclpy
 from builtin_interfaces.msg import Time as TimeMsg
 from fire_uav_common import topics
 from fire_uav_common.cdr import CdrError
+from fire_uav_common.codecs.agent_pose import write_twist_stamped
 from fire_uav_common.codecs.fire_front import read_fire_front
+from fire_uav_common.codecs.payload_request import write_payload_request
 from fire_uav_common.codecs.perimeter_map import read_perimeter_map
 from fire_uav_common.codecs.sensor_bundle import WireBundle, read_sensor_bundle
 from fire_uav_common.codecs.uav_state import read_uav_state
@@ -28,12 +30,10 @@ from fire_uav_common.stamps import stamp_to_ns
 from fire_uav_msgs.msg import (
     FireFront,
     MissionEvent,
-    PayloadRequest,
     PerimeterMap,
     SensorBundle,
     UavState,
 )
-from geometry_msgs.msg import TwistStamped
 from rclpy.clock import Clock, ClockType
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -48,7 +48,7 @@ from .agent_io import (
     profiled,
     read_node_config,
     spin_through_bad_messages,
-    tf_estimate_msg,
+    tf_estimate_bytes,
 )
 from .agent_types import StepOutput
 from .errors import ConfigError
@@ -214,7 +214,9 @@ class UavAgentNode(Node):
         try:
             front = peer_front(w, self.cfg.control_period_s)
         except ValueError as err:  # malformed: counted as arrived, its content dropped
-            self.get_logger().warning(f"FireFront from uav {w.uav_id} dropped: {err}", throttle_duration_sec=5.0)
+            self.get_logger().warning(
+                f"FireFront from uav {w.uav_id} dropped: {err}", throttle_duration_sec=5.0
+            )
         self._act(self.gate.on_front(w.uav_id, message_step(w.stamp_ns, self.cfg.control_period_s), front))
 
     # --- resend: recovery from a message the transport lost (docs/protocol.md "Resend") ----------
@@ -338,10 +340,6 @@ class UavAgentNode(Node):
         self._publish(out, TimeMsg(sec=wb.stamp_sec, nanosec=wb.stamp_nanosec), coverage, final)
 
     # --- output ---------------------------------------------------------------------------------------
-    def _signed(self, msg, topic: str, step: int) -> bytes:
-        """``msg`` serialised and signed for ``topic`` (its auth field zero until now)."""
-        return self.auth.sign_serialized(serialize_message(msg), topic, self.cfg.uav_id, step)
-
     def _publish(self, out: StepOutput, stamp: TimeMsg, coverage: list, final: bool) -> None:
         """Publish step ``out.step``: the state first (it tells peers what else to wait for)."""
         uid = self.cfg.uav_id
@@ -366,13 +364,13 @@ class UavAgentNode(Node):
         v_lin, v_z, omega_z = (float(v) for v in out.command)
         # exactly one request per step (ACTION_NONE if nothing): the lockstep world waits for it
         for action, fire_id in out.payload_requests or [(PayloadAction.NONE, -1)]:
-            req = PayloadRequest(uav_id=uid, action=int(action), target_fire_id=int(fire_id))
-            req.header.stamp = stamp
-            req.header.frame_id = "map"
-            # the command rides along: TwistStamped has no room for a tag (docs/security.md)
-            req.cmd_linear_x_mps, req.cmd_linear_z_mps, req.cmd_angular_z_radps = v_lin, v_z, omega_z
+            # written as CDR bytes (codecs.payload_request: what serialize_message gives), published
+            # raw; the command rides along: TwistStamped has no room for a tag (docs/security.md)
+            req = write_payload_request(
+                stamp.sec, stamp.nanosec, uid, int(action), int(fire_id), v_lin, v_z, omega_z
+            )
             if self.auth is not None:
-                req = self._signed(req, topics.PAYLOAD_SPEC.for_uav(uid), stamp_ns)
+                req = self.auth.sign_serialized(req, topics.PAYLOAD_SPEC.for_uav(uid), uid, stamp_ns)
             self.pub_payload.publish(req)
             answer.append((self.pub_payload, req))
             what = PayloadAction(action).name
@@ -392,10 +390,8 @@ class UavAgentNode(Node):
             plan = self.search_link.plan_marker(stamp)
             if plan is not None:
                 self.pub_viz.publish(plan)
-        cmd = TwistStamped()
-        cmd.header.stamp = stamp
-        cmd.header.frame_id = f"uav_{uid}"
-        cmd.twist.linear.x, cmd.twist.linear.z, cmd.twist.angular.z = v_lin, v_z, omega_z
+        # CDR bytes published raw (codecs.agent_pose): a TwistStamped to every reader
+        cmd = write_twist_stamped(stamp.sec, stamp.nanosec, f"uav_{uid}", v_lin, v_z, omega_z)
         self.pub_cmd.publish(cmd)
         answer.append((self.pub_cmd, cmd))
         self._answer = (out.step, answer)
@@ -403,7 +399,7 @@ class UavAgentNode(Node):
             self.pub_viz.publish(markers_msg(out, stamp, f"uav_{uid}"))
         if getattr(self, "_pub_tf", None) is None:
             self._pub_tf = topics.publisher(self, topics.TF_SPEC)
-        self._pub_tf.publish(tf_estimate_msg(out, stamp, uid))
+        self._pub_tf.publish(tf_estimate_bytes(out, stamp, uid))
         for ev in out.events:
             self.pub_events.publish(
                 event_msg(ev.type, uid, ev.peer_id, ev.fire_id, ev.x_m, ev.y_m, ev.value, ev.detail, stamp)

@@ -43,6 +43,12 @@ class PeerWait:
     _sent: dict[tuple[int, int], tuple[int, ...]] = field(default_factory=dict)  # (step, j) -> counts
     _arrived: dict[tuple[int, int], dict[int, int]] = field(default_factory=lambda: defaultdict(dict))
     _final_step: dict[int, int] = field(default_factory=dict)  # j -> step of its final state
+    # (step, j) -> messages still owed once its state is in: the sum over topics of what was sent
+    # beyond what arrived, kept as messages come so ``missing`` needs no pass over the topics (it
+    # runs at every arrival while a bundle waits: ~30 peers x ~10 topics at 30 UAVs)
+    _owed: dict[tuple[int, int], int] = field(default_factory=dict)
+    # step -> live_peers(step), kept until a final state, a peer gone or a prune changes it
+    _live: dict[int, list[int]] = field(default_factory=dict)
     _gone: set[int] = field(default_factory=set)
 
     def __post_init__(self) -> None:
@@ -56,31 +62,47 @@ class PeerWait:
         """A peer's UavState of ``step`` arrived (before any loss draw)."""
         if not self._valid(sender, step):
             return
-        self._sent[(step, sender)] = tuple(int(c) for c in sent_per_topic)
+        key = (step, sender)
+        sent = self._sent[key] = tuple(map(int, sent_per_topic))
+        got = self._arrived[key]
+        self._owed[key] = sum(n - got.get(t, 0) for t, n in enumerate(sent) if got.get(t, 0) < n)
         self.on_message(sender, step, STATE_INDEX)
         if final:
             self._final_step[sender] = min(step, self._final_step.get(sender, step))
+            self._live.clear()
 
     def on_message(self, sender: int, step: int, loss_index: int) -> None:
         """Any other peer message of ``step`` on the topic with ``loss_index`` arrived."""
         if not self._valid(sender, step):
             return
-        counts = self._arrived[(step, sender)]
-        counts[loss_index] = counts.get(loss_index, 0) + 1
+        key = (step, sender)
+        counts = self._arrived[key]
+        got = counts[loss_index] = counts.get(loss_index, 0) + 1
+        sent = self._sent.get(key)
+        if sent is not None and 0 <= loss_index < len(sent) and got <= sent[loss_index]:
+            self._owed[key] -= 1  # one fewer owed on a topic still short (more than sent: none owed)
 
     def mark_gone(self, sender: int) -> None:
         """The peer's process left the DDS graph (unscheduled death): stop waiting for it."""
         self._gone.add(sender)
+        self._live.clear()
 
     def prune(self, step: int) -> None:
         """Forget bookkeeping of steps before ``step - 1`` (call after running ``step``)."""
-        for d in (self._sent, self._arrived):
+        for d in (self._sent, self._arrived, self._owed):
             for key in [k for k in d if k[0] < step - 1]:
                 del d[key]
+        self._live.clear()
 
     # --- queries -------------------------------------------------------------------------------
     def live_peers(self, step: int) -> list[int]:
-        """Peers that send messages at ``step``, in id order."""
+        """Peers that send messages at ``step``, in id order (a new list)."""
+        live = self._live.get(step)
+        if live is None:
+            live = self._live[step] = self._live_peers(step)
+        return list(live)
+
+    def _live_peers(self, step: int) -> list[int]:
         off = offline_uavs(self.schedule, step, self.period_s)
         return [
             j
@@ -96,16 +118,12 @@ class PeerWait:
         if step < 1:
             return []
         prev = step - 1
-        out = []
-        for j in self.live_peers(prev):
-            sent = self._sent.get((prev, j))
-            if sent is None:
-                out.append(j)
-                continue
-            got = self._arrived.get((prev, j), {})
-            if any(got.get(t, 0) < n for t, n in enumerate(sent)):
-                out.append(j)
-        return out
+        owed = self._owed
+        # no entry: its state is not in yet; else a topic still short (the count above)
+        live = self._live.get(prev)
+        if live is None:
+            live = self._live[prev] = self._live_peers(prev)
+        return [j for j in live if owed.get((prev, j), 1) > 0]
 
     def describe(self, step: int) -> str:
         """What is still missing for ``step``, for a log line (``"uav 2: state; uav 3: 1/2 on topic 5"``)."""

@@ -63,6 +63,9 @@ K = TypeVar("K")  # what the caller keeps per published step for a resend
 WAIT_REPORT_NS = 5 * 10**9
 
 _KIND = {PeerState: 0, PeerFires: 1, PeerPerimeter: 2, PeerFront: 3}
+# looked up once: on_state runs for every peer every step (``draw_index`` is a property)
+_STATE_TOPIC, _STATE_INDEX = FLEET_STATE_SPEC.name, FLEET_STATE_SPEC.draw_index
+_FIRES_INDEX = FLEET_FIRES_SPEC.draw_index
 
 
 def inbox_order(m: PeerMessage) -> tuple[int, int, int, int]:
@@ -234,15 +237,15 @@ class PeerGate(Generic[B, K]):
     ) -> list[Decision]:
         """A peer's UavState (its bytes ``data`` as received, read into ``state`` and ``fires``)."""
         sender, step = int(state.uav_id), int(state.step)
-        rejected = self._admit(data, FLEET_STATE_SPEC.name, sender, step, step)
+        rejected = self._admit(data, _STATE_TOPIC, sender, step, step)
         if rejected is not None:
             return [rejected]
-        if self.resend.duplicate(sender, FLEET_STATE_SPEC.draw_index, step):
+        if self.resend.duplicate(sender, _STATE_INDEX, step):
             return []  # a resent copy: dropped with the fire picture it carries
         self.wait.on_state(sender, step, sent_per_topic, final)
         self._inbox.append(state)
         # the fire picture it carries is counted and kept as the part it is (its own loss draw)
-        self.wait.on_message(sender, step, FLEET_FIRES_SPEC.draw_index)
+        self.wait.on_message(sender, step, _FIRES_INDEX)
         self._inbox.append(fires)
         return self._maybe_run()
 

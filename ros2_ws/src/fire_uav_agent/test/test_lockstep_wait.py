@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+from fire_uav_agent.lockstep_wait import STATE_INDEX as STATE
 from fire_uav_agent.lockstep_wait import PeerWait
 from fire_uav_common.lockstep import parse_schedule
 from fire_uav_common.topics import COVERAGE_MST_SPEC, FLEET_FIRES_SPEC, FLEET_PERIMETER_SPEC
@@ -114,3 +115,55 @@ def test_describe_names_each_missing_peer_and_what_it_still_owes() -> None:
     w.on_message(1, 4, MST)
     deliver(w, 2, 4)
     assert w.describe(5) == "" and w.ready(5)
+
+
+def _missing_by_recount(w: PeerWait, arrived: dict, sent: dict, step: int) -> list[int]:
+    """The rule of ``missing`` recounted from the inputs as given (an independent reference of the
+    running count ``PeerWait`` keeps): a live peer is missing while its state is not in, or any
+    topic has fewer arrivals than its state announced."""
+    prev = step - 1
+    out = []
+    for j in w._live_peers(prev):
+        s = sent.get((prev, j))
+        got = arrived.get((prev, j), {})
+        if s is None or any(got.get(t, 0) < n for t, n in enumerate(s)):
+            out.append(j)
+    return out
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_missing_equals_a_recount_over_any_arrival_order(seed: int) -> None:
+    """Messages in any order: before or after their state, duplicates, topics beyond what the
+    state lists, negative and unknown indexes, a second state replacing the first's counts, final
+    states, peers gone and pruning; ``missing`` must agree with a recount from scratch after every
+    input (the live peers recomputed by the reference: ``_live_peers``, uncached)."""
+    import random
+
+    rng = random.Random(seed)
+    n = rng.randint(2, 6)
+    w = PeerWait(uav_id=0, uav_count=n, period_s=0.1)
+    arrived: dict = {}
+    sent: dict = {}
+    for _ in range(300):
+        step, j = rng.randint(0, 3), rng.randint(1, n - 1)
+        if rng.random() < 0.01:
+            w.mark_gone(j)
+        elif rng.random() < 0.25:
+            counts = tuple(rng.randint(0, 3) for _ in range(rng.randint(1, 5)))
+            w.on_state(j, step, counts, final=rng.random() < 0.03)
+            sent[(step, j)] = counts
+            got = arrived.setdefault((step, j), {})
+            got[STATE] = got.get(STATE, 0) + 1
+        else:
+            t = rng.randint(-1, 6)
+            w.on_message(j, step, t)
+            got = arrived.setdefault((step, j), {})
+            got[t] = got.get(t, 0) + 1
+        if rng.random() < 0.02:
+            k = rng.randint(0, 4)
+            w.prune(k)
+            for d in (arrived, sent):
+                for key in [key for key in d if key[0] < k - 1]:
+                    del d[key]
+        for s in range(1, 5):
+            assert w.missing(s) == _missing_by_recount(w, arrived, sent, s), (seed, s)

@@ -20,7 +20,11 @@ pytest.importorskip("fire_uav_msgs.msg")
 from builtin_interfaces.msg import Time
 from fire_uav_common.auth import Authenticator
 from fire_uav_common.cdr import CdrError
-from fire_uav_common.codecs.payload_request import PAYLOAD_REQUEST_FIELDS, read_payload_request
+from fire_uav_common.codecs.payload_request import (
+    PAYLOAD_REQUEST_FIELDS,
+    read_payload_request,
+    write_payload_request,
+)
 from fire_uav_common.stamps import stamp_to_ns
 from fire_uav_msgs.msg import PayloadRequest
 from fire_world_sim.world_node import _read_payload
@@ -128,3 +132,35 @@ def test_the_world_takes_what_rclpy_takes_when_the_codec_refuses():
         assert _read_payload(data) is None
         return
     assert _read_fields(_read_payload(data)) == _fields(ref)
+
+
+@settings(max_examples=300, deadline=None)
+@given(stamps, u8, u8, i32, f64, f64, f64)
+def test_writer_gives_the_bytes_rclpy_serialises(stamp, uav_id, action, target, vx, vz, wz) -> None:
+    """The agent's request written by the codec is byte for byte rclpy's serialisation of the
+    message the agent built before (frame ``map``, ``auth`` zero), NaNs and infinities included,
+    but for the two bytes of alignment padding, which ``serialize_message`` leaves uninitialised
+    (the writer puts zeros; no reader reads them)."""
+    ref = PayloadRequest(uav_id=uav_id, action=action, target_fire_id=target)
+    ref.header.stamp = stamp
+    ref.header.frame_id = "map"
+    ref.cmd_linear_x_mps, ref.cmd_linear_z_mps, ref.cmd_angular_z_radps = vx, vz, wz
+    got = write_payload_request(stamp.sec, stamp.nanosec, uav_id, action, target, vx, vz, wz)
+    want = bytearray(serialize_message(ref))
+    want[22:24] = b"\x00\x00"  # the padding before target_fire_id, which rclpy leaves unset
+    assert got == bytes(want)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        (0, 0, 256, 0, -1),  # uav_id beyond uint8
+        (0, 0, 1, -1, -1),  # negative action
+        (0, 0, 1, 0, 2**31),  # fire id beyond int32
+        (-(2**31) - 1, 0, 1, 0, -1),  # sec beyond int32
+        (0, 2**32, 1, 0, -1),  # nanosec beyond uint32
+    ],
+)
+def test_writer_refuses_values_out_of_range(args) -> None:
+    with pytest.raises(CdrError):
+        write_payload_request(*args, 0.0, 0.0, 0.0)
