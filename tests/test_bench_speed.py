@@ -73,3 +73,28 @@ def test_the_page_shows_the_startup_columns(fake, tmp_path):
     line = next(x for x in md.read_text().splitlines() if x.startswith("| ff_two_fires"))
     cells = dict(zip(cols, (c.strip() for c in line.strip("|").split("|")), strict=True))
     assert float(cells["x real time after start-up h"]) == 20.0
+
+
+def test_the_dds_row_flies_the_vehicle_model_it_names(monkeypatch, tmp_path):
+    """issue [airframe]'s figure (20 UAVs on JSBSim over DDS): the jsbsim row must really set the
+    world's backend, and the ff_paper rows must not (their figures stay comparable with older ones)."""
+    seen = []
+
+    def run(root, argv, timeout_s):
+        seen.append(argv)
+        out = Path(argv[argv.index("--out") + 1])
+        model = next((a.split("=")[1] for a in argv if a.startswith("uavs.vehicle_model=")), "ff_paper")
+        procs = {"world": {"cpu_ms_per_step": 2.0}, "agent0": {"rss_mb": 80.0}}
+        (out / "summary.json").write_text(
+            json.dumps({"steps_per_wall_s": 9.0 if model == "jsbsim" else 12.0, "processes": procs})
+        )
+        return 1.0, ""
+
+    monkeypatch.setattr(speed, "_run", run)
+    roots = {"head": tmp_path}
+    plain = speed.dds_row(roots, 20, 15.0)
+    jsb = speed.dds_row(roots, 20, 15.0, "jsbsim")
+    assert "--set" not in seen[0]
+    assert seen[1][seen[1].index("--set") + 1] == "uavs.vehicle_model=jsbsim"
+    assert (plain["vehicle_model"], plain["head_steps_per_s"]) == ("ff_paper", 12.0)
+    assert (jsb["vehicle_model"], jsb["head_steps_per_s"], jsb["head_agent_rss_mb"]) == ("jsbsim", 9.0, 80.0)

@@ -518,12 +518,14 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
         ),
         "",
         "Over DDS (`python -m fire_mission.runner ff_two_fires --uavs N --seed 1 --no-record "
-        "--no-report`, one process per UAV, lockstep):",
+        "--no-report`, one process per UAV, lockstep; vehicle model `jsbsim`: the same with "
+        "`--set uavs.vehicle_model=jsbsim`, one JSBSim aircraft and autopilot per UAV at 100 Hz):",
         "",
         _table(
-            r.get("dds", []),
+            [{"vehicle_model": "ff_paper", **row} for row in r.get("dds", [])],
             [
                 ("uavs", "UAVs"),
+                ("vehicle_model", "vehicle model"),
                 ("mission_time_s", "mission [s]"),
                 ("base_steps_per_s", f"steps/s {base}"),
                 ("head_steps_per_s", f"steps/s {head}"),
@@ -541,7 +543,8 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
             f"Targets: >= {t['grass_running_x_real_time']:g}x real time for grass_running (6 UAVs) and >= "
             f"{t['ff_two_fires_x_real_time']:g}x for ff_two_fires (5) in one process on one core; world "
             f"step <= {t['world_ms_at_20']:g} ms at 20 UAVs; >= {t['dds_steps_per_s_at_30']:g} steps/s "
-            f"(real time) at 30 UAVs over DDS; agent RSS <= {t['agent_rss_mb']:g} MiB.",
+            f"(real time) at 30 UAVs over DDS, and at 20 on `jsbsim` (issue [airframe]); agent RSS <= "
+            f"{t['agent_rss_mb']:g} MiB.",
             "",
         ]
     return lines + notes.after("speed")

@@ -20,7 +20,9 @@ Rows:
 - ``world``: ``fire_bench/speed_probe.py world`` (this checkout's file, run under each
   environment): CPU ms per ``World.step`` at 20 UAVs and a digest of the truth;
 - ``dds``: ``python -m fire_mission.runner ff_two_fires --uavs N --no-record --no-report``:
-  lockstep steps per wall second, and the agents' mean RSS [MiB].
+  lockstep steps per wall second, and the agents' mean RSS [MiB]; also at
+  :data:`JSBSIM_DDS_SIZES` UAVs with ``--set uavs.vehicle_model=jsbsim`` (issue [airframe]'s
+  figure: 20 JSBSim aircraft at the world's 100 Hz physics, real time is 10 steps/s).
 """
 
 from __future__ import annotations
@@ -49,6 +51,8 @@ SPEED_TARGETS = {
     "dds_steps_per_s_at_30": 10.0,
     "agent_rss_mb": 100.0,
 }
+#: fleet sizes also flown on the ``jsbsim`` backend over DDS (its target: real time at 20)
+JSBSIM_DDS_SIZES = [20]
 SUMMARY_NOISE = {"wall_time_s", "steps_per_wall_s", "processes", "runner"}  # not the mission
 #: [s] of mission the start-up run flies (its own steps are taken out of both sides of the ratio)
 STARTUP_MISSION_S = 1.0
@@ -186,12 +190,17 @@ def world_row(roots: dict[str, Path], uavs: int, steps: int) -> dict:
     return row
 
 
-def dds_row(roots: dict[str, Path], uavs: int, duration: float) -> dict:
-    row: dict = {"uavs": uavs, "mission_time_s": duration}
+def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: str = "ff_paper") -> dict:
+    """Lockstep steps per wall second of ``uavs`` agents over DDS on ``vehicle_model`` (the world's
+    vehicle backend, ``uavs.vehicle_model``; ``jsbsim`` steps one JSBSim aircraft and its autopilot
+    per UAV at the world's 100 Hz physics), the agents' mean RSS and the world's CPU per step."""
+    row: dict = {"uavs": uavs, "vehicle_model": vehicle_model, "mission_time_s": duration}
     for tag, root in roots.items():
         with tempfile.TemporaryDirectory() as d:
             argv = ["python", "-m", "fire_mission.runner", "ff_two_fires", "--uavs", str(uavs), "--seed", "1"]
             argv += ["--max-duration", f"{duration:g}", "--quiet", "--no-record", "--no-report", "--out", d]
+            if vehicle_model != "ff_paper":
+                argv += ["--set", f"uavs.vehicle_model={vehicle_model}"]
             _run(root, argv, 1800)
             path = Path(d) / "summary.json"
             s = json.loads(path.read_text()) if path.is_file() else {}
@@ -215,4 +224,6 @@ def bench_speed(base: Path | None, quick: bool, dds_sizes: list[int] | None = No
     out["world"] = [world_row(roots, 20, 100 if quick else 300)]
     sizes = dds_sizes if dds_sizes is not None else ([5, 20] if quick else [5, 20, 30])
     out["dds"] = [dds_row(roots, n, 15.0 if quick else 30.0) for n in sizes]
+    # issue [airframe]: 20 UAVs on JSBSim at the world's 100 Hz physics keep real time over DDS
+    out["dds"] += [dds_row(roots, n, 15.0 if quick else 30.0, "jsbsim") for n in JSBSIM_DDS_SIZES]
     return out
