@@ -29,10 +29,12 @@ evenly spaced circling monitors, and a lower bound for any single monitor), and 
 as it flies, with suppression (``run_suppressed``: the error against the true fire's hull and
 the reported fastest front against the burning tip).
 
-Run: .venv/bin/python scripts/bench_perimeter.py [--quick] [--seeds N] [--fires NAME ...] [--describe]
+Run: .venv/bin/python scripts/bench_perimeter.py [--quick] [--seeds N] [--fires NAME ...]
+[--score-from-s S] [--describe]
 (quick: the world's monitor_grass, and grass_wind for its first 2 min; a paper-regime
-synthetic flight of 3 h takes about a minute of CPU; --describe: what the synthetic fires do, no
-flight, seconds)
+synthetic flight of 3 h takes about a minute of CPU; --score-from-s: a second table per fire
+over the samples at t >= S only, e.g. the fuel-change fire's uneven phase from 2.1 h (7560 s)
+on the same flights; --describe: what the synthetic fires do, no flight, seconds)
 """
 
 from __future__ import annotations
@@ -41,7 +43,7 @@ import argparse
 import math
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -158,6 +160,7 @@ class Setting:
     t1_s: float  # end [s]
     every: int  # distance error every this many new cells
     center_known: bool
+    score_from_s: float | None = None  # --score-from-s: also the mean over samples at t >= this [s]
 
     def fire(self):
         if self.name == "wind-driven":
@@ -233,28 +236,43 @@ def start_angle(seed: int) -> float:
     return float(np.random.default_rng(1000 + seed).uniform(0.0, 2 * math.pi))
 
 
+def late_mean(samples: list[tuple[float, float, float]], from_s: float | None) -> tuple[float, float]:
+    """Mean max error and mean floor [m] over the samples ``(t [s], max [m], floor [m])`` taken at
+    ``t >= from_s`` (the running average of PM Fig. 16 restarted at ``from_s``); NaN without
+    ``from_s`` or without a sample after it."""
+    if from_s is None:
+        return math.nan, math.nan
+    late = [(e, f) for t, e, f in samples if t >= from_s]
+    if not late:
+        return math.nan, math.nan
+    a = np.asarray(late, dtype=float)
+    return float(np.mean(a[:, 0])), float(np.mean(a[:, 1]))
+
+
 def run_one(job: tuple) -> tuple:
-    """One flight; returns (job, mean max error [m], mean floor [m], cell [m], direction changes)."""
+    """One flight; returns (job, mean max error [m], mean floor [m], cell [m], direction changes,
+    (mean max error, mean floor) over the samples at ``t >= Setting.score_from_s``)."""
     setting, kind, seed, alpha = job
     s = SETTINGS[setting]
     fire = s.fire()
     cell, speed, sensor = _cell_speed_sensor(s, fire)
     m = make_monitor(s, fire, kind, seed, alpha)
-    errs: list[tuple[float, float]] = []
+    errs: list[tuple[float, float, float]] = []
     orig = m.update
 
     def update(cells, pos, t):
         d = orig(cells, pos, t)
         if m.steps % s.every == 0 and m.initial_lap_done:
             e = _error(fire, m, t)
-            errs.append((e.max_m, e.floor_m))
+            errs.append((t, e.max_m, e.floor_m))
         return d
 
     m.update = update  # type: ignore[method-assign]
     fly(fire, m, start_angle_rad=start_angle(seed), t_start_s=s.t0_s, t_end_s=s.t1_s, speed_mps=speed,
         sensor_range_m=sensor)  # fmt: skip
-    a = np.asarray(errs) if errs else np.full((1, 2), np.nan)
-    return job, float(np.nanmean(a[:, 0])), float(np.nanmean(a[:, 1])), cell, m.direction_changes
+    a = np.asarray(errs)[:, 1:] if errs else np.full((1, 2), np.nan)
+    late = late_mean(errs, s.score_from_s)
+    return job, float(np.nanmean(a[:, 0])), float(np.nanmean(a[:, 1])), cell, m.direction_changes, late
 
 
 def run_two(job: tuple) -> tuple:
@@ -482,9 +500,9 @@ def describe_lines(rows: list[dict]) -> list[str]:
     return out
 
 
-def table(setting: str, rows: dict, seeds: int) -> None:
+def table(setting: str, rows: dict, seeds: int, over: str = "the flight") -> None:
     cell = next(iter(rows.values()))[0][2]
-    print(f"\n   {setting} (cell {cell:g} m; mean over the flight of the max distance error, per seed)")
+    print(f"\n   {setting} (cell {cell:g} m; mean over {over} of the max distance error, per seed)")
     print("   monitor         mean [m]  [cells]  floor [m]  ratio  turns  per seed [m]")
     base = np.mean([r[0] for r in rows["circling"]]) if "circling" in rows else math.nan
     for kind, rs in rows.items():
@@ -502,6 +520,15 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="monitor_grass, and grass_wind for 2 min, only")
     ap.add_argument("--fires", nargs="+", choices=list(SETTINGS), help="only these fires")
     ap.add_argument("--seeds", type=int, default=4, help="seeds per fire and monitor (default 4)")
+    ap.add_argument(
+        "--score-from-s",
+        type=float,
+        metavar="S",
+        help="also tabulate, per single-monitor flight, the mean over the samples at t >= S s after"
+        " ignition (the running average restarted there), e.g. 7560 for the fuel-change fire's uneven"
+        " phase (its head reaches the fast fuel at about 2.1 h); fires whose flight ends before S are"
+        " left out of that table",
+    )
     ap.add_argument(
         "--describe",
         action="store_true",
@@ -523,6 +550,11 @@ def main() -> None:
         g = SETTINGS["grass_wind"]
         SETTINGS["grass_wind"] = Setting(g.name, g.t0_s, g.t0_s + 120.0, g.every, g.center_known)
     fires = args.fires or (["monitor_grass", "grass_wind"] if args.quick else list(SETTINGS))
+    if args.score_from_s is not None:
+        if not math.isfinite(args.score_from_s) or args.score_from_s < 0:
+            ap.error(f"--score-from-s must be a time >= 0 s, got {args.score_from_s}")
+        for f in fires:  # the workers are forked and read SETTINGS, as --quick's
+            SETTINGS[f] = replace(SETTINGS[f], score_from_s=args.score_from_s)
     jobs = [(f, k, seed, 1.0) for f in fires for k in MONITORS for seed in range(args.seeds)]
     alpha_fires = [f for f in ("monitor_grass", "wind-driven") if f in fires]
     alpha_jobs = [(f, "worst", 0, a) for f in alpha_fires for a in ALPHAS]
@@ -536,7 +568,8 @@ def main() -> None:
         res = list(pool.map(run_one, jobs + alpha_jobs))
         two = list(pool.map(run_two, two_jobs))
         supp = list(pool.map(run_suppressed, supp_seeds))
-    one = {job: (e, f, c, n) for job, e, f, c, n in res}
+    one = {job: (e, f, c, n) for job, e, f, c, n, _ in res}
+    late = {job: (lt[0], lt[1], c, n) for job, _, _, c, n, lt in res}
     print("Distance error (PM VI-E, fire_perimeter_monitor.distance_error); no suppression")
     for f in fires:
         rows = {k: [one[(f, k, seed, 1.0)] for seed in range(args.seeds)] for k in MONITORS}
@@ -544,6 +577,13 @@ def main() -> None:
             for split in TWO_SPLITS:
                 rows[f"two ({split})"] = [(e, fl, c, n) for job, e, fl, c, n in two if job[3] == split]
         table(f, rows, args.seeds)
+    if args.score_from_s is not None:
+        for f in fires:
+            if SETTINGS[f].t1_s <= args.score_from_s:
+                continue
+            rows = {k: [late[(f, k, seed, 1.0)] for seed in range(args.seeds)] for k in MONITORS}
+            over = f"t >= {args.score_from_s:g} s (flight {SETTINGS[f].t0_s:g}-{SETTINGS[f].t1_s:g} s)"
+            table(f, rows, args.seeds, over)
     if "monitor_grass" in fires:
         b = bounds("monitor_grass")
         print(

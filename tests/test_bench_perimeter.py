@@ -40,3 +40,12 @@ def test_the_paper_regime_fires_do_what_their_names_say(bench):
     assert fc[1.0]["head_cells_per_lap"] < 1.0 < 5.0 < fc[3.5]["head_cells_per_lap"]
     for r in bench.describe("wind-driven", (1.0, 3.0)):
         assert r["head_mps"] > 3.0 * r["median_mps"] and r["lap_s"] > 4 * 60.0  # uneven, long laps
+
+
+def test_late_mean_counts_only_the_samples_from_the_given_time(bench):
+    """--score-from-s: the running average restarted at S, over (t, max, floor) samples."""
+    samples = [(10.0, 100.0, 1.0), (20.0, 4.0, 2.0), (30.0, 6.0, 4.0)]
+    assert bench.late_mean(samples, 20.0) == (5.0, 3.0)  # t = 20 counts, t = 10 does not
+    assert bench.late_mean(samples, 0.0) == (pytest.approx(110.0 / 3), pytest.approx(7.0 / 3))
+    assert all(np.isnan(bench.late_mean(samples, 31.0)))  # no sample after S
+    assert all(np.isnan(bench.late_mean(samples, None)))  # not asked

@@ -106,7 +106,7 @@ class MonitorConfig:
     # the head, so sweeping it the head is out of the footprint at most this long [s]
     relay_head_period_s: float = 3.5
     # relay: the holder's arc also spans the stretch about the head whose Eq. 7 ROS is at least
-    # this fraction of the head's (0: off)
+    # this fraction of the head's smoothed rate (split.relay_split; 0: off)
     relay_fast_fraction: float = 0.5
 
     def __post_init__(self) -> None:

@@ -98,10 +98,9 @@ def work_bisector_split(work: np.ndarray, peer_index: np.ndarray) -> np.ndarray:
     return owned
 
 
-def head_index(ros_mps: np.ndarray, smooth_cells: int = 2) -> int:
-    """Index of the fastest cell of a closed perimeter: the argmax of the per-cell ROS
-    averaged circularly over ``+-smooth_cells`` cells (NaN counts 0), so one noisy cell does
-    not take the head from a fast stretch. Ties: the lowest index."""
+def _smoothed_ros(ros_mps: np.ndarray, smooth_cells: int) -> np.ndarray:
+    """Per-cell ROS (NaN and negative count 0) averaged circularly over ``+-k`` cells,
+    ``k = min(smooth_cells, (M - 1) // 2)``."""
     r = np.maximum(np.nan_to_num(np.asarray(ros_mps, dtype=float), nan=0.0), 0.0)
     if r.ndim != 1 or r.size == 0:
         raise InputError(f"ros_mps must be a non-empty 1-D array, got shape {r.shape}")
@@ -110,7 +109,14 @@ def head_index(ros_mps: np.ndarray, smooth_cells: int = 2) -> int:
         ext = np.concatenate([r[-k:], r, r[:k]])
         c = np.cumsum(np.concatenate([[0.0], ext]))
         r = (c[2 * k + 1 :] - c[: -2 * k - 1]) / (2 * k + 1)
-    return int(np.argmax(r))
+    return r
+
+
+def head_index(ros_mps: np.ndarray, smooth_cells: int = 2) -> int:
+    """Index of the fastest cell of a closed perimeter: the argmax of the per-cell ROS
+    averaged circularly over ``+-smooth_cells`` cells (NaN counts 0), so one noisy cell does
+    not take the head from a fast stretch. Ties: the lowest index."""
+    return int(np.argmax(_smoothed_ros(ros_mps, smooth_cells)))
 
 
 def relay_split(
@@ -132,9 +138,16 @@ def relay_split(
     capped at a quarter of the perimeter, so the holder never owns more than half.
 
     ``fast_fraction`` > 0 widens the arc to the contiguous stretch about the head whose ROS is
-    at least that fraction of the head's (the head's flanks spread fast too: on monitor_grass
-    the angles spreading at >= 2 m/s about the ignition point span 300-550 m of perimeter, not
-    a point), still within the cap.
+    at least that fraction of the head's rate (the head's flanks spread fast too: on
+    monitor_grass the angles spreading at >= 2 m/s about the ignition point span 300-550 m of
+    perimeter, not a point), still within the cap. The head's rate is its smoothed rate, the
+    mean over ``+-2`` cells that :func:`head_index` maximises, not the head cell's own: the
+    smoothed argmax can land on a cell reading 0 between fast ones (whole-cell distances over
+    a short baseline give zeros, PM Eq. 1), and a comparison with 0 took every cell as fast,
+    the whole capped arc. Not the largest rate in the window either: that is the one noisy
+    cell the smoothing is there to discount (a spike among 3 m/s cells would leave the 3 m/s
+    stretch out of the arc). A head whose smoothed rate is 0 (no spread known about it) is
+    not widened.
 
     Departs from PM, where one UAV weighs all cells by Eq. 4 (the time since the last visit
     times the ROS) in its windows (Eqs. 5-6): here the importance of a cell is zeroed unless
@@ -154,13 +167,14 @@ def relay_split(
         raise InputError(f"peer cell must lie in 1 .. {m - 1}, got {peer_index}")
     if not (spacing_m > 0 and head_half_m >= 0):
         raise InputError(f"spacing_m must be > 0 and head_half_m >= 0, got {spacing_m}, {head_half_m}")
-    h = head_index(r)
+    smooth = _smoothed_ros(r, 2)
+    h = int(np.argmax(smooth))  # head_index(r)
     idx = np.arange(m)
     dist_head = np.minimum(np.abs(idx - h), m - np.abs(idx - h)) * float(spacing_m)
     half = float(head_half_m)
-    if fast_fraction > 0:  # widen to the contiguous stretch about the head at >= fraction of its ROS
+    if fast_fraction > 0 and smooth[h] > 0:  # widen: the stretch at >= fraction of the head's rate
         rr = np.maximum(np.nan_to_num(r, nan=0.0), 0.0)
-        fast = rr >= fast_fraction * rr[h]
+        fast = rr >= fast_fraction * smooth[h]
         for step in (1, -1):
             j, n = h, 0
             while n < m // 2 and fast[(j + step) % m]:

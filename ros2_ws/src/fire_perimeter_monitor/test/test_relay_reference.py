@@ -18,24 +18,33 @@ def _clean(v: float) -> float:
     return 0.0 if (math.isnan(v) or v < 0) else v
 
 
-def head_ref(ros: list[float], smooth: int = 2) -> int:
-    """The first cell of largest circular mean over +-k cells, k = min(smooth, (M-1)//2)."""
+def means_ref(ros: list[float], smooth: int = 2) -> list[float]:
+    """Each cell's circular mean over +-k cells, k = min(smooth, (M-1)//2)."""
     m = len(ros)
     r = [_clean(v) for v in ros]
     k = min(smooth, (m - 1) // 2)
-    means = [sum(r[(i + j) % m] for j in range(-k, k + 1)) / (2 * k + 1) for i in range(m)]
+    return [sum(r[(i + j) % m] for j in range(-k, k + 1)) / (2 * k + 1) for i in range(m)]
+
+
+def head_ref(ros: list[float], smooth: int = 2) -> int:
+    """The first cell of largest circular mean over +-k cells."""
+    means = means_ref(ros, smooth)
     return means.index(max(means))
 
 
 def relay_ref(ros, spacing, peer, half, mine_on_tie, fast_fraction):
+    """The arc within ``half`` of the head, widened over the contiguous cells whose own rate is
+    at least ``fast_fraction`` of the head's smoothed rate (none if that is 0), capped at a
+    quarter of the perimeter each side; the holder is the nearer monitor."""
     m = len(ros)
     h = head_ref(ros)
+    head_rate = means_ref(ros)[h]
     dist = [min(abs(i - h), m - abs(i - h)) * spacing for i in range(m)]
-    if fast_fraction > 0:
+    if fast_fraction > 0 and head_rate > 0:
         r = [_clean(v) for v in ros]
         for step in (1, -1):
             n = 0
-            while n < m // 2 and r[(h + step * (n + 1)) % m] >= fast_fraction * r[h]:
+            while n < m // 2 and r[(h + step * (n + 1)) % m] >= fast_fraction * head_rate:
                 n += 1
             half = max(half, n * spacing)
     arc = [d <= min(half, 0.25 * m * spacing) for d in dist]
@@ -104,3 +113,20 @@ def test_the_arc_is_widened_only_when_asked_and_nan_or_slow_cells_are_not_fast()
 def test_a_one_cell_perimeter_is_owned_as_a_bool_mask() -> None:
     got = relay_split(np.array([2.0]), 5.0, 1, 10.0, False)
     assert got.dtype == bool and got.tolist() == [True]
+
+
+def test_a_head_cell_reading_0_does_not_widen_the_arc_to_the_cap() -> None:
+    """Two fast pairs with a 0 between: the +-2-cell mean peaks on the 0 cell (4, 4, 0, 4, 4:
+    3.2 m/s, against 2.4 one cell either side), so the head is cell 4 and its own rate is 0.
+    Against its smoothed 3.2 m/s at fraction 0.5 (1.6 m/s) the fast stretch is cells 2-6, the
+    four 4 m/s cells about it; compared with the cell's own 0, every cell is "fast" and the arc
+    is the cap, 10 cells each side (the old rule's 21 cells)."""
+    ros = [0.0] * 40
+    ros[2:4] = ros[5:7] = [4.0, 4.0]
+    assert head_index(np.array(ros)) == 4 and ros[4] == 0.0
+    # we (cell 0) are 4 cells from the head, the peer at cell 20 is 16: we hold
+    got = relay_split(np.array(ros), 1.0, 20, 0.0, True, 0.5)
+    assert np.flatnonzero(got).tolist() == [0, 2, 3, 4, 5, 6]
+    # and no spread known about the head: nothing is widened (the head cell alone)
+    zero = relay_split(np.zeros(40), 1.0, 20, 0.0, True, 0.5)
+    assert np.flatnonzero(zero).tolist() == [0]
