@@ -10,23 +10,27 @@ error between the commanded turn rate (as the world clamps it) and the flown one
 EKF consistency, the normalised estimation error squared NEES = e^T P^-1 e of s = (x, y, z, yaw)
 against the truth (mean 4 for a consistent filter; Bar-Shalom, Li & Kirubarajan, *Estimation with
 Applications to Tracking and Navigation*, 2001, sec. 5.4), and the largest horizontal estimation
-error. Prints, no asserts.
+error. On a raster fire also the tactic, the burned area at the end, the time to containment and
+the refills (``mission.tactic`` chooses the tactic: ``--set mission.tactic=flank``). ``--json``
+writes the mission's summary dict. Prints, no asserts.
 
 With ``--bag RUN/bag`` it reads the samples from a recorded mission's ``/world/truth`` instead
 (the bank figures only; its scenario from the bag for the airframe's own limit).
 
 Usage: .venv/bin/python scripts/envelope_share.py [SCENARIO] [--uavs 5] [--seed 1]
-       [--set uavs.vehicle_model=coordinated_turn] [--bank-deg 60]
+       [--set uavs.vehicle_model=coordinated_turn] [--bank-deg 60] [--json summary.json]
        .venv/bin/python scripts/envelope_share.py --bag runs/latest/bag [--bank-deg 60]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
+from pathlib import Path
 
 import fire_uav_agent.testing.harness as harness_mod
 import fire_uav_recording as bag_io
@@ -49,6 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE")
     p.add_argument("--bank-deg", type=float, default=60.0, help="a bank limit to measure against [deg]")
     p.add_argument("--bag", help="read /world/truth of this recorded mission instead of running one")
+    p.add_argument("--json", type=Path, help="write the mission's summary dict here")
     a = p.parse_args(argv)
     if a.bag:
         return from_bag(p, a.bag, a.bank_deg)
@@ -83,9 +88,25 @@ def main(argv: list[str] | None = None) -> int:
     print(
         f"landed {len(s['landed'])}/{a.uavs}, landing error max {max(land.values(), default=float('nan')):.2f} m"
     )
+    if sc.fires.model == "raster":
+        print(raster_line(s, sc.mission.tactic))
     print_shares(samples, a.bank_deg, sc.uavs.airframe)
     est.print()
+    if a.json:
+        a.json.write_text(json.dumps(s, indent=2) + "\n")
     return 0
+
+
+def raster_line(s: dict, tactic: str) -> str:
+    """The raster fire's figures of a summary dict: tactic, burned area at the end, containment, refills."""
+    area = s.get("burned_area_m2")
+    burned = "n/a" if area is None else f"{area / 1e4:.2f} ha"
+    t = s.get("contained_at_s")
+    contained = "not contained" if t is None else f"contained at {t:.1f} s"
+    return (
+        f"raster fire, tactic {tactic}: burned area {burned} at {s['mission_time_s']:.1f} s, {contained}, "
+        f"refills {s['refills']}"
+    )
 
 
 @contextmanager

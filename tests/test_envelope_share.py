@@ -32,3 +32,26 @@ def test_no_airborne_sample_is_no_share_and_a_bad_limit_is_refused() -> None:
     assert envelope_share([(GROUND, 0.0, 0.0)], 45.0).share == 0.0
     with pytest.raises(BenchError, match="bank_max_deg"):
         envelope_share([], 90.0)
+
+
+def _script():
+    """scripts/envelope_share.py as a module (a script, not a package)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "scripts" / "envelope_share.py"
+    spec = importlib.util.spec_from_file_location("envelope_share_script", path)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_the_raster_line_gives_the_burned_area_in_hectares_and_the_containment() -> None:
+    line = _script().raster_line
+    s = {"burned_area_m2": 31_900.0, "contained_at_s": 257.04, "mission_time_s": 316.4, "refills": 35}
+    assert line(s, "flank") == (
+        "raster fire, tactic flank: burned area 3.19 ha at 316.4 s, contained at 257.0 s, refills 35"
+    )
+    s.update(contained_at_s=None, burned_area_m2=None)
+    assert "burned area n/a at 316.4 s, not contained" in line(s, "head")
