@@ -75,26 +75,41 @@ def test_the_page_shows_the_startup_columns(fake, tmp_path):
     assert float(cells["x real time after start-up h"]) == 20.0
 
 
-def test_the_dds_row_flies_the_vehicle_model_it_names(monkeypatch, tmp_path):
+def test_the_dds_row_flies_the_vehicle_model_it_names_over_an_airborne_window(monkeypatch, tmp_path):
     """issue [airframe]'s figure (20 UAVs on JSBSim over DDS): the jsbsim row must really set the
-    world's backend, and the ff_paper rows must not (their figures stay comparable with older ones)."""
+    world's backend and the ff_paper rows must not; the rate is the one between the end of the
+    takeoff column and the end of the window, not an average with the fleet on the ground."""
     seen = []
 
     def run(root, argv, timeout_s):
         seen.append(argv)
         out = Path(argv[argv.index("--out") + 1])
         model = next((a.split("=")[1] for a in argv if a.startswith("uavs.vehicle_model=")), "ff_paper")
-        procs = {"world": {"cpu_ms_per_step": 2.0}, "agent0": {"rss_mb": 80.0}}
-        (out / "summary.json").write_text(
-            json.dumps({"steps_per_wall_s": 9.0 if model == "jsbsim" else 12.0, "processes": procs})
-        )
+        t = float(argv[argv.index("--max-duration") + 1])
+        # fake fleet: 20 steps/s while the column takes off (t < 43 s), then 8 (ff_paper) or 5 (jsbsim)
+        airborne_rate = 5.0 if model == "jsbsim" else 8.0
+        wall = min(t, 43.0) * 10 / 20.0 + max(t - 43.0, 0.0) * 10 / airborne_rate
+        n = t * 10
+        procs = {"world": {"cpu_ms_per_step": 2.0}, "agent_0": {"cpu_ms_per_step": 4.0, "rss_mb": 80.0}}
+        summary = {
+            "mission_time_s": t,
+            "control_period_s": 0.1,
+            "steps_per_wall_s": n / wall,
+            "processes": procs,
+        }
+        (out / "summary.json").write_text(json.dumps(summary))
         return 1.0, ""
 
     monkeypatch.setattr(speed, "_run", run)
     roots = {"head": tmp_path}
+    assert (
+        speed.airborne_after_s(20) == 19 * 2.0 + speed.AIRBORNE_MARGIN_S
+    )  # ff_two_fires: one takeoff per 2 s
     plain = speed.dds_row(roots, 20, 15.0)
     jsb = speed.dds_row(roots, 20, 15.0, "jsbsim")
-    assert "--set" not in seen[0]
-    assert seen[1][seen[1].index("--set") + 1] == "uavs.vehicle_model=jsbsim"
-    assert (plain["vehicle_model"], plain["head_steps_per_s"]) == ("ff_paper", 12.0)
-    assert (jsb["vehicle_model"], jsb["head_steps_per_s"], jsb["head_agent_rss_mb"]) == ("jsbsim", 9.0, 80.0)
+    assert all("--set" not in a for a in seen[:2])
+    assert all(a[a.index("--set") + 1] == "uavs.vehicle_model=jsbsim" for a in seen[2:])
+    assert [float(a[a.index("--max-duration") + 1]) for a in seen[:2]] == [43.0, 58.0]
+    assert (plain["vehicle_model"], plain["head_steps_per_s"]) == ("ff_paper", 8.0)
+    assert (jsb["vehicle_model"], jsb["head_steps_per_s"], jsb["head_agent_rss_mb"]) == ("jsbsim", 5.0, 80.0)
+    assert (jsb["head_world_cpu_ms_per_step"], jsb["head_agent_cpu_ms_per_step"]) == (2.0, 4.0)

@@ -519,18 +519,23 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
         "",
         "Over DDS (`python -m fire_mission.runner ff_two_fires --uavs N --seed 1 --no-record "
         "--no-report`, one process per UAV, lockstep; vehicle model `jsbsim`: the same with "
-        "`--set uavs.vehicle_model=jsbsim`, one JSBSim aircraft and autopilot per UAV at 100 Hz):",
+        "`--set uavs.vehicle_model=jsbsim`, one JSBSim aircraft and autopilot per UAV at 100 Hz; "
+        "the window opens once every UAV is airborne, older rows without it are the first seconds, "
+        "in the takeoff column):",
         "",
         _table(
             [{"vehicle_model": "ff_paper", **row} for row in r.get("dds", [])],
             [
                 ("uavs", "UAVs"),
                 ("vehicle_model", "vehicle model"),
-                ("mission_time_s", "mission [s]"),
+                ("airborne_from_s", "window from [s]"),
+                ("mission_time_s", "window [s]"),
                 ("base_steps_per_s", f"steps/s {base}"),
                 ("head_steps_per_s", f"steps/s {head}"),
                 ("base_world_cpu_ms_per_step", f"world CPU ms/step {base}"),
                 ("head_world_cpu_ms_per_step", f"world CPU ms/step {head}"),
+                ("base_agent_cpu_ms_per_step", f"agent CPU ms/step {base}"),
+                ("head_agent_cpu_ms_per_step", f"agent CPU ms/step {head}"),
                 ("base_agent_rss_mb", f"agent RSS MiB {base}"),
                 ("head_agent_rss_mb", f"agent RSS MiB {head}"),
             ],

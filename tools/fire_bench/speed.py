@@ -20,7 +20,9 @@ Rows:
 - ``world``: ``fire_bench/speed_probe.py world`` (this checkout's file, run under each
   environment): CPU ms per ``World.step`` at 20 UAVs and a digest of the truth;
 - ``dds``: ``python -m fire_mission.runner ff_two_fires --uavs N --no-record --no-report``:
-  lockstep steps per wall second, and the agents' mean RSS [MiB]; also at
+  lockstep steps per wall second once every UAV is airborne (:func:`dds_row`; until session 21
+  the rows were the first 15-30 s of mission, inside the takeoff column: at 20 and 30 UAVs only
+  the first 8-15 were flying), and the agents' mean RSS [MiB]; also at
   :data:`JSBSIM_DDS_SIZES` UAVs with ``--set uavs.vehicle_model=jsbsim`` (issue [airframe]'s
   figure: 20 JSBSim aircraft at the world's 100 Hz physics, real time is 10 steps/s).
 """
@@ -33,6 +35,8 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
+
+import yaml
 
 HERE = Path(__file__).resolve()
 ROOT = HERE.parents[2]
@@ -53,6 +57,8 @@ SPEED_TARGETS = {
 }
 #: fleet sizes also flown on the ``jsbsim`` backend over DDS (its target: real time at 20)
 JSBSIM_DDS_SIZES = [20]
+#: [s] after the last takeoff before a DDS row's window opens (the climb to the first layer)
+AIRBORNE_MARGIN_S = 5.0
 SUMMARY_NOISE = {"wall_time_s", "steps_per_wall_s", "processes", "runner"}  # not the mission
 #: [s] of mission the start-up run flies (its own steps are taken out of both sides of the ratio)
 STARTUP_MISSION_S = 1.0
@@ -190,25 +196,81 @@ def world_row(roots: dict[str, Path], uavs: int, steps: int) -> dict:
     return row
 
 
+def _dds_summary(root: Path, uavs: int, mission_s: float, vehicle_model: str) -> dict:
+    """summary.json of one lockstep DDS run of ff_two_fires (seed 1) for ``mission_s``."""
+    with tempfile.TemporaryDirectory() as d:
+        argv = ["python", "-m", "fire_mission.runner", "ff_two_fires", "--uavs", str(uavs), "--seed", "1"]
+        argv += ["--max-duration", f"{mission_s:g}", "--quiet", "--no-record", "--no-report", "--out", d]
+        if vehicle_model != "ff_paper":
+            argv += ["--set", f"uavs.vehicle_model={vehicle_model}"]
+        _run(root, argv, 1800)
+        path = Path(d) / "summary.json"
+        return json.loads(path.read_text()) if path.is_file() else {}
+
+
+def airborne_after_s(uavs: int) -> float:
+    """[s] of mission after which every UAV of ff_two_fires is flying: the last takeoff (one per
+    ``uavs.takeoff_interval_s``) plus :data:`AIRBORNE_MARGIN_S`. Only airborne vehicles are
+    stepped by the world's physics (``Vehicle.substep``), so a window inside the takeoff column
+    measures a fleet partly on the ground."""
+    scen = yaml.safe_load((ROOT / "ros2_ws/src/fire_world_sim/scenarios/ff_two_fires.yaml").read_text())
+    interval = float(scen["uavs"].get("takeoff_interval_s", 2.0))
+    return (uavs - 1) * interval + AIRBORNE_MARGIN_S
+
+
+def _stepping(s: dict) -> tuple[float, float, float | None, float | None] | None:
+    """(steps, stepping wall s, world CPU s, agents' mean CPU s) of a summary, over the stepping
+    phase (first to last truth message: ``steps_per_wall_s`` and ``cpu_ms_per_step`` are taken
+    over it, the start-up left out)."""
+    rate, t, dt = s.get("steps_per_wall_s"), s.get("mission_time_s"), s.get("control_period_s", 0.1)
+    if not rate or not t:
+        return None
+    n = t / dt
+    procs = s.get("processes", {})
+    world = procs.get("world", {}).get("cpu_ms_per_step")
+    agents = [
+        v["cpu_ms_per_step"] for k, v in procs.items() if k.startswith("agent") and v.get("cpu_ms_per_step")
+    ]
+    return (
+        n,
+        n / rate,
+        world * n / 1000 if world is not None else None,
+        (sum(agents) / len(agents)) * n / 1000 if agents else None,
+    )
+
+
 def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: str = "ff_paper") -> dict:
     """Lockstep steps per wall second of ``uavs`` agents over DDS on ``vehicle_model`` (the world's
     vehicle backend, ``uavs.vehicle_model``; ``jsbsim`` steps one JSBSim aircraft and its autopilot
-    per UAV at the world's 100 Hz physics), the agents' mean RSS and the world's CPU per step."""
-    row: dict = {"uavs": uavs, "vehicle_model": vehicle_model, "mission_time_s": duration}
+    per UAV at the world's 100 Hz physics), over ``duration`` s of mission once the whole fleet is
+    airborne (:func:`airborne_after_s`): two runs, to ``t_air`` and to ``t_air + duration``, the
+    same mission up to ``t_air`` (lockstep, one seed), and the rate of the steps between them. Also
+    the world's and an agent's CPU ms per step over that window, and the agents' mean RSS at the
+    end of the longer run."""
+    t_air = airborne_after_s(uavs)
+    row: dict = {
+        "uavs": uavs,
+        "vehicle_model": vehicle_model,
+        "mission_time_s": duration,
+        "airborne_from_s": t_air,
+    }
     for tag, root in roots.items():
-        with tempfile.TemporaryDirectory() as d:
-            argv = ["python", "-m", "fire_mission.runner", "ff_two_fires", "--uavs", str(uavs), "--seed", "1"]
-            argv += ["--max-duration", f"{duration:g}", "--quiet", "--no-record", "--no-report", "--out", d]
-            if vehicle_model != "ff_paper":
-                argv += ["--set", f"uavs.vehicle_model={vehicle_model}"]
-            _run(root, argv, 1800)
-            path = Path(d) / "summary.json"
-            s = json.loads(path.read_text()) if path.is_file() else {}
+        short = _stepping(_dds_summary(root, uavs, t_air, vehicle_model))
+        s = _dds_summary(root, uavs, t_air + duration, vehicle_model)
+        full = _stepping(s)
         procs = s.get("processes", {})
         rss = [v.get("rss_mb") for k, v in procs.items() if k.startswith("agent") and v.get("rss_mb")]
-        row[f"{tag}_steps_per_s"] = s.get("steps_per_wall_s")
         row[f"{tag}_agent_rss_mb"] = round(sum(rss) / len(rss), 1) if rss else None
-        row[f"{tag}_world_cpu_ms_per_step"] = procs.get("world", {}).get("cpu_ms_per_step")
+        for key in ("steps_per_s", "world_cpu_ms_per_step", "agent_cpu_ms_per_step"):
+            row[f"{tag}_{key}"] = None
+        if short is None or full is None or full[1] <= short[1]:
+            continue
+        steps = full[0] - short[0]
+        row[f"{tag}_steps_per_s"] = round(steps / (full[1] - short[1]), 2)
+        for i, key in ((2, "world"), (3, "agent")):
+            a, b = short[i], full[i]
+            if a is not None and b is not None:
+                row[f"{tag}_{key}_cpu_ms_per_step"] = round(1000 * (b - a) / steps, 3)
     return row
 
 
