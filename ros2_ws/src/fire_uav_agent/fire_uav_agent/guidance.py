@@ -27,6 +27,7 @@ from .airframe_model import (
     turn_radius_m,
 )
 from .coverage import Grid, control_law, gaussian_density, mass_centroid
+from .lake_sequence import LakeSequenceConfig, LakeUser, lake_holder
 from .mission import Decision
 from .peer_link import FireEntry, PeerLink
 from .planning import Planner, PlannerView
@@ -90,6 +91,7 @@ class Guide:
         # tanker, slowing at 1 m/s^2 from 75 m/s, crossed the 150 m margin and FF's lake x 10 at
         # 60-70 m/s, above the world's refill speed, and never refilled (ff_two_fires_tanker)
         self.lake_margin_m = cfg.guidance.lake_approach_margin_m
+        self.lake_clear_m = 0.0  # [m] beyond the shore, a low UAV leaving the lake still holds it
         af = cfg.airframe
         if af is not None:
             start = (float(self.start_xy[0]), float(self.start_xy[1]))
@@ -104,6 +106,8 @@ class Guide:
             layer = layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m)
             scoop_h = gd.refill_height_fraction * veh.refill_height_m
             self.lake_margin_m = max(self.lake_margin_m, descent_m(af, refill_v, layer - scoop_h))
+            # one fixed-wing at a time low over the lake (lake_sequence), the others on their layers
+            self.lake_clear_m = 2.0 * turn_radius_m(af, lim.v_stall_mps)
             # the height loop of Eq. 12 around the lagging flight-path angle (B&M Eq. 9.19: tau_gamma)
             # is a second-order loop, damped 0.7 at K_z = 1 / (2 tau_gamma); FF's K_z = 5 1/s rings
             # +-0.7 m around the 0.5 m approach height and never passes below the touchdown height.
@@ -192,7 +196,10 @@ class Guide:
                 v_cap = (
                     lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
                 )  # ... and slow
-                if self.raster.front is not None and self._onto_low_peer(s):
+                if self.raster.front is None and cfg.airframe is not None and not self._holds_lake(s, lake):
+                    # a fixed-wing waits on its layer above the lake until it holds it (lake_sequence)
+                    height = cruise
+                elif self.raster.front is not None and self._onto_low_peer(s):
                     # not down onto a peer at the scoop height below it: keep a layer step above
                     height = max(
                         height + self.raster.tactic.layer_step_m,
@@ -257,6 +264,44 @@ class Guide:
         if self.raster.front is None:  # analytic fires only (_within_turn)
             cmd = self._within_turn(s, cmd, target)
         return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
+
+    def _holds_lake(self, s: np.ndarray, lake: Lake) -> bool:
+        """Whether this fixed-wing holds the lake (FF mode; :func:`.lake_sequence.lake_holder`), from
+        its own estimate and the peers' last states (the step's before). Landing, landed and
+        grounded peers are left out. The layers are FF mode's (:func:`.tactics.layer_height`)."""
+        cfg, gd = self.cfg, self.cfg.guidance
+        terrain, flight_h = cfg.terrain, cfg.vehicle.flight_height_m
+        layers, step = max(1, gd.ff_layers), gd.ff_layer_step_m
+        r_lake = lake.diameter_m / 2
+        seq = LakeSequenceConfig(
+            radius_m=r_lake + self.lake_margin_m,
+            clear_radius_m=r_lake + self.lake_clear_m,
+            band_m=0.25 * step,
+        )
+        x, y = float(s[0]), float(s[1])
+        users = [
+            LakeUser(
+                cfg.uav_id,
+                x,
+                y,
+                float(s[2] - terrain.elevation(x, y)),
+                layer_height(cfg.uav_id, flight_h, layers, step),
+                True,
+            )
+        ]
+        users += [
+            LakeUser(
+                j,
+                p.x_m,
+                p.y_m,
+                float(p.z_m - terrain.elevation(p.x_m, p.y_m)),
+                layer_height(j, flight_h, layers, step),
+                p.objective == Objective.REFILL,
+            )
+            for j, p in self.link.alive_states().items()
+            if p.objective not in (Objective.GROUNDED, Objective.LANDED, Objective.LAND)
+        ]
+        return lake_holder(users, (lake.x_m, lake.y_m), seq) == cfg.uav_id
 
     def _onto_low_peer(self, s: np.ndarray) -> bool:
         """Whether a refilling UAV above the scoop height would descend onto a peer near it that is
