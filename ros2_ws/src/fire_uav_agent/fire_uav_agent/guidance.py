@@ -27,7 +27,7 @@ from .airframe_model import (
     turn_radius_m,
 )
 from .coverage import Grid, control_law, gaussian_density, mass_centroid
-from .lake_sequence import LakeSequenceConfig, LakeUser, lake_holder
+from .lake_sequence import LakeSequenceConfig, LakeUser, hold_rank, lake_holder
 from .mission import Decision
 from .peer_link import FireEntry, PeerLink
 from .planning import Planner, PlannerView
@@ -196,9 +196,14 @@ class Guide:
                 v_cap = (
                     lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
                 )  # ... and slow
-                if self.raster.front is None and cfg.airframe is not None and not self._holds_lake(s, lake):
-                    # a fixed-wing waits on its layer above the lake until it holds it (lake_sequence)
-                    height = cruise
+                rung = (
+                    self._lake_rung(s, lake)
+                    if self.raster.front is None and cfg.airframe is not None
+                    else None
+                )
+                if rung is not None:
+                    # a fixed-wing waits in the stack above the lake until it holds it (lake_sequence)
+                    height = rung
                 elif self.raster.front is not None and self._onto_low_peer(s):
                     # not down onto a peer at the scoop height below it: keep a layer step above
                     height = max(
@@ -265,43 +270,40 @@ class Guide:
             cmd = self._within_turn(s, cmd, target)
         return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
 
-    def _holds_lake(self, s: np.ndarray, lake: Lake) -> bool:
-        """Whether this fixed-wing holds the lake (FF mode; :func:`.lake_sequence.lake_holder`), from
-        its own estimate and the peers' last states (the step's before). Landing, landed and
-        grounded peers are left out. The layers are FF mode's (:func:`.tactics.layer_height`)."""
+    def _lake_rung(self, s: np.ndarray, lake: Lake) -> float | None:
+        """None if this fixed-wing holds the lake (FF mode; :func:`.lake_sequence.lake_holder`): it
+        descends to scoop; else its rung [m above terrain] in the stack above the lake, the lowest
+        FF layer (:func:`.tactics.layer_height`) plus a layer step per rank. From its own estimate
+        and the peers' last states (the step's before); landing, landed and grounded peers are
+        left out. A UAV is low below the lowest rung less a quarter step (3.5 m: above the height
+        tracking error, ``tactics.TRACKING_ERROR_M``)."""
         cfg, gd = self.cfg, self.cfg.guidance
-        terrain, flight_h = cfg.terrain, cfg.vehicle.flight_height_m
-        layers, step = max(1, gd.ff_layers), gd.ff_layer_step_m
+        terrain = cfg.terrain
+        step = gd.ff_layer_step_m
+        bottom = cfg.vehicle.flight_height_m - step * (max(1, gd.ff_layers) - 1) / 2.0
         r_lake = lake.diameter_m / 2
         seq = LakeSequenceConfig(
             radius_m=r_lake + self.lake_margin_m,
             clear_radius_m=r_lake + self.lake_clear_m,
-            band_m=0.25 * step,
+            low_agl_m=bottom - 0.25 * step,
         )
         x, y = float(s[0]), float(s[1])
-        users = [
-            LakeUser(
-                cfg.uav_id,
-                x,
-                y,
-                float(s[2] - terrain.elevation(x, y)),
-                layer_height(cfg.uav_id, flight_h, layers, step),
-                True,
-            )
-        ]
+        users = [LakeUser(cfg.uav_id, x, y, float(s[2] - terrain.elevation(x, y)), True)]
         users += [
             LakeUser(
                 j,
                 p.x_m,
                 p.y_m,
                 float(p.z_m - terrain.elevation(p.x_m, p.y_m)),
-                layer_height(j, flight_h, layers, step),
                 p.objective == Objective.REFILL,
             )
             for j, p in self.link.alive_states().items()
             if p.objective not in (Objective.GROUNDED, Objective.LANDED, Objective.LAND)
         ]
-        return lake_holder(users, (lake.x_m, lake.y_m), seq) == cfg.uav_id
+        lake_xy = (lake.x_m, lake.y_m)
+        if lake_holder(users, lake_xy, seq) == cfg.uav_id:
+            return None
+        return bottom + step * hold_rank(cfg.uav_id, users, lake_xy, seq)
 
     def _onto_low_peer(self, s: np.ndarray) -> bool:
         """Whether a refilling UAV above the scoop height would descend onto a peer near it that is

@@ -15,7 +15,7 @@ import pytest
 from fire_uav_agent.agent_config import config_from_scenario
 from fire_uav_agent.agent_core import Agent
 from fire_uav_agent.guidance import Situation
-from fire_uav_agent.lake_sequence import LakeSequenceConfig, LakeUser, lake_holder, on_lake
+from fire_uav_agent.lake_sequence import LakeSequenceConfig, LakeUser, hold_rank, lake_holder, on_lake
 from fire_uav_agent.mission import Decision
 from fire_uav_agent.testing.harness import scenario_path
 from fire_uav_common.codecs.uav_state import PeerState
@@ -23,11 +23,11 @@ from fire_uav_common.constants import Objective, VehicleStatus
 from fire_uav_common.scenario import load_scenario
 
 LAKE = (0.0, 0.0)
-CFG = LakeSequenceConfig(radius_m=500.0, clear_radius_m=160.0, band_m=3.5)
+CFG = LakeSequenceConfig(radius_m=500.0, clear_radius_m=160.0, low_agl_m=19.5)
 
 
-def _u(uid: int, x_m: float, agl_m: float, refilling: bool = True, layer_m: float = 23.0) -> LakeUser:
-    return LakeUser(uid, x_m, 0.0, agl_m, layer_m, refilling)
+def _u(uid: int, x_m: float, agl_m: float, refilling: bool = True) -> LakeUser:
+    return LakeUser(uid, x_m, 0.0, agl_m, refilling)
 
 
 def test_nobody_refilling_nobody_holds():
@@ -35,53 +35,62 @@ def test_nobody_refilling_nobody_holds():
     assert lake_holder([_u(0, 100.0, 23.0, refilling=False)], LAKE, CFG) is None
 
 
-def test_the_lowest_id_waiting_within_the_radius_holds():
-    users = [_u(4, 50.0, 23.0), _u(2, 400.0, 23.0), _u(1, 600.0, 23.0)]  # 1 is outside 500 m
+def test_the_lowest_id_waiting_within_the_radius_holds_and_the_others_stack_by_id():
+    users = [_u(4, 50.0, 23.0), _u(2, 400.0, 37.0), _u(1, 600.0, 23.0)]  # 1 is outside 500 m
     assert lake_holder(users, LAKE, CFG) == 2
+    assert hold_rank(4, users, LAKE, CFG) == 1  # the rung above 2's, whatever their heights now
+    assert hold_rank(1, users, LAKE, CFG) == 0  # 1 arriving would take rung 0 (and the lake)
 
 
 def test_a_uav_on_the_lake_keeps_it_against_a_lower_id_waiting():
-    # 3 is on its scoop run at 7.5 m; 0 arrives on its layer: 0 waits
-    users = [_u(3, 20.0, 7.5, layer_m=37.0), _u(0, 300.0, 23.0)]
+    # 3 is on its scoop run at 7.5 m; 0 arrives on its layer: 0 waits on rung 0
+    users = [_u(3, 20.0, 7.5), _u(0, 300.0, 23.0)]
     assert lake_holder(users, LAKE, CFG) == 3
-    # 3 began its descent (4 m below its 37 m layer, beyond the 3.5 m band): already on the lake
-    assert lake_holder([_u(3, 450.0, 33.0, layer_m=37.0), _u(0, 300.0, 23.0)], LAKE, CFG) == 3
-    # 3 m below: within the band (height tracking), not yet: the lowest id waiting holds
-    assert lake_holder([_u(3, 450.0, 34.0, layer_m=37.0), _u(0, 300.0, 23.0)], LAKE, CFG) == 0
+    assert hold_rank(0, users, LAKE, CFG) == 0
+    # 3 began its descent (below 19.5 m): already on the lake
+    assert lake_holder([_u(3, 450.0, 19.0), _u(0, 300.0, 23.0)], LAKE, CFG) == 3
+    # still at 20 m: not yet, and 0 (the lower id) holds it; 3 climbs back to rung 1
+    users = [_u(3, 450.0, 20.0), _u(0, 300.0, 23.0)]
+    assert lake_holder(users, LAKE, CFG) == 0
+    assert hold_rank(3, users, LAKE, CFG) == 1
 
 
 def test_a_uav_climbing_away_holds_the_lake_until_it_is_clear():
     # 0 refilled (no longer REFILL) and climbs from the lake: 2 waits while 0 is low within 160 m
     assert lake_holder([_u(0, 100.0, 12.0, refilling=False), _u(2, 300.0, 23.0)], LAKE, CFG) == 0
-    # beyond 160 m, or back within the band of its layer, it no longer counts
+    # beyond 160 m, or above 19.5 m, it no longer counts
     assert lake_holder([_u(0, 200.0, 12.0, refilling=False), _u(2, 300.0, 23.0)], LAKE, CFG) == 2
     assert lake_holder([_u(0, 100.0, 21.0, refilling=False), _u(2, 300.0, 23.0)], LAKE, CFG) == 2
-    # a low UAV that does not refill far out (takeoff, 200 m) does not hold it
+    # a low UAV that does not refill farther out (FF's takeoff column, 200 m) does not hold it
     assert not on_lake(_u(1, 200.0, 5.0, refilling=False), LAKE, CFG)
 
 
-def test_two_on_the_lake_at_once_the_lower_id_keeps_it():
-    # both began their descents on one step (each saw the other's state of the step before)
+def test_two_on_the_lake_at_once_the_lower_id_keeps_it_the_other_climbs_to_its_rung():
+    # both went low on one step (each saw the other's state of the step before)
     users = [_u(4, 100.0, 18.0), _u(2, -100.0, 18.0), _u(0, 400.0, 23.0)]
     assert lake_holder(users, LAKE, CFG) == 2
+    assert hold_rank(4, users, LAKE, CFG) == 1  # above 0 (rung 0)
 
 
 def test_a_holder_gone_from_the_peer_states_frees_the_lake():
-    users = [_u(1, 0.0, 7.5), _u(3, 300.0, 37.0, layer_m=37.0), _u(4, 200.0, 23.0)]
+    users = [_u(1, 0.0, 7.5), _u(3, 300.0, 37.0), _u(4, 200.0, 23.0)]
     assert lake_holder(users, LAKE, CFG) == 1
     assert lake_holder(users[1:], LAKE, CFG) == 3  # 1 declared crashed: out of alive_states
+    assert hold_rank(4, users[1:], LAKE, CFG) == 1
 
 
-def test_every_agent_names_the_same_holder_whatever_the_order():
-    users = [_u(i, 60.0 * i, 23.0 - 3.0 * (i % 3), refilling=i != 2) for i in range(6)]
+def test_every_agent_names_the_same_holder_and_distinct_rungs_whatever_the_order():
+    users = [_u(i, 60.0 * i, 23.0 + 14.0 * (i % 3), refilling=i != 2) for i in range(6)]
     holders = {lake_holder(users[k:] + users[:k], LAKE, CFG) for k in range(len(users))}
-    assert len(holders) == 1
+    assert holders == {0}
+    rungs = [hold_rank(i, users, LAKE, CFG) for i in (1, 3, 4, 5)]
+    assert len(set(rungs)) == len(rungs)
 
 
-@pytest.mark.parametrize("bad", [{"radius_m": 0.0}, {"clear_radius_m": math.nan}, {"band_m": -1.0}])
+@pytest.mark.parametrize("bad", [{"radius_m": 0.0}, {"clear_radius_m": math.nan}, {"low_agl_m": -1.0}])
 def test_bad_config_is_refused(bad):
     with pytest.raises(ValueError, match=next(iter(bad))):
-        LakeSequenceConfig(**{"radius_m": 500.0, "clear_radius_m": 160.0, "band_m": 3.5, **bad})
+        LakeSequenceConfig(**{"radius_m": 500.0, "clear_radius_m": 160.0, "low_agl_m": 19.5, **bad})
 
 
 # --- the agent's guidance on ff_two_fires (lake (50, 50) m, 90 m across; layers 23 / 37 m) ----
@@ -117,22 +126,23 @@ def _peer(
 
 
 @pytest.mark.parametrize("model", ["jsbsim", "coordinated_turn"])
-def test_a_fixed_wing_holds_its_layer_while_a_peer_is_on_the_lake(model):
-    """UAV 3 (37 m layer) refilling 120 m from the lake centre: alone it descends to the scoop height
-    (FF IV-D b); with UAV 0 scooping over the lake, or climbing away from it after its refill, it
-    keeps its layer (v_z >= 0). On the code before, it descended onto them (-1.4 m/s on jsbsim)."""
-    assert _refilling(3, 37.0, [], model) < 0.0
-    assert _refilling(3, 37.0, [_peer(0, (50.0, 50.0), 7.5)], model) >= 0.0
-    assert _refilling(3, 37.0, [_peer(0, (110.0, 50.0), 12.0, Objective.SUPPRESS)], model) >= 0.0
-    # UAV 0 waiting on its layer above the lake holds it (the lower id): 3 waits
-    assert _refilling(3, 37.0, [_peer(0, (50.0, 50.0), 23.0)], model) >= 0.0
-    # UAV 4 waiting on its layer: 3 is the lower id and goes down
-    assert _refilling(3, 37.0, [_peer(4, (50.0, 50.0), 23.0)], model) < 0.0
+def test_a_fixed_wing_holds_its_rung_while_a_peer_is_on_the_lake(model):
+    """UAV 3 refilling 120 m from the lake centre, 23 m up (rung 0 of the stack, the lowest FF
+    layer): alone it descends to the scoop height (FF IV-D b); with UAV 0 scooping over the lake,
+    or climbing away from it after its refill, it holds 23 m (v_z >= 0); with UAV 0 waiting (the
+    lower id holds the lake) it climbs to rung 1, 37 m. On the code before, it descended onto
+    them (the first two fail there)."""
+    assert _refilling(3, 23.0, [], model) < 0.0
+    assert _refilling(3, 23.0, [_peer(0, (50.0, 50.0), 7.5)], model) >= 0.0
+    assert _refilling(3, 23.0, [_peer(0, (110.0, 50.0), 12.0, Objective.SUPPRESS)], model) >= 0.0
+    assert _refilling(3, 23.0, [_peer(0, (50.0, 50.0), 23.0)], model) > 0.0
+    # UAV 4 waiting above the lake: 3 is the lower id and goes down
+    assert _refilling(3, 23.0, [_peer(4, (50.0, 50.0), 23.0)], model) < 0.0
     # a landing peer low near the takeoff column is not on the lake
-    assert _refilling(3, 37.0, [_peer(0, (50.0, 250.0), 5.0, Objective.LAND)], model) < 0.0
+    assert _refilling(3, 23.0, [_peer(0, (50.0, 250.0), 5.0, Objective.LAND)], model) < 0.0
 
 
 def test_ffs_unicycle_descends_as_the_paper_says():
     """``ff_paper`` (no airframe) keeps FF IV-D b's descent whoever is on the lake (its missions
     stay the paper's)."""
-    assert _refilling(3, 37.0, [_peer(0, (50.0, 50.0), 7.5)], "ff_paper") < 0.0
+    assert _refilling(3, 23.0, [_peer(0, (50.0, 50.0), 7.5)], "ff_paper") < 0.0
