@@ -204,6 +204,13 @@ class Guide:
                 if rung is not None:
                     # a fixed-wing waits in the stack above the lake until it holds it (lake_sequence)
                     height = rung
+                elif self.raster.front is None and cfg.airframe is not None:
+                    # the holder flies straight at the lake's centre and on across it (_within_turn
+                    # keeps it straight once the centre is inside its turn circles): a run through
+                    # the centre is the lake's longest, at least the scoop run (usable_lakes). Not the
+                    # centroid of Eq. 14 in its own Voronoi cell: a peer waiting in the stack above
+                    # the lake holds the lake in its cell, and the holder flew along the cell's edge
+                    target = lake_xy
                 elif self.raster.front is not None and self._onto_low_peer(s):
                     # not down onto a peer at the scoop height below it: keep a layer step above
                     height = max(
