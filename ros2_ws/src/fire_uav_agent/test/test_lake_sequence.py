@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from fire_uav_agent.agent_config import config_from_scenario
 from fire_uav_agent.agent_core import Agent
-from fire_uav_agent.guidance import Situation
+from fire_uav_agent.guidance import Guidance, Situation
 from fire_uav_agent.lake_sequence import LakeSequenceConfig, LakeUser, hold_rank, lake_holder, on_lake
 from fire_uav_agent.mission import Decision
 from fire_uav_agent.testing.harness import scenario_path
@@ -101,9 +101,15 @@ HEADING = -0.75 * math.pi  # toward the lake
 
 
 def _refilling(uid: int, z_m: float, peers: list[PeerState], model: str = "jsbsim") -> float:
+    return _guide(uid, z_m, peers, model).command[1]
+
+
+def _guide(
+    uid: int, z_m: float, peers: list[PeerState], model: str = "jsbsim", cell_x_min_m: float = -math.inf
+) -> Guidance:
     """The climb rate [m/s] UAV ``uid`` of ff_two_fires's 5 (loss off) commands in REFILL at ``AT``
     (inside the lake zone), ``z_m`` above the flat ground, heading for the lake, having heard
-    ``peers`` at the step before."""
+    ``peers`` at the step before; its Voronoi cell the grid points east of ``cell_x_min_m``."""
     sc = load_scenario(scenario_path("ff_two_fires"), overrides={"uavs.vehicle_model": model})
     a = Agent(config_from_scenario(sc, uid, uav_count=5, seed=1, loss_probability=0.0))
     for p in peers:
@@ -113,10 +119,10 @@ def _refilling(uid: int, z_m: float, peers: list[PeerState], model: str = "jsbsi
         (),
         a.lakes[0],
         None,  # type: ignore[arg-type]  # REFILL does not read the planner view
-        np.ones(a.grid.points.shape[0], bool),
+        a.grid.points[:, 0] > cell_x_min_m,
     )
     s = np.array([AT[0], AT[1], z_m, HEADING])
-    return a.guide.run(sit, VehicleStatus.AIRBORNE, s, STEP - 1).command[1]
+    return a.guide.run(sit, VehicleStatus.AIRBORNE, s, STEP - 1)
 
 
 def _peer(
@@ -140,6 +146,16 @@ def test_a_fixed_wing_holds_its_rung_while_a_peer_is_on_the_lake(model):
     assert _refilling(3, 23.0, [_peer(4, (50.0, 50.0), 23.0)], model) < 0.0
     # a landing peer low near the takeoff column is not on the lake
     assert _refilling(3, 23.0, [_peer(0, (50.0, 250.0), 5.0, Objective.LAND)], model) < 0.0
+
+
+def test_the_holder_flies_at_the_lakes_centre_even_outside_its_own_cell():
+    """The holder's cell does not hold the lake (a peer waiting above it does): it flies at the
+    lake's centre (50, 50), not at the centroid of Eq. 14 in its cell (east of x = 100 m), where
+    it flew along the cell's edge on the code before (coordinated_turn seed 1: 450 s, 229 s
+    without the sequencing). FF's unicycle keeps Eq. 14."""
+    assert _guide(3, 23.0, [], "jsbsim", cell_x_min_m=100.0).target_xy == (50.0, 50.0)
+    tx, _ = _guide(3, 23.0, [], "ff_paper", cell_x_min_m=100.0).target_xy or (math.nan, math.nan)
+    assert tx > 100.0
 
 
 def test_ffs_unicycle_descends_as_the_paper_says():
