@@ -146,7 +146,8 @@ class Guide:
 
         SUPPRESS: centroid of the fire density in the own cell (Eq. 13) or, on an attack run,
         the target fire itself; REFILL: the lake density (Eq. 14), low and slow near the lake
-        (FF IV-D b); LAND: the start-point density (Eq. 15), descending inside
+        (FF IV-D b; a fixed-wing over analytic fires only while it holds the lake, straight at its
+        centre, else in the stack above it: :mod:`.lake_sequence`); LAND: the start-point density (Eq. 15), descending inside
         ``guidance.land_approach_radius_m``; SEARCH / MONITOR: the planner's waypoint or density.
         The target goes through the control law (Eqs. 10-12) at the objective's height above
         terrain. Zero on the ground before takeoff, after landing or a crash. ``last_step``: the step
