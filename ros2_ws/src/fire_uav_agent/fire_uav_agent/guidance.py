@@ -92,6 +92,8 @@ class Guide:
         # 60-70 m/s, above the world's refill speed, and never refilled (ff_two_fires_tanker)
         self.lake_margin_m = cfg.guidance.lake_approach_margin_m
         self.lake_clear_m = 0.0  # [m] beyond the shore, a low UAV leaving the lake still holds it
+        # mission.lake_sequence: stack (opt-in): one fixed-wing at a time low over the lake
+        self.lake_sequenced = cfg.airframe is not None and cfg.mission.lake_sequence == "stack"
         af = cfg.airframe
         if af is not None:
             start = (float(self.start_xy[0]), float(self.start_xy[1]))
@@ -146,12 +148,13 @@ class Guide:
 
         SUPPRESS: centroid of the fire density in the own cell (Eq. 13) or, on an attack run,
         the target fire itself; REFILL: the lake density (Eq. 14), low and slow near the lake
-        (FF IV-D b; a fixed-wing over analytic fires only while it holds the lake, straight at its
-        centre, else in the stack above it: :mod:`.lake_sequence`); LAND: the start-point density (Eq. 15), descending inside
-        ``guidance.land_approach_radius_m``; SEARCH / MONITOR: the planner's waypoint or density.
-        The target goes through the control law (Eqs. 10-12) at the objective's height above
-        terrain. Zero on the ground before takeoff, after landing or a crash. ``last_step``: the step
-        the agent last ran (the peers' states are of the step before).
+        (FF IV-D b; with ``mission.lake_sequence: stack`` a fixed-wing over analytic fires only while
+        it holds the lake, straight at its centre, else in the stack above it: :mod:`.lake_sequence`);
+        LAND: the start-point density (Eq. 15), descending inside ``guidance.land_approach_radius_m``;
+        SEARCH / MONITOR: the planner's waypoint or density. The target goes through the control
+        law (Eqs. 10-12) at the objective's height above terrain. Zero on the ground before
+        takeoff, after landing or a crash. ``last_step``: the step the agent last ran (the peers'
+        states are of the step before).
         """
         cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
         dec, active, lake, pview, cell = sit.decision, sit.aim, sit.lake, sit.view, sit.cell
@@ -197,15 +200,12 @@ class Guide:
                 v_cap = (
                     lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
                 )  # ... and slow
-                rung = (
-                    self._lake_rung(s, lake)
-                    if self.raster.front is None and cfg.airframe is not None
-                    else None
-                )
+                sequenced = self.raster.front is None and self.lake_sequenced
+                rung = self._lake_rung(s, lake) if sequenced else None
                 if rung is not None:
                     # a fixed-wing waits in the stack above the lake until it holds it (lake_sequence)
                     height = rung
-                elif self.raster.front is None and cfg.airframe is not None:
+                elif sequenced:
                     # the holder flies straight at the lake's centre and on across it (_within_turn
                     # keeps it straight once the centre is inside its turn circles): a run through
                     # the centre is the lake's longest, at least the scoop run (usable_lakes). Not the

@@ -38,7 +38,11 @@ before (0.1 s old): two UAVs low on one step both count as on the lake, and the 
 back to its rung.
 
 FF is silent on all of this; the rule is ours, for fixed-wing airframes only (``ff_paper``'s
-missions do not use it and stay as the paper's).
+missions do not use it and stay as the paper's), and an opt-in: ``Guide`` applies it with the
+scenario's ``mission.lake_sequence: stack`` only (default ``none``, FF IV-D b). It lifted the
+J3Cubs' seed 1 above to 13.4 m, but brought the tanker's (``ff_two_fires_tanker``, seed 1) from
+168 m to 5.0 m at the landing entries, which it does not sequence, and made missions up to 435 s
+longer (docs/airframes.md).
 """
 
 from __future__ import annotations

@@ -100,17 +100,28 @@ AT = (50.0 + 120.0 / math.sqrt(2), 50.0 + 120.0 / math.sqrt(2))  # 120 m NE of t
 HEADING = -0.75 * math.pi  # toward the lake
 
 
-def _refilling(uid: int, z_m: float, peers: list[PeerState], model: str = "jsbsim") -> float:
-    return _guide(uid, z_m, peers, model).command[1]
+def _refilling(
+    uid: int, z_m: float, peers: list[PeerState], model: str = "jsbsim", sequence: str = "stack"
+) -> float:
+    return _guide(uid, z_m, peers, model, sequence=sequence).command[1]
 
 
 def _guide(
-    uid: int, z_m: float, peers: list[PeerState], model: str = "jsbsim", cell_x_min_m: float = -math.inf
+    uid: int,
+    z_m: float,
+    peers: list[PeerState],
+    model: str = "jsbsim",
+    cell_x_min_m: float = -math.inf,
+    sequence: str = "stack",
 ) -> Guidance:
-    """The climb rate [m/s] UAV ``uid`` of ff_two_fires's 5 (loss off) commands in REFILL at ``AT``
-    (inside the lake zone), ``z_m`` above the flat ground, heading for the lake, having heard
-    ``peers`` at the step before; its Voronoi cell the grid points east of ``cell_x_min_m``."""
-    sc = load_scenario(scenario_path("ff_two_fires"), overrides={"uavs.vehicle_model": model})
+    """The guidance of UAV ``uid`` of ff_two_fires's 5 (loss off; ``mission.lake_sequence`` =
+    ``sequence``, opt-in) in REFILL at ``AT`` (inside the lake zone), ``z_m`` above the flat
+    ground, heading for the lake, having heard ``peers`` at the step before; its Voronoi cell the
+    grid points east of ``cell_x_min_m``."""
+    sc = load_scenario(
+        scenario_path("ff_two_fires"),
+        overrides={"uavs.vehicle_model": model, "mission.lake_sequence": sequence},
+    )
     a = Agent(config_from_scenario(sc, uid, uav_count=5, seed=1, loss_probability=0.0))
     for p in peers:
         a.link.receive_state(p, now_step=STEP)
@@ -162,3 +173,19 @@ def test_ffs_unicycle_descends_as_the_paper_says():
     """``ff_paper`` (no airframe) keeps FF IV-D b's descent whoever is on the lake (its missions
     stay the paper's)."""
     assert _refilling(3, 23.0, [_peer(0, (50.0, 50.0), 7.5)], "ff_paper") < 0.0
+
+
+@pytest.mark.parametrize("model", ["jsbsim", "coordinated_turn"])
+def test_by_default_a_fixed_wing_refills_as_at_the_base(model):
+    """``mission.lake_sequence`` is opt-in: by default (none) a fixed-wing refills as FF IV-D b
+    and the base 2a7ab88 fly it, whoever is on the lake: it descends from 23 m with UAV 0
+    scooping below it or waiting above the lake, and flies at the centroid of Eq. 14 in its own
+    cell (east of x = 100 m), not at the lake's centre (50, 50). With the sequencing on by
+    default (c853c90) the first three fail."""
+    sc = load_scenario(scenario_path("ff_two_fires"))
+    assert sc.mission.lake_sequence == "none"
+    guided = _guide(3, 23.0, [_peer(0, (50.0, 50.0), 7.5)], model, sequence=sc.mission.lake_sequence)
+    assert guided.command[1] < 0.0
+    assert _refilling(3, 23.0, [_peer(0, (50.0, 50.0), 23.0)], model, sequence="none") < 0.0
+    tx, _ = _guide(3, 23.0, [], model, cell_x_min_m=100.0, sequence="none").target_xy or (math.nan, math.nan)
+    assert tx > 100.0
