@@ -424,6 +424,9 @@ class Guide:
         height = cruise
         if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
             height = cruise
+        if self.lake_sequenced and to_entry < 6.0 * r and self._entry_taken(entry, r):
+            # one UAV of a layer at a time in its entry area: above every FF layer until it is free
+            height = cruise + gd.ff_layer_step_m * max(1, gd.ff_layers)
         v_cap = lim.v_stall_mps if to_entry < 4.0 * r else None
         v, vz, om = control_law(s, np.array(entry), height, cfg.terrain, lim, cfg.gains, v_cap)
         if to_entry < 2.0 * r and abs(math.remainder(pose[2] - ap.course_rad, math.tau)) > 0.5 * math.pi:
@@ -434,6 +437,24 @@ class Guide:
             )
         cmd = self._within_turn(s, (v, vz, om), entry)
         return Guidance(self._separate(s, cmd, entry, last_step) if cfg.avoidance else cmd, entry)
+
+    def _entry_taken(self, entry_xy: tuple[float, float], r_m: float) -> bool:
+        """Whether a lower-id peer of this UAV's FF layer, landing, is in this UAV's landing entry
+        area: within two turn radii and the separation radius of its entry (with
+        ``mission.lake_sequence: stack`` only; our addition). The finals of one layer are 60 m apart
+        and their entries abreast, and each UAV reverses onto its final on its turn radius: the
+        turns overlap (docs/airframes.md, the landing entries)."""
+        cfg, gd = self.cfg, self.cfg.guidance
+        layers = max(1, gd.ff_layers)
+        own = layer_height(cfg.uav_id, 0.0, layers, gd.ff_layer_step_m)
+        reach = 4.0 * r_m + cfg.separation.radius_m
+        return any(
+            j < cfg.uav_id
+            and p.objective == Objective.LAND
+            and abs(layer_height(j, 0.0, layers, gd.ff_layer_step_m) - own) < 1e-6
+            and math.hypot(p.x_m - entry_xy[0], p.y_m - entry_xy[1]) < reach
+            for j, p in self.link.alive_states().items()
+        )
 
     def _separate(
         self,

@@ -41,8 +41,9 @@ FF is silent on all of this; the rule is ours, for fixed-wing airframes only (``
 missions do not use it and stay as the paper's), and an opt-in: ``Guide`` applies it with the
 scenario's ``mission.lake_sequence: stack`` only (default ``none``, FF IV-D b). It lifted the
 J3Cubs' seed 1 above to 13.4 m, but brought the tanker's (``ff_two_fires_tanker``, seed 1) from
-168 m to 5.0 m at the landing entries, which it does not sequence, and made missions up to 435 s
-longer (docs/airframes.md).
+168 m to 5.0 m at the landing entries, and made missions up to 435 s longer. With ``stack`` a
+landing UAV also yields its layer's landing entry area to a lower id (``Guide._entry_taken``):
+the tanker's seed 1 at 12.8 m, 181 s longer than by default (docs/airframes.md).
 """
 
 from __future__ import annotations

@@ -189,3 +189,36 @@ def test_by_default_a_fixed_wing_refills_as_at_the_base(model):
     assert _refilling(3, 23.0, [_peer(0, (50.0, 50.0), 23.0)], model, sequence="none") < 0.0
     tx, _ = _guide(3, 23.0, [], model, cell_x_min_m=100.0, sequence="none").target_xy or (math.nan, math.nan)
     assert tx > 100.0
+
+
+def _landing_climb(sequence: str, peer_objective: Objective | None) -> float:
+    """The climb rate [m/s] UAV 2 (the 23 m layer, with 0 and 4) of ff_two_fires's 5 J3Cubs
+    commands in LAND, 23 m up, three turn radii east of its landing entry and heading west at it,
+    having heard UAV 0 (same layer, lower id) at 23 m at UAV 2's entry with ``peer_objective``
+    (None: not heard)."""
+    sc = load_scenario(
+        scenario_path("ff_two_fires"),
+        overrides={"uavs.vehicle_model": "jsbsim", "mission.lake_sequence": sequence},
+    )
+    a = Agent(config_from_scenario(sc, 2, uav_count=5, seed=1, loss_probability=0.0))
+    ap = a.guide.approach
+    assert ap is not None
+    ex, ey = ap.entry_xy
+    if peer_objective is not None:
+        a.link.receive_state(
+            PeerState(0, 1, STEP - 1, ex, ey, 23.0, math.pi, int(peer_objective), -1, 0.0), now_step=STEP
+        )
+    sit = Situation(Decision(Objective.LAND, -1, None, False, False), (), a.lakes[0], None, None)  # type: ignore[arg-type]
+    s = np.array([ex + 3.0 * ap.turn_radius_m, ey, 23.0, math.pi])
+    return a.guide.run(sit, VehicleStatus.AIRBORNE, s, STEP - 1).command[1]
+
+
+def test_a_fixed_wing_yields_its_layers_landing_entry_to_a_lower_id_with_the_stack_only():
+    """With ``mission.lake_sequence: stack`` UAV 2 climbs above every FF layer while UAV 0, of its
+    layer and landing, is in its entry area (their turns onto the finals overlapped: the tanker's
+    seed 1 came to 5.0 m there); not for a peer that is not landing, nor by default (none), where
+    it keeps its layer as at 2a7ab88. Fails on the code before (no yield)."""
+    assert _landing_climb("stack", Objective.LAND) > 0.5
+    assert abs(_landing_climb("stack", None)) < 0.5
+    assert abs(_landing_climb("stack", Objective.SUPPRESS)) < 0.5
+    assert abs(_landing_climb("none", Objective.LAND)) < 0.5

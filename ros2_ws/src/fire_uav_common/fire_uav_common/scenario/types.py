@@ -41,8 +41,8 @@ G_MPS2 = 9.80665
 PRIOR_FIRES_MODES = ("unknown", "known")
 #: ``mission.lake_sequence`` values: none (every refilling UAV descends to scoop, FF IV-D b), or stack
 #: (a fixed-wing over analytic fires descends only while it holds the lake, the others hold in a
-#: stack above it: ``fire_uav_agent.lake_sequence``; docs/airframes.md). Not "off": YAML reads a
-#: bare ``off`` as false
+#: stack above it: ``fire_uav_agent.lake_sequence``; and one UAV of a layer at a time in its landing
+#: entry area; docs/airframes.md). Not "off": YAML reads a bare ``off`` as false
 LAKE_SEQUENCES = ("none", "stack")
 
 
