@@ -58,8 +58,9 @@ def test_the_ff_mission_on_jsbsim_completes_safely() -> None:
     """Issue's must-show on ``jsbsim`` (the J3Cub), 5 UAVs, seed 2, in process: complete, every fire
     out, no collision, closest approach >= 10 m, every UAV landed within 5 m of its takeoff point.
     At 1a20769 it ran to the 900 s limit with one UAV airborne and a closest approach of 7.2 m: the
-    J3Cub, descending at 1.4 m/s, reached FF's lake too high to scoop. Seeds 1
-    and 3: 8.65 m (two J3Cubs head-on over the lake; not solved) and 15.4 m (docs/airframes.md)."""
+    J3Cub, descending at 1.4 m/s, reached FF's lake too high to scoop. Seeds 1 and 3: 8.65 m (two
+    J3Cubs head-on over the lake) and 15.4 m; 13.4 and 19.2 m with the opt-in
+    ``mission.lake_sequence: stack`` (docs/airframes.md)."""
     from fire_mission.inprocess import run_inprocess
 
     d = run_inprocess("ff_two_fires", uavs=5, seed=2, overrides={"uavs.vehicle_model": "jsbsim"})

@@ -27,6 +27,7 @@ from .airframe_model import (
     turn_radius_m,
 )
 from .coverage import Grid, control_law, gaussian_density, mass_centroid
+from .lake_sequence import LakeSequenceConfig, LakeUser, hold_rank, lake_holder
 from .mission import Decision
 from .peer_link import FireEntry, PeerLink
 from .planning import Planner, PlannerView
@@ -90,6 +91,9 @@ class Guide:
         # tanker, slowing at 1 m/s^2 from 75 m/s, crossed the 150 m margin and FF's lake x 10 at
         # 60-70 m/s, above the world's refill speed, and never refilled (ff_two_fires_tanker)
         self.lake_margin_m = cfg.guidance.lake_approach_margin_m
+        self.lake_clear_m = 0.0  # [m] beyond the shore, a low UAV leaving the lake still holds it
+        # mission.lake_sequence: stack (opt-in): one fixed-wing at a time low over the lake
+        self.lake_sequenced = cfg.airframe is not None and cfg.mission.lake_sequence == "stack"
         af = cfg.airframe
         if af is not None:
             start = (float(self.start_xy[0]), float(self.start_xy[1]))
@@ -104,6 +108,8 @@ class Guide:
             layer = layer_height(cfg.uav_id, veh.flight_height_m, max(1, gd.ff_layers), gd.ff_layer_step_m)
             scoop_h = gd.refill_height_fraction * veh.refill_height_m
             self.lake_margin_m = max(self.lake_margin_m, descent_m(af, refill_v, layer - scoop_h))
+            # one fixed-wing at a time low over the lake (lake_sequence), the others on their layers
+            self.lake_clear_m = 2.0 * turn_radius_m(af, lim.v_stall_mps)
             # the height loop of Eq. 12 around the lagging flight-path angle (B&M Eq. 9.19: tau_gamma)
             # is a second-order loop, damped 0.7 at K_z = 1 / (2 tau_gamma); FF's K_z = 5 1/s rings
             # +-0.7 m around the 0.5 m approach height and never passes below the touchdown height.
@@ -142,11 +148,13 @@ class Guide:
 
         SUPPRESS: centroid of the fire density in the own cell (Eq. 13) or, on an attack run,
         the target fire itself; REFILL: the lake density (Eq. 14), low and slow near the lake
-        (FF IV-D b); LAND: the start-point density (Eq. 15), descending inside
-        ``guidance.land_approach_radius_m``; SEARCH / MONITOR: the planner's waypoint or density.
-        The target goes through the control law (Eqs. 10-12) at the objective's height above
-        terrain. Zero on the ground before takeoff, after landing or a crash. ``last_step``: the step
-        the agent last ran (the peers' states are of the step before).
+        (FF IV-D b; with ``mission.lake_sequence: stack`` a fixed-wing over analytic fires only while
+        it holds the lake, straight at its centre, else in the stack above it: :mod:`.lake_sequence`);
+        LAND: the start-point density (Eq. 15), descending inside ``guidance.land_approach_radius_m``;
+        SEARCH / MONITOR: the planner's waypoint or density. The target goes through the control
+        law (Eqs. 10-12) at the objective's height above terrain. Zero on the ground before
+        takeoff, after landing or a crash. ``last_step``: the step the agent last ran (the peers'
+        states are of the step before).
         """
         cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
         dec, active, lake, pview, cell = sit.decision, sit.aim, sit.lake, sit.view, sit.cell
@@ -192,7 +200,19 @@ class Guide:
                 v_cap = (
                     lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
                 )  # ... and slow
-                if self.raster.front is not None and self._onto_low_peer(s):
+                sequenced = self.raster.front is None and self.lake_sequenced
+                rung = self._lake_rung(s, lake) if sequenced else None
+                if rung is not None:
+                    # a fixed-wing waits in the stack above the lake until it holds it (lake_sequence)
+                    height = rung
+                elif sequenced:
+                    # the holder flies straight at the lake's centre and on across it (_within_turn
+                    # keeps it straight once the centre is inside its turn circles): a run through
+                    # the centre is the lake's longest, at least the scoop run (usable_lakes). Not the
+                    # centroid of Eq. 14 in its own Voronoi cell: a peer waiting in the stack above
+                    # the lake holds the lake in its cell, and the holder flew along the cell's edge
+                    target = lake_xy
+                elif self.raster.front is not None and self._onto_low_peer(s):
                     # not down onto a peer at the scoop height below it: keep a layer step above
                     height = max(
                         height + self.raster.tactic.layer_step_m,
@@ -257,6 +277,41 @@ class Guide:
         if self.raster.front is None:  # analytic fires only (_within_turn)
             cmd = self._within_turn(s, cmd, target)
         return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
+
+    def _lake_rung(self, s: np.ndarray, lake: Lake) -> float | None:
+        """None if this fixed-wing holds the lake (FF mode; :func:`.lake_sequence.lake_holder`): it
+        descends to scoop; else its rung [m above terrain] in the stack above the lake, the lowest
+        FF layer (:func:`.tactics.layer_height`) plus a layer step per rank. From its own estimate
+        and the peers' last states (the step's before); landing, landed and grounded peers are
+        left out. A UAV is low below the lowest rung less a quarter step (3.5 m: above the height
+        tracking error, ``tactics.TRACKING_ERROR_M``)."""
+        cfg, gd = self.cfg, self.cfg.guidance
+        terrain = cfg.terrain
+        step = gd.ff_layer_step_m
+        bottom = cfg.vehicle.flight_height_m - step * (max(1, gd.ff_layers) - 1) / 2.0
+        r_lake = lake.diameter_m / 2
+        seq = LakeSequenceConfig(
+            radius_m=r_lake + self.lake_margin_m,
+            clear_radius_m=r_lake + self.lake_clear_m,
+            low_agl_m=bottom - 0.25 * step,
+        )
+        x, y = float(s[0]), float(s[1])
+        users = [LakeUser(cfg.uav_id, x, y, float(s[2] - terrain.elevation(x, y)), True)]
+        users += [
+            LakeUser(
+                j,
+                p.x_m,
+                p.y_m,
+                float(p.z_m - terrain.elevation(p.x_m, p.y_m)),
+                p.objective == Objective.REFILL,
+            )
+            for j, p in self.link.alive_states().items()
+            if p.objective not in (Objective.GROUNDED, Objective.LANDED, Objective.LAND)
+        ]
+        lake_xy = (lake.x_m, lake.y_m)
+        if lake_holder(users, lake_xy, seq) == cfg.uav_id:
+            return None
+        return bottom + step * hold_rank(cfg.uav_id, users, lake_xy, seq)
 
     def _onto_low_peer(self, s: np.ndarray) -> bool:
         """Whether a refilling UAV above the scoop height would descend onto a peer near it that is
@@ -369,6 +424,9 @@ class Guide:
         height = cruise
         if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
             height = cruise
+        if self.lake_sequenced and to_entry < 6.0 * r and self._entry_taken(entry, r):
+            # one UAV of a layer at a time in its entry area: above every FF layer until it is free
+            height = cruise + gd.ff_layer_step_m * max(1, gd.ff_layers)
         v_cap = lim.v_stall_mps if to_entry < 4.0 * r else None
         v, vz, om = control_law(s, np.array(entry), height, cfg.terrain, lim, cfg.gains, v_cap)
         if to_entry < 2.0 * r and abs(math.remainder(pose[2] - ap.course_rad, math.tau)) > 0.5 * math.pi:
@@ -379,6 +437,24 @@ class Guide:
             )
         cmd = self._within_turn(s, (v, vz, om), entry)
         return Guidance(self._separate(s, cmd, entry, last_step) if cfg.avoidance else cmd, entry)
+
+    def _entry_taken(self, entry_xy: tuple[float, float], r_m: float) -> bool:
+        """Whether a lower-id peer of this UAV's FF layer, landing, is in this UAV's landing entry
+        area: within two turn radii and the separation radius of its entry (with
+        ``mission.lake_sequence: stack`` only; our addition). The finals of one layer are 60 m apart
+        and their entries abreast, and each UAV reverses onto its final on its turn radius: the
+        turns overlap (docs/airframes.md, the landing entries)."""
+        cfg, gd = self.cfg, self.cfg.guidance
+        layers = max(1, gd.ff_layers)
+        own = layer_height(cfg.uav_id, 0.0, layers, gd.ff_layer_step_m)
+        reach = 4.0 * r_m + cfg.separation.radius_m
+        return any(
+            j < cfg.uav_id
+            and p.objective == Objective.LAND
+            and abs(layer_height(j, 0.0, layers, gd.ff_layer_step_m) - own) < 1e-6
+            and math.hypot(p.x_m - entry_xy[0], p.y_m - entry_xy[1]) < reach
+            for j, p in self.link.alive_states().items()
+        )
 
     def _separate(
         self,

@@ -282,6 +282,19 @@ def test_prior_fires_mode_is_validated_and_defaults_to_unknown():
         scenario_from_dict({**base, "mission": {"prior_position_sigma_m": -1}})
 
 
+def test_lake_sequence_is_off_by_default_stack_on_request_and_a_clear_error():
+    from fire_uav_common.scenario import ScenarioError, scenario_from_dict
+
+    base = {"name": "x", "area": {"x_min_m": 0, "x_max_m": 100, "y_min_m": 0, "y_max_m": 400}}
+    assert scenario_from_dict(base).mission.lake_sequence == "none"  # opt-in (docs/airframes.md)
+    stack = scenario_from_dict({**base, "mission": {"lake_sequence": "stack"}})
+    assert stack.mission.lake_sequence == "stack"
+    with pytest.raises(
+        ScenarioError, match=r"mission\.lake_sequence: must be one of \['none', 'stack'\], got 'on'"
+    ):
+        scenario_from_dict({**base, "mission": {"lake_sequence": "on"}})
+
+
 def test_outage_ids_are_checked_against_the_fleet_actually_flown(tmp_path: Path) -> None:
     """A scenario valid for uavs.count 4 names a UAV a 3-UAV fleet (the runner's --uavs 3) lacks."""
     from fire_uav_common.scenario import check_fleet_size

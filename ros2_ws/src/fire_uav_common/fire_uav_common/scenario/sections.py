@@ -14,6 +14,7 @@ from fire_uav_common.terrain import Hill, Lake, Terrain
 from .airframes import VEHICLE_MODELS, read_airframe
 from .fields import _bool, _choice, _Ctx, _int, _list, _mapping, _num, _record
 from .types import (
+    LAKE_SEQUENCES,
     PRIOR_FIRES_MODES,
     TACTICS,
     AltimeterSpec,
@@ -199,4 +200,5 @@ def _mission(ctx: _Ctx, raw: Any) -> MissionSettings:
         prior_extent_sigma_fraction=_num(
             ctx, d, "prior_extent_sigma_fraction", p, m.prior_extent_sigma_fraction, ge=0, le=1
         ),
+        lake_sequence=_choice(ctx, d, "lake_sequence", p, LAKE_SEQUENCES, m.lake_sequence),
     )

@@ -39,6 +39,11 @@ TACTICS = ("head", "flank", "auto")
 G_MPS2 = 9.80665
 #: ``mission.prior_fires`` values
 PRIOR_FIRES_MODES = ("unknown", "known")
+#: ``mission.lake_sequence`` values: none (every refilling UAV descends to scoop, FF IV-D b), or stack
+#: (a fixed-wing over analytic fires descends only while it holds the lake, the others hold in a
+#: stack above it: ``fire_uav_agent.lake_sequence``; and one UAV of a layer at a time in its landing
+#: entry area; docs/airframes.md). Not "off": YAML reads a bare ``off`` as false
+LAKE_SEQUENCES = ("none", "stack")
 
 
 @dataclass(frozen=True)
@@ -422,6 +427,8 @@ class MissionSettings:
     prior_fires: str = "unknown"  # known: agents start with noisy estimates of every fire (FF III-C, IV-D c)
     prior_position_sigma_m: float = 10.0  # [m] noise of a known fire's initial centre estimate
     prior_extent_sigma_fraction: float = 0.2  # [-] relative noise of a known fire's initial extent
+    # stack: one fixed-wing at a time low over the lake (LAKE_SEQUENCES; opt-in, docs/airframes.md)
+    lake_sequence: str = "none"
 
 
 @dataclass(frozen=True)
