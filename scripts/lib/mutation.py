@@ -139,13 +139,20 @@ def built_message_paths() -> list[Path]:
     Tests that compare a module with rclpy's (de)serialisation of these types (the byte codecs)
     then run in the stage instead of skipping. Only message packages: an algorithm package's
     installed copy would shadow the mutated one. Their C type support (``install/<pkg>/lib``) is
-    put on the tests' library path.
+    put on the tests' library path. A checkout without its own build (a second git worktree of the
+    same repository) takes them from the install prefixes of the workspace its shell has sourced
+    (``AMENT_PREFIX_PATH``): message packages only, so its sources are still the ones mutated.
     """
     out = []
     for src in PACKAGE_ROOTS:
         if (src / src.name).is_dir() or not (src / "msg").is_dir():
             continue
-        out += sorted((ROOT / "ros2_ws" / "install" / src.name / "lib").glob("python3*/site-packages"))
+        found = sorted((ROOT / "ros2_ws" / "install" / src.name / "lib").glob("python3*/site-packages"))
+        for prefix in filter(None, os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep)):
+            if found or Path(prefix).name != src.name:
+                continue
+            found = sorted((Path(prefix) / "lib").glob("python3*/site-packages"))
+        out += found
     return out
 
 

@@ -8,6 +8,7 @@ analytic Moore trace of an axis-aligned rectangle (its 2 (w + h) - 4 edge cells 
 import numpy as np
 import pytest
 from fire_perimeter_monitor.boundary import (
+    fire_lookup,
     is_boundary_cell,
     lookup_from_cells,
     lookup_from_grid,
@@ -150,3 +151,23 @@ def test_nearest_boundary_cell_against_brute_force(seed, radius):
     else:
         _, i, j = min(cands)  # nearest, ties: lowest (i, j)
         assert got == (int(i), int(j))
+
+
+def test_fire_lookup_is_membership_in_the_reported_fire_cells():
+    """A cell is fire iff it was reported burning or burned (module doc); every other cell, near
+    the reported block or far from it, at negative or positive indices, is outside. Checked
+    against a set of the cells built by index (centre = origin + (i, j) * cell size)."""
+    grid = CellGrid(-3.0, 7.0, 2.5)
+    states = (CellState.UNBURNED, CellState.BURNING, CellState.BURNED)
+    rng = np.random.default_rng(21)
+    for n in (0, 1, 2, 5, 30):
+        for _ in range(8):
+            ij = rng.integers(-7, 8, size=(n, 2))
+            st = rng.choice([int(s) for s in states], size=n)
+            x = grid.origin_x_m + ij[:, 0] * grid.cell_size_m
+            y = grid.origin_y_m + ij[:, 1] * grid.cell_size_m
+            fire = {(int(a), int(b)) for (a, b), s in zip(ij, st, strict=True) if s != CellState.UNBURNED}
+            look = fire_lookup(x.astype(float), y.astype(float), st.astype(np.uint8), grid)
+            for a in range(-10, 11):
+                for b in range(-10, 11):
+                    assert look(a, b) is ((a, b) in fire), (n, a, b)

@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pytest
 from fire_uav_agent.coverage import (
     ControlGains,
     VehicleLimits,
@@ -68,7 +69,6 @@ def test_control_law_points_toward_centroid_and_respects_limits():
 
 
 # --- analytic cells, Lloyd, grid, density, guidance (mutation testing) -----------------------
-import pytest  # noqa: E402
 from fire_uav_agent.coverage import virtual_positions  # noqa: E402
 from fire_uav_common.scenario import Vehicle  # noqa: E402
 from hypothesis import given, settings  # noqa: E402
@@ -391,3 +391,33 @@ def test_own_cell_on_grid_on_a_grid_wider_than_2_16_columns_and_with_a_nan_peer(
     others = np.array([[np.nan, 100.0], [200.0, 150.0]])
     p = np.array([120.0, 140.0])
     assert np.array_equal(own_cell_on_grid(g, p, others, band), own_cell(g.points, p, others, band))
+
+
+# --- session 21's mutation survivors -----------------------------------------------------------
+def test_an_area_of_zero_width_or_height_is_refused():
+    from fire_uav_agent.errors import ConfigError
+
+    for args in ((5.0, 5.0, 0.0, 10.0), (0.0, 10.0, 5.0, 5.0)):
+        with pytest.raises(ConfigError, match="empty area"):
+            make_grid(*args, 1.0)
+
+
+def test_density_of_a_narrow_gaussian_is_the_two_dimensional_formula():
+    """sigma under 1 m (e.g. 0.5 m) is a valid spread: the brute-force exp(-|q - c|^2 / 2 s^2) of
+    Eqs. 13-15 over the grid's points, both terms summed."""
+    g = make_grid(0.0, 4.0, 0.0, 3.0, 0.5)
+    centres, sigmas = np.array([[1.2, 1.1], [3.0, 2.0]]), np.array([0.5, 0.9])
+    want = sum(
+        np.exp(-((g.points - c) ** 2).sum(axis=1) / (2 * s * s)) for c, s in zip(centres, sigmas, strict=True)
+    )
+    np.testing.assert_allclose(gaussian_density(g, centres, sigmas), want, rtol=1e-12, atol=0)
+
+
+def test_a_small_positive_mass_has_its_centroid():
+    """Eqs. 8-9 for a cell of little mass (density 1e-3): M = sum w * area, C = sum w q / sum w."""
+    pts = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 4.0], [9.0, 9.0]])
+    w = np.array([1e-3, 1e-3, 2e-3, 5.0])
+    mask = np.array([True, True, True, False])
+    m, c = mass_centroid(pts, w, mask, 4.0)
+    assert m == pytest.approx(4e-3 * 4.0)
+    np.testing.assert_allclose(c, [0.5, 2.0])

@@ -416,3 +416,7 @@ def test_the_update_solve_is_numpys_bit_for_bit_and_raises_as_numpy_does():
             assert _solve(a, b).tobytes() == np.linalg.solve(a, b).tobytes()
     with pytest.raises(np.linalg.LinAlgError):
         _solve(np.zeros((2, 2)), np.ones((2, 4)))
+    # a non-finite S (a NaN reading upstream): numpy returns NaNs without raising, and so must _solve
+    a_nan, b = np.array([[1.0, np.nan], [0.0, 1.0]]), np.ones((2, 4))
+    with np.errstate(invalid="ignore"):
+        assert _solve(a_nan, b).tobytes() == np.linalg.solve(a_nan, b).tobytes()

@@ -167,3 +167,21 @@ def test_missing_equals_a_recount_over_any_arrival_order(seed: int) -> None:
                     del d[key]
         for s in range(1, 5):
             assert w.missing(s) == _missing_by_recount(w, arrived, sent, s), (seed, s)
+
+
+def test_a_peers_first_final_state_stands_when_a_later_one_arrives() -> None:
+    """Its vehicle crashed at step 5: a final state of step 6 arriving later (the state of the
+    dead vehicle resent) does not bring it back for step 6, whose messages it never sends."""
+    w = PeerWait(0, 2, 0.1)
+    deliver(w, 1, 5, final=True)
+    deliver(w, 1, 6, final=True)
+    assert w.live_peers(5) == [1] and w.live_peers(6) == [] and w.ready(7)
+
+
+def test_a_final_state_of_a_negative_step_is_ignored() -> None:
+    """Steps start at 0: a (corrupt) final state stamped step -1 names no step the peer missed,
+    so the peer stays live at step 0 and its step-0 messages are still waited for."""
+    w = PeerWait(0, 2, 0.1)
+    w.on_state(1, -1, sent(), True)
+    assert w.live_peers(0) == [1]
+    assert w.missing(1) == [1]

@@ -110,3 +110,35 @@ def test_a_head_exactly_at_the_flame_limit_is_not_below_it() -> None:
 def test_bad_auto_fields_are_named() -> None:
     with pytest.raises(ValueError, match="tactic auto_max_flame_m must be > 0, got 0.0"):
         TacticConfig(tactic="auto", auto_max_flame_m=0.0)
+
+
+def _groups_by_flood_fill(x: np.ndarray, y: np.ndarray, link_m: float) -> list[int]:
+    """Plain reference: flood-fill the graph of cells at most ``link_m`` apart, fires numbered in
+    order of their first cell."""
+    n, label = len(x), [-1] * len(x)
+    fires = 0
+    for s in range(n):
+        if label[s] >= 0:
+            continue
+        label[s], todo = fires, [s]
+        while todo:
+            k = todo.pop()
+            for m in range(n):
+                if label[m] < 0 and math.hypot(x[k] - x[m], y[k] - y[m]) <= link_m:
+                    label[m] = fires
+                    todo.append(m)
+        fires += 1
+    return label
+
+
+def test_cells_linked_only_through_a_later_cell_are_one_fire() -> None:
+    """0 and 1 are 20 m apart, each 11.2 m from cell 2: one fire at a 12 m link, whatever the
+    order of the cells; and random fronts against a flood fill."""
+    assert fire_groups(front([0, 20, 10], [0, 0, 5], [0.1] * 3), 12.0).tolist() == [0, 0, 0]
+    assert fire_groups(front([10, 0, 20], [5, 0, 0], [0.1] * 3), 12.0).tolist() == [0, 0, 0]
+    rng = np.random.default_rng(21)
+    for _ in range(30):
+        n = int(rng.integers(1, 40))
+        x, y = rng.uniform(0, 200, n), rng.uniform(0, 200, n)
+        got = fire_groups(front(x, y, np.full(n, 0.1)), 25.0).tolist()
+        assert got == _groups_by_flood_fill(x, y, 25.0)

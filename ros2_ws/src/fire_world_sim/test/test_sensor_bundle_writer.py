@@ -13,6 +13,7 @@ import pytest
 
 pytest.importorskip("fire_uav_msgs.msg")
 
+from fire_uav_common.codecs import sensor_bundle
 from fire_uav_common.codecs.sensor_bundle import write_sensor_bundle
 from fire_uav_msgs.msg import FireDetection, GpsFix, SensorBundle
 from fire_world_sim.sensors import AltimeterSample, CellsSample, FireDetectionSample, GpsSample, GyroSample
@@ -22,6 +23,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import Imu, Range
+
+
+@pytest.fixture(autouse=True)
+def _fresh_sample_structs(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each test builds the per-sample structs it needs (``_sample_struct``'s cache starts empty),
+    so the bytes checked are those of the padding rules, not of structs an earlier test (or, in a
+    mutation run, the unmutated code in the parent process) left in the module's cache."""
+    monkeypatch.setattr(sensor_bundle, "_SAMPLE_STRUCTS", {})
+
 
 f64 = st.floats(allow_nan=True, allow_infinity=True)
 f32 = st.floats(width=32, allow_nan=True, allow_infinity=True)
@@ -162,6 +172,21 @@ def test_a_hand_built_bundle():
 def test_a_negative_stamp_is_refused_by_name():
     with pytest.raises(ValueError, match="stamp must be >= 0 ns, got -1"):
         write_sensor_bundle(SensorBundleRecord(0, 0, -1, 0.1), 0.3)
+
+
+@pytest.mark.parametrize("kind", ["gyro", "altimeter", "gps", "fires"])
+def test_a_negative_sample_stamp_is_refused_by_name(kind):
+    b = SensorBundleRecord(0, 0, 0, 0.1)
+    sample = {
+        "gyro": GyroSample(-7, 0.0),
+        "altimeter": AltimeterSample(-7, 1.0, 2.0),
+        "gps": GpsSample(-7, 0.0, 0.0, 1.0),
+        "fires": FireDetectionSample(-7, 1, 0.0, 0.0, 1.0, 1.0),
+    }[kind]
+    getattr(b, kind).append(sample)
+    with pytest.raises(ValueError) as e:
+        write_sensor_bundle(b, 0.3)
+    assert str(e.value) == "stamp must be >= 0 ns, got -7"
 
 
 def test_float64_cell_centres_are_rounded_to_float32_as_the_message_type_does():
