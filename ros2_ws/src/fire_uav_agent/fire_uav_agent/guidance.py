@@ -440,7 +440,7 @@ class Guide:
 
     def _entry_taken(self, entry_xy: tuple[float, float], r_m: float) -> bool:
         """Whether a lower-id peer of this UAV's FF layer, landing, is in this UAV's landing entry
-        area: within two turn radii and the separation radius of its entry (with
+        area: within four turn radii plus the separation radius of its entry (with
         ``mission.lake_sequence: stack`` only; our addition). The finals of one layer are 60 m apart
         and their entries abreast, and each UAV reverses onto its final on its turn radius: the
         turns overlap (docs/airframes.md, the landing entries)."""
