@@ -18,6 +18,7 @@ every matched reader has acknowledged every message it published (``fire_uav_com
 from __future__ import annotations
 
 import re
+import time
 
 import pytest
 from fire_mission import runner
@@ -30,6 +31,7 @@ UAVS = 2
 MAX_DURATION_S = 4.0  # [s sim]: 40 lockstep steps
 HOLD_AFTER_SIGINT_WALL_S = 1.5  # [s wall] held up until this long after the agents' SIGINT,
 HOLD_MAX_WALL_S = 6.0  # [s wall] and never longer than this (below its 10 s lease)
+DISCOVERY_SETTLE_WALL_S = 3.0  # [s wall] after the agents are up, before the world starts
 # reliable topics only the agents publish on (/tf: the world too; /uav_k/viz: best effort)
 AGENT_TOPICS = re.compile(r"/fleet/(state|events|perimeter|front)|/uav_\d+/(cmd|payload)")
 
@@ -60,6 +62,15 @@ def test_a_recorder_held_up_when_the_agents_are_signalled_keeps_their_last_messa
                 "fire_uav_agent", "uav_agent", ["-r", f"__ns:=/uav_{k}", "-p", f"uav_id:={k}", *common]
             ),
         )
+    # The recorder must hear every agent's writers before the first step: the 40 steps take well
+    # under a second, and a writer that has not yet matched the recorder's reader (discovery
+    # between the two, which the world's wait for /world/truth subscribers does not cover) sends
+    # it nothing (volatile) and, at exit, has no reader of it to wait for. Seen once in a
+    # fresh-clone CI under load: the bag held none of uav_0's cmd, payload or state. So let each
+    # agent come up, then give discovery time before the world starts the steps.
+    for name in agents:
+        wait_for_line(procs, name, "mode=lockstep", 60.0)
+    time.sleep(DISCOVERY_SETTLE_WALL_S)
     procs.start(
         "world",
         ros_run_argv(
