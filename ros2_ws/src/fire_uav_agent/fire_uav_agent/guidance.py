@@ -94,6 +94,8 @@ class Guide:
         self.lake_clear_m = 0.0  # [m] beyond the shore, a low UAV leaving the lake still holds it
         # mission.lake_sequence: stack (opt-in): one fixed-wing at a time low over the lake
         self.lake_sequenced = cfg.airframe is not None and cfg.mission.lake_sequence == "stack"
+        # _lake_rung's configuration per lake (fixed per agent and lake: made once, not per step)
+        self._lake_seq: dict[tuple[float, float, float], LakeSequenceConfig] = {}
         af = cfg.airframe
         if af is not None:
             start = (float(self.start_xy[0]), float(self.start_xy[1]))
@@ -289,12 +291,15 @@ class Guide:
         terrain = cfg.terrain
         step = gd.ff_layer_step_m
         bottom = cfg.vehicle.flight_height_m - step * (max(1, gd.ff_layers) - 1) / 2.0
-        r_lake = lake.diameter_m / 2
-        seq = LakeSequenceConfig(
-            radius_m=r_lake + self.lake_margin_m,
-            clear_radius_m=r_lake + self.lake_clear_m,
-            low_agl_m=bottom - 0.25 * step,
-        )
+        key = (lake.x_m, lake.y_m, lake.diameter_m)
+        seq = self._lake_seq.get(key)
+        if seq is None:
+            r_lake = lake.diameter_m / 2
+            seq = self._lake_seq[key] = LakeSequenceConfig(
+                radius_m=r_lake + self.lake_margin_m,
+                clear_radius_m=r_lake + self.lake_clear_m,
+                low_agl_m=bottom - 0.25 * step,
+            )
         x, y = float(s[0]), float(s[1])
         users = [LakeUser(cfg.uav_id, x, y, float(s[2] - terrain.elevation(x, y)), True)]
         users += [
