@@ -16,9 +16,7 @@ import numpy as np
 import pytest
 from fire_uav_agent.agent_config import config_from_scenario
 from fire_uav_agent.agent_core import Agent
-from fire_uav_agent.guidance import Situation
-from fire_uav_agent.mission import Decision
-from fire_uav_agent.testing.harness import Harness, scenario_path
+from fire_uav_agent.testing.harness import Harness, refill_situation, scenario_path
 from fire_uav_common.codecs.sensor_bundle import Bundle, Samples
 from fire_uav_common.codecs.uav_state import PeerState
 from fire_uav_common.constants import CellState, Objective, VehicleStatus
@@ -42,15 +40,8 @@ def _refilling(uid: int, z_m: float, peers: list[PeerState]) -> tuple[float, flo
     a.raster.fuse(b, VehicleStatus.AIRBORNE, b.stamp_s)
     for p in peers:
         a.link.receive_state(p, now_step=STEP)
-    sit = Situation(
-        Decision(Objective.REFILL, -1, None, False, False),
-        (),
-        a.lakes[0],
-        None,  # type: ignore[arg-type]  # REFILL does not read the planner view
-        np.ones(a.grid.points.shape[0], bool),
-    )
     s = np.array([AT[0], AT[1], z_m, HEADING])
-    return a.guide.run(sit, VehicleStatus.AIRBORNE, s, STEP - 1).command
+    return a.guide.run(refill_situation(a), VehicleStatus.AIRBORNE, s, STEP - 1).command
 
 
 def _peer(

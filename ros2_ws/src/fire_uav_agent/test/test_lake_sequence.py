@@ -17,7 +17,7 @@ from fire_uav_agent.agent_core import Agent
 from fire_uav_agent.guidance import Guidance, Situation
 from fire_uav_agent.lake_sequence import LakeSequenceConfig, LakeUser, hold_rank, lake_holder, on_lake
 from fire_uav_agent.mission import Decision
-from fire_uav_agent.testing.harness import scenario_path
+from fire_uav_agent.testing.harness import refill_situation, scenario_path
 from fire_uav_common.codecs.uav_state import PeerState
 from fire_uav_common.constants import Objective, VehicleStatus
 from fire_uav_common.scenario import load_scenario
@@ -125,15 +125,10 @@ def _guide(
     a = Agent(config_from_scenario(sc, uid, uav_count=5, seed=1, loss_probability=0.0))
     for p in peers:
         a.link.receive_state(p, now_step=STEP)
-    sit = Situation(
-        Decision(Objective.REFILL, -1, None, False, False),
-        (),
-        a.lakes[0],
-        None,  # type: ignore[arg-type]  # REFILL does not read the planner view
-        a.grid.points[:, 0] > cell_x_min_m,
-    )
     s = np.array([AT[0], AT[1], z_m, HEADING])
-    return a.guide.run(sit, VehicleStatus.AIRBORNE, s, STEP - 1)
+    return a.guide.run(
+        refill_situation(a, a.grid.points[:, 0] > cell_x_min_m), VehicleStatus.AIRBORNE, s, STEP - 1
+    )
 
 
 def _peer(

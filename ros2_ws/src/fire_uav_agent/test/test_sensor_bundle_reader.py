@@ -227,16 +227,21 @@ def test_a_cut_right_after_the_cell_centres_is_a_truncation():
     assert _error(data[:end]) == f"SensorBundle truncated: {end} bytes"
 
 
-@pytest.mark.parametrize("kind", ["SensorBundle", "Imu", "Range", "GpsFix", "FireDetection", "FireCells"])
-def test_a_frame_id_past_the_end_names_its_message(kind):
+def _bundle_with_frame_id(kind: str) -> tuple[bytes, bytes]:
+    """A serialized bundle whose ``kind`` header (the bundle's, its cells', or one sample's) has
+    the frame_id ``frame_of_<kind>``; and that frame_id as CDR stores it (NUL-terminated)."""
     m = SensorBundle()
     sample = {"Imu": Imu(), "Range": Range(), "GpsFix": GpsFix(), "FireDetection": FireDetection()}.get(kind)
     header = {"SensorBundle": m.header, "FireCells": m.cells.header}.get(kind) or sample.header
     header.frame_id = "frame_of_" + kind
     if sample is not None:
         {"Imu": m.gyro, "Range": m.altimeter, "GpsFix": m.gps, "FireDetection": m.fires}[kind].append(sample)
-    data = serialize_message(m)
-    text = ("frame_of_" + kind).encode() + b"\x00"
+    return serialize_message(m), ("frame_of_" + kind).encode() + b"\x00"
+
+
+@pytest.mark.parametrize("kind", ["SensorBundle", "Imu", "Range", "GpsFix", "FireDetection", "FireCells"])
+def test_a_frame_id_past_the_end_names_its_message(kind):
+    data, text = _bundle_with_frame_id(kind)
     end = data.index(text) + len(text)  # the string's end
     got = _error(data[: end - 1])
     assert got == f"{kind} header.frame_id length {len(text)} does not fit in {end - 1} bytes"
@@ -246,13 +251,6 @@ def test_a_frame_id_past_the_end_names_its_message(kind):
 def test_a_cut_right_after_a_frame_id_is_a_truncation_not_a_bad_frame_id(kind):
     """The frame_id fits whole (as ``cdr.read_string_end`` judges it: it ends at the last byte);
     what is cut is the fields after it."""
-    m = SensorBundle()
-    sample = {"Imu": Imu(), "Range": Range(), "GpsFix": GpsFix(), "FireDetection": FireDetection()}.get(kind)
-    header = {"SensorBundle": m.header, "FireCells": m.cells.header}.get(kind) or sample.header
-    header.frame_id = "frame_of_" + kind
-    if sample is not None:
-        {"Imu": m.gyro, "Range": m.altimeter, "GpsFix": m.gps, "FireDetection": m.fires}[kind].append(sample)
-    data = serialize_message(m)
-    text = ("frame_of_" + kind).encode() + b"\x00"
+    data, text = _bundle_with_frame_id(kind)
     end = data.index(text) + len(text)
     assert _error(data[:end]) == f"SensorBundle truncated: {end} bytes"

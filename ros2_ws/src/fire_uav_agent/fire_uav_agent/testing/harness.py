@@ -24,11 +24,12 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 from fire_uav_common.codecs.fire_front import read_fire_front
 from fire_uav_common.codecs.perimeter_map import read_perimeter_map
 from fire_uav_common.codecs.sensor_bundle import read_sensor_bundle, write_sensor_bundle
 from fire_uav_common.codecs.uav_state import WireState, read_uav_state
-from fire_uav_common.constants import VehicleStatus
+from fire_uav_common.constants import Objective, VehicleStatus
 from fire_uav_common.scenario import Scenario, load_scenario
 from fire_world_sim import world as wsim
 
@@ -36,12 +37,22 @@ from ..agent_config import config_from_scenario
 from ..agent_core import Agent
 from ..agent_types import Bundle, PeerPerimeter, StepOutput
 from ..front_consensus import PeerFront
+from ..guidance import Situation
 from ..incoming import peer_front, peer_perimeter
+from ..mission import Decision
 from ..outgoing import front_bytes, perimeter_bytes, sent_per_topic, state_bytes
 from ..peer_gate import PeerGate, Rejected, RunStep
 from ..peer_link import PeerFires, PeerState
 
-__all__ = ["Harness", "PeerBytes", "agent_bundle", "peer_messages", "scenario_path", "world_command"]
+__all__ = [
+    "Harness",
+    "PeerBytes",
+    "agent_bundle",
+    "peer_messages",
+    "refill_situation",
+    "scenario_path",
+    "world_command",
+]
 
 PeerMessage = PeerState | PeerFires | PeerPerimeter | PeerFront
 
@@ -56,6 +67,20 @@ def scenario_path(name: str) -> Path:
         if p.is_file():
             return p
     raise FileNotFoundError(f"no scenario {name!r} under {root}")
+
+
+def refill_situation(agent: Agent, cell: np.ndarray | None = None) -> Situation:
+    """The guidance stage's input for ``agent`` in REFILL toward its first lake, its Voronoi cell
+    ``cell`` (a mask over ``agent.grid.points``; all of them if None). REFILL reads no planner
+    view, so none is given."""
+    mask = np.ones(agent.grid.points.shape[0], bool) if cell is None else cell
+    return Situation(
+        Decision(Objective.REFILL, -1, None, False, False),
+        (),
+        agent.lakes[0],
+        None,  # type: ignore[arg-type]  # REFILL does not read the planner view
+        mask,
+    )
 
 
 # --- conversions -----------------------------------------------------------------------------------
