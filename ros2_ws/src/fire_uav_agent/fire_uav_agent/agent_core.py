@@ -137,6 +137,7 @@ class Agent:
                 takeoff_time_s=cfg.uav_id * cfg.takeoff_interval_s,
                 water_capacity_kg=veh.water_capacity_kg,
                 search_enabled=not cfg.fires_known,
+                post_search_s=cfg.mission.post_search_s,
                 # release inside the footprint with a margin for estimation error (EKF ~1-2 m)
                 min_drop_radius_m=gd.drop_radius_fraction * cfg.drop_radius_m,
             )

@@ -988,6 +988,12 @@ def test_the_tank_capacity_and_the_briefing_sigma_come_from_the_scenario():
         assert (not outs[-1].fires[0].active) is ended
 
 
+def test_the_sweep_before_landing_comes_from_the_scenario():
+    """mission.post_search_s (ff_two_fires_tanker: 150 s) sets the agent's sweep; unset, the 45 s."""
+    assert Agent(_cfg()).mission.cfg.post_search_s == 45.0
+    assert Agent(_cfg(mission=sc.MissionSettings(post_search_s=150.0))).mission.cfg.post_search_s == 150.0
+
+
 def test_the_negative_range_follows_the_sensor_range():
     """Fire sensor range 60 m: 'no fire here' range = min(50, 0.7 x 60) = 42 m."""
     sens = sc.Sensors(fire=sc.FireSensorSpec(range_m=60.0))

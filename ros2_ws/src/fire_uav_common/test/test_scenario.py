@@ -295,6 +295,16 @@ def test_lake_sequence_is_off_by_default_stack_on_request_and_a_clear_error():
         scenario_from_dict({**base, "mission": {"lake_sequence": "on"}})
 
 
+def test_post_search_s_defaults_to_the_agents_45_s_and_a_negative_one_is_a_clear_error():
+    from fire_uav_common.scenario import ScenarioError, scenario_from_dict
+
+    base = {"name": "x", "area": {"x_min_m": 0, "x_max_m": 100, "y_min_m": 0, "y_max_m": 400}}
+    assert scenario_from_dict(base).mission.post_search_s == 45.0  # fire_uav_agent.mission's default
+    assert scenario_from_dict({**base, "mission": {"post_search_s": 150}}).mission.post_search_s == 150.0
+    with pytest.raises(ScenarioError, match=r"mission\.post_search_s: must be >= 0"):
+        scenario_from_dict({**base, "mission": {"post_search_s": -1}})
+
+
 def test_outage_ids_are_checked_against_the_fleet_actually_flown(tmp_path: Path) -> None:
     """A scenario valid for uavs.count 4 names a UAV a 3-UAV fleet (the runner's --uavs 3) lacks."""
     from fire_uav_common.scenario import check_fleet_size

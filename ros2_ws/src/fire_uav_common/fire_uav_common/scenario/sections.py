@@ -201,4 +201,5 @@ def _mission(ctx: _Ctx, raw: Any) -> MissionSettings:
             ctx, d, "prior_extent_sigma_fraction", p, m.prior_extent_sigma_fraction, ge=0, le=1
         ),
         lake_sequence=_choice(ctx, d, "lake_sequence", p, LAKE_SEQUENCES, m.lake_sequence),
+        post_search_s=_num(ctx, d, "post_search_s", p, m.post_search_s, ge=0),
     )

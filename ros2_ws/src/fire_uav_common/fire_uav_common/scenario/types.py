@@ -429,6 +429,9 @@ class MissionSettings:
     prior_extent_sigma_fraction: float = 0.2  # [-] relative noise of a known fire's initial extent
     # stack: one fixed-wing at a time low over the lake (LAKE_SEQUENCES; opt-in, docs/airframes.md)
     lake_sequence: str = "none"
+    # [s] after the last known fire is out, the fleet sweeps this long before it lands (our addition
+    # to FF IV-D d, fire_uav_agent.mission); FF's 600 m map: 45 s, a larger map needs longer
+    post_search_s: float = 45.0
 
 
 @dataclass(frozen=True)
