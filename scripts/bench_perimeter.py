@@ -120,8 +120,8 @@ def narrow_head_fire() -> RasterFire:
     Prescribed, not simulated (as ``star_fire``): the extent along the ray at angle theta from
     the ignition point is ``v t`` up to ``t1 = NH_CHANGE_S`` and ``v t1 + rate(theta) (t - t1)``
     after it (``narrow_head_rate``), so a cell at distance rho ignites at ``rho / v`` inside the
-    even disc and at ``t1 + (rho - v t1) / rate(theta)`` beyond it. The body is 45 cells across
-    in radius at the change and the head adds at most 30 cells by 5 h, so the fire stays nearly
+    even disc and at ``t1 + (rho - v t1) / rate(theta)`` beyond it. The body is 45 cells in
+    radius at the change and the head adds 27 cells by 5 h (0.56 of the radius), so the fire stays nearly
     convex (a bump on a disc; a fast fuel strip or a fast half-plane would leave a finger or a
     fan, see the notes) while only the angles within about 2 widths of the head spread at a
     quarter of its rate or more."""
