@@ -20,7 +20,10 @@ Fires (no suppression):
   grass_to_brush: the centre unknown, estimated after the initial lap (PM IV-A).
 - B. synthetic arrival-time rasters in the paper's regime: 30 m cells, 10 m/s, sensing one
   cell around the UAV, laps of tens of minutes, 3 h from 1 h after ignition; a wind-driven
-  fire (head 15x the back) and a slow fire that reaches a 4x faster fuel (PM Fig. 12a / 16a).
+  fire (head 15x the back) and a slow fire that reaches a 4x faster fuel (PM Fig. 12a / 16a);
+  "narrow head", 4 h from 1 h after ignition: a round fire even for 3 h, then a head 10x the
+  back over about a fifth of the perimeter while the fire stays nearly convex (PM Fig. 16a's
+  regime; its second table, from 3 h, is where the regime is).
 
 With monitor_grass also: two monitors on the worst-angle rule, each merging the other's map,
 with the perimeter split between them by angle, by spread rate, and as a relay at the head
@@ -32,7 +35,7 @@ the reported fastest front against the burning tip).
 Run: .venv/bin/python scripts/bench_perimeter.py [--quick] [--seeds N] [--fires NAME ...]
 [--score-from-s S] [--describe]
 (quick: the world's monitor_grass, and grass_wind for its first 2 min; a paper-regime
-synthetic flight of 3 h takes about a minute of CPU; --score-from-s: a second table per fire
+synthetic flight of 3-4 h takes about half a minute to a minute of CPU; --score-from-s: a second table per fire
 over the samples at t >= S only, e.g. the fuel-change fire's uneven phase from 2.1 h (7560 s)
 on the same flights; --describe: what the synthetic fires do, no flight, seconds)
 """
@@ -65,7 +68,7 @@ from fire_perimeter_monitor.planner import (  # noqa: E402
     MonitorConfig,
     PerimeterMonitor,
 )
-from fire_perimeter_monitor.synthetic_fire import elliptical_ros, fly, spread_fire  # noqa: E402
+from fire_perimeter_monitor.synthetic_fire import RasterFire, elliptical_ros, fly, spread_fire  # noqa: E402
 
 ALPHAS = (0.0, 0.8, 1.0, 1.2, 1.5, 5.0)
 PAPER_CHANGES = (0, 8, 11, 15, 20, 43)
@@ -92,6 +95,45 @@ def fuel_change_fire():
     ii, jj = np.meshgrid(np.arange(SHAPE[0]), np.arange(SHAPE[1]), indexing="ij")
     fuel = np.where(ii + jj < 180, 4.0, 1.0)
     return spread_fire(SHAPE, CELL_M, IGNITION, elliptical_ros(0.06, 0.5, SW), fuel_factor=fuel)
+
+
+# "narrow head": PM Fig. 16a's regime on a fire that stays nearly convex (our construction)
+NH_SHAPE = (160, 160)  # cells
+NH_IGNITION = (95, 95)  # room for the head to run 75 cells south-west and the back 48 north-east
+NH_EVEN_MPS = 0.125  # [m/s] 7.5 m/min at every angle until NH_CHANGE_S
+NH_CHANGE_S = 3 * 3600.0  # [s] PM VI-B: "during the first 3 hours ... not spreading very fast"
+NH_BACK_MPS = 0.0125  # [m/s] after the change, away from the head (a tenth of before)
+NH_HEAD_MPS = 0.125  # [m/s] after the change, at the head (keeps the even phase's rate: 10x the back)
+NH_WIDTH_RAD = 0.35  # [rad] standard deviation of the head's Gaussian profile in angle (20 deg)
+
+
+def narrow_head_rate(theta_rad):
+    """Spread rate [m/s] per angle about the ignition point after the change: the back's rate plus
+    a Gaussian bump of width ``NH_WIDTH_RAD`` centred south-west, reaching ``NH_HEAD_MPS``."""
+    d = (np.asarray(theta_rad) - SW + np.pi) % (2 * np.pi) - np.pi
+    return NH_BACK_MPS + (NH_HEAD_MPS - NH_BACK_MPS) * np.exp(-0.5 * (d / NH_WIDTH_RAD) ** 2)
+
+
+def narrow_head_fire() -> RasterFire:
+    """A round fire whose spread, even for 3 h, then slows tenfold everywhere but a narrow head.
+
+    Prescribed, not simulated (as ``star_fire``): the extent along the ray at angle theta from
+    the ignition point is ``v t`` up to ``t1 = NH_CHANGE_S`` and ``v t1 + rate(theta) (t - t1)``
+    after it (``narrow_head_rate``), so a cell at distance rho ignites at ``rho / v`` inside the
+    even disc and at ``t1 + (rho - v t1) / rate(theta)`` beyond it. The body is 45 cells in
+    radius at the change and the head adds 27 cells by 5 h (0.56 of the radius), so the fire stays nearly
+    convex (a bump on a disc; a fast fuel strip or a fast half-plane would leave a finger or a
+    fan, see the notes) while only the angles within about 2 widths of the head spread at a
+    quarter of its rate or more."""
+    ii, jj = np.meshgrid(np.arange(NH_SHAPE[0]), np.arange(NH_SHAPE[1]), indexing="ij")
+    ix, iy = (NH_IGNITION[0] + 0.5) * CELL_M, (NH_IGNITION[1] + 0.5) * CELL_M
+    dx, dy = (ii + 0.5) * CELL_M - ix, (jj + 0.5) * CELL_M - iy
+    rho = np.hypot(dx, dy)
+    r1 = NH_EVEN_MPS * NH_CHANGE_S
+    arrival = np.where(
+        rho <= r1, rho / NH_EVEN_MPS, NH_CHANGE_S + (rho - r1) / narrow_head_rate(np.arctan2(dy, dx))
+    )
+    return RasterFire(arrival, CELL_M, (ix, iy))
 
 
 # --- A. fire_world_sim's raster fire ---------------------------------------------------------
@@ -163,15 +205,13 @@ class Setting:
     score_from_s: float | None = None  # --score-from-s: also the mean over samples at t >= this [s]
 
     def fire(self):
-        if self.name == "wind-driven":
-            return wind_fire()
-        if self.name == "fuel change":
-            return fuel_change_fire()
+        if self.name in SYNTHETIC:
+            return SYNTHETIC[self.name]()
         return WorldRasterFire(self.name)
 
     @property
     def world(self) -> bool:
-        return self.name not in ("wind-driven", "fuel change")
+        return self.name not in SYNTHETIC
 
 
 SETTINGS = {
@@ -181,7 +221,11 @@ SETTINGS = {
     "grass_to_brush": Setting("grass_to_brush", 120.0, 600.0, 10, False),
     "wind-driven": Setting("wind-driven", 3600.0, 4 * 3600.0, 4, True),
     "fuel change": Setting("fuel change", 3600.0, 4 * 3600.0, 4, True),
+    # PM VI-B: deployed 1 h after ignition; slow and even for 3 h, then a fast head; scored also
+    # from the change on (the second table), where the regime is
+    "narrow head": Setting("narrow head", 3600.0, 5 * 3600.0, 4, True, score_from_s=NH_CHANGE_S),
 }
+SYNTHETIC = {"wind-driven": wind_fire, "fuel change": fuel_change_fire, "narrow head": narrow_head_fire}
 
 
 def _cell_speed_sensor(s: Setting, fire) -> tuple[float, float, float]:
@@ -488,6 +532,46 @@ def describe(setting: str, hours: tuple[float, ...] = (1.0, 1.5, 2.0, 2.5, 3.0, 
     return rows
 
 
+def regime(setting: str, hours: tuple[float, ...], window_s: float = 1800.0) -> list[dict]:
+    """Is a synthetic fire in PM Fig. 16a's regime at these times? From its arrival times, no
+    flight. Per hour:
+
+    - ``fast_share``: the share of the perimeter (the hull of the true fire's squares, per angle
+      bin about the ignition point) whose extent grows over the next ``window_s`` at a quarter
+      of the fastest bin's rate or more. The window is long because a slow back moves less
+      than a cell in 10 min and reads 0 or a whole cell's rate;
+    - ``hull_gap_m``: how far the true fire's own convex hull lies outside it, the largest over
+      the 360 angles; a convex fire gives about a cell from its squares alone;
+    - ``floor_m``: the perfect-map floor (``distance_error``), what a map of the whole fire scores.
+    """
+    s = SETTINGS[setting]
+    fire = s.fire()
+    cell, _, _ = _cell_speed_sensor(s, fire)
+    c = fire.ignition_xy_m
+    rows = []
+    for h in hours:
+        t = h * 3600.0
+        fc = _fire_cells(fire, t)
+        ext = np.nan_to_num(true_extent(fc, cell, c))
+        ros = (np.nan_to_num(true_extent(_fire_cells(fire, t + window_s), cell, c)) - ext) / window_s
+        hr = np.nan_to_num(hull_extent(fc, cell, c))
+        th = (np.arange(hr.size) + 0.5) * (2 * np.pi / hr.size)
+        x, y = hr * np.cos(th), hr * np.sin(th)
+        seg = np.hypot(np.diff(np.r_[x, x[0]]), np.diff(np.r_[y, y[0]]))
+        per = np.nan_to_num(hull_extent(perfect_map_cells(fc, cell, c), cell, c))
+        rows.append(
+            dict(
+                hours=h,
+                fast_share=float(seg[ros >= 0.25 * ros.max()].sum() / seg.sum()),
+                hull_gap_m=float(np.max(hr - ext)),
+                floor_m=float(np.max(np.abs(ext - per))),
+                head_mps=float(ros.max()),
+                median_mps=float(np.median(ros)),
+            )
+        )
+    return rows
+
+
 def describe_lines(rows: list[dict]) -> list[str]:
     out = []
     for r in rows:
@@ -539,12 +623,18 @@ def main() -> None:
     if args.describe:
         synthetic = [f for f in (args.fires or list(SETTINGS)) if not SETTINGS[f].world]
         if not synthetic:
-            ap.error("--describe: --fires names no synthetic fire (wind-driven, fuel change)")
+            ap.error("--describe: --fires names no synthetic fire (" + ", ".join(SYNTHETIC) + ")")
         for f in synthetic:
             print(
                 f"{f} (the true fire; {CELL_M:g} m cells, {SPEED_MPS:g} m/s; spread per angle about the ignition point)"
             )
-            print("\n".join(describe_lines(describe(f))))
+            end_h = SETTINGS[f].t1_s / 3600.0
+            print("\n".join(describe_lines(describe(f, tuple(np.arange(1.0, end_h + 0.01, 0.5))))))
+            for r in regime(f, tuple(np.arange(2.0, end_h - 0.49, 0.5))):
+                print(
+                    f"   {r['hours']:3.1f} h: perimeter at >= 1/4 of the head's rate (30 min) {r['fast_share']:4.2f},"
+                    f" own hull outside the fire by {r['hull_gap_m']:4.0f} m, perfect-map floor {r['floor_m']:4.0f} m"
+                )
         return
     if args.quick:
         g = SETTINGS["grass_wind"]
@@ -556,7 +646,7 @@ def main() -> None:
         for f in fires:  # the workers are forked and read SETTINGS, as --quick's
             SETTINGS[f] = replace(SETTINGS[f], score_from_s=args.score_from_s)
     jobs = [(f, k, seed, 1.0) for f in fires for k in MONITORS for seed in range(args.seeds)]
-    alpha_fires = [f for f in ("monitor_grass", "wind-driven") if f in fires]
+    alpha_fires = [f for f in ("monitor_grass", "wind-driven", "narrow head") if f in fires]
     alpha_jobs = [(f, "worst", 0, a) for f in alpha_fires for a in ALPHAS]
     two_jobs = (
         [("monitor_grass", "worst", seed, split) for split in TWO_SPLITS for seed in range(args.seeds)]
@@ -577,13 +667,13 @@ def main() -> None:
             for split in TWO_SPLITS:
                 rows[f"two ({split})"] = [(e, fl, c, n) for job, e, fl, c, n in two if job[3] == split]
         table(f, rows, args.seeds)
-    if args.score_from_s is not None:
-        for f in fires:
-            if SETTINGS[f].t1_s <= args.score_from_s:
-                continue
-            rows = {k: [late[(f, k, seed, 1.0)] for seed in range(args.seeds)] for k in MONITORS}
-            over = f"t >= {args.score_from_s:g} s (flight {SETTINGS[f].t0_s:g}-{SETTINGS[f].t1_s:g} s)"
-            table(f, rows, args.seeds, over)
+    for f in fires:
+        s_from = SETTINGS[f].score_from_s  # --score-from-s, or the fire's own (narrow head)
+        if s_from is None or SETTINGS[f].t1_s <= s_from:
+            continue
+        rows = {k: [late[(f, k, seed, 1.0)] for seed in range(args.seeds)] for k in MONITORS}
+        over = f"t >= {s_from:g} s (flight {SETTINGS[f].t0_s:g}-{SETTINGS[f].t1_s:g} s)"
+        table(f, rows, args.seeds, over)
     if "monitor_grass" in fires:
         b = bounds("monitor_grass")
         print(
@@ -612,6 +702,14 @@ def main() -> None:
     print("\n   direction changes vs alpha, worst-angle rule, seed 0 (paper Fig. 11: 0, 8, 11, 15, 20, 43)")
     for f in alpha_fires:
         print(f"   {f:14s} " + "  ".join(f"a={a:g}: {one[(f, 'worst', 0, a)][3]}" for a in ALPHAS))
+    print(
+        "   and the mean max error [cells] vs alpha (the same flights; from the fire's score time where it has one)"
+    )
+    for f in alpha_fires:
+        err = {a: late[(f, "worst", 0, a)][0] if SETTINGS[f].score_from_s is not None else one[(f, "worst", 0, a)][0]
+               for a in ALPHAS}  # fmt: skip
+        cell = one[(f, "worst", 0, 1.0)][2]
+        print(f"   {f:14s} " + "  ".join(f"a={a:g}: {err[a] / cell:4.2f}" for a in ALPHAS))
     print(f"\ntotal {time.time() - t0:.0f} s wall")
 
 

@@ -49,3 +49,21 @@ def test_late_mean_counts_only_the_samples_from_the_given_time(bench):
     assert bench.late_mean(samples, 0.0) == (pytest.approx(110.0 / 3), pytest.approx(7.0 / 3))
     assert all(np.isnan(bench.late_mean(samples, 31.0)))  # no sample after S
     assert all(np.isnan(bench.late_mean(samples, None)))  # not asked
+
+
+def test_the_narrow_head_fire_is_in_pm_fig_16a_regime(bench):
+    """The "narrow head" fire: even (every angle within x1.6 of the head) for 3 h, then a head
+    ten times faster than the back; over the scored window (3-5 h) nearly convex (its own hull
+    outside it by at most 1.5 cells, about what a round fire's squares give) with a fast part
+    well under half the perimeter (at a quarter of the head's rate or more: < 0.35). The
+    fuel-change fire, for contrast, fails both once its head is in the fast fuel. From the
+    arrival times, no flight."""
+    cell = bench.CELL_M
+    even, *late = bench.regime("narrow head", (2.0, 3.0, 3.5, 4.0, 4.5))
+    assert even["fast_share"] == 1.0 and even["head_mps"] < 1.6 * even["median_mps"]
+    for r in late:
+        assert r["fast_share"] < 0.35, r
+        assert r["hull_gap_m"] <= 1.5 * cell and r["floor_m"] <= 1.5 * cell, r
+        assert r["head_mps"] > 4.0 * bench.NH_BACK_MPS  # uneven: the head far ahead of the back
+    (fc,) = bench.regime("fuel change", (3.0,))
+    assert fc["fast_share"] > 0.5 and fc["hull_gap_m"] > 4 * cell  # the fan and the hull's over-reach
