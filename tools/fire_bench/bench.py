@@ -489,7 +489,9 @@ def _script(name: str, quick: bool) -> dict:
         "command": " ".join(["scripts/" + path.name, *extra]),
         "exit_code": p.returncode,
         "wall_s": round(time.monotonic() - t0, 1),
-        "stdout": p.stdout[-6000:],
+        # a script's whole report (the full perimeter run prints ~6 KB; a 6,000-character tail cut
+        # its header and first table); bounded only against a runaway script
+        "stdout": p.stdout[-60000:],
     }
     if p.returncode != 0:
         out["stderr"] = p.stderr[-2000:]
