@@ -193,6 +193,12 @@ def config_from_scenario(
     if monitors_per_fire is not None:
         mission = dataclasses.replace(mission, monitors_per_fire=int(monitors_per_fire))
     drop = scenario.fires.drop_radius_m
+    if "separation" not in agent_options:
+        # mission.vertical_band: the avoider's height check (separation module doc); auto: predicted
+        # for FF's unicycle, whose commanded v_z is the flown one, the height now for a fixed-wing
+        band = mission.vertical_band
+        predicted = band == "predicted" or (band == "auto" and scenario.uavs.airframe is None)
+        agent_options = {**agent_options, "separation": SeparationConfig(vertical_rates=predicted)}
     return AgentConfig(
         uav_id=uav_id,
         uav_count=n,

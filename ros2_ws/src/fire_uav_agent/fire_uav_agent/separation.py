@@ -9,7 +9,26 @@ every peer's predicted straight-line motion over ``horizon_s``, and if the close
 would fall below ``radius_m`` it picks, among ``headings`` candidate headings, the one nearest
 the desired heading that keeps every peer beyond ``radius_m`` over the horizon (or, when none
 does, the one with the largest closest approach). Every UAV applies the same rule (reciprocal
-avoidance); peers separated by more than ``vertical_m`` in height are no conflict.
+avoidance); peers separated by more than ``vertical_m`` in height over the whole horizon are no
+conflict.
+
+Vertical rates (our addition; FF is silent, its UAVs fly at one height). The heights are
+predicted too, each straight at its vertical speed (a peer's from its last two states, our own
+the commanded v_z): a peer is no conflict only if the height difference stays above
+``vertical_m`` over the horizon, as TCAS judges a vertical threat by the closure rate, not the
+separation now (FAA, Introduction to TCAS II Version 7.1, 2011: the vertical tau). Checked on
+the height difference now alone, a UAV climbing out of a missed landing at 15 m/s and a peer
+descending to land at 15 m/s were "26 m apart, no conflict" 0.9 s before they passed 8.8 m apart
+(grass_running, 6 UAVs, auto, seed 2 of the tactics study, 565.8 s). The scenario's
+``mission.vertical_band`` chooses (``agent_config.config_from_scenario``); its default ``auto``
+predicts for FF's unicycle only, from what it did (docs/suppression.md, "Vertical rates in the
+avoider"): FF's unicycle, 15 missions, the closest approach of the worst from 8.8 to 13.5 m
+(grass_running seeds 1-3: 13.4 / 8.8 / 10.5 -> 14.0 / 13.7 / 13.5 m; FF's 5, 8 and 14 UAVs, seeds
+1-3: 10.1-20.8 -> 14.5-26.4 m); on fixed-wings it lifted two tankers' 9.0 m pass (one going
+around, ff_two_fires_tanker with unknown fires, seed 1) to 14.3 m but lowered small_uav's on
+ff_two_fires from 14.8 / 22.3 / 14.2 to 11.3 / 11.4 / 14.1 m: a fixed-wing's commanded v_z, used
+for its own height, is not the one it flies (the flight-path angle lags, climb and descent are
+limited), so there the default stays the height now.
 
 Choice where FF is silent: the unicycle of Eq. 4 turns at up to 10 rad/s (FF II-B), so a
 heading change of up to 1 rad per 0.1 s control step is available and the filter acts only on
@@ -74,6 +93,9 @@ class SeparationConfig:
     yield_m: float = 60.0  # [m] within this of a peer with the right of way, do not close on it
     intent: bool = True  # also predict each peer flying at its published centroid (module doc)
     intent_min_turn_rad: float = 0.5  # [rad] the intent row is added only if it turns the peer this much
+    # predict the heights over the horizon too (module doc; the scenario's mission.vertical_band
+    # sets it); False: the height difference now only
+    vertical_rates: bool = False
 
     def __post_init__(self) -> None:
         for name in ("radius_m", "vertical_m", "horizon_s", "detect_m"):
@@ -211,6 +233,7 @@ def avoid_heading(
     yield_to: np.ndarray | None = None,
     turn_rate_radps: float | None = None,
     heading_rad: float = 0.0,
+    own_vz_mps: float = 0.0,
 ) -> tuple[float, bool, bool]:
     """Heading [rad] to fly, whether it differs from the desired one, and whether it is clear.
 
@@ -222,19 +245,36 @@ def avoid_heading(
     ``margin_m`` raises the clearance the desired heading needs (:class:`Avoider`'s hysteresis);
     ``prefer_heading_rad`` (default: the desired heading) is what a deviation stays nearest to.
 
-    ``peers`` rows are (x_m, y_m, z_m, vx_mps, vy_mps) predicted to the same instant as
-    ``own_xyz_m``. Returns ``(desired_heading_rad, False, True)`` when the desired heading keeps
+    ``peers`` rows are (x_m, y_m, z_m, vx_mps, vy_mps[, vz_mps]) predicted to the same instant as
+    ``own_xyz_m``; with ``cfg.vertical_rates`` a peer is relevant if its height difference comes
+    within ``vertical_m`` over the horizon, the heights moving at their vertical speeds (a row's
+    vz_mps, 0 without it; ``own_vz_mps`` ours). Returns ``(desired_heading_rad, False, True)`` when the desired heading keeps
     every relevant peer beyond ``radius_m`` over the horizon. ``yield_to`` (bool per peer row):
     peers with the right of way (module doc).
     """
-    p = np.asarray(peers, dtype=float).reshape(-1, 5)
+    p = np.asarray(peers, dtype=float)
+    cols = p.shape[-1] if p.ndim == 2 else 5
+    if cols not in (5, 6):
+        raise InputError(f"peers rows must have 5 or 6 columns (x, y, z, vx, vy[, vz]), got {cols}")
+    p = p.reshape(-1, cols)
     x, y, z = own_xyz_m
     yt = np.zeros(p.shape[0], bool) if yield_to is None else np.asarray(yield_to, bool).reshape(-1)
     if yt.shape[0] != p.shape[0]:
         raise InputError(f"yield_to must have one entry per peer row ({p.shape[0]}), got {yt.shape[0]}")
+    horizon = cfg.horizon_s
+    if turn_rate_radps is not None:
+        horizon = max(cfg.horizon_s, 0.5 * math.pi / max(turn_rate_radps, 1e-6))
     if p.shape[0]:
         rel = p[:, :2] - np.array([x, y])
-        near = (np.hypot(rel[:, 0], rel[:, 1]) <= cfg.detect_m) & (np.abs(p[:, 2] - z) <= cfg.vertical_m)
+        dz = p[:, 2] - z
+        if cfg.vertical_rates:
+            # the height difference at the horizon's end, both heights straight at their rates
+            dz_end = dz + ((p[:, 5] if cols == 6 else 0.0) - own_vz_mps) * horizon
+            # the closest over [0, horizon]: 0 if it changes sign, else the nearer end
+            dz_min = np.where(dz * dz_end <= 0.0, 0.0, np.minimum(np.abs(dz), np.abs(dz_end)))
+        else:
+            dz_min = np.abs(dz)
+        near = (np.hypot(rel[:, 0], rel[:, 1]) <= cfg.detect_m) & (dz_min <= cfg.vertical_m)
         p, rel, yt = p[near], rel[near], yt[near]
     if p.shape[0] == 0:
         return desired_heading_rad, False, True
@@ -250,7 +290,6 @@ def avoid_heading(
     def worst(heading: np.ndarray) -> np.ndarray:
         """Closest approach to any peer [m] per candidate heading, (h,)."""
         if turn_rate_radps is not None:
-            horizon = max(cfg.horizon_s, 0.5 * math.pi / max(turn_rate_radps, 1e-6))
             return turning_approach_m(
                 rel, p[:, 3:5], speed_mps, heading_rad, heading, turn_rate_radps, horizon
             )
@@ -300,11 +339,12 @@ class Avoider:
         yield_to: np.ndarray | None = None,
         turn_rate_radps: float | None = None,
         heading_rad: float = 0.0,
+        own_vz_mps: float = 0.0,
     ) -> tuple[float, bool, bool]:
         margin = 0.0 if self.heading_rad is None else self.cfg.release_margin_m
         head, changed, clear = avoid_heading(
             own_xyz_m, speed_mps, desired_heading_rad, peers, self.cfg, margin, self.heading_rad, yield_to,
-            turn_rate_radps, heading_rad,
+            turn_rate_radps, heading_rad, own_vz_mps,
         )  # fmt: skip
         self.heading_rad = head if changed else None
         return head, changed, clear
@@ -334,7 +374,8 @@ class PeerAvoidance:
         self.v_stall_mps, self.v_max_mps, self.omega_max_radps = v_stall_mps, v_max_mps, omega_max_radps
         self.avoider = Avoider(cfg)
         self.steps_changed = 0  # control steps the filter changed the heading
-        self._motion: dict[int, tuple[int, float, float, float, float]] = {}  # j -> step, x, y, vx, vy
+        # j -> step, x, y, z, vx, vy, vz: a peer's last state and the velocity from its last two
+        self._motion: dict[int, tuple[int, float, float, float, float, float, float]] = {}
 
     def command(
         self,
@@ -359,26 +400,32 @@ class PeerAvoidance:
             if p.objective in (Objective.GROUNDED, Objective.LANDED):
                 continue
             old = self._motion.get(j)
-            vx = vy = 0.0
+            vx = vy = pvz = 0.0
             if old is not None and p.step > old[0]:
                 dt = (p.step - old[0]) * T
-                vx, vy = (p.x_m - old[1]) / dt, (p.y_m - old[2]) / dt
+                vx, vy, pvz = (p.x_m - old[1]) / dt, (p.y_m - old[2]) / dt, (p.z_m - old[3]) / dt
                 if math.hypot(vx, vy) > 1.5 * self.v_max_mps:  # a jump (rejoin, GPS reset): no velocity
-                    vx = vy = 0.0
+                    vx = vy = pvz = 0.0
             elif old is not None:
-                vx, vy = old[3], old[4]
+                vx, vy, pvz = old[4], old[5], old[6]
             if old is None or p.step != old[0]:
-                self._motion[j] = (p.step, p.x_m, p.y_m, vx, vy)
+                self._motion[j] = (p.step, p.x_m, p.y_m, p.z_m, vx, vy, pvz)
             lead = (last_step + 1 - p.step) * T  # from the peer's t to our t_{k+1}
             for row in peer_rows(
-                (p.x_m + vx * lead, p.y_m + vy * lead, p.z_m, vx, vy),
+                (
+                    p.x_m + vx * lead,
+                    p.y_m + vy * lead,
+                    p.z_m + (pvz * lead if self.cfg.vertical_rates else 0.0),
+                    vx,
+                    vy,
+                ),
                 (p.centroid_x_m, p.centroid_y_m),
                 self.v_stall_mps,
                 self.cfg,
                 (float(s[0]), float(s[1])),
                 j < self.uav_id,
             ):
-                rows.append(row)
+                rows.append((*row, pvz))
                 right_of_way.append(j < self.uav_id)
         if not rows:
             return cmd
@@ -393,6 +440,7 @@ class PeerAvoidance:
             np.array(right_of_way, bool),
             None if self.turn_rate_at is None else self.turn_rate_at(speed),
             float(s[3]),
+            vz,
         )
         if not changed:
             return cmd

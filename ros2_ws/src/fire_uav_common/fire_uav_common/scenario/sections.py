@@ -17,6 +17,7 @@ from .types import (
     LAKE_SEQUENCES,
     PRIOR_FIRES_MODES,
     TACTICS,
+    VERTICAL_BANDS,
     AltimeterSpec,
     Area,
     Comms,
@@ -202,4 +203,5 @@ def _mission(ctx: _Ctx, raw: Any) -> MissionSettings:
         ),
         lake_sequence=_choice(ctx, d, "lake_sequence", p, LAKE_SEQUENCES, m.lake_sequence),
         post_search_s=_num(ctx, d, "post_search_s", p, m.post_search_s, ge=0),
+        vertical_band=_choice(ctx, d, "vertical_band", p, VERTICAL_BANDS, m.vertical_band),
     )

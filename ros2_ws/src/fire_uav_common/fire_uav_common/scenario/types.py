@@ -44,6 +44,11 @@ PRIOR_FIRES_MODES = ("unknown", "known")
 #: stack above it: ``fire_uav_agent.lake_sequence``; and one UAV of a layer at a time in its landing
 #: entry area; docs/airframes.md). Not "off": YAML reads a bare ``off`` as false
 LAKE_SEQUENCES = ("none", "stack")
+#: ``mission.vertical_band`` values: how the avoider judges two UAVs' heights (fire_uav_agent.separation):
+#: ``now`` (the height difference now), ``predicted`` (over its horizon, each height straight at its
+#: vertical speed), or ``auto`` (the default: predicted for ff_paper's unicycle, now for a
+#: fixed-wing; docs/suppression.md "Vertical rates in the avoider")
+VERTICAL_BANDS = ("auto", "now", "predicted")
 
 
 @dataclass(frozen=True)
@@ -432,6 +437,7 @@ class MissionSettings:
     # [s] after the last known fire is out, the fleet sweeps this long before it lands (our addition
     # to FF IV-D d, fire_uav_agent.mission); FF's 600 m map: 45 s, a larger map needs longer
     post_search_s: float = 45.0
+    vertical_band: str = "auto"  # VERTICAL_BANDS: the avoider's height check
 
 
 @dataclass(frozen=True)
