@@ -122,14 +122,16 @@ def test_a_jsbsim_uav_sent_home_lands_within_5_m_of_its_takeoff_point(seed: int)
     assert math.hypot(v.x_m - home[0], v.y_m - home[1]) <= 5.0
 
 
-def test_the_tanker_scenario_is_sized_for_the_tanker() -> None:
-    """ff_two_fires_tanker flies the tanker on coordinated_turn by default, its lake holds the
+@pytest.mark.parametrize("name", ["ff_two_fires_tanker", "grass_running_tanker"])
+def test_the_tanker_scenario_is_sized_for_the_tanker(name: str) -> None:
+    """The tanker scenarios fly the tanker on coordinated_turn by default, their lake holds the
     tanker's scoop run with a margin, and every UAV's lined-up final, with the turn onto it, lies
-    inside the area (docs/airframes.md, "A scenario sized for the tanker")."""
+    inside the area (docs/airframes.md, "A scenario sized for the tanker" and "A raster scenario
+    sized for the tanker")."""
     from fire_uav_agent.agent_core import Agent
     from fire_uav_agent.airframe_model import scoop_run_m
 
-    sc = load_scenario(scenario_path("ff_two_fires_tanker"))
+    sc = load_scenario(scenario_path(name))
     assert sc.uavs.vehicle_model == "coordinated_turn" and sc.uavs.airframe == AIRFRAMES["tanker"]
     need = scoop_run_m(sc.uavs.airframe)
     assert need == pytest.approx(702.0)
@@ -141,6 +143,24 @@ def test_the_tanker_scenario_is_sized_for_the_tanker() -> None:
         ex, ey = ap.entry_xy
         r = ap.turn_radius_m
         assert a.x_min_m + r <= ex <= a.x_max_m - r and a.y_min_m + r <= ey <= a.y_max_m - r
+
+
+def test_the_raster_tanker_scenario_drops_patterns_on_a_grid_the_fleet_can_work() -> None:
+    """grass_running_tanker: a raster fire burning before dispatch, drops as patterns (the tanker's
+    line wets grass at its coverage level), at most 600 x 600 cells (the world and every agent's
+    front picture work per cell), and its lake a few km from the ignition, out of the head's path."""
+    sc = load_scenario(scenario_path("grass_running_tanker"))
+    r = sc.fires.raster
+    assert sc.fires.model == "raster" and sc.fires.drop_model == "pattern" and r is not None
+    assert r.nx * r.ny <= 600 * 600 and r.nx * r.cell_size_m >= 5000.0
+    (ign,) = r.ignitions
+    assert ign.start_s <= -1200.0
+    (lake,) = sc.lakes
+    shore_m = math.hypot(lake.x_m - ign.x_m, lake.y_m - ign.y_m) - lake.diameter_m / 2
+    assert 2000.0 <= shore_m <= 5000.0
+    # out of the head's path: across the wind from the ignition more than down it
+    w = math.radians(r.wind[0].direction_deg)
+    assert (lake.x_m - ign.x_m) * math.cos(w) + (lake.y_m - ign.y_m) * math.sin(w) < 0.5 * shore_m
 
 
 @pytest.mark.slow

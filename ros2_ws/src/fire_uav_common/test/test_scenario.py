@@ -282,6 +282,17 @@ def test_prior_fires_mode_is_validated_and_defaults_to_unknown():
         scenario_from_dict({**base, "mission": {"prior_position_sigma_m": -1}})
 
 
+def test_known_fires_are_refused_on_a_raster_fire():
+    """The dispatch briefing holds analytic fires only, and agents told their fires are known do
+    not search: 'known' on a raster fire would leave the fleet nothing to find the fire by."""
+    with pytest.raises(
+        ScenarioError,
+        match=r"grass_running\.yaml: mission\.prior_fires: 'known' briefs analytic fires only, got fires\.model 'raster'",
+    ):
+        load_scenario(SCENARIOS / "grass_running.yaml", overrides={"mission.prior_fires": "known"})
+    assert load_scenario(SCENARIOS / "ff_two_fires.yaml", overrides={"mission.prior_fires": "known"})
+
+
 def test_lake_sequence_is_off_by_default_stack_on_request_and_a_clear_error():
     from fire_uav_common.scenario import ScenarioError, scenario_from_dict
 

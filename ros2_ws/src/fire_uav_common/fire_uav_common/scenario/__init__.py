@@ -265,6 +265,14 @@ def scenario_from_dict(
     )
     owner = _preset_owner(d.get("uavs"))
     _check_lake_runs(ctx, scenario, owner)
+    if scenario.mission.prior_fires == "known" and scenario.fires.model != "analytic":
+        # the briefing (fire_world_sim.dispatch) holds analytic fires only, and an agent told its
+        # fires are known does not search: on a raster fire it would have nothing to find them by
+        raise ctx.fail(
+            "mission.prior_fires",
+            f"'known' briefs analytic fires only, got fires.model {scenario.fires.model!r} "
+            "(a raster fire has no single centre and extent: leave it 'unknown', the fleet searches)",
+        )
     scenario = apply_landscape(ctx, scenario, terrain_given=d.get("terrain") is not None, run_owner=owner)
     check_placement(ctx, scenario)
     return scenario
