@@ -77,6 +77,8 @@ def module_file(module: str) -> tuple[Path, Path]:
     """(package dir, module path relative to it)."""
     pkg = package_dir(module)
     rel = Path(*module.split(".")[1:]).with_suffix(".py")
+    if not (pkg / rel).is_file() and (pkg / rel.with_suffix("") / "__init__.py").is_file():
+        rel = rel.with_suffix("") / "__init__.py"  # a subpackage: its __init__ (mutmut names it so)
     if not (pkg / rel).is_file():
         raise SystemExit(f"mutation: module {module}: no file {pkg / rel}")
     return pkg, rel
