@@ -40,7 +40,9 @@ def _command(t: float) -> tuple[float, float, float]:
 
 
 def _fly(make_ekf, seconds: float, seed: int = 3, wind=WIND):
-    """Fly the world's model in ``wind``; return per-step (t, pose error, NEES, wind estimate) and the filter."""
+    """Fly the world's model in ``wind`` (east, north) [m/s], or ``wind(t)``; return per step (t, pose
+    error, NEES, wind estimate, its covariance) and the filter."""
+    wind_at = wind if callable(wind) else (lambda _t: wind)
     model = CoordinatedTurnModel(SMALL, sc.Vehicle().process_noise_sigma)
     rng = np.random.default_rng(seed)
     sensors = SensorSuite(sc.Sensors(), seed, 0)
@@ -55,7 +57,7 @@ def _fly(make_ekf, seconds: float, seed: int = 3, wind=WIND):
         gps, alt, gyro = [], [], []
         c = Command(*cmd)
         for j in range(1, 11):
-            (truth,) = model.step([truth], [c], DT, [rng], wind)
+            (truth,) = model.step([truth], [c], DT, [rng], wind_at(t0 + (j - 1) * DT))
             ns = int(round((t0 + j * DT) * 1e9))
             g = sensors.sample_gyro(ns, truth.yaw_rate_radps)
             if g is not None:
@@ -127,6 +129,20 @@ def test_the_wind_estimate_converges_to_the_true_wind_after_the_turns(flight):
         err = np.array(w) - np.array(WIND)
         assert float(np.hypot(*err)) < 0.5, (w, WIND)
         assert float(err @ np.linalg.solve(cov, err)) < stats.chi2.ppf(0.999, 2)
+
+
+def _polar(speed_mps: float, toward_deg: float) -> tuple[float, float]:
+    return (speed_mps * math.cos(math.radians(toward_deg)), speed_mps * math.sin(math.radians(toward_deg)))
+
+
+def test_a_veering_wind_is_followed_within_half_a_minute():
+    # grass_brush_hill's first veer: 3 m/s toward 15 deg, then 3.5 m/s toward 45 deg (a 2.0 m/s step)
+    before, after = _polar(3.0, 15.0), _polar(3.5, 45.0)
+    rows, _ = _fly(_wind_ekf, 95.0, seed=4, wind=lambda t: before if t < 60.0 else after)
+    assert float(np.hypot(*(np.array(rows[int(round(59.9 / T))][3]) - before))) < 0.5
+    for r in [r for r in rows if r[0] > 85.0]:
+        assert float(np.hypot(*(np.array(r[3]) - after))) < 0.5, (r[0], r[3], after)
+    assert max(math.hypot(r[1][0], r[1][1]) for r in rows) < 8.0
 
 
 def test_without_the_wind_states_the_ff_filter_is_not_consistent_in_that_wind():
