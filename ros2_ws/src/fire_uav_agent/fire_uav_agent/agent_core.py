@@ -61,6 +61,7 @@ from .staleness_search import StalenessSearch
 from .tactics import (
     TacticConfig,
 )
+from .wind_estimation import WindEkfConfig, WindStateEkf
 
 __all__ = [
     "Agent",
@@ -93,18 +94,22 @@ class Agent:
     ) -> None:
         self.cfg = cfg
         veh, sens, gd = cfg.vehicle, cfg.sensors, cfg.guidance
-        self.ekf = StateEkf(
-            EkfConfig(
-                dt_s=cfg.physics_period_s,
-                sigma_nu=input_noise_sigma(cfg.airframe, veh.process_noise_sigma, cfg.physics_period_s),
-                sigma_gps_m=sens.gps.sigma_m,
-                sigma_alt_m=sens.altimeter.sigma_m,
-                sigma_gyro_radps=sens.gyro.sigma_radps,
-                alt_max_range_m=sens.altimeter.max_range_m,
-                alt_min_m=-math.inf if cfg.airframe is not None else 0.0,
-            ),
-            np.array(cfg.start_pose, dtype=float),
-            cfg.terrain,
+        ekf_cfg = EkfConfig(
+            dt_s=cfg.physics_period_s,
+            sigma_nu=input_noise_sigma(cfg.airframe, veh.process_noise_sigma, cfg.physics_period_s),
+            sigma_gps_m=sens.gps.sigma_m,
+            sigma_alt_m=sens.altimeter.sigma_m,
+            sigma_gyro_radps=sens.gyro.sigma_radps,
+            alt_max_range_m=sens.altimeter.max_range_m,
+            alt_min_m=-math.inf if cfg.airframe is not None else 0.0,
+        )
+        # FF's EKF (III-B) for FF's unicycle, which the world does not drift; a fixed-wing flies
+        # through the air and the world drifts it with the wind: two more states for the wind
+        # (fire_uav_agent.wind_estimation)
+        self.ekf: StateEkf | WindStateEkf = (
+            StateEkf(ekf_cfg, np.array(cfg.start_pose, dtype=float), cfg.terrain)
+            if cfg.airframe is None
+            else WindStateEkf(WindEkfConfig(ekf_cfg), np.array(cfg.start_pose, dtype=float), cfg.terrain)
         )
         self.flown = FlownInput(cfg.airframe, cfg.limits, cfg.physics_period_s, cfg.control_period_s)
         # a fixed-wing refills only where the lake is long enough for its scoop run; the node logs

@@ -6,7 +6,7 @@ from pathlib import Path
 PKG = Path(__file__).resolve().parents[1] / "fire_uav_agent"
 PURE = [
     "estimation", "peer_link", "consensus", "coverage", "mission", "agent_core", "agent_config", "agent_types",
-    "planning", "staleness_search", "monitor_role", "lake_sequence", "testing/harness",
+    "planning", "staleness_search", "monitor_role", "lake_sequence", "testing/harness", "wind_estimation",
 ]  # fmt: skip
 
 
