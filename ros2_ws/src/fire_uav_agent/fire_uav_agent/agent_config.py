@@ -89,6 +89,9 @@ class AgentConfig:
     drop_radius_m: float = (
         DEFAULT_DROP_RADIUS_M  # water footprint radius (world hits within max(this, sigma))
     )
+    # the tank's drop is a ground pattern (scenario fires.drop_model: pattern), whose coverage falls
+    # with the release height and speed: raster drop runs low and slow (guidance.Guide)
+    pattern_drops: bool = False
     gains: ControlGains = field(default_factory=ControlGains)
     guidance: GuidanceConfig = field(default_factory=GuidanceConfig)
     separation: SeparationConfig = field(default_factory=SeparationConfig)
@@ -218,5 +221,6 @@ def config_from_scenario(
         ),
         outages=tuple(outages) if outages is not None else tuple(_outage(o) for o in scenario.comms.outages),
         drop_radius_m=float(drop) if drop else DEFAULT_DROP_RADIUS_M,
+        pattern_drops=scenario.fires.drop_model == "pattern",
         **agent_options,
     )

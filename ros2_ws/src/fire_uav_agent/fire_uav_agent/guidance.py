@@ -94,6 +94,11 @@ class Guide:
         self.lake_clear_m = 0.0  # [m] beyond the shore, a low UAV leaving the lake still holds it
         # mission.lake_sequence: stack (opt-in): one fixed-wing at a time low over the lake
         self.lake_sequenced = cfg.airframe is not None and cfg.mission.lake_sequence == "stack"
+        # [m] pattern drops (AgentConfig.pattern_drops): within this of its aim point on a raster
+        # front a UAV flies its drop run low and slow (_drop_run); 0: no drop run
+        self.drop_run_m = 0.0
+        if cfg.pattern_drops and raster is not None:
+            self.drop_run_m = self._drop_run_m()
         # _lake_rung's configuration per lake (fixed per agent and lake: made once, not per step)
         self._lake_seq: dict[tuple[float, float, float], LakeSequenceConfig] = {}
         af = cfg.airframe
@@ -178,6 +183,9 @@ class Guide:
             tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
             if sit.front_aim is not None:  # raster: the aim point on the front (tactics)
                 target = sit.front_aim
+                run = self._drop_run(pos, target)
+                if run is not None:
+                    height, v_cap = run
             elif dec.direct:
                 target = (tgt.x_m, tgt.y_m)
                 if self.raster.front is not None:
@@ -279,6 +287,42 @@ class Guide:
         if self.raster.front is None:  # analytic fires only (_within_turn)
             cmd = self._within_turn(s, cmd, target)
         return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
+
+    def _drop_run_m(self) -> float:
+        """Where a pattern drop's run begins [m from the aim point]: the release radius
+        (``tactics.release_now``) plus the distance the airframe needs to slow from its top speed
+        to the drop speed (``airframe_model.slowdown_m``) and to descend from its layer to the
+        lowest (``airframe_model.descent_m``); FF's unicycle changes both at once, so twice the
+        release radius."""
+        cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
+        tactic = self.raster.tactic
+        release = tactic.release_radius_m
+        af = cfg.airframe
+        if af is None:
+            return 2.0 * release
+        v_drop = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
+        drop_h = tactic.layer_height_m(cfg.uav_id) - tactic.layer_height_m(0)
+        return release + max(slowdown_m(af, af.v_max_mps, v_drop), descent_m(af, v_drop, drop_h))
+
+    def _drop_run(self, pos: tuple[float, float], aim: tuple[float, float]) -> tuple[float, float] | None:
+        """The height [m above terrain] and speed cap [m/s] of a pattern drop's run, or None away from it.
+
+        A drop laid as a ground pattern (world ``fires.drop_model: pattern``, drop_pattern (P2)-(P3))
+        has its peak coverage proportional to Q / v and inversely to its spread, which grows with
+        the release height: "increasing the drop height gradually widens the drop while decreasing
+        the coverage levels" and "increasing airspeed increases the line length while reducing the
+        coverage level" (USDA FS MTDC airtanker drop guides). From the 22 and 36 m raster layers the
+        tanker's 757 L/s at 75 m/s put 0.19-0.32 L/m^2 on grass, under the 0.41 L/m^2 it needs, so
+        only drops from the lowest layer put cells out (grass_running_tanker, docs/airframes.md).
+        So within ``drop_run_m`` of its aim point a UAV flies its run at the lowest raster layer
+        (``tactics.TacticConfig.layer_height_m`` of id 0: the floor the layers were sized for) and
+        at the speed of the lake approach (FF IV-D b's "low and slow"). Our addition; FF's drop is
+        a disc at any height."""
+        if self.drop_run_m <= 0.0 or math.hypot(pos[0] - aim[0], pos[1] - aim[1]) >= self.drop_run_m:
+            return None
+        lim, gd, veh = self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
+        v_drop = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
+        return self.raster.tactic.layer_height_m(0), v_drop
 
     def _lake_rung(self, s: np.ndarray, lake: Lake) -> float | None:
         """None if this fixed-wing holds the lake (FF mode; :func:`.lake_sequence.lake_holder`): it
