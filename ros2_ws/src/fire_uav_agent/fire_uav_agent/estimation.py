@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 from fire_uav_common.angles import wrap_angle  # re-exported: callers import it from here
@@ -214,54 +215,94 @@ class StateEkf:
         on the ground) skips the prediction.
         """
         dt = self.cfg.dt_s
-        n_sub = max(1, int(round((t1_s - t0_s) / dt)))
-        eps = 1e-6 * dt
-
-        def sub_index(t: float) -> int:
-            """The substep containing stamp ``t`` [s], clipped to 1..n_sub (a non-finite stamp: 1)."""
-            x = (t - t0_s - eps) / dt
-            return min(max(math.ceil(x), 1), n_sub) if math.isfinite(x) else 1
-
-        gyro_at: dict[int, float] = {}
-        if samples.gyro.size:
-            for t, w in samples.gyro[:, :2].tolist():
-                if math.isfinite(w):
-                    gyro_at[sub_index(t)] = w  # at most one per substep at 100 Hz
-        events: list[tuple[int, float, int, int]] = []  # (substep, t, kind, row)
-        if samples.gps.size:
-            for r, t in enumerate(samples.gps[:, 0].tolist()):
-                events.append((sub_index(t), t, 0, r))
-        if samples.alt.size:
-            for r, t in enumerate(samples.alt[:, 0].tolist()):
-                events.append((sub_index(t), t, 1, r))
-        events.sort()
-        ei = 0
-        n_ev = len(events)
+        gyro_at, segments = fusion_schedule(samples, t0_s, t1_s, dt)
         u = np.asarray(command, dtype=float)
         v, vz, om = float(u[0]), float(u[1]), float(u[2])
-        j = 1
-        while j <= n_sub:
+        for j, j_end, fixes in segments:
             # the substeps up to the next one with a measurement (or the last), on the state as floats
-            j_end = min(events[ei][0], n_sub) if ei < n_ev else n_sub
             if moving:
                 x, y, z, th = self.s.tolist()
                 for i in range(j, j_end + 1):
                     x, y, z, th = self._predict_floats(x, y, z, th, v, vz, om, dt, gyro_at.get(i))
                 self.s = np.array([x, y, z, th])
-            while ei < n_ev and events[ei][0] == j_end:
-                _, _, kind, r = events[ei]
-                ei += 1
-                if kind == 0:
-                    gx, gy = samples.gps[r, 1], samples.gps[r, 2]
-                    var = float(samples.gps_var_m2[r]) if samples.gps_var_m2.size > r else 0.0
-                    if math.isfinite(gx) and math.isfinite(gy):
-                        self.update_gps(float(gx), float(gy), var)
-                else:
-                    hgt = float(samples.alt[r, 1])
-                    if math.isfinite(hgt) and self.cfg.alt_min_m <= hgt <= self.cfg.alt_max_range_m:
-                        self.update_altimeter(hgt)
-            j = j_end + 1
+            fuse_fixes(self, samples, fixes)
 
     @property
     def yaw_rad(self) -> float:
         return float(self.s[3])
+
+
+Segment = tuple[int, int, list[tuple[int, int]]]
+
+
+def fusion_schedule(
+    samples: Samples, t0_s: float, t1_s: float, dt_s: float
+) -> tuple[dict[int, float], list[Segment]]:
+    """When each sample of a control step is fused: the schedule every filter here shares.
+
+    The step from ``t0_s`` to ``t1_s`` is cut into physics substeps of ``dt_s``; substep j covers
+    (t0 + (j-1) dt, t0 + j dt] and a sample stamped t belongs to the substep containing it (clipped
+    to 1..n; a non-finite stamp: substep 1). Returns ``gyro_at`` (substep -> the finite gyro rate
+    measured during it; at 100 Hz at most one per substep, a later one replaces an earlier) and
+    the segments ``(j, j_end, fixes)``: predict substeps j..j_end, then apply ``fixes``, the GPS
+    (kind 0) and altimeter (kind 1) rows stamped in substep j_end as ``(kind, row)`` in
+    timestamp order (FF III-B's partial updates "in timestamp order"). The last segment ends at
+    the step's last substep, with or without fixes.
+    """
+    n_sub = max(1, int(round((t1_s - t0_s) / dt_s)))
+    eps = 1e-6 * dt_s
+
+    def sub_index(t: float) -> int:
+        """The substep containing stamp ``t`` [s], clipped to 1..n_sub (a non-finite stamp: 1)."""
+        x = (t - t0_s - eps) / dt_s
+        return min(max(math.ceil(x), 1), n_sub) if math.isfinite(x) else 1
+
+    gyro_at: dict[int, float] = {}
+    if samples.gyro.size:
+        for t, w in samples.gyro[:, :2].tolist():
+            if math.isfinite(w):
+                gyro_at[sub_index(t)] = w
+    events: list[tuple[int, float, int, int]] = []  # (substep, t, kind, row)
+    if samples.gps.size:
+        for r, t in enumerate(samples.gps[:, 0].tolist()):
+            events.append((sub_index(t), t, 0, r))
+    if samples.alt.size:
+        for r, t in enumerate(samples.alt[:, 0].tolist()):
+            events.append((sub_index(t), t, 1, r))
+    events.sort()
+    segments: list[Segment] = []
+    ei, n_ev, j = 0, len(events), 1
+    while j <= n_sub:
+        j_end = events[ei][0] if ei < n_ev else n_sub
+        fixes: list[tuple[int, int]] = []
+        while ei < n_ev and events[ei][0] == j_end:
+            fixes.append((events[ei][2], events[ei][3]))
+            ei += 1
+        segments.append((j, j_end, fixes))
+        j = j_end + 1
+    return gyro_at, segments
+
+
+class FixSink(Protocol):
+    """What :func:`fuse_fixes` needs of a filter: its :class:`EkfConfig` and its two updates."""
+
+    cfg: EkfConfig
+
+    def update_gps(self, x_m: float, y_m: float, var_m2: float | None = None) -> None: ...
+
+    def update_altimeter(self, height_m: float) -> None: ...
+
+
+def fuse_fixes(ekf: FixSink, samples: Samples, fixes: list[tuple[int, int]]) -> None:
+    """Apply one segment's GPS / altimeter rows (:func:`fusion_schedule`) to ``ekf`` in order;
+    a non-finite fix, or a height outside the altimeter's range, is skipped."""
+    for kind, r in fixes:
+        if kind == 0:
+            gx, gy = samples.gps[r, 1], samples.gps[r, 2]
+            var = float(samples.gps_var_m2[r]) if samples.gps_var_m2.size > r else 0.0
+            if math.isfinite(gx) and math.isfinite(gy):
+                ekf.update_gps(float(gx), float(gy), var)
+        else:
+            hgt = float(samples.alt[r, 1])
+            if math.isfinite(hgt) and ekf.cfg.alt_min_m <= hgt <= ekf.cfg.alt_max_range_m:
+                ekf.update_altimeter(hgt)

@@ -74,7 +74,7 @@ from fire_uav_common.codecs.sensor_bundle import Samples
 from fire_uav_common.terrain import Terrain
 
 from .errors import ConfigError
-from .estimation import EkfConfig
+from .estimation import EkfConfig, fuse_fixes, fusion_schedule
 
 __all__ = ["WindEkfConfig", "WindStateEkf"]
 
@@ -251,32 +251,10 @@ class WindStateEkf:
         substep containing it, the gyro during it; ``moving`` False skips the prediction: the
         wind does not move a vehicle on the ground)."""
         dt = self.cfg.dt_s
-        n_sub = max(1, int(round((t1_s - t0_s) / dt)))
-        eps = 1e-6 * dt
-
-        def sub_index(t: float) -> int:
-            x = (t - t0_s - eps) / dt
-            return min(max(math.ceil(x), 1), n_sub) if math.isfinite(x) else 1
-
-        gyro_at: dict[int, float] = {}
-        if samples.gyro.size:
-            for t, w in samples.gyro[:, :2].tolist():
-                if math.isfinite(w):
-                    gyro_at[sub_index(t)] = w
-        events: list[tuple[int, float, int, int]] = []
-        if samples.gps.size:
-            for r, t in enumerate(samples.gps[:, 0].tolist()):
-                events.append((sub_index(t), t, 0, r))
-        if samples.alt.size:
-            for r, t in enumerate(samples.alt[:, 0].tolist()):
-                events.append((sub_index(t), t, 1, r))
-        events.sort()
-        ei, n_ev = 0, len(events)
+        gyro_at, segments = fusion_schedule(samples, t0_s, t1_s, dt)
         u = np.asarray(command, dtype=float)
         v, vz, om = float(u[0]), float(u[1]), float(u[2])
-        j = 1
-        while j <= n_sub:
-            j_end = min(events[ei][0], n_sub) if ei < n_ev else n_sub
+        for j, j_end, fixes in segments:
             if moving:
                 x, y, z, th, wx, wy = self.x.tolist()
                 for i in range(j, j_end + 1):
@@ -284,16 +262,4 @@ class WindStateEkf:
                         x, y, z, th, wx, wy, v, vz, om, dt, gyro_at.get(i)
                     )
                 self.x = np.array([x, y, z, th, wx, wy])
-            while ei < n_ev and events[ei][0] == j_end:
-                _, _, kind, r = events[ei]
-                ei += 1
-                if kind == 0:
-                    gx, gy = samples.gps[r, 1], samples.gps[r, 2]
-                    var = float(samples.gps_var_m2[r]) if samples.gps_var_m2.size > r else 0.0
-                    if math.isfinite(gx) and math.isfinite(gy):
-                        self.update_gps(float(gx), float(gy), var)
-                else:
-                    hgt = float(samples.alt[r, 1])
-                    if math.isfinite(hgt) and self.cfg.alt_min_m <= hgt <= self.cfg.alt_max_range_m:
-                        self.update_altimeter(hgt)
-            j = j_end + 1
+            fuse_fixes(self, samples, fixes)
