@@ -498,6 +498,21 @@ def bounds(setting: str, dt_s: float = 1.0) -> dict:
     }
 
 
+def _shape_at(fire, cell: float, t_s: float, window_s: float):
+    """A fire's shape at ``t_s`` per angle bin about its ignition point, from its arrival times:
+    its cells, the true extent [m], the extent's growth rate over the next ``window_s`` [m/s], the
+    hull's extent [m] and the hull's segment length per bin [m] (their sum: the perimeter)."""
+    c = fire.ignition_xy_m
+    fc = _fire_cells(fire, t_s)
+    ext = np.nan_to_num(true_extent(fc, cell, c))
+    ros = (np.nan_to_num(true_extent(_fire_cells(fire, t_s + window_s), cell, c)) - ext) / window_s
+    hr = np.nan_to_num(hull_extent(fc, cell, c))
+    th = (np.arange(hr.size) + 0.5) * (2 * np.pi / hr.size)
+    x, y = hr * np.cos(th), hr * np.sin(th)
+    seg = np.hypot(np.diff(np.r_[x, x[0]]), np.diff(np.r_[y, y[0]]))
+    return fc, ext, ros, hr, seg
+
+
 def describe(setting: str, hours: tuple[float, ...] = (1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)) -> list[dict]:
     """What a synthetic fire does, from its arrival times (no flight): at each hour its size, the
     perimeter (hull of the true fire's squares) and the lap it takes at the UAV's speed, the
@@ -506,17 +521,10 @@ def describe(setting: str, hours: tuple[float, ...] = (1.0, 1.5, 2.0, 2.5, 3.0, 
     s = SETTINGS[setting]
     fire = s.fire()
     cell, speed, _ = _cell_speed_sensor(s, fire)
-    c = fire.ignition_xy_m
     rows = []
     for h in hours:
-        t = h * 3600.0
-        fc = _fire_cells(fire, t)
-        ext = np.nan_to_num(true_extent(fc, cell, c))
-        ros = (np.nan_to_num(true_extent(_fire_cells(fire, t + 600.0), cell, c)) - ext) / 600.0
-        hr = np.nan_to_num(hull_extent(fc, cell, c))
-        th = (np.arange(hr.size) + 0.5) * (2 * np.pi / hr.size)
-        x, y = hr * np.cos(th), hr * np.sin(th)
-        perim = float(np.sum(np.hypot(np.diff(np.r_[x, x[0]]), np.diff(np.r_[y, y[0]]))))
+        fc, _, ros, _, seg = _shape_at(fire, cell, h * 3600.0, 600.0)
+        perim = float(np.sum(seg))
         lap_s = perim / speed
         rows.append(
             dict(
@@ -550,14 +558,7 @@ def regime(setting: str, hours: tuple[float, ...], window_s: float = 1800.0) -> 
     c = fire.ignition_xy_m
     rows = []
     for h in hours:
-        t = h * 3600.0
-        fc = _fire_cells(fire, t)
-        ext = np.nan_to_num(true_extent(fc, cell, c))
-        ros = (np.nan_to_num(true_extent(_fire_cells(fire, t + window_s), cell, c)) - ext) / window_s
-        hr = np.nan_to_num(hull_extent(fc, cell, c))
-        th = (np.arange(hr.size) + 0.5) * (2 * np.pi / hr.size)
-        x, y = hr * np.cos(th), hr * np.sin(th)
-        seg = np.hypot(np.diff(np.r_[x, x[0]]), np.diff(np.r_[y, y[0]]))
+        fc, ext, ros, hr, seg = _shape_at(fire, cell, h * 3600.0, window_s)
         per = np.nan_to_num(hull_extent(perfect_map_cells(fc, cell, c), cell, c))
         rows.append(
             dict(
