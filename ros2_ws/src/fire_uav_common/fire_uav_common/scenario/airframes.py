@@ -103,7 +103,12 @@ AIRFRAMES: dict[str, Airframe] = {
         # jsbsim: the Pilatus PC-7, a single-turboprop trainer (MTOW ~2,700 kg), the water in its
         # payload point mass scaled by its payload / the tank (1,040 / 3,000 kg); not tuned further
         jsbsim=JsbsimSetup(
-            aircraft="pc7", v_floor_mps=46.8, v_stall_mps=36.0, water_pointmass=0, water_weight_scale=0.347
+            aircraft="pc7",
+            v_floor_mps=46.8,
+            v_stall_mps=36.0,
+            water_pointmass=0,
+            water_weight_scale=0.347,
+            simple_trim=False,  # JSBSim's trim fails for it (jsbsim_backend.JsbsimModel.launch)
         ),
         drop_flow_lps=757.0,  # 200 US gal/s: AT-802F constant-flow settings span 77-450 gal/s
     ),

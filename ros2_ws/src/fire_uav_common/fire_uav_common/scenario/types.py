@@ -127,6 +127,9 @@ class JsbsimSetup:
     water_pointmass: int = 0
     base_pointmass_lbs: float = 0.0
     water_weight_scale: float = 1.0
+    # JSBSim's own trim at launch; False: the backend trims by flying (JSBSim's trim fails for the
+    # PC-7 at every speed and load, after up to 7 s of CPU: fire_world_sim.vehicles.jsbsim_backend)
+    simple_trim: bool = True
     bank_margin_deg: float = 5.0
     pitch_max_deg: float = 15.0
     pitch_rate_max_degps: float = 10.0

@@ -51,6 +51,10 @@ _EAST_M_PER_RAD = WGS84_A_M  # N cos(lat) at lat 0
 _NORTH_M_PER_RAD = WGS84_A_M * (1.0 - WGS84_E2)  # meridian radius M at lat 0
 #: JSBSim's ground, far below any map terrain [ft]
 _GROUND_FT = -10000.0
+#: the fallback trim (JsbsimModel._fly_to_trim): the height above the takeoff it flies at [m] and
+#: its longest flight [s]
+FLY_TRIM_HEIGHT_M = 300.0
+FLY_TRIM_MAX_S = 60.0
 
 
 def map_to_geodetic(x_m: float, y_m: float) -> tuple[float, float]:
@@ -102,30 +106,85 @@ class JsbsimModel:
 
     def launch(self, state: FlightState, command: Command, dt_s: float = 0.01) -> FlightState:
         """Airborne at the commanded speed (within the envelope and the aircraft's floor), wings
-        level, trimmed for level flight at the takeoff pose."""
+        level, trimmed for level flight at the takeoff pose.
+
+        JSBSim's own trim (``simulation/do_simple_trim``) finds the throttle and pitch of level
+        flight for the J3Cub; for the PC-7 it fails at every speed and load tried (46.8-60 m/s,
+        0-3,000 kg, engine running or spooled up for 30 s: "udot doesn't appear to be
+        trimmable"; JSBSim's turboprop). Launched untrimmed, from throttle 0 and pitch 0, the
+        PC-7 full of water sank 14 m in its first 8 s, which at the takeoff point is 12 s flown
+        along the world's terrain floor. So where the trim fails, or is not tried
+        (``jsbsim.simple_trim`` False: the PC-7, whose failing trim costs up to 7 s of CPU), the
+        aircraft is trimmed by flying it (:meth:`_fly_to_trim`) and then put at the takeoff pose."""
         self._dt_s = dt_s
+        v = Autopilot(self.af, 0.5, 0.0).speed_command_mps(command.v_lin_mps)
+        fdm = self._initial_fdm(state, v, dt_s)
+        try:
+            if not self.js.simple_trim:
+                raise RuntimeError("trimmed by flying")
+            fdm["simulation/do_simple_trim"] = 1
+            self.autopilot = Autopilot(self.af, fdm["fcs/throttle-cmd-norm"], fdm["attitude/theta-rad"])
+        except RuntimeError:
+            self.autopilot = self._fly_to_trim(state, v, dt_s)
+        self._last = self._state(state.water_kg)
+        return self._last
+
+    def _initial_fdm(self, state: FlightState, v_mps: float, dt_s: float):
+        """A new FDM (this instance's from now on) at ``state``'s pose and water, level at
+        ``v_mps``, its engines running."""
         fdm = self._new_fdm(dt_s)
-        ap = Autopilot(self.af, 0.5, 0.0)
-        v = ap.speed_command_mps(command.v_lin_mps)
         lat, lon = map_to_geodetic(state.x_m, state.y_m)
         fdm["ic/terrain-elevation-ft"] = _GROUND_FT
         fdm["ic/lat-geod-rad"] = lat
         fdm["ic/long-gc-rad"] = lon
         fdm["ic/h-sl-ft"] = state.z_m / FT_M
-        fdm["ic/vt-fps"] = v / FT_M
+        fdm["ic/vt-fps"] = v_mps / FT_M
         fdm["ic/psi-true-rad"] = yaw_to_psi(state.yaw_rad)
         self.fdm = fdm
         self._set_water(state.water_kg)
         if not fdm.run_ic():
             raise ConfigError(f"uavs.airframe.jsbsim.aircraft: {self.js.aircraft} did not initialise")
         fdm["propulsion/set-running"] = -1
-        try:
-            fdm["simulation/do_simple_trim"] = 1
-        except RuntimeError:
-            pass  # not trimmable at this speed: the autopilot's integrators take over from 0.5 / 0
-        self.autopilot = Autopilot(self.af, fdm["fcs/throttle-cmd-norm"], fdm["attitude/theta-rad"])
-        self._last = self._state(state.water_kg)
-        return self._last
+        return fdm
+
+    def _fly_to_trim(self, state: FlightState, v_mps: float, dt_s: float) -> Autopilot:
+        """Trim by flying: the aircraft starts ``FLY_TRIM_HEIGHT_M`` above the takeoff pose, its
+        autopilot holds (v, 0, 0) from throttle 0.5 and pitch 0 until the climb rate has stayed
+        within 0.2 m/s, the airspeed within 0.5 m/s of ``v_mps``, the heading within 0.5 deg of the
+        takeoff's and the bank within 1 deg for 2 s (at most
+        ``FLY_TRIM_MAX_S``), holding the takeoff heading (a turn rate of 0.3 1/s times the heading
+        error: unheld, the PC-7 full of water drifted 4 deg), and then it is moved to the takeoff
+        position with its speed, attitude, engine and autopilot as flown. The
+        PC-7 at its 46.8 m/s floor settles in 16-30 s (0-3,000 kg of water). An aircraft that
+        cannot hold the speed level is launched as it is at the limit."""
+        self._initial_fdm(dataclasses.replace(state, z_m=state.z_m + FLY_TRIM_HEIGHT_M), v_mps, dt_s)
+        fdm = self.fdm
+        assert fdm is not None
+        ap = Autopilot(self.af, 0.5, 0.0)
+        need, steady = int(round(2.0 / dt_s)), 0
+        for _ in range(int(round(FLY_TRIM_MAX_S / dt_s))):
+            # a heading hold (turn rate 0.3 1/s x the heading error): the takeoff heading kept
+            yaw = math.pi / 2 - fdm["attitude/psi-rad"]
+            err = math.remainder(state.yaw_rad - yaw, 2 * math.pi)
+            omega = 0.3 * err
+            u = ap.update(self.air_state(), v_mps, 0.0, omega, dt_s)
+            fdm["fcs/aileron-cmd-norm"] = u.aileron
+            fdm["fcs/elevator-cmd-norm"] = u.elevator
+            fdm["fcs/rudder-cmd-norm"] = u.rudder
+            fdm["fcs/throttle-cmd-norm"] = u.throttle
+            fdm.run()
+            a = self.air_state()
+            level = (
+                abs(a.climb_mps) < 0.2
+                and abs(a.airspeed_mps - v_mps) < 0.5
+                and abs(err) < math.radians(0.5)
+                and abs(a.bank_rad) < math.radians(1.0)
+            )
+            steady = steady + 1 if level else 0
+            if steady >= need:
+                break
+        self._move_to(state)
+        return ap
 
     def _set_water(self, water_kg: float) -> None:
         assert self.fdm is not None
@@ -135,11 +194,28 @@ class JsbsimModel:
         self._water_kg = water_kg
 
     def _reposition(self, s: FlightState) -> None:
-        """Move the aircraft to a state the world changed (the terrain floor lifted it)."""
+        """Move the aircraft to a state the world changed (the terrain floor lifted it): its
+        height (JSBSim's ``position/lat-geod-rad`` is read-only: writing it does nothing, so the
+        latitude stays; the floor moves only the height)."""
         fdm = self.fdm
         assert fdm is not None
         lat, lon = map_to_geodetic(s.x_m, s.y_m)
         fdm["position/lat-geod-rad"] = lat
+        fdm["position/long-gc-rad"] = lon
+        fdm["position/h-sl-ft"] = s.z_m / FT_M
+
+    def _move_to(self, s: FlightState) -> None:
+        """Move the aircraft to ``s``'s map position (speed and attitude as they are). JSBSim takes
+        a new latitude only as the geocentric one (``position/lat-gc-rad``): the geodetic latitude
+        phi at height h is at geocentric atan2((N (1 - e^2) + h) sin phi, (N + h) cos phi), N the
+        prime vertical radius a / sqrt(1 - e^2 sin^2 phi) (WGS84)."""
+        fdm = self.fdm
+        assert fdm is not None
+        lat, lon = map_to_geodetic(s.x_m, s.y_m)
+        sin_lat = math.sin(lat)
+        n = WGS84_A_M / math.sqrt(1.0 - WGS84_E2 * sin_lat * sin_lat)
+        h = s.z_m
+        fdm["position/lat-gc-rad"] = math.atan2((n * (1.0 - WGS84_E2) + h) * sin_lat, (n + h) * math.cos(lat))
         fdm["position/long-gc-rad"] = lon
         fdm["position/h-sl-ft"] = s.z_m / FT_M
 

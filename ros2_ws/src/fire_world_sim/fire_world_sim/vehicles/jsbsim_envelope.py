@@ -6,7 +6,9 @@ trimmed at 200 m), with the autopilot's own speed floor and the preset's speed c
 that the aircraft, not the preset, sets each figure (the bank limit and the roll rate stay the
 preset's, which the autopilot flies by design):
 
-- ``v_trim_min_mps``: the lowest airspeed at which JSBSim's trim finds level flight (1 g);
+- ``v_trim_min_mps``: the lowest airspeed at which JSBSim's trim finds level flight (1 g); NaN
+  where the trim fails at every speed (the PC-7: ``JsbsimModel.launch``), and the search for
+  ``v_hold_min_mps`` starts from the aircraft's configured 1 g stall ``jsbsim.v_stall_mps``;
 - ``v_hold_min_mps``: the lowest commanded airspeed the autopilot holds level (speed within
   ``HOLD_TOL_MPS``, height rate within ``CLIMB_TOL_MPS`` over the last ``TAIL_S`` s, elevator
   not saturated) -- the aircraft's slowest usable speed, its 1.3 V_S in a preset's terms;
@@ -44,6 +46,7 @@ HOLD_TOL_MPS = 0.7  # [m/s] a held speed: within this of the command over the ta
 CLIMB_TOL_MPS = 0.3  # [m/s] a held climb rate: within this of the command over the tail
 TAIL_S = 5.0  # [s] the tail over which a steady value is read
 Z0_M = 200.0
+V_HOLD_SEARCH_MAX_MPS = 80.0  # [m/s] the slowest-held-speed search gives up here
 
 
 def _unlimited(af: Airframe, v_floor_mps: float) -> Airframe:
@@ -159,8 +162,8 @@ def measure_envelope(af: Airframe, water_kg: float, v_slow_mps: float | None = N
     ``jsbsim.v_floor_mps``, the slowest the backend flies in a mission)."""
     n = round(TAIL_S / DT_S)
     v_trim = lowest_trim_speed_mps(af, water_kg)
-    v_hold = math.ceil(v_trim)
-    while v_hold < 40.0 and not holds_level(af, float(v_hold), water_kg):
+    v_hold = math.ceil(v_trim if math.isfinite(v_trim) else af.jsbsim.v_stall_mps)
+    while v_hold < V_HOLD_SEARCH_MAX_MPS and not holds_level(af, float(v_hold), water_kg):
         v_hold += 1
     v_hold_f = float(v_hold)
     v_slow = af.jsbsim.v_floor_mps if v_slow_mps is None else v_slow_mps
