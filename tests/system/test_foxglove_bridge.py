@@ -55,7 +55,11 @@ def _decoder(ch: dict):
 
 
 async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[dict, dict]:
-    """(advertised channels by topic, decoded messages by topic) once each topic has its count."""
+    """(advertised channels by topic, what came) once each topic has its count: ``messages`` and
+    ``log_times`` by topic, and for a failure's message the ``subscribed`` topics (channel ids, in
+    the order subscribed) and the server's ``status`` messages (an "Unknown channel ID" answers a
+    subscription the server did not take). Subscribes to each wanted topic once, as Foxglove does:
+    a failed subscription is not retried."""
     while True:
         try:
             ws = await websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"])
@@ -69,6 +73,8 @@ async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[di
     decoders: dict[str, object] = {}
     got: dict[str, list] = {t: [] for t in want}
     times: dict[str, list[int]] = {t: [] for t in want}
+    subscribed: list[tuple[str, int]] = []
+    statuses: list[str] = []
     async with ws:
         assert ws.subprotocol == "foxglove.sdk.v1"
         while time.monotonic() < deadline and any(len(v) < want[t] for t, v in got.items()):
@@ -89,8 +95,11 @@ async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[di
                             subs[sid] = ch["topic"]
                             decoders[ch["topic"]] = _decoder(ch)
                             new.append({"id": sid, "channelId": ch["id"]})
+                            subscribed.append((ch["topic"], ch["id"]))
                     if new:
                         await ws.send(json.dumps({"op": "subscribe", "subscriptions": new}))
+                elif msg.get("op") == "status":
+                    statuses.append(f"{msg.get('level')}: {msg.get('message')}")
                 continue
             if frame[0] != 0x01:  # 0x02: server time broadcast
                 continue
@@ -99,7 +108,17 @@ async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[di
             if topic is not None and len(got[topic]) < want[topic]:
                 got[topic].append(decoders[topic](frame[13:]))
                 times[topic].append(log_time)
-    return channels, {"messages": got, "log_times": times}
+    return channels, {"messages": got, "log_times": times, "subscribed": subscribed, "statuses": statuses}
+
+
+def _counts_and_why(channels: dict, got: dict, want: dict[str, int], out: str) -> str:
+    """A failed count's message: the counts, what was advertised and subscribed, the server's
+    status messages and the runner's output."""
+    counts = {k: f"{len(v)} of {want[k]}" for k, v in got["messages"].items()}
+    return (
+        f"{counts}; advertised {len(channels)} channels: {sorted(channels)}; subscribed "
+        f"(topic, channel id) {got['subscribed']}; server status {got['statuses']}\n{out[-3000:]}"
+    )
 
 
 def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_path):
@@ -125,9 +144,7 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
             proc.kill()
             out, _ = proc.communicate()
     msgs = got["messages"]
-    assert all(len(v) == want[k] for k, v in msgs.items()), (
-        f"{ {k: len(v) for k, v in msgs.items()} }\n{out[-3000:]}"
-    )
+    assert all(len(v) == want[k] for k, v in msgs.items()), _counts_and_why(channels, got, want, out)
     for topic, ros_type in (
         ("/viz/world", "visualization_msgs/msg/MarkerArray"),
         ("/tf", "tf2_msgs/msg/TFMessage"),
@@ -183,16 +200,27 @@ def test_a_landscape_mission_serves_navsat_fixes_and_the_burned_area_for_the_map
             proc.kill()
             out, _ = proc.communicate()
     msgs = got["messages"]
-    assert all(len(v) == want[k] for k, v in msgs.items()), f"{ {k: len(v) for k, v in msgs.items()} }\n{out[-3000:]}"
+    assert all(len(v) == want[k] for k, v in msgs.items()), _counts_and_why(channels, got, want, out)
     ch = channels["/uav_0/geo/truth_fix"]
-    assert (ch["encoding"], ch["schemaName"], ch["schemaEncoding"]) == ("cdr", "sensor_msgs/msg/NavSatFix", "ros2msg")
-    assert (channels["/geo/fire_area"]["encoding"], channels["/geo/fire_area"]["schemaName"]) == ("protobuf", "foxglove.GeoJSON")
+    assert (ch["encoding"], ch["schemaName"], ch["schemaEncoding"]) == (
+        "cdr",
+        "sensor_msgs/msg/NavSatFix",
+        "ros2msg",
+    )
+    assert (channels["/geo/fire_area"]["encoding"], channels["/geo/fire_area"]["schemaName"]) == (
+        "protobuf",
+        "foxglove.GeoJSON",
+    )
     for k in (0, 1):
         for fix in msgs[f"/uav_{k}/geo/truth_fix"]:
             assert fix.header.frame_id == f"uav_{k}" and fix.status.status == 0
             assert 44.3 < fix.latitude < 44.4 and -72.6 < fix.longitude < -72.5 and 300 < fix.altitude < 800
     doc = json.loads(msgs["/geo/fire_area"][-1])
     burned = doc["features"][0]
-    assert burned["properties"]["name"] == "burned area" and burned["properties"]["area_m2"] > 2e4  # about 3 ha lit
-    lon, lat = zip(*(p for poly in burned["geometry"]["coordinates"] for ring in poly for p in ring), strict=True)
+    assert (
+        burned["properties"]["name"] == "burned area" and burned["properties"]["area_m2"] > 2e4
+    )  # about 3 ha lit
+    lon, lat = zip(
+        *(p for poly in burned["geometry"]["coordinates"] for ring in poly for p in ring), strict=True
+    )
     assert 44.3 < min(lat) and max(lat) < 44.4 and -72.6 < min(lon) and max(lon) < -72.5
