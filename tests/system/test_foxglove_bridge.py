@@ -121,6 +121,31 @@ def _counts_and_why(channels: dict, got: dict, want: dict[str, int], out: str) -
     )
 
 
+def _run_and_collect(cmd: list[str], env: dict, port: int, want: dict[str, int]) -> tuple[dict, dict, str]:
+    """Run the mission ``cmd``, :func:`_collect` ``want`` from its bridge on ``port`` within 120 s
+    [wall], stop it: (advertised channels, what came, the runner's output). A bridge that never
+    listened fails the test with the runner's output."""
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    channels: dict = {}
+    got: dict = {}
+    refused: OSError | None = None
+    try:
+        try:
+            channels, got = asyncio.run(_collect(port, want, time.monotonic() + 120))
+        except OSError as err:  # nothing listened on the port before the deadline
+            refused = err
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            out, _ = proc.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, _ = proc.communicate()
+    if refused is not None:
+        pytest.fail(f"no Foxglove server on 127.0.0.1:{port} within 120 s ({refused})\n{out[-3000:]}")
+    return channels, got, out
+
+
 def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_path):
     port = _free_port()
     env = dict(ros_env)
@@ -129,20 +154,11 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
     cmd = [sys.executable, "-m", "fire_mission.runner", "tiny_test", "--mode", "realtime", "--rtf", "1",
            "--max-duration", "60", "--foxglove", "--foxglove-port", str(port), "--out", str(tmp_path / "run"),
            "--quiet", "--no-report"]  # fmt: skip
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    try:
-        # /tf: the world (truth frames) and every agent (estimate frames) publish it, in any order.
-        # Real time (rtf 1): the 53 s mission is the window to collect in (a loaded CI machine
-        # once delivered too few at rtf 2 before the mission ended and the bridge closed)
-        want = {"/viz/world": 3, "/tf": 30}
-        channels, got = asyncio.run(_collect(port, want, time.monotonic() + 120))
-    finally:
-        proc.send_signal(signal.SIGINT)
-        try:
-            out, _ = proc.communicate(timeout=60)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, _ = proc.communicate()
+    # /tf: the world (truth frames) and every agent (estimate frames) publish it, in any order.
+    # Real time (rtf 1): the 53 s mission is the window to collect in (a loaded CI machine
+    # once delivered too few at rtf 2 before the mission ended and the bridge closed)
+    want = {"/viz/world": 3, "/tf": 30}
+    channels, got, out = _run_and_collect(cmd, env, port, want)
     msgs = got["messages"]
     assert all(len(v) == want[k] for k, v in msgs.items()), _counts_and_why(channels, got, want, out)
     for topic, ros_type in (
@@ -188,17 +204,8 @@ def test_a_landscape_mission_serves_navsat_fixes_and_the_burned_area_for_the_map
     cmd = [sys.executable, "-m", "fire_mission.runner", "worcester_vt", "--uavs", "2", "--mode", "realtime",
            "--rtf", "1", "--max-duration", "40", "--foxglove", "--foxglove-port", str(port),
            "--out", str(tmp_path / "run"), "--quiet", "--no-report", "--no-record"]  # fmt: skip
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    try:
-        want = {"/uav_0/geo/truth_fix": 5, "/uav_1/geo/truth_fix": 5, "/geo/fire_area": 2}
-        channels, got = asyncio.run(_collect(port, want, time.monotonic() + 120))
-    finally:
-        proc.send_signal(signal.SIGINT)
-        try:
-            out, _ = proc.communicate(timeout=60)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, _ = proc.communicate()
+    want = {"/uav_0/geo/truth_fix": 5, "/uav_1/geo/truth_fix": 5, "/geo/fire_area": 2}
+    channels, got, out = _run_and_collect(cmd, env, port, want)
     msgs = got["messages"]
     assert all(len(v) == want[k] for k, v in msgs.items()), _counts_and_why(channels, got, want, out)
     ch = channels["/uav_0/geo/truth_fix"]
