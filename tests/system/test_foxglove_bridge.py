@@ -62,7 +62,10 @@ async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[di
     a failed subscription is not retried."""
     while True:
         try:
-            ws = await websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"])
+            # close_timeout: the SDK server now and then leaves a close frame unanswered (default 10 s)
+            ws = await websockets.connect(
+                f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"], close_timeout=1.0
+            )
             break
         except OSError:
             if time.monotonic() > deadline:
