@@ -159,3 +159,22 @@ def test_without_a_fleet_size_no_channel_is_made_before_its_topic_appears(own_do
     finally:
         bridge.close()
         bridge.destroy_node()
+
+
+def test_without_uav_count_the_fleet_is_the_scenarios(own_domain):
+    from pathlib import Path
+
+    import rclpy
+    from fire_uav_common.scenario import load_scenario
+    from fire_uav_recording.foxglove_bridge_node import FoxgloveBridgeNode
+
+    scenario = Path(__file__).resolve().parents[2] / "fire_world_sim/scenarios/tiny_test.yaml"
+    n = load_scenario(scenario).uavs.count
+    assert n >= 1
+    rclpy.init(args=["--ros-args", "-p", "port:=0", "-p", f"scenario_file:={scenario}"], domain_id=own_domain)
+    bridge = FoxgloveBridgeNode()
+    try:
+        assert f"/uav_{n - 1}/sensors" in bridge._channels and f"/uav_{n}/sensors" not in bridge._channels
+    finally:
+        bridge.close()
+        bridge.destroy_node()
