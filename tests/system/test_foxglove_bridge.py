@@ -55,10 +55,17 @@ def _decoder(ch: dict):
 
 
 async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[dict, dict]:
-    """(advertised channels by topic, decoded messages by topic) once each topic has its count."""
+    """(advertised channels by topic, what came) once each topic has its count: ``messages`` and
+    ``log_times`` by topic, and for a failure's message the ``subscribed`` topics (channel ids, in
+    the order subscribed) and the server's ``status`` messages (an "Unknown channel ID" answers a
+    subscription the server did not take). Subscribes to each wanted topic once, as Foxglove does:
+    a failed subscription is not retried."""
     while True:
         try:
-            ws = await websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"])
+            # close_timeout: the SDK server now and then leaves a close frame unanswered (default 10 s)
+            ws = await websockets.connect(
+                f"ws://127.0.0.1:{port}", subprotocols=["foxglove.sdk.v1"], close_timeout=1.0
+            )
             break
         except OSError:
             if time.monotonic() > deadline:
@@ -69,6 +76,8 @@ async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[di
     decoders: dict[str, object] = {}
     got: dict[str, list] = {t: [] for t in want}
     times: dict[str, list[int]] = {t: [] for t in want}
+    subscribed: list[tuple[str, int]] = []
+    statuses: list[str] = []
     async with ws:
         assert ws.subprotocol == "foxglove.sdk.v1"
         while time.monotonic() < deadline and any(len(v) < want[t] for t, v in got.items()):
@@ -89,8 +98,11 @@ async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[di
                             subs[sid] = ch["topic"]
                             decoders[ch["topic"]] = _decoder(ch)
                             new.append({"id": sid, "channelId": ch["id"]})
+                            subscribed.append((ch["topic"], ch["id"]))
                     if new:
                         await ws.send(json.dumps({"op": "subscribe", "subscriptions": new}))
+                elif msg.get("op") == "status":
+                    statuses.append(f"{msg.get('level')}: {msg.get('message')}")
                 continue
             if frame[0] != 0x01:  # 0x02: server time broadcast
                 continue
@@ -99,7 +111,42 @@ async def _collect(port: int, want: dict[str, int], deadline: float) -> tuple[di
             if topic is not None and len(got[topic]) < want[topic]:
                 got[topic].append(decoders[topic](frame[13:]))
                 times[topic].append(log_time)
-    return channels, {"messages": got, "log_times": times}
+    return channels, {"messages": got, "log_times": times, "subscribed": subscribed, "statuses": statuses}
+
+
+def _counts_and_why(channels: dict, got: dict, want: dict[str, int], out: str) -> str:
+    """A failed count's message: the counts, what was advertised and subscribed, the server's
+    status messages and the runner's output."""
+    counts = {k: f"{len(v)} of {want[k]}" for k, v in got["messages"].items()}
+    return (
+        f"{counts}; advertised {len(channels)} channels: {sorted(channels)}; subscribed "
+        f"(topic, channel id) {got['subscribed']}; server status {got['statuses']}\n{out[-3000:]}"
+    )
+
+
+def _run_and_collect(cmd: list[str], env: dict, port: int, want: dict[str, int]) -> tuple[dict, dict, str]:
+    """Run the mission ``cmd``, :func:`_collect` ``want`` from its bridge on ``port`` within 120 s
+    [wall], stop it: (advertised channels, what came, the runner's output). A bridge that never
+    listened fails the test with the runner's output."""
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    channels: dict = {}
+    got: dict = {}
+    refused: OSError | None = None
+    try:
+        try:
+            channels, got = asyncio.run(_collect(port, want, time.monotonic() + 120))
+        except OSError as err:  # nothing listened on the port before the deadline
+            refused = err
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            out, _ = proc.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, _ = proc.communicate()
+    if refused is not None:
+        pytest.fail(f"no Foxglove server on 127.0.0.1:{port} within 120 s ({refused})\n{out[-3000:]}")
+    return channels, got, out
 
 
 def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_path):
@@ -110,24 +157,13 @@ def test_run_mission_foxglove_serves_viz_and_tf_with_their_schemas(ros_env, tmp_
     cmd = [sys.executable, "-m", "fire_mission.runner", "tiny_test", "--mode", "realtime", "--rtf", "1",
            "--max-duration", "60", "--foxglove", "--foxglove-port", str(port), "--out", str(tmp_path / "run"),
            "--quiet", "--no-report"]  # fmt: skip
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    try:
-        # /tf: the world (truth frames) and every agent (estimate frames) publish it, in any order.
-        # Real time (rtf 1): the 53 s mission is the window to collect in (a loaded CI machine
-        # once delivered too few at rtf 2 before the mission ended and the bridge closed)
-        want = {"/viz/world": 3, "/tf": 30}
-        channels, got = asyncio.run(_collect(port, want, time.monotonic() + 120))
-    finally:
-        proc.send_signal(signal.SIGINT)
-        try:
-            out, _ = proc.communicate(timeout=60)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, _ = proc.communicate()
+    # /tf: the world (truth frames) and every agent (estimate frames) publish it, in any order.
+    # Real time (rtf 1): the 53 s mission is the window to collect in (a loaded CI machine
+    # once delivered too few at rtf 2 before the mission ended and the bridge closed)
+    want = {"/viz/world": 3, "/tf": 30}
+    channels, got, out = _run_and_collect(cmd, env, port, want)
     msgs = got["messages"]
-    assert all(len(v) == want[k] for k, v in msgs.items()), (
-        f"{ {k: len(v) for k, v in msgs.items()} }\n{out[-3000:]}"
-    )
+    assert all(len(v) == want[k] for k, v in msgs.items()), _counts_and_why(channels, got, want, out)
     for topic, ros_type in (
         ("/viz/world", "visualization_msgs/msg/MarkerArray"),
         ("/tf", "tf2_msgs/msg/TFMessage"),
@@ -171,28 +207,30 @@ def test_a_landscape_mission_serves_navsat_fixes_and_the_burned_area_for_the_map
     cmd = [sys.executable, "-m", "fire_mission.runner", "worcester_vt", "--uavs", "2", "--mode", "realtime",
            "--rtf", "1", "--max-duration", "40", "--foxglove", "--foxglove-port", str(port),
            "--out", str(tmp_path / "run"), "--quiet", "--no-report", "--no-record"]  # fmt: skip
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    try:
-        want = {"/uav_0/geo/truth_fix": 5, "/uav_1/geo/truth_fix": 5, "/geo/fire_area": 2}
-        channels, got = asyncio.run(_collect(port, want, time.monotonic() + 120))
-    finally:
-        proc.send_signal(signal.SIGINT)
-        try:
-            out, _ = proc.communicate(timeout=60)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            out, _ = proc.communicate()
+    want = {"/uav_0/geo/truth_fix": 5, "/uav_1/geo/truth_fix": 5, "/geo/fire_area": 2}
+    channels, got, out = _run_and_collect(cmd, env, port, want)
     msgs = got["messages"]
-    assert all(len(v) == want[k] for k, v in msgs.items()), f"{ {k: len(v) for k, v in msgs.items()} }\n{out[-3000:]}"
+    assert all(len(v) == want[k] for k, v in msgs.items()), _counts_and_why(channels, got, want, out)
     ch = channels["/uav_0/geo/truth_fix"]
-    assert (ch["encoding"], ch["schemaName"], ch["schemaEncoding"]) == ("cdr", "sensor_msgs/msg/NavSatFix", "ros2msg")
-    assert (channels["/geo/fire_area"]["encoding"], channels["/geo/fire_area"]["schemaName"]) == ("protobuf", "foxglove.GeoJSON")
+    assert (ch["encoding"], ch["schemaName"], ch["schemaEncoding"]) == (
+        "cdr",
+        "sensor_msgs/msg/NavSatFix",
+        "ros2msg",
+    )
+    assert (channels["/geo/fire_area"]["encoding"], channels["/geo/fire_area"]["schemaName"]) == (
+        "protobuf",
+        "foxglove.GeoJSON",
+    )
     for k in (0, 1):
         for fix in msgs[f"/uav_{k}/geo/truth_fix"]:
             assert fix.header.frame_id == f"uav_{k}" and fix.status.status == 0
             assert 44.3 < fix.latitude < 44.4 and -72.6 < fix.longitude < -72.5 and 300 < fix.altitude < 800
     doc = json.loads(msgs["/geo/fire_area"][-1])
     burned = doc["features"][0]
-    assert burned["properties"]["name"] == "burned area" and burned["properties"]["area_m2"] > 2e4  # about 3 ha lit
-    lon, lat = zip(*(p for poly in burned["geometry"]["coordinates"] for ring in poly for p in ring), strict=True)
+    assert (
+        burned["properties"]["name"] == "burned area" and burned["properties"]["area_m2"] > 2e4
+    )  # about 3 ha lit
+    lon, lat = zip(
+        *(p for poly in burned["geometry"]["coordinates"] for ring in poly for p in ring), strict=True
+    )
     assert 44.3 < min(lat) and max(lat) < 44.4 and -72.6 < min(lon) and max(lon) < -72.5

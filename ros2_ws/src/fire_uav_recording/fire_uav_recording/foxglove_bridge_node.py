@@ -16,9 +16,24 @@ Parameters (all read once at start-up):
   ``sensor_msgs/NavSatFix`` on ``/uav_<k>/geo/truth_fix`` (from ``/world/truth``) and the burned
   and burning area as ``foxglove.GeoJSON`` on ``/geo/fire_area`` (from ``/viz/fire_grid``, at
   most once per ``fire_area_period_s`` (1.0) sim seconds). Both source topics must be served.
-  ``uav_count`` (-1: the scenario's, or the bag's): the NavSatFix channels made at start-up, before
-  any client connects (a channel made while a client is connected can be advertised to it before
-  the server takes subscriptions to it: foxglove-sdk 0.30 then answers "Unknown channel ID").
+- ``uav_count`` (-1: the scenario's, or the bag's): the fleet whose topics get their channels at
+  start-up (below), and on a landscape the NavSatFix channels made then.
+
+Channels made before any client connects: a channel made while a client is connected can be
+advertised to it a moment before the server takes subscriptions to it, and a client that
+subscribes at once (as Foxglove does) is then answered "Unknown channel ID" and never gets a
+message of it (foxglove-sdk 0.30.3: 14 of 300 channels made while a client subscribed to each
+advertisement at once; none of 300 made before it connected; the same subscription sent again
+50 ms later is taken). So before the server starts the bridge makes the channel of every wanted
+fleet topic (``fire_uav_common.topics``, the per-vehicle ones for vehicles
+``0 .. uav_count - 1``, the fleet the scenario or bag names when ``uav_count`` is -1;
+:func:`up_front_topics`), with the spec's type: a client
+connecting at any moment of a mission subscribes to ``/tf`` and ``/viz/world`` when it connects,
+before their first message. Such a channel is advertised even while nobody publishes its topic
+(an empty topic in Foxglove). A topic found later (a foreign name, a vehicle beyond
+``uav_count``, a fleet name published with another type, or any topic when no fleet size is
+known) gets its channel when discovery finds it, and a client connected at that moment may
+still meet the SDK's race on it.
 
 Discovery, the QoS rule and the schema text are the recorder's
 (:mod:`fire_uav_recording.raw_topics`): a Foxglove channel is announced with
@@ -30,6 +45,7 @@ from __future__ import annotations
 
 import re
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import foxglove
@@ -58,12 +74,25 @@ from fire_uav_recording.raw_topics import (
     RawTopic,
     RawTopicFollower,
     compile_patterns,
+    fleet_topic_names,
     schema_text,
+    spec_of,
     topic_wanted,
 )
 
 DEFAULT_TOPICS = topics.recorded_patterns()  # what the recorder records, /tf and /tf_static included
 
+
+def up_front_topics(uav_count: int, wants: Callable[[str], bool]) -> list[tuple[str, str]]:
+    """(topic, ``pkg/msg/Type``) of every fleet topic the bridge serves from start-up: each name
+    of ``fire_uav_common.topics`` in a fleet of ``uav_count`` vehicles that ``wants``, with its
+    spec's type, in the table's order (module docstring: why before the server starts)."""
+    out = []
+    for name in fleet_topic_names(uav_count):
+        spec = spec_of(name)
+        if spec is not None and wants(name):
+            out.append((name, spec.type))
+    return out
 
 
 @dataclass(frozen=True)
@@ -93,16 +122,23 @@ class FoxgloveBridgeNode(Node):
         )
         self.config = self._read_config()
         self._typestore = rec.fleet_typestore()
+        self._foxglove_context = foxglove.Context()  # this node's channels and server only
         self._channels: dict[str, foxglove.Channel] = {}
         self.messages_sent = 0
         self.geo = self._geo_view()
         self._geo_channels: dict[str, foxglove.Channel] = {}
         self._area_channel: foxglove.channels.GeoJsonChannel | None = None
-        if self.geo is not None:  # before the server: see uav_count in the module docstring
-            n = self.config.uav_count if self.config.uav_count >= 0 else self.geo.frame.uav_count
-            for k in range(n):
-                self._fix_channel(truth_fix_topic(k))
-            self._area_channel = foxglove.channels.GeoJsonChannel(FIRE_AREA_TOPIC)
+        # every channel known in advance is made before the server starts (module docstring)
+        n = self._fleet_size()  # known whenever there is a map view
+        if n is not None:
+            for name, ros_type in up_front_topics(n, self.config.wants):
+                self._raw_channel(name, ros_type)
+            if self.geo is not None:
+                for k in range(n):
+                    self._fix_channel(truth_fix_topic(k))
+                self._area_channel = foxglove.channels.GeoJsonChannel(
+                    FIRE_AREA_TOPIC, context=self._foxglove_context
+                )
         try:
             self.server = foxglove.start_server(
                 name="fire_uav",
@@ -110,6 +146,7 @@ class FoxgloveBridgeNode(Node):
                 port=self.config.port,
                 capabilities=[foxglove.Capability.Time],
                 supported_encodings=["cdr"],
+                context=self._foxglove_context,
             )
         except Exception as err:  # the SDK raises its own error type for a port in use
             raise ConfigError(
@@ -144,9 +181,7 @@ class FoxgloveBridgeNode(Node):
         g = self.get_parameter
         period = float(g("discovery_period_wall_s").value)
         if not 0.01 <= period <= 60.0:
-            raise ConfigError(
-                f"parameter discovery_period_wall_s: must be in [0.01, 60] s, got {period}"
-            )
+            raise ConfigError(f"parameter discovery_period_wall_s: must be in [0.01, 60] s, got {period}")
         host = str(g("host").value)
         if not host:
             raise ConfigError("parameter host: empty (e.g. 127.0.0.1)")
@@ -192,6 +227,51 @@ class FoxgloveBridgeNode(Node):
         )
         return GeoView(self._typestore, frame, cfg.fire_area_period_s)
 
+    def _fleet_size(self) -> int | None:
+        """The fleet whose topics get their channels at start-up: ``uav_count``, else the
+        scenario's (``scenario_file``) or the recorded one (``bag``'s metadata); None when none is
+        known. ConfigError naming the parameter when the scenario cannot be read."""
+        cfg = self.config
+        if cfg.uav_count >= 0:
+            return cfg.uav_count
+        if self.geo is not None:
+            return self.geo.frame.uav_count
+        if cfg.bag:  # read by _geo_view already: a bad bag was named there
+            text = rec.inspect_bag(cfg.bag).custom_data.get(rec.KEY_UAV_COUNT, "")
+            return int(text) if text.isdigit() else None
+        if cfg.scenario_file:
+            from fire_uav_common.scenario import load_scenario
+
+            try:
+                return int(load_scenario(cfg.scenario_file).uavs.count)
+            except Exception as err:  # the loader's errors say what is wrong in one line
+                raise ConfigError(f"parameter scenario_file: {' '.join(str(err).split())}") from None
+        return None
+
+    def _raw_channel(self, name: str, ros_type: str) -> foxglove.Channel | None:
+        """The raw CDR channel of topic ``name`` with type ``ros_type``: the one made before (at
+        start-up) when its type is that, else a new one (replacing one of another type); None
+        (logged) when the type has no definition."""
+        old = self._channels.get(name)
+        if old is not None and old.schema_name() == ros_type:
+            return old
+        try:
+            text = schema_text(self._typestore, ros_type)
+        except rec.BagError as err:
+            self.get_logger().warning(f"not serving {name}: {err}")
+            return None
+        if old is not None:  # a fleet name published with another type than the spec's
+            self.get_logger().warning(f"serving {name} as {ros_type}, not the fleet's {old.schema_name()}")
+            old.close()
+        channel = self._channels[name] = foxglove.Channel(
+            name,
+            message_encoding="cdr",
+            schema=foxglove.Schema(name=ros_type, encoding="ros2msg", data=text.encode()),
+            metadata={"topic_type_hash": self._typestore.hash_rihs01(ros_type)},
+            context=self._foxglove_context,
+        )
+        return channel
+
     def _fix_channel(self, name: str) -> foxglove.Channel:
         """The NavSatFix channel ``name`` (made on first use)."""
         ch = self._geo_channels.get(name)
@@ -200,9 +280,12 @@ class FoxgloveBridgeNode(Node):
                 name,
                 message_encoding="cdr",
                 schema=foxglove.Schema(
-                    name=NAVSAT_TYPE, encoding="ros2msg", data=schema_text(self._typestore, NAVSAT_TYPE).encode()
+                    name=NAVSAT_TYPE,
+                    encoding="ros2msg",
+                    data=schema_text(self._typestore, NAVSAT_TYPE).encode(),
                 ),
                 metadata={"topic_type_hash": self._typestore.hash_rihs01(NAVSAT_TYPE)},
+                context=self._foxglove_context,
             )
         return ch
 
@@ -219,7 +302,9 @@ class FoxgloveBridgeNode(Node):
                 text = geo.on_fire_grid(data)
                 if text is not None:
                     if self._area_channel is None:
-                        self._area_channel = foxglove.channels.GeoJsonChannel(FIRE_AREA_TOPIC)
+                        self._area_channel = foxglove.channels.GeoJsonChannel(
+                            FIRE_AREA_TOPIC, context=self._foxglove_context
+                        )
                     self._area_channel.log(foxglove.messages.GeoJson(geojson=text), log_time=now_ns)
                     self.messages_sent += 1
         except Exception as err:  # a malformed message must not stop the raw topics
@@ -227,19 +312,10 @@ class FoxgloveBridgeNode(Node):
                 f"map view: cannot convert a {source} message: {err}", throttle_duration_sec=10.0
             )
 
-    def _on_topic(self, topic: RawTopic):
-        try:
-            text = schema_text(self._typestore, topic.ros_type)
-        except rec.BagError as err:
-            self.get_logger().warning(f"not serving {topic.name}: {err}")
+    def _on_topic(self, topic: RawTopic) -> Callable[[bytes], None] | None:
+        channel = self._raw_channel(topic.name, topic.ros_type)
+        if channel is None:
             return None
-        channel = foxglove.Channel(
-            topic.name,
-            message_encoding="cdr",
-            schema=foxglove.Schema(name=topic.ros_type, encoding="ros2msg", data=text.encode()),
-            metadata={"topic_type_hash": self._typestore.hash_rihs01(topic.ros_type)},
-        )
-        self._channels[topic.name] = channel
         is_clock = topic.name == topics.CLOCK_SPEC.name
         geo = self.geo is not None and topic.name in (topics.WORLD_TRUTH, topics.VIZ_FIRE_GRID)
 
