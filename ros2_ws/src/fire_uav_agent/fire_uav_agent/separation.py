@@ -18,8 +18,8 @@ the commanded v_z): a peer is no conflict only if the height difference stays ab
 ``vertical_m`` over the horizon, as TCAS judges a vertical threat by the closure rate, not the
 separation now (FAA, Introduction to TCAS II Version 7.1, 2011: the vertical tau). Checked on
 the height difference now alone, a UAV climbing out of a missed landing at 15 m/s and a peer
-descending to land at 15 m/s were "26 m apart, no conflict" 0.9 s before they passed 8.8 m apart
-(grass_running, 6 UAVs, auto, seed 2 of the tactics study, 565.8 s). The scenario's
+descending to land at 15 m/s were "26.5 m apart, no conflict" 0.7 s before they passed 8.8 m apart
+(28.5 m at 0.9 s; grass_running, 6 UAVs, auto, seed 2 of the tactics study, 565.8 s). The scenario's
 ``mission.vertical_band`` chooses (``agent_config.config_from_scenario``); its default ``auto``
 predicts for FF's unicycle only, from what it did (docs/suppression.md, "Vertical rates in the
 avoider"): FF's unicycle, 15 missions, the closest approach of the worst from 8.8 to 13.5 m
@@ -74,6 +74,8 @@ __all__ = [
     "SeparationConfig",
     "avoid_heading",
     "closest_approach_m",
+    "detect_range_m",
+    "effective_horizon_s",
     "hold_layer",
     "peer_rows",
     "turning_approach_m",
@@ -87,7 +89,9 @@ class SeparationConfig:
         10.0  # [m] peers further apart than this in height are no conflict (the 10 m band in 3-D)
     )
     horizon_s: float = 2.0  # [s] look-ahead of the straight-line prediction
-    detect_m: float = 150.0  # [m] peers further than this are ignored
+    # [m] peers further than this are ignored; FF's unicycle's, fixed-wings get their airframe's
+    # (detect_range_m, set by agent_config.config_from_scenario)
+    detect_m: float = 150.0
     headings: int = 72  # candidate headings, evenly spaced
     release_margin_m: float = 10.0  # [m] once avoiding, the desired heading must clear radius + this
     yield_m: float = 60.0  # [m] within this of a peer with the right of way, do not close on it
@@ -222,6 +226,34 @@ def turning_approach_m(
     return d.min(axis=(1, 2))
 
 
+def effective_horizon_s(cfg: SeparationConfig, turn_rate_radps: float | None = None) -> float:
+    """The avoider's look-ahead [s]: ``cfg.horizon_s``, or for a vehicle turning at
+    ``turn_rate_radps`` [rad/s] at least the time of a quarter turn, (pi / 2) / rate (a deviation
+    of 90 deg is what a head-on or crossing conflict may need; :func:`avoid_heading`)."""
+    if turn_rate_radps is None:
+        return cfg.horizon_s
+    return max(cfg.horizon_s, 0.5 * math.pi / max(turn_rate_radps, 1e-6))
+
+
+def detect_range_m(cfg: SeparationConfig, v_max_mps: float, turn_rate_radps: float) -> float:
+    """The range [m] within which the avoider must see a peer for its own look-ahead to be of use.
+
+    Two aircraft at the top speed ``v_max_mps`` head on close at 2 v_max; a pair whose closest
+    approach, ``cfg.radius_m`` apart, lies at the end of the horizon H (:func:`effective_horizon_s`
+    at ``turn_rate_radps``, the rate at the top speed, where the quarter turn takes longest) is
+    2 v_max H + radius_m apart now. A peer ignored beyond that range cannot be in a conflict the
+    horizon would have seen; a shorter range cuts the horizon to range / (2 v_max). Never less than
+    ``cfg.detect_m`` (the range FF's unicycle flies with).
+
+    The presets (g tan(phi_max) / v at v_max; docs/airframes.md): ``tanker`` 75 m/s at 45 deg: H =
+    12.0 s, 2 x 75 x 12.0 + 20 = 1,822 m; ``small_uav`` 30 m/s at 45 deg: H = 4.8 s, 308 m;
+    ``j3cub`` 30 m/s at 40 deg: H = 5.7 s, 364 m. The old 150 m was 1.0 s at the tankers' 144 m/s
+    closing speed (grass_running_tanker seed 2: two tankers on one layer passed 7.28 m apart).
+    """
+    h = effective_horizon_s(cfg, turn_rate_radps)
+    return max(cfg.detect_m, 2.0 * v_max_mps * h + cfg.radius_m)
+
+
 def avoid_heading(
     own_xyz_m: tuple[float, float, float],
     speed_mps: float,
@@ -261,9 +293,7 @@ def avoid_heading(
     yt = np.zeros(p.shape[0], bool) if yield_to is None else np.asarray(yield_to, bool).reshape(-1)
     if yt.shape[0] != p.shape[0]:
         raise InputError(f"yield_to must have one entry per peer row ({p.shape[0]}), got {yt.shape[0]}")
-    horizon = cfg.horizon_s
-    if turn_rate_radps is not None:
-        horizon = max(cfg.horizon_s, 0.5 * math.pi / max(turn_rate_radps, 1e-6))
+    horizon = effective_horizon_s(cfg, turn_rate_radps)
     if p.shape[0]:
         rel = p[:, :2] - np.array([x, y])
         dz = p[:, 2] - z
