@@ -30,6 +30,14 @@ ff_two_fires from 14.8 / 22.3 / 14.2 to 11.3 / 11.4 / 14.1 m: a fixed-wing's com
 for its own height, is not the one it flies (the flight-path angle lags, climb and descent are
 limited), so there the default stays the height now.
 
+Detection range (our addition; FF is silent). Peers further than ``detect_m`` are ignored. FF's
+150 m is 0.75 s at the unicycle's 200 m/s head-on closing speed, enough for a vehicle that turns
+at 10 rad/s (and FF's figures rest on it: ff_paper keeps it); a fixed-wing's horizon is at least
+its quarter turn (:func:`avoid_heading`), 12 s for the tanker at 75 m/s,
+and 150 m cut it to one second (two tankers on one layer passed 7.28 m apart,
+grass_running_tanker seed 2). So a fixed-wing's range is :func:`detect_range_m`, the distance two
+aircraft at its top speed close over that horizon (agent_config sets it from the preset).
+
 Choice where FF is silent: the unicycle of Eq. 4 turns at up to 10 rad/s (FF II-B), so a
 heading change of up to 1 rad per 0.1 s control step is available and the filter acts only on
 the heading (speed kept at the law's value, lowered to stall speed when no heading is clear).
