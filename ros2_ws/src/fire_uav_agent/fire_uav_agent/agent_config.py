@@ -21,7 +21,7 @@ from fire_uav_common.terrain import Lake, Terrain
 
 from .coverage import ControlGains, VehicleLimits
 from .errors import ConfigError
-from .separation import SeparationConfig
+from .separation import SeparationConfig, detect_range_m
 
 __all__ = ["DEFAULT_DROP_RADIUS_M", "AgentConfig", "GuidanceConfig", "config_from_scenario"]
 
@@ -201,7 +201,15 @@ def config_from_scenario(
         # for FF's unicycle, whose commanded v_z is the flown one, the height now for a fixed-wing
         band = mission.vertical_band
         predicted = band == "predicted" or (band == "auto" and scenario.uavs.airframe is None)
-        agent_options = {**agent_options, "separation": SeparationConfig(vertical_rates=predicted)}
+        sep = SeparationConfig(vertical_rates=predicted)
+        af = scenario.uavs.airframe
+        if af is not None:
+            # a fixed-wing sees its peers as far as its turning horizon reaches at its top speed
+            # (separation.detect_range_m: the tanker 1,822 m, small_uav 308 m, the J3Cub 364 m);
+            # the turn rate as agent_core's avoider has it, capped by the vehicle's omega_max
+            rate = min(scenario.vehicle.omega_max_radps, af.turn_rate_max_radps(af.v_max_mps))
+            sep = dataclasses.replace(sep, detect_m=detect_range_m(sep, af.v_max_mps, rate))
+        agent_options = {**agent_options, "separation": sep}
     return AgentConfig(
         uav_id=uav_id,
         uav_count=n,

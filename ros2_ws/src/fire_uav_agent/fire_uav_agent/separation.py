@@ -18,8 +18,8 @@ the commanded v_z): a peer is no conflict only if the height difference stays ab
 ``vertical_m`` over the horizon, as TCAS judges a vertical threat by the closure rate, not the
 separation now (FAA, Introduction to TCAS II Version 7.1, 2011: the vertical tau). Checked on
 the height difference now alone, a UAV climbing out of a missed landing at 15 m/s and a peer
-descending to land at 15 m/s were "26 m apart, no conflict" 0.9 s before they passed 8.8 m apart
-(grass_running, 6 UAVs, auto, seed 2 of the tactics study, 565.8 s). The scenario's
+descending to land at 15 m/s were "26.5 m apart, no conflict" 0.7 s before they passed 8.8 m apart
+(28.5 m at 0.9 s; grass_running, 6 UAVs, auto, seed 2 of the tactics study, 565.8 s). The scenario's
 ``mission.vertical_band`` chooses (``agent_config.config_from_scenario``); its default ``auto``
 predicts for FF's unicycle only, from what it did (docs/suppression.md, "Vertical rates in the
 avoider"): FF's unicycle, 15 missions, the closest approach of the worst from 8.8 to 13.5 m
@@ -29,6 +29,22 @@ around, ff_two_fires_tanker with unknown fires, seed 1) to 14.3 m but lowered sm
 ff_two_fires from 14.8 / 22.3 / 14.2 to 11.3 / 11.4 / 14.1 m: a fixed-wing's commanded v_z, used
 for its own height, is not the one it flies (the flight-path angle lags, climb and descent are
 limited), so there the default stays the height now.
+
+Detection range (our addition; FF is silent). Peers further than ``detect_m`` are ignored. FF's
+150 m is 0.75 s at the unicycle's 200 m/s head-on closing speed, enough for a vehicle that turns
+at 10 rad/s (and FF's figures rest on it: ff_paper keeps it); a fixed-wing's horizon is at least
+its quarter turn (:func:`avoid_heading`), 12 s for the tanker at 75 m/s,
+and 150 m cut it to one second (two tankers on one layer passed 7.28 m apart,
+grass_running_tanker seed 2). So a fixed-wing's range is :func:`detect_range_m`, the distance two
+aircraft at its top speed close over that horizon (agent_config sets it from the preset).
+With every peer in that range constraining the candidate headings, on FF's 600 m map (small_uav
+308 m, the J3Cub 364 m) two UAVs refilling at the lake passed 9.8 and 8.4 m apart (ff_two_fires
+seed 2; 17.3 and 15.2 m with 150 m). So beyond ``on_course_beyond_m`` (FF's 150 m) a peer counts
+only when the present course, straight at the present speed, comes within ``radius_m +
+release_margin_m`` of the peer's straight line within the horizon, the head-on and crossing
+conflicts the range was widened for: 17.3 and 11.0 m, and the tanker's 7.28 m pass 22.4 m
+(docs/airframes.md, rows "detect range, on course"; the missions still take 13-18 % longer than
+with 150 m, not analysed).
 
 Choice where FF is silent: the unicycle of Eq. 4 turns at up to 10 rad/s (FF II-B), so a
 heading change of up to 1 rad per 0.1 s control step is available and the filter acts only on
@@ -74,6 +90,8 @@ __all__ = [
     "SeparationConfig",
     "avoid_heading",
     "closest_approach_m",
+    "detect_range_m",
+    "effective_horizon_s",
     "hold_layer",
     "peer_rows",
     "turning_approach_m",
@@ -87,8 +105,13 @@ class SeparationConfig:
         10.0  # [m] peers further apart than this in height are no conflict (the 10 m band in 3-D)
     )
     horizon_s: float = 2.0  # [s] look-ahead of the straight-line prediction
-    detect_m: float = 150.0  # [m] peers further than this are ignored
+    # [m] peers further than this are ignored; FF's unicycle's, fixed-wings get their airframe's
+    # (detect_range_m, set by agent_config.config_from_scenario)
+    detect_m: float = 150.0
     headings: int = 72  # candidate headings, evenly spaced
+    # [m] a fixed-wing's peers beyond this (and within detect_m) count only when its present course
+    # meets them within the horizon (module doc, "Detection range"); FF's range
+    on_course_beyond_m: float = 150.0
     release_margin_m: float = 10.0  # [m] once avoiding, the desired heading must clear radius + this
     yield_m: float = 60.0  # [m] within this of a peer with the right of way, do not close on it
     intent: bool = True  # also predict each peer flying at its published centroid (module doc)
@@ -98,7 +121,7 @@ class SeparationConfig:
     vertical_rates: bool = False
 
     def __post_init__(self) -> None:
-        for name in ("radius_m", "vertical_m", "horizon_s", "detect_m"):
+        for name in ("radius_m", "vertical_m", "horizon_s", "detect_m", "on_course_beyond_m"):
             if not getattr(self, name) > 0:
                 raise ConfigError(f"SeparationConfig.{name} must be > 0, got {getattr(self, name)}")
         if self.headings < 4:
@@ -222,6 +245,34 @@ def turning_approach_m(
     return d.min(axis=(1, 2))
 
 
+def effective_horizon_s(cfg: SeparationConfig, turn_rate_radps: float | None = None) -> float:
+    """The avoider's look-ahead [s]: ``cfg.horizon_s``, or for a vehicle turning at
+    ``turn_rate_radps`` [rad/s] at least the time of a quarter turn, (pi / 2) / rate (a deviation
+    of 90 deg is what a head-on or crossing conflict may need; :func:`avoid_heading`)."""
+    if turn_rate_radps is None:
+        return cfg.horizon_s
+    return max(cfg.horizon_s, 0.5 * math.pi / max(turn_rate_radps, 1e-6))
+
+
+def detect_range_m(cfg: SeparationConfig, v_max_mps: float, turn_rate_radps: float) -> float:
+    """The range [m] within which the avoider must see a peer for its own look-ahead to be of use.
+
+    Two aircraft at the top speed ``v_max_mps`` head on close at 2 v_max; a pair whose closest
+    approach, ``cfg.radius_m`` apart, lies at the end of the horizon H (:func:`effective_horizon_s`
+    at ``turn_rate_radps``, the rate at the top speed, where the quarter turn takes longest) is
+    2 v_max H + radius_m apart now. A peer ignored beyond that range cannot be in a conflict the
+    horizon would have seen; a shorter range cuts the horizon to range / (2 v_max). Never less than
+    ``cfg.detect_m`` (the range FF's unicycle flies with).
+
+    The presets (g tan(phi_max) / v at v_max; docs/airframes.md): ``tanker`` 75 m/s at 45 deg: H =
+    12.0 s, 2 x 75 x 12.0 + 20 = 1,822 m; ``small_uav`` 30 m/s at 45 deg: H = 4.8 s, 308 m;
+    ``j3cub`` 30 m/s at 40 deg: H = 5.7 s, 364 m. The old 150 m was 1.0 s at the tankers' 144 m/s
+    closing speed (grass_running_tanker seed 2: two tankers on one layer passed 7.28 m apart).
+    """
+    h = effective_horizon_s(cfg, turn_rate_radps)
+    return max(cfg.detect_m, 2.0 * v_max_mps * h + cfg.radius_m)
+
+
 def avoid_heading(
     own_xyz_m: tuple[float, float, float],
     speed_mps: float,
@@ -261,9 +312,7 @@ def avoid_heading(
     yt = np.zeros(p.shape[0], bool) if yield_to is None else np.asarray(yield_to, bool).reshape(-1)
     if yt.shape[0] != p.shape[0]:
         raise InputError(f"yield_to must have one entry per peer row ({p.shape[0]}), got {yt.shape[0]}")
-    horizon = cfg.horizon_s
-    if turn_rate_radps is not None:
-        horizon = max(cfg.horizon_s, 0.5 * math.pi / max(turn_rate_radps, 1e-6))
+    horizon = effective_horizon_s(cfg, turn_rate_radps)
     if p.shape[0]:
         rel = p[:, :2] - np.array([x, y])
         dz = p[:, 2] - z
@@ -274,7 +323,15 @@ def avoid_heading(
             dz_min = np.where(dz * dz_end <= 0.0, 0.0, np.minimum(np.abs(dz), np.abs(dz_end)))
         else:
             dz_min = np.abs(dz)
-        near = (np.hypot(rel[:, 0], rel[:, 1]) <= cfg.detect_m) & (dz_min <= cfg.vertical_m)
+        dist = np.hypot(rel[:, 0], rel[:, 1])
+        near = (dist <= cfg.detect_m) & (dz_min <= cfg.vertical_m)
+        if turn_rate_radps is not None and cfg.on_course_beyond_m < cfg.detect_m:
+            # beyond on_course_beyond_m, only a peer our present course meets within the horizon
+            far = near & (dist > cfg.on_course_beyond_m)
+            if far.any():
+                own_v = speed_mps * np.array([math.cos(heading_rad), math.sin(heading_rad)])
+                meet = closest_approach_m(rel[far], p[far, 3:5] - own_v, horizon)
+                near[np.flatnonzero(far)[meet >= cfg.radius_m + cfg.release_margin_m]] = False
         p, rel, yt = p[near], rel[near], yt[near]
     if p.shape[0] == 0:
         return desired_heading_rad, False, True

@@ -138,7 +138,7 @@ def test_holding_needs_a_peer_strictly_inside_the_radius_and_strictly_below():
     assert hold_layer(me, [(30.0, 0.0, 20.0), (0.0, 5.0, 36.9)], cfg)  # any one peer is enough
 
 
-@pytest.mark.parametrize("field", ["radius_m", "vertical_m", "horizon_s", "detect_m"])
+@pytest.mark.parametrize("field", ["radius_m", "vertical_m", "horizon_s", "detect_m", "on_course_beyond_m"])
 def test_every_positive_field_is_checked(field):
     with pytest.raises(ValueError, match=rf"SeparationConfig\.{field} must be > 0, got -1"):
         SeparationConfig(**{field: -1})

@@ -3,8 +3,8 @@ kinematic truth: unicycles flown step by step in 3-D, heights straight at their 
 
 The case it was made for (grass_running, 6 UAVs, auto, seed 2 of the tactics study, 565.8 s):
 one UAV climbing out of a missed landing at 15 m/s, a right-of-way peer descending to land at
-15 m/s, 26 m apart in height 0.9 s before they passed 8.8 m apart; the band judged on the
-height difference now saw no conflict until they were 11 m apart, too late to turn.
+15 m/s, 26.5 m apart in height 0.7 s before they passed 8.8 m apart (28.5 m at 0.9 s); the band
+judged on the height difference now saw no conflict until they were 11 m apart, too late to turn.
 """
 
 import math
