@@ -94,18 +94,21 @@ class Guide:
         self.lake_clear_m = 0.0  # [m] beyond the shore, a low UAV leaving the lake still holds it
         # mission.lake_sequence: stack (opt-in): one fixed-wing at a time low over the lake
         self.lake_sequenced = cfg.airframe is not None and cfg.mission.lake_sequence == "stack"
+        lim, gd, veh = cfg.limits, cfg.guidance, cfg.vehicle
+        # [m/s] low and slow: the speed of the lake approach (FF IV-D b) and of a pattern drop's run
+        self.v_slow_mps = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
         # [m] pattern drops (AgentConfig.pattern_drops): within this of its aim point on a raster
-        # front a UAV flies its drop run low and slow (_drop_run); 0: no drop run
-        self.drop_run_m = 0.0
-        if cfg.pattern_drops and raster is not None:
-            self.drop_run_m = self._drop_run_m()
+        # front a UAV flies its drop run low and slow (_drop_run); 0: no drop run. The agent makes
+        # its raster tactic whatever the fire (it stays idle until FireCells arrive), so the run is
+        # sized here from the config alone and flown only where the tactic gives an aim point on a
+        # raster front (Situation.front_aim)
+        self.drop_run_m = self._drop_run_m() if cfg.pattern_drops else 0.0
         # _lake_rung's configuration per lake (fixed per agent and lake: made once, not per step)
         self._lake_seq: dict[tuple[float, float, float], LakeSequenceConfig] = {}
         af = cfg.airframe
         if af is not None:
             start = (float(self.start_xy[0]), float(self.start_xy[1]))
-            lim, gd, veh = cfg.limits, cfg.guidance, cfg.vehicle
-            refill_v = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
+            refill_v = self.v_slow_mps
             self.lake_margin_m = max(self.lake_margin_m, slowdown_m(af, af.v_max_mps, refill_v))
             # ... and where it can still descend from its layer to the scoop height at its descent
             # limit (airframe_model.descent_m): the J3Cub (1.4 m/s) reached the shore from the 37 m
@@ -207,9 +210,7 @@ class Guide:
                 target = self._centroid_of(dens, lake_xy, cell)
             if math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m) < lake.diameter_m / 2 + self.lake_margin_m:
                 height = gd.refill_height_fraction * veh.refill_height_m  # low ...
-                v_cap = (
-                    lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
-                )  # ... and slow
+                v_cap = self.v_slow_mps  # ... and slow
                 sequenced = self.raster.front is None and self.lake_sequenced
                 rung = self._lake_rung(s, lake) if sequenced else None
                 if rung is not None:
@@ -294,13 +295,13 @@ class Guide:
         to the drop speed (``airframe_model.slowdown_m``) and to descend from its layer to the
         lowest (``airframe_model.descent_m``); FF's unicycle changes both at once, so twice the
         release radius."""
-        cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
+        cfg = self.cfg
         tactic = self.raster.tactic
         release = tactic.release_radius_m
         af = cfg.airframe
         if af is None:
             return 2.0 * release
-        v_drop = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
+        v_drop = self.v_slow_mps
         drop_h = tactic.layer_height_m(cfg.uav_id) - tactic.layer_height_m(0)
         return release + max(slowdown_m(af, af.v_max_mps, v_drop), descent_m(af, v_drop, drop_h))
 
@@ -320,9 +321,7 @@ class Guide:
         a disc at any height."""
         if self.drop_run_m <= 0.0 or math.hypot(pos[0] - aim[0], pos[1] - aim[1]) >= self.drop_run_m:
             return None
-        lim, gd, veh = self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
-        v_drop = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
-        return self.raster.tactic.layer_height_m(0), v_drop
+        return self.raster.tactic.layer_height_m(0), self.v_slow_mps
 
     def _lake_rung(self, s: np.ndarray, lake: Lake) -> float | None:
         """None if this fixed-wing holds the lake (FF mode; :func:`.lake_sequence.lake_holder`): it
