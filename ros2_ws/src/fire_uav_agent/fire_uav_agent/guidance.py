@@ -116,6 +116,10 @@ class Guide:
             self.run_turn_m = turn_radius_m(af0, self.v_slow_mps)
         self.lead_in_m = min(self.drop_run_m, 3.0 * self.run_turn_m + raster.tactic.release_radius_m)
         self.leg: FinalApproach | None = None  # the drop run's leg along the front (_drop_leg)
+        # the estimated poses (x, y, yaw) of the last second: the crab angle on the leg (_crab_rad)
+        self._poses: deque[tuple[float, float, float]] = deque(
+            maxlen=max(2, round(1.0 / cfg.control_period_s) + 1)
+        )
         # how each new leg went: lined up, or today's straight run for want of front cells near the
         # aim ("few_cells") or of room to turn onto the leg before the aim ("no_room")
         self.leg_counts = {"leg": 0, "few_cells": 0, "no_room": 0}
@@ -307,6 +311,7 @@ class Guide:
         if self.raster.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
             height = self.raster.tactic.layer_height_m(cfg.uav_id)
         goal = target if steer is None else steer
+        self._poses.append((pos[0], pos[1], float(s[3])))
         cmd = control_law(s, np.array(goal), height, cfg.terrain, lim, cfg.gains, v_cap)
         if self.raster.front is None:  # analytic fires only (_within_turn)
             cmd = self._within_turn(s, cmd, goal)
@@ -406,8 +411,8 @@ class Guide:
             self.leg_counts["leg"] += 1
         self.leg = leg
         if captured:
-            chi = leg.line_course(pos)
-            return (pos[0] + 4.0 * r * math.cos(chi), pos[1] + 4.0 * r * math.sin(chi))
+            psi = leg.line_course(pos) - self._crab_rad()  # the heading that flies that course
+            return (pos[0] + 4.0 * r * math.cos(psi), pos[1] + 4.0 * r * math.sin(psi))
         entry = leg.entry_xy
         wrong_way = abs(math.remainder(pose[2] - leg.course_rad, math.tau)) > 0.5 * math.pi
         if math.hypot(pos[0] - entry[0], pos[1] - entry[1]) < 2.0 * r and wrong_way:
@@ -418,6 +423,25 @@ class Guide:
                 pos[1] + r * math.sin(pose[2] + side * 0.5 * math.pi),
             )
         return entry
+
+    def _crab_rad(self) -> float:
+        """The crab angle [rad], course over the ground less heading, over the last second of estimated
+        poses (0 before a second of them, or when the UAV moved less than 1 m). B&M's vector field
+        gives a course; the control law steers the heading, and the world drifts a fixed-wing with
+        the wind: in grass_running_tanker's 3 m/s at the run's 49.8 m/s a crosswind is a 3.5 deg
+        crab, which the field (k = 1 / r, r = 253 m) would hold off the line by about 22 m, more
+        than the pattern's half width (sigma 6 m from 8 m up). Clipped to +-30 deg."""
+        if len(self._poses) < (self._poses.maxlen or 0):
+            return 0.0
+        x0, y0, _ = self._poses[0]
+        x1, y1, _ = self._poses[-1]
+        if math.hypot(x1 - x0, y1 - y0) < 1.0:
+            return 0.0
+        mean_yaw = math.atan2(
+            sum(math.sin(p[2]) for p in self._poses), sum(math.cos(p[2]) for p in self._poses)
+        )
+        crab = math.remainder(math.atan2(y1 - y0, x1 - x0) - mean_yaw, math.tau)
+        return max(-math.radians(30.0), min(math.radians(30.0), crab))
 
     def _new_leg(
         self,
