@@ -211,8 +211,9 @@ class Guide:
                 run = self._drop_run(pos, target)
                 if run is not None:
                     height, v_cap = run
-                    steer = self._drop_leg(s, target, sit.view.t_s)
-                    on_leg = True
+                    if cfg.drop_leg:  # off by default (AgentConfig.drop_leg)
+                        steer = self._drop_leg(s, target, sit.view.t_s)
+                        on_leg = True
             elif dec.direct:
                 target = (tgt.x_m, tgt.y_m)
                 if self.raster.front is not None:

@@ -21,9 +21,9 @@ from fire_world_sim.drop_pattern import L_PER_M2_PER_CL, Release, coverage_level
 GRASS_LPM2 = coverage_level(1) * L_PER_M2_PER_CL  # FBFM 1 (short grass): CL 1
 
 
-def _tanker(uid: int, **over):
+def _tanker(uid: int, leg: bool = False, **over):
     sc = load_scenario(scenario_path("grass_running_tanker"), overrides=over)
-    return sc, Agent(config_from_scenario(sc, uid, uav_count=5, seed=1, loss_probability=0.0))
+    return sc, Agent(config_from_scenario(sc, uid, uav_count=5, seed=1, loss_probability=0.0, drop_leg=leg))
 
 
 def _peak(sc, height_m: float, speed_mps: float) -> float:
@@ -121,7 +121,7 @@ def test_the_run_is_lined_up_with_the_front(front_deg, wind_across):
     length: its line from the release on) within 15 deg of it and 25 m of the front's line. Today's
     run (straight at the aim) crosses the front at 90 deg. With grass_running_tanker's 3 m/s across
     the front the leg is held on the line by the crab angle (without it: about 22 m off)."""
-    _, a = _tanker(0)
+    _, a = _tanker(0, leg=True)
     g = a.guide
     th = math.radians(front_deg)
     normal = (-math.sin(th), math.cos(th))
@@ -154,7 +154,7 @@ def test_no_leg_without_a_line_of_front_cells():
     from fire_uav_agent.fire_front import FrontConfig, FrontPicture
     from fire_uav_common.constants import CellState
 
-    _, a = _tanker(0)
+    _, a = _tanker(0, leg=True)
     g = a.guide
     pic = FrontPicture(FrontConfig(a.cfg.area_m, 10.0))
     pic.observe(
@@ -164,6 +164,16 @@ def test_no_leg_without_a_line_of_front_cells():
     s = np.array([3000.0, 2000.0, 8.0, math.pi / 2])
     assert g._drop_leg(s, (3000.0, 3000.0), 1.0) == (3000.0, 3000.0)
     assert g.leg_counts["few_cells"] == 1 and g.leg is None
+
+
+def test_the_leg_is_off_by_default():
+    """Without AgentConfig.drop_leg the run flies straight at the aim, square to the front as it came."""
+    _, a = _tanker(0)
+    track = _fly_run(
+        a, 30.0, (3000.0 - 750.0, 3000.0 + 1500.0 * math.cos(math.radians(30.0))), math.radians(-60.0)
+    )
+    assert abs(math.degrees(abs(math.remainder(track[-1][2] - math.radians(30.0), math.pi))) - 90.0) < 1.0
+    assert a.guide.leg_counts["leg"] == 0 and a.guide.leg is None
 
 
 @pytest.mark.parametrize("deg", [0.0, 30.0, 90.0, 135.0])
