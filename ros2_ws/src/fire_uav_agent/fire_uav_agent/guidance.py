@@ -355,7 +355,9 @@ class Guide:
     def _drop_leg(self, s: np.ndarray, aim: tuple[float, float], t_s: float) -> tuple[float, float]:
         """Where a pattern drop's run steers [m]: onto a leg along the front through the aim point, so
         that the pattern (a line ``pattern_m`` long from the release on, along the track) is laid
-        along the fire's edge, not across it. Our addition; FF's drop is a disc.
+        along the fire's edge, not across it. Our addition; FF's drop is a disc. Only with
+        ``AgentConfig.drop_leg`` (off by default: on grass_running_tanker it put fewer cells out
+        than the straight run, docs/airframes.md).
 
         Fire services lay retardant and water lines along the edge: a direct-attack drop goes next to
         the fire's edge, a parallel one along and within about 30 m of the perimeter, each line
