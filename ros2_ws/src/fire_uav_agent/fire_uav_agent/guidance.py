@@ -208,10 +208,6 @@ class Guide:
             tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
             if sit.front_aim is not None:  # raster: the aim point on the front (tactics)
                 target = sit.front_aim
-                if cfg.drop_leg and self.leg is not None:
-                    # on a leg the aim is held for the run (the tactic re-picks it each step, and
-                    # flying the leg moves the UAV's Voronoi cell and so its aim: _drop_leg)
-                    target = self.leg.threshold_xy
                 run = self._drop_run(pos, target)
                 if run is not None:
                     height, v_cap = run
