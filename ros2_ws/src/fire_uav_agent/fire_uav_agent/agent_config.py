@@ -92,6 +92,9 @@ class AgentConfig:
     # the tank's drop is a ground pattern (scenario fires.drop_model: pattern), whose coverage falls
     # with the release height and speed: raster drop runs low and slow (guidance.Guide)
     pattern_drops: bool = False
+    # pattern drops: the run's last leg along the front (guidance.Guide._drop_leg); off by default:
+    # on grass_running_tanker it put fewer cells out than the straight run (docs/airframes.md)
+    drop_leg: bool = False
     gains: ControlGains = field(default_factory=ControlGains)
     guidance: GuidanceConfig = field(default_factory=GuidanceConfig)
     separation: SeparationConfig = field(default_factory=SeparationConfig)

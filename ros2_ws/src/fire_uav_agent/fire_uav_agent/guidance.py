@@ -34,7 +34,7 @@ from .planning import Planner, PlannerView
 from .raster_role import RasterSuppression
 from .separation import PeerAvoidance, hold_layer
 from .staleness_search import StalenessSearch
-from .tactics import direct_run_point, layer_height
+from .tactics import direct_run_point, front_tangent, layer_height
 
 __all__ = ["Guidance", "Guide", "Situation"]
 
@@ -94,18 +94,41 @@ class Guide:
         self.lake_clear_m = 0.0  # [m] beyond the shore, a low UAV leaving the lake still holds it
         # mission.lake_sequence: stack (opt-in): one fixed-wing at a time low over the lake
         self.lake_sequenced = cfg.airframe is not None and cfg.mission.lake_sequence == "stack"
+        lim, gd, veh = cfg.limits, cfg.guidance, cfg.vehicle
+        # [m/s] low and slow: the speed of the lake approach (FF IV-D b) and of a pattern drop's run
+        self.v_slow_mps = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
         # [m] pattern drops (AgentConfig.pattern_drops): within this of its aim point on a raster
-        # front a UAV flies its drop run low and slow (_drop_run); 0: no drop run
-        self.drop_run_m = 0.0
-        if cfg.pattern_drops and raster is not None:
-            self.drop_run_m = self._drop_run_m()
+        # front a UAV flies its drop run low and slow (_drop_run); 0: no drop run. The agent makes
+        # its raster tactic whatever the fire (it stays idle until FireCells arrive), so the run is
+        # sized here from the config alone and flown only where the tactic gives an aim point on a
+        # raster front (Situation.front_aim)
+        self.drop_run_m = self._drop_run_m() if cfg.pattern_drops else 0.0
+        # the drop run's last leg along the front (_drop_leg): the pattern's length at the run's
+        # speed (drop_pattern (P1): v V / Q; 0 without a flow rate: no leg), the turn radius there
+        # and the leg's length before the aim
+        af0 = cfg.airframe
+        load_l = veh.water_capacity_kg if af0 is None else af0.water_capacity_kg
+        flow_lps = veh.drop_flow_lps if af0 is None else af0.drop_flow_lps
+        self.pattern_m = self.v_slow_mps * load_l / flow_lps if flow_lps > 0 else 0.0
+        if af0 is None:
+            self.run_turn_m = self.v_slow_mps / max(lim.omega_max_radps, 1e-6)
+        else:
+            self.run_turn_m = turn_radius_m(af0, self.v_slow_mps)
+        self.lead_in_m = min(self.drop_run_m, 3.0 * self.run_turn_m + raster.tactic.release_radius_m)
+        self.leg: FinalApproach | None = None  # the drop run's leg along the front (_drop_leg)
+        # the estimated poses (x, y, yaw) of the last second: the crab angle on the leg (_crab_rad)
+        self._poses: deque[tuple[float, float, float]] = deque(
+            maxlen=max(2, round(1.0 / cfg.control_period_s) + 1)
+        )
+        # how each new leg went: lined up, or today's straight run for want of front cells near the
+        # aim ("few_cells") or of room to turn onto the leg before the aim ("no_room")
+        self.leg_counts = {"leg": 0, "few_cells": 0, "no_room": 0}
         # _lake_rung's configuration per lake (fixed per agent and lake: made once, not per step)
         self._lake_seq: dict[tuple[float, float, float], LakeSequenceConfig] = {}
         af = cfg.airframe
         if af is not None:
             start = (float(self.start_xy[0]), float(self.start_xy[1]))
-            lim, gd, veh = cfg.limits, cfg.guidance, cfg.vehicle
-            refill_v = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
+            refill_v = self.v_slow_mps
             self.lake_margin_m = max(self.lake_margin_m, slowdown_m(af, af.v_max_mps, refill_v))
             # ... and where it can still descend from its layer to the scoop height at its descent
             # limit (airframe_model.descent_m): the J3Cub (1.4 m/s) reached the shore from the 37 m
@@ -179,6 +202,8 @@ class Guide:
         v_cap = None
         pos = (float(s[0]), float(s[1]))
         target: tuple[float, float]
+        steer: tuple[float, float] | None = None  # where the control law steers, if not the target
+        on_leg = False
         if obj == Objective.SUPPRESS and active:
             tgt = next((f for f in active if f.fire_id == dec.target_fire_id), active[0])
             if sit.front_aim is not None:  # raster: the aim point on the front (tactics)
@@ -186,6 +211,9 @@ class Guide:
                 run = self._drop_run(pos, target)
                 if run is not None:
                     height, v_cap = run
+                    if cfg.drop_leg:  # off by default (AgentConfig.drop_leg)
+                        steer = self._drop_leg(s, target, sit.view.t_s)
+                        on_leg = True
             elif dec.direct:
                 target = (tgt.x_m, tgt.y_m)
                 if self.raster.front is not None:
@@ -207,9 +235,7 @@ class Guide:
                 target = self._centroid_of(dens, lake_xy, cell)
             if math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m) < lake.diameter_m / 2 + self.lake_margin_m:
                 height = gd.refill_height_fraction * veh.refill_height_m  # low ...
-                v_cap = (
-                    lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
-                )  # ... and slow
+                v_cap = self.v_slow_mps  # ... and slow
                 sequenced = self.raster.front is None and self.lake_sequenced
                 rung = self._lake_rung(s, lake) if sequenced else None
                 if rung is not None:
@@ -281,12 +307,16 @@ class Guide:
             if plan.height_m is not None:
                 height = plan.height_m
             v_cap = plan.speed_cap_mps
+        if not on_leg:
+            self.leg = None
         if self.raster.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
             height = self.raster.tactic.layer_height_m(cfg.uav_id)
-        cmd = control_law(s, np.array(target), height, cfg.terrain, lim, cfg.gains, v_cap)
+        goal = target if steer is None else steer
+        self._poses.append((pos[0], pos[1], float(s[3])))
+        cmd = control_law(s, np.array(goal), height, cfg.terrain, lim, cfg.gains, v_cap)
         if self.raster.front is None:  # analytic fires only (_within_turn)
-            cmd = self._within_turn(s, cmd, target)
-        return Guidance(self._separate(s, cmd, target, last_step) if cfg.avoidance else cmd, target)
+            cmd = self._within_turn(s, cmd, goal)
+        return Guidance(self._separate(s, cmd, goal, last_step) if cfg.avoidance else cmd, target)
 
     def _drop_run_m(self) -> float:
         """Where a pattern drop's run begins [m from the aim point]: the release radius
@@ -294,13 +324,13 @@ class Guide:
         to the drop speed (``airframe_model.slowdown_m``) and to descend from its layer to the
         lowest (``airframe_model.descent_m``); FF's unicycle changes both at once, so twice the
         release radius."""
-        cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
+        cfg = self.cfg
         tactic = self.raster.tactic
         release = tactic.release_radius_m
         af = cfg.airframe
         if af is None:
             return 2.0 * release
-        v_drop = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
+        v_drop = self.v_slow_mps
         drop_h = tactic.layer_height_m(cfg.uav_id) - tactic.layer_height_m(0)
         return release + max(slowdown_m(af, af.v_max_mps, v_drop), descent_m(af, v_drop, drop_h))
 
@@ -320,9 +350,131 @@ class Guide:
         a disc at any height."""
         if self.drop_run_m <= 0.0 or math.hypot(pos[0] - aim[0], pos[1] - aim[1]) >= self.drop_run_m:
             return None
-        lim, gd, veh = self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
-        v_drop = lim.v_stall_mps + gd.refill_speed_fraction * veh.refill_speed_margin_mps
-        return self.raster.tactic.layer_height_m(0), v_drop
+        return self.raster.tactic.layer_height_m(0), self.v_slow_mps
+
+    def _drop_leg(self, s: np.ndarray, aim: tuple[float, float], t_s: float) -> tuple[float, float]:
+        """Where a pattern drop's run steers [m]: onto a leg along the front through the aim point, so
+        that the pattern (a line ``pattern_m`` long from the release on, along the track) is laid
+        along the fire's edge, not across it. Our addition; FF's drop is a disc. Only with
+        ``AgentConfig.drop_leg`` (off by default: on grass_running_tanker it put fewer cells out
+        than the straight run, docs/airframes.md).
+
+        Fire services lay retardant and water lines along the edge: a direct-attack drop goes next to
+        the fire's edge, a parallel one along and within about 30 m of the perimeter, each line
+        started from an anchor point and extended by the next (NWCG Interagency Aerial Supervision
+        Guide, PMS 505, ch. 8, as taught in its aerial strategy and tactics unit; the airtanker
+        glossary's "anchor point" and "extend"); the lead plane or bird dog sets each run's
+        direction, and the tanker flies a circuit onto it as onto a runway (downwind, base, final).
+        Here the agent sets it from its OWN front picture (never the world's): the leg's direction
+        is the principal axis of the front cells it believes burning within a pattern length of the
+        aim (:func:`.tactics.front_tangent`), flown in the sense that needs the smaller turn from the
+        UAV's heading via the leg's entry. The leg is flown as the lined-up landing's final
+        (:class:`.airframe_model.FinalApproach`, Beard & McLain's straight-line vector field, Eq.
+        10.8) with the aim point as its threshold, ``lead_in_m`` long (three turn radii at the run's
+        speed plus the release radius, at most ``drop_run_m``): to the entry point until captured,
+        a full-rate turn toward the course there if heading the wrong way, then along the line. The
+        release is the agent's rule as before (:func:`.tactics.release_now`: on the peak of the
+        burning cells under it), so the pattern starts where the leg meets the burning edge and
+        runs on along it. The leg is kept while the aim stays within half a pattern of its aim point
+        (a farther aim: a new leg, in the same sense), and dropped half a pattern past it with no
+        release (a new leg next step).
+
+        Today's straight run at the aim (returned unchanged) where there is no line to follow: fewer
+        than 5 front cells near the aim, or no clear direction among them ("few_cells"); or where a
+        UAV without a leg is already within ``lead_in_m`` of the aim and not captured by the final,
+        without the room to turn onto it on its turn radius before the aim ("no_room"). ``t_s``: the
+        step's time, at which the tactic read the picture (the same cached front)."""
+        front = self.raster.front
+        if front is None:
+            return aim
+        pos = (float(s[0]), float(s[1]))
+        pose = (pos[0], pos[1], float(s[3]))
+        r = self.run_turn_m
+        leg = self.leg
+        fresh = leg is None
+        if (
+            leg is None
+            or math.hypot(aim[0] - leg.threshold_xy[0], aim[1] - leg.threshold_xy[1]) > 0.5 * self.pattern_m
+        ):
+            t = front_tangent(front.front(t_s), aim, self.pattern_m)
+            if t is None:
+                self.leg = None
+                self.leg_counts["few_cells"] += 1
+                return aim
+            leg = self._new_leg(aim, t, pose, None if leg is None else leg.course_rad)
+        along, _ = leg.frame(pos)
+        if along > 0.5 * self.pattern_m:  # half a pattern past the aim, no release: a new leg
+            self.leg = None
+            return aim
+        captured = leg.captured(pose)
+        if fresh:
+            if not captured and math.hypot(pos[0] - aim[0], pos[1] - aim[1]) < self.lead_in_m:
+                self.leg_counts["no_room"] += 1
+                return aim  # no leg yet: asked again next step
+            self.leg_counts["leg"] += 1
+        self.leg = leg
+        if captured:
+            psi = leg.line_course(pos) - self._crab_rad()  # the heading that flies that course
+            return (pos[0] + 4.0 * r * math.cos(psi), pos[1] + 4.0 * r * math.sin(psi))
+        entry = leg.entry_xy
+        wrong_way = abs(math.remainder(pose[2] - leg.course_rad, math.tau)) > 0.5 * math.pi
+        if math.hypot(pos[0] - entry[0], pos[1] - entry[1]) < 2.0 * r and wrong_way:
+            # at the entry heading the wrong way: a full-rate turn toward the course (_land_lined_up)
+            side = leg.turn_side(pose)
+            return (
+                pos[0] + r * math.cos(pose[2] + side * 0.5 * math.pi),
+                pos[1] + r * math.sin(pose[2] + side * 0.5 * math.pi),
+            )
+        return entry
+
+    def _crab_rad(self) -> float:
+        """The crab angle [rad], course over the ground less heading, over the last second of estimated
+        poses (0 before a second of them, or when the UAV moved less than 1 m). B&M's vector field
+        gives a course; the control law steers the heading, and the world drifts a fixed-wing with
+        the wind: in grass_running_tanker's 3 m/s at the run's 49.8 m/s a crosswind is a 3.5 deg
+        crab, which the field (k = 1 / r, r = 253 m) would hold off the line by about 22 m, more
+        than the pattern's half width (sigma 6 m from 8 m up). Clipped to +-30 deg."""
+        if len(self._poses) < (self._poses.maxlen or 0):
+            return 0.0
+        x0, y0, _ = self._poses[0]
+        x1, y1, _ = self._poses[-1]
+        if math.hypot(x1 - x0, y1 - y0) < 1.0:
+            return 0.0
+        mean_yaw = math.atan2(
+            sum(math.sin(p[2]) for p in self._poses), sum(math.cos(p[2]) for p in self._poses)
+        )
+        crab = math.remainder(math.atan2(y1 - y0, x1 - x0) - mean_yaw, math.tau)
+        return max(-math.radians(30.0), min(math.radians(30.0), crab))
+
+    def _new_leg(
+        self,
+        aim: tuple[float, float],
+        t: tuple[float, float],
+        pose: tuple[float, float, float],
+        prev_rad: float | None,
+    ) -> FinalApproach:
+        """The leg along the front direction ``t`` (unit, either sense) through ``aim``, in the sense of
+        the previous leg's course ``prev_rad`` (None: the sense that needs the smaller turn from the
+        heading to the leg's entry point, then onto the leg)."""
+        r = self.run_turn_m
+
+        def leg_of(course: float) -> FinalApproach:
+            return FinalApproach(aim, course, self.lead_in_m, r)
+
+        def turn(leg: FinalApproach) -> float:
+            ex, ey = leg.entry_xy
+            if math.hypot(ex - pose[0], ey - pose[1]) < r:
+                return abs(math.remainder(leg.course_rad - pose[2], math.tau))
+            b = math.atan2(ey - pose[1], ex - pose[0])
+            return abs(math.remainder(b - pose[2], math.tau)) + abs(
+                math.remainder(leg.course_rad - b, math.tau)
+            )
+
+        course = math.atan2(t[1], t[0])
+        if prev_rad is not None:
+            same = abs(math.remainder(course - prev_rad, math.tau)) <= 0.5 * math.pi
+            return leg_of(course if same else course + math.pi)
+        return min((leg_of(course), leg_of(course + math.pi)), key=turn)
 
     def _lake_rung(self, s: np.ndarray, lake: Lake) -> float | None:
         """None if this fixed-wing holds the lake (FF mode; :func:`.lake_sequence.lake_holder`): it

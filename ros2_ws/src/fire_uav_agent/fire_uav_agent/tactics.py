@@ -93,6 +93,7 @@ __all__ = [
     "choose_anchor",
     "direct_run_point",
     "front_density",
+    "front_tangent",
     "free_front",
     "front_weights",
     "layer_height",
@@ -378,6 +379,40 @@ def aim_on_front(
         d = np.hypot(front.x_m[cand] - centroid_xy[0], front.y_m[cand] - centroid_xy[1])
         k = cand[int(np.argmin(d))]
     return float(front.x_m[k]), float(front.y_m[k])
+
+
+def front_tangent(
+    front: FrontCells,
+    aim_xy: tuple[float, float],
+    radius_m: float,
+    min_cells: int = 5,
+    max_aspect: float = 0.5,
+) -> tuple[float, float] | None:
+    """The front's direction at ``aim_xy``: the unit principal axis (either sign) of the front cells
+    within ``radius_m`` of it, or None where that is no line: fewer than ``min_cells`` cells, or a
+    minor-to-major spread ratio sqrt(lambda_2 / lambda_1) above ``max_aspect`` (a blob of cells, e.g.
+    a spot fire or the front's tip folded back within the radius).
+
+    The principal axis of the cells' scatter is the total-least-squares line through them (the
+    eigenvector of their 2 x 2 covariance with the largest eigenvalue). A pattern drop's run is laid
+    along it (``guidance.Guide``): fire services lay retardant and water lines along the fire's
+    edge, anchored, not across it (module doc of :mod:`.guidance`, "drop run")."""
+    if len(front) == 0 or not radius_m > 0:
+        return None
+    dx = front.x_m - aim_xy[0]
+    dy = front.y_m - aim_xy[1]
+    near = dx * dx + dy * dy <= radius_m * radius_m
+    n = int(np.count_nonzero(near))
+    if n < max(2, min_cells):
+        return None
+    x, y = dx[near], dy[near]
+    x = x - x.mean()
+    y = y - y.mean()
+    cov = np.array([[np.dot(x, x), np.dot(x, y)], [np.dot(x, y), np.dot(y, y)]]) / n
+    lam, vec = np.linalg.eigh(cov)  # ascending eigenvalues
+    if not lam[1] > 0 or lam[0] > max_aspect * max_aspect * lam[1]:
+        return None
+    return float(vec[0, 1]), float(vec[1, 1])
 
 
 def shares_airspace(uav_id: int, peer_id: int, cfg: TacticConfig) -> bool:
