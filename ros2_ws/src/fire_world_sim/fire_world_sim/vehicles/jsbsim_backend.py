@@ -119,12 +119,15 @@ class JsbsimModel:
         self._dt_s = dt_s
         v = Autopilot(self.af, 0.5, 0.0).speed_command_mps(command.v_lin_mps)
         fdm = self._initial_fdm(state, v, dt_s)
-        try:
-            if not self.js.simple_trim:
-                raise RuntimeError("trimmed by flying")
-            fdm["simulation/do_simple_trim"] = 1
+        trimmed = self.js.simple_trim
+        if trimmed:
+            try:
+                fdm["simulation/do_simple_trim"] = 1
+            except RuntimeError:  # JSBSim's "Trim Failed"
+                trimmed = False
+        if trimmed:
             self.autopilot = Autopilot(self.af, fdm["fcs/throttle-cmd-norm"], fdm["attitude/theta-rad"])
-        except RuntimeError:
+        else:
             self.autopilot = self._fly_to_trim(state, v, dt_s)
         self._last = self._state(state.water_kg)
         return self._last
