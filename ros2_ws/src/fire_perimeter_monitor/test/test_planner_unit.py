@@ -6,6 +6,7 @@ is the outer cell of the fastest bin), and the geometry of a full lap about a kn
 """
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -66,6 +67,32 @@ def test_config_validation_messages():
     assert ok.gap_s == 0.0
     # the default same-visit window: the time to fly 10 cells
     assert MonitorConfig(cell_size_m=30.0, speed_mps=10.0).gap_s == pytest.approx(30.0)
+
+
+def test_config_bounds_of_the_relay_the_reach_and_the_front_are_inclusive():
+    """Each bound of MonitorConfig's docs at its edge is valid (a 0 s relay period, a 0 m reach,
+    no front smoothing, fractions of 0 and 1), and past it named with the message whole."""
+    for kw in (
+        {"relay_head_period_s": 0.0, "relay_fast_fraction": 0.0},
+        {"relay_fast_fraction": 1.0},
+        {"reach_m": 0.0},
+        {"front_smooth_bins": 0, "front_ros_fraction": 0.0},
+        {"front_ros_fraction": 1.0},
+    ):
+        MonitorConfig(cell_size_m=1.0, speed_mps=1.0, **kw)
+    relay = "relay_head_period_s must be >= 0 and relay_fast_fraction in [0, 1]; got "
+    front = "front_smooth_bins must be >= 0 and front_ros_fraction in [0, 1]; got "
+    for kw, message in (
+        ({"relay_head_period_s": -0.5}, relay + "-0.5, 0.5"),
+        ({"relay_fast_fraction": 1.5}, relay + "3.5, 1.5"),
+        ({"reach_m": -1.0}, "reach_m must be >= 0 or None, got -1.0"),
+        ({"front_smooth_bins": -1}, front + "-1, 0.8"),
+        ({"front_ros_fraction": -0.5}, front + "5, -0.5"),
+        ({"rule": "x"}, "rule must be 'worst' or 'windows', got 'x'"),
+        ({"split": "x"}, "split must be 'spread', 'angle' or 'relay', got 'x'"),
+    ):
+        with pytest.raises(ValueError, match="^" + re.escape(message) + "$"):
+            MonitorConfig(cell_size_m=1.0, speed_mps=1.0, **kw)
 
 
 @pytest.fixture(scope="module")

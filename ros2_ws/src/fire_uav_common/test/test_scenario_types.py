@@ -1,0 +1,111 @@
+"""The scenario's value types (fire_uav_common.scenario.types): their derived values by hand.
+
+Truths: plain geometry for the area and the start line, B&M (Beard & McLain, *Small Unmanned
+Aircraft*, 2012) Eq. 9.14 for the coordinated turn and lift = n W at C_L,max for the stall speed
+(the Airframe doc), the docs' bounds for outages. Fast (the mutation selection of
+``fire_uav_common.scenario.types`` runs it once per mutant).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import pytest
+from fire_uav_common.errors import ArgumentError, ScheduleError
+from fire_uav_common.scenario import AIRFRAMES, Scenario
+from fire_uav_common.scenario import types as t
+
+SMALL = AIRFRAMES["small_uav"]
+
+
+def test_the_area_off_the_origin():
+    a = t.Area(10.0, 70.0, -20.0, 80.0)
+    assert (a.width_m, a.height_m) == (60.0, 100.0)
+    for x, y in [(10.0, -20.0), (70.0, 80.0), (10.0, 80.0), (70.0, -20.0), (40.0, 30.0)]:
+        assert a.contains(x, y), (x, y)  # the edges belong to it
+    for x, y in [(9.999, 0.0), (70.001, 0.0), (40.0, -20.001), (40.0, 80.001), (-40.0, 30.0), (40.0, -30.0)]:
+        assert not a.contains(x, y), (x, y)
+
+
+@pytest.mark.parametrize(
+    ("control", "physics", "n"), [(0.1, 0.01, 10), (0.25, 0.05, 5), (0.1, 0.03, 3), (0.1, 0.04, 2)]
+)
+def test_substeps_are_the_nearest_whole_number(control, physics, n):
+    # 0.1 / 0.01 is 9.999999999999998 in floats: truncation would give 9
+    assert t.Timing(control, physics).substeps == n
+
+
+def test_the_lowest_commanded_speed_and_the_scoop_run():
+    af = dataclasses.replace(
+        SMALL, v_stall_mps=12.0, min_speed_factor=1.5, water_capacity_kg=30.0, refill_rate_kgps=6.0
+    )
+    assert af.v_min_mps == pytest.approx(18.0)
+    # 30 kg at 6 kg/s: 5 s over the water at 18 m/s
+    assert af.scoop_run_m == pytest.approx(90.0)
+    assert dataclasses.replace(af, min_speed_factor=1.3).v_min_mps == pytest.approx(15.6)
+
+
+@pytest.mark.parametrize(("bank_deg", "v"), [(45.0, 20.0), (30.0, 15.0), (60.0, 40.0)])
+def test_the_coordinated_turn_rate_is_b_and_m_eq_9_14(bank_deg, v):
+    af = dataclasses.replace(SMALL, bank_max_deg=bank_deg)
+    assert af.bank_max_rad == pytest.approx(bank_deg * math.pi / 180.0)
+    assert af.turn_rate_max_radps(v) == pytest.approx(9.80665 * math.tan(math.radians(bank_deg)) / v)
+
+
+def test_the_turn_rate_at_rest_is_finite():
+    af = dataclasses.replace(SMALL, bank_max_deg=45.0)
+    assert af.turn_rate_max_radps(0.0) == pytest.approx(9.80665 / 1e-6)
+    assert af.turn_rate_max_radps(-5.0) == pytest.approx(9.80665 / 1e-6)
+    assert af.turn_rate_max_radps(2e-6) == pytest.approx(9.80665 / 2e-6)
+
+
+def test_the_stall_speed_with_the_load_and_the_load_factor():
+    af = dataclasses.replace(SMALL, v_stall_mps=12.0, empty_mass_kg=10.0, water_capacity_kg=30.0)
+    assert af.stall_speed_mps(30.0) == pytest.approx(12.0)  # the 1 g stall at full load
+    assert af.stall_speed_mps(0.0) == pytest.approx(12.0 * math.sqrt(10.0 / 40.0))  # empty tank
+    assert af.stall_speed_mps(10.0) == pytest.approx(12.0 * math.sqrt(20.0 / 40.0))
+    assert af.stall_speed_mps(30.0, 2.0) == pytest.approx(12.0 * math.sqrt(2.0))  # a 60 deg bank
+    assert af.stall_speed_mps(10.0, 4.0) == pytest.approx(12.0 * math.sqrt(4.0 * 20.0 / 40.0))
+    assert af.stall_speed_mps(-5.0) == pytest.approx(af.stall_speed_mps(0.0))  # no negative water
+    assert af.stall_speed_mps(30.0, -1.0) == 0.0  # no negative load
+
+
+def test_an_outage_may_last_no_time_but_not_end_before_it_starts():
+    assert t.LinkOutage(0, 0, 5.0, 5.0).end_s == 5.0
+    with pytest.raises(ScheduleError, match=r"^outage end_s 4.0 before start_s 5.0$"):
+        t.LinkOutage(0, 1, 5.0, 4.0)
+    with pytest.raises(ScheduleError, match=r"^outage end_s nan before start_s 5.0$"):
+        t.LinkOutage(0, 1, 5.0, math.nan)
+
+
+@pytest.mark.parametrize(("a", "b"), [(-1, 0), (0, -1), (-2, -3)])
+def test_an_outage_between_negative_ids_is_named(a, b):
+    with pytest.raises(ScheduleError, match=rf"^outage ids must be >= 0, got {a} -> {b}$"):
+        t.LinkOutage(a, b, 0.0, 1.0)
+
+
+def _line(count: int = 4) -> Scenario:
+    uavs = t.Uavs(
+        count=count, first=t.Pose(12.5, 34.5, 1.5, 0.3), spacing=t.Spacing(4.0, -30.0), takeoff_interval_s=2.5
+    )
+    return Scenario(name="line", area=t.Area(0.0, 1.0, 0.0, 1.0), uavs=uavs)
+
+
+def test_the_start_poses_line_up_from_the_first_by_the_spacing():
+    s = _line()
+    want = [(12.5 + 4.0 * i, 34.5 - 30.0 * i, 1.5, 0.3) for i in range(4)]
+    assert s.uav_start_poses() == want
+    assert s.uav_start_poses(6) == want + [(12.5 + 4.0 * i, 34.5 - 30.0 * i, 1.5, 0.3) for i in (4, 5)]
+    assert s.uav_start_poses(1) == want[:1] and s.uav_start_poses(0) == []
+    assert _line(0).uav_start_poses() == []
+
+
+def test_a_negative_count_of_start_poses_is_named():
+    with pytest.raises(ArgumentError, match=r"^count must be >= 0, got -1$"):
+        _line().uav_start_poses(-1)
+
+
+def test_takeoff_slots_every_interval():
+    s = _line()
+    assert [s.takeoff_time_s(i) for i in range(4)] == [0.0, 2.5, 5.0, 7.5]
