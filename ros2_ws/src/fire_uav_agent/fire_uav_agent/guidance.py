@@ -312,7 +312,8 @@ class Guide:
         if self.raster.front is not None and obj != Objective.LAND and height == veh.flight_height_m:
             height = self.raster.tactic.layer_height_m(cfg.uav_id)
         goal = target if steer is None else steer
-        self._poses.append((pos[0], pos[1], float(s[3])))
+        if cfg.drop_leg:  # the crab angle's poses (_crab_rad): kept only for the leg
+            self._poses.append((pos[0], pos[1], float(s[3])))
         cmd = control_law(s, np.array(goal), height, cfg.terrain, lim, cfg.gains, v_cap)
         if self.raster.front is None:  # analytic fires only (_within_turn)
             cmd = self._within_turn(s, cmd, goal)

@@ -20,20 +20,6 @@ import pytest
 ws_client = pytest.importorskip("websockets.sync.client")
 
 
-@pytest.fixture
-def own_domain():
-    """A ROS domain for this test alone; the test initializes rclpy's default context on it, this
-    shuts it down."""
-    rclpy = pytest.importorskip("rclpy")
-    from fire_mission.procs import claim_domain
-
-    with claim_domain() as domain:
-        try:
-            yield domain
-        finally:
-            rclpy.try_shutdown()
-
-
 def _recv(ws, timeout_s: float):
     """The next frame (text decoded as JSON), or None once ``timeout_s`` [s, wall] has passed."""
     try:

@@ -47,20 +47,6 @@ def test_over_the_budget_a_running_recorder_drops_and_a_stopping_one_flushes(rec
         assert sum(c.msgcount for c in b.connections(["/fleet/state"])) == 11
 
 
-@pytest.fixture
-def own_domain():
-    """A ROS domain for this test alone; the test initializes rclpy's default context on it, this
-    shuts it down."""
-    rclpy = pytest.importorskip("rclpy")
-    from fire_mission.procs import claim_domain
-
-    with claim_domain() as domain:
-        try:
-            yield domain
-        finally:
-            rclpy.try_shutdown()
-
-
 def test_the_recorder_subscribes_to_the_fleet_up_front_world_truth_last(tmp_path, own_domain):
     import rclpy
     from fire_uav_common import topics
