@@ -751,13 +751,13 @@ def run(args: argparse.Namespace) -> int:
                         "fire_uav_recording", "recorder", ["--params-file", str(params["recorder"])]
                     ),
                 )
-                _wait_for_node(sup, "recorder", 20.0, procs)
+                _wait_for_node(sup, "recorder", procs, wall0 + args.wall_timeout, args.quiet)
             if not args.no_record or args.foxglove:
                 # /fleet/perimeter drawn as markers on /viz/perimeter: recorded in every bag, live in Foxglove
                 procs.start(
                     "perimeter_viewer", ros_run_argv("fire_perimeter_monitor", "perimeter_viewer", [])
                 )
-                _wait_for_node(sup, "perimeter_viewer", 20.0, procs)
+                _wait_for_node(sup, "perimeter_viewer", procs, wall0 + args.wall_timeout, args.quiet)
             if args.foxglove:
                 procs.start(
                     "foxglove_bridge",
@@ -775,7 +775,7 @@ def run(args: argparse.Namespace) -> int:
                         ],  # fmt: skip
                     ),
                 )
-                _wait_for_node(sup, "foxglove_bridge", 20.0, procs)
+                _wait_for_node(sup, "foxglove_bridge", procs, wall0 + args.wall_timeout, args.quiet)
                 print(f"[run_mission] Foxglove: ws://127.0.0.1:{args.foxglove_port}", file=sys.stderr)
             for k in range(uav_count):
                 ns = args.agent_netns
@@ -923,15 +923,42 @@ def _let_the_world_end(procs: ProcessGroup, timeout_s: float = WORLD_EXIT_WALL_S
         )
 
 
-def _wait_for_node(sup: Supervisor, name: str, timeout_s: float, procs: ProcessGroup) -> None:
-    end = time.monotonic() + timeout_s
-    while time.monotonic() < end:
+def _wait_for_node(
+    sup: Supervisor,
+    name: str,
+    procs: ProcessGroup,
+    deadline_s: float,
+    quiet: bool,
+    report_every_s: float = 10.0,
+) -> None:
+    """Wait until node ``name`` is on the ROS graph (the recorder before step 0: the bag from the
+    first message). As long as its process runs it may take its time: on a loaded machine a
+    Python node's imports alone took over 20 s, the fixed wait this replaced, and a mission then
+    failed that would have run. So the wait ends only when the node appears (return), its process
+    exits (MissionError with its log's tail) or the run's ``--wall-timeout`` (``deadline_s``, on
+    ``time.monotonic``) passes; a line every ``report_every_s`` says what the runner waits for."""
+    t0 = time.monotonic()
+    next_report = t0 + report_every_s
+    while True:
         if name in sup.node.get_node_names():
             return
         if not procs.children[name].alive():
             raise MissionError(f"{name} exited at start:\n{procs.tail(name)}")
+        now = time.monotonic()
+        if now >= deadline_s:
+            raise MissionError(
+                f"{name} did not appear on the ROS graph within {now - t0:.0f} s (the run's --wall-timeout):\n"
+                f"{procs.tail(name)}"
+            )
+        if now >= next_report:
+            next_report = now + report_every_s
+            if not quiet:
+                print(
+                    f"[run_mission] waiting for {name} to join the ROS graph: {now - t0:.0f} s "
+                    "(its process is running)",
+                    file=sys.stderr,
+                )
         sup.executor.spin_once(timeout_sec=0.1)
-    raise MissionError(f"{name} did not appear on the ROS graph within {timeout_s:g} s:\n{procs.tail(name)}")
 
 
 def _fail_on_agent_error_before_start(procs: ProcessGroup, uav_count: int) -> None:
