@@ -139,7 +139,6 @@ STOP_POLL_WALL_S = 0.1  # [s, wall] longest wait between a stop signal and the s
 MAX_UAV_COUNT = 255  # vehicle ids are uint8 (the scenario's uavs.count has the same bound)
 
 
-
 @dataclass(frozen=True)
 class RecorderConfig:
     output: Path
@@ -325,10 +324,14 @@ class RecorderNode(Node):
         try:
             frame = geo_frame_of_scenario_file(cfg.scenario_file)
         except Exception as err:  # a scenario or landscape error names what is wrong in one line
-            raise ConfigError(f"parameter scenario_file: {cfg.scenario_file}: {' '.join(str(err).split())}") from None
+            raise ConfigError(
+                f"parameter scenario_file: {cfg.scenario_file}: {' '.join(str(err).split())}"
+            ) from None
         if frame is None:
             return None
-        self.get_logger().info(f"landscape {frame.landscape}: true positions as NavSatFix on /uav_<k>/geo/truth_fix")
+        self.get_logger().info(
+            f"landscape {frame.landscape}: true positions as NavSatFix on /uav_<k>/geo/truth_fix"
+        )
         return GeoView(self._typestore, frame)
 
     def _custom_data(self) -> dict[str, str]:
@@ -378,7 +381,9 @@ class RecorderNode(Node):
         try:
             fixes = self._geo.on_truth(bytes(data))
         except Exception as err:  # a malformed truth must not stop the recording
-            self.get_logger().warning(f"no NavSatFix from a /world/truth message: {err}", throttle_duration_sec=10.0)
+            self.get_logger().warning(
+                f"no NavSatFix from a /world/truth message: {err}", throttle_duration_sec=10.0
+            )
             return
         for name, cdr in fixes:
             fix_conn = self._fix_connections.get(name)

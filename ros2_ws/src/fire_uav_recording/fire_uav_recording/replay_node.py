@@ -46,7 +46,6 @@ from fire_uav_recording.raw_topics import message_class, spec_of
 CLOCK_TOPIC = CLOCK_SPEC.name
 
 
-
 @dataclass(frozen=True)
 class ReplayConfig:
     bag: str
