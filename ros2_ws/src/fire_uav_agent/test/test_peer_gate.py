@@ -52,7 +52,7 @@ def perimeter(j: int, step: int, seq: int = 1) -> PeerPerimeter:
 
 def front(j: int, step: int) -> PeerFront:
     z = np.zeros(1)
-    return PeerFront(j, 1, step, FrontCells(z, z, np.zeros(1, dtype=np.int64), z, z))
+    return PeerFront(j, 1, step, FrontCells(z, z, np.zeros(1, dtype=np.int64), z, z), 10.0)
 
 
 def on_state(g: PeerGate, j: int, step: int, final: bool = False, perim: int = 0, fr: int = 0) -> list:
