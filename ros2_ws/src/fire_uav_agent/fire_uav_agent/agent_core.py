@@ -322,7 +322,9 @@ class Agent:
         self.fires.predict(cfg.control_period_s)
         new_ids = self.fires.fuse(self.link.alive_fires(), t1)
         det = bundle.fires if vehicle == VehicleStatus.AIRBORNE else np.zeros((0, 4))
-        self.raster.fuse(bundle, vehicle, t1)  # first: its burning cells gate negative evidence
+        # first: its burning cells gate negative evidence; a peer front of another cell size is a
+        # counted rejection ("cell size")
+        self.raster.fuse(bundle, vehicle, t1, reject=self.link.count_rejection)
         burning = None if self.front is None else self.front.burning_xy(t1)
         new_ids += self.fires.observe(det, (float(s[0]), float(s[1])), t1, burning)
         for fid in new_ids:

@@ -333,6 +333,14 @@ class UavAgentNode(Node):
         out = self.agent.step(wb.bundle, d.inbox, want_markers=want_markers)
         if out is None:
             return
+        for j, cell_m in self.agent.raster.cell_size_refused:  # this step's, counted in the link
+            picture = self.agent.front
+            self.get_logger().warning(
+                f"step {k}: rejected a FireFront from uav {j}: cell size {cell_m:g} m, this UAV's "
+                f"picture has {picture.cfg.cell_size_m if picture else float('nan'):g} m "
+                f"(rejections so far: {self.agent.link.reject_reasons})",
+                throttle_duration_sec=5.0,
+            )
         coverage = []
         if self.search_link is not None:
             coverage = self.search_link.step(out.stamp_s, out.step, out.state.alive_peers)

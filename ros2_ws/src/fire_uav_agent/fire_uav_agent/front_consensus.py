@@ -20,6 +20,7 @@ Positions [m; map frame], times [s sim].
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,17 +29,34 @@ from fire_uav_common.constants import CellState
 from .errors import ConfigError
 from .fire_front import FrontCells, FrontPicture
 
-__all__ = ["FrontSharing", "PeerFront", "concat"]
+__all__ = ["FrontSharing", "PeerFront", "concat", "same_cell_size"]
+
+#: cell sides closer than this (relative) are the same raster's: both come as float32 on the wire
+CELL_SIZE_REL_TOL = 1e-6
 
 
 @dataclass(frozen=True)
 class PeerFront:
-    """A peer's ``FireFront``, ROS-free."""
+    """A peer's ``FireFront``, ROS-free. ``cell_size_m`` [m]: the raster cell side of the sender's
+    picture (``FireFront.cell_size_m``); its cells are merged by their centres into a picture of
+    this side only (:func:`same_cell_size`)."""
 
     uav_id: int
     sequence: int
     step: int
     cells: FrontCells
+    cell_size_m: float
+
+
+def same_cell_size(a_m: float, b_m: float) -> bool:
+    """Whether two pictures' cell sides [m] are one raster's (within float32 rounding).
+
+    :meth:`FrontPicture.merge` puts each shared cell into the receiver's cell holding its centre:
+    cells of another side would land one per receiver cell (a coarser sender's front a sparse
+    scatter of isolated cells, each counted on the front) and be taken as that cell's state. Every
+    agent learns the side from the same world's ``FireCells``, so a different one is a foreign or
+    broken sender; NaN or 0 is never the same."""
+    return math.isclose(a_m, b_m, rel_tol=CELL_SIZE_REL_TOL) and a_m > 0
 
 
 def concat(a: FrontCells, b: FrontCells) -> FrontCells:

@@ -37,7 +37,10 @@ def peer_perimeter(w: WirePerimeter, control_period_s: float) -> PeerPerimeter:
 
 
 def peer_front(w: WireFront, control_period_s: float) -> PeerFront:
-    """A peer's FireFront; raises ValueError (:class:`~fire_uav_agent.errors.ConfigError`) if its
-    arrays differ in length: the caller drops the content."""
+    """A peer's FireFront with its cell size (the receiver merges it only into a picture of that
+    side: :func:`.front_consensus.same_cell_size`); raises ValueError
+    (:class:`~fire_uav_agent.errors.ConfigError`) if its arrays differ in length: the caller drops
+    the content."""
     cells = FrontCells(w.x_m, w.y_m, w.state, w.observed_s, w.spread_rate_mps)
-    return PeerFront(w.uav_id, w.sequence, message_step(w.stamp_ns, control_period_s), cells)
+    step = message_step(w.stamp_ns, control_period_s)
+    return PeerFront(w.uav_id, w.sequence, step, cells, float(w.cell_size_m))

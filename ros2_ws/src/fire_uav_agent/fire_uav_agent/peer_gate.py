@@ -4,11 +4,12 @@ docs/protocol.md "Agent, on SensorBundle k", "Lockstep" and "Resend". The node h
 sensor bundle and every peer message to :class:`PeerGate` and acts on the decisions it returns;
 the in-process harness drives the same gate, so the lockstep rules have one implementation.
 
-- **Admission** (:meth:`PeerGate.on_state`, :meth:`PeerGate.on_perimeter`): the sender id must be
-  another fleet member, the step plausible for the step this agent last ran (:func:`step_verdict`),
-  and the tag valid (the check is passed in, ``check_tag``; None: unsigned). A rejected message
-  never reaches the lockstep wait: a forged state cannot make this agent wait for messages its
-  claimed sender did not send.
+- **Admission** (:meth:`PeerGate.on_state`, :meth:`PeerGate.on_perimeter`,
+  :meth:`PeerGate.on_front`): the sender id must be another fleet member, the step plausible for
+  the step this agent last ran (:func:`step_verdict`), and the tag valid (the check is passed in,
+  ``check_tag``; None: unsigned; fronts are never signed). A rejected message never reaches the
+  lockstep wait: a forged state cannot make this agent wait for messages its claimed sender did
+  not send.
 - **Duplicates**: the first copy of each (sender, topic, step) is taken, later copies (a resent
   message) dropped (:class:`~fire_uav_agent.resend.ResendBook`).
 - **The pending bundle and the lockstep wait**: a bundle of step k waits until every message the
@@ -262,7 +263,15 @@ class PeerGate(Generic[B, K]):
 
     def on_front(self, sender: int, step: int, front: PeerFront | None) -> list[Decision]:
         """A peer's FireFront of ``step`` (unsigned); ``front`` None: malformed, counted as arrived
-        (the sender sent it) but its content dropped."""
+        (the sender sent it) but its content dropped.
+
+        Admitted as a state or a map is, but for the tag: a front of an old step (lockstep), of an
+        implausible step or from an unknown id is a :class:`Rejected` of that kind. Before, it was
+        let in unchecked: an old one was merged a step late, one of a far step sat in the inbox
+        for good, never handed on and never counted."""
+        rejected = self._admit(b"", FLEET_FRONT_SPEC.name, sender, step, step, signed=False)
+        if rejected is not None:
+            return [rejected]
         if self.resend.duplicate(sender, FLEET_FRONT_SPEC.draw_index, step):
             return []
         self.wait.on_message(sender, step, FLEET_FRONT_SPEC.draw_index)
@@ -312,13 +321,16 @@ class PeerGate(Generic[B, K]):
         return self.resend.to_resend(step, now_ns)
 
     # --- inside ---------------------------------------------------------------------------------------
-    def _admit(self, data: bytes, topic: str, sender: int, step: int, auth_step: int) -> Rejected | None:
+    def _admit(
+        self, data: bytes, topic: str, sender: int, step: int, auth_step: int, signed: bool = True
+    ) -> Rejected | None:
         if not 0 <= sender < self.uav_count:
             reason: str | None = "unknown id"
         else:
             reason = step_verdict(step, self.last_step, self.lockstep, self._slack)
         if (
             reason is None
+            and signed
             and self.check_tag is not None
             and not self.check_tag(data, topic, sender, auth_step)
         ):

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 from fire_uav_common.codecs.sensor_bundle import Bundle
@@ -19,7 +19,7 @@ from fire_uav_common.constants import Objective, VehicleStatus
 from .agent_config import AgentConfig
 from .coverage import Grid, mass_centroid
 from .fire_front import FrontCells, FrontConfig, FrontPicture
-from .front_consensus import FrontSharing, PeerFront
+from .front_consensus import FrontSharing, PeerFront, same_cell_size
 from .peer_link import FireEntry
 from .tactics import (
     TacticConfig,
@@ -60,13 +60,26 @@ class RasterSuppression:
             airspace_vertical_m=cfg.separation.vertical_m,
         )
         self.peer_fronts: list[PeerFront] = []  # received since the last step
+        # (sender, its cell size [m]) of the peer fronts the last fuse refused for their cell size
+        self.cell_size_refused: list[tuple[int, float]] = []
         self.anchor: tuple[float, float] | None = None  # flank tactic: chosen once
         self.fronts_received = 0
         # the tactic's weights, Eq. 13' density and grid index of the last front (see _weighted)
         self._weighted_cache: tuple[tuple, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
 
-    def fuse(self, bundle: Bundle, vehicle: VehicleStatus, t_s: float) -> None:
-        """Own FireCells (airborne) and the peers' shared fronts into this UAV's front picture."""
+    def fuse(
+        self,
+        bundle: Bundle,
+        vehicle: VehicleStatus,
+        t_s: float,
+        reject: Callable[[str], object] = lambda reason: None,
+    ) -> None:
+        """Own FireCells (airborne) and the peers' shared fronts into this UAV's front picture.
+
+        A peer's front of another cell size than this picture's is not merged (its cells would land
+        in the wrong cells: :func:`.front_consensus.same_cell_size`): ``reject("cell size")``
+        counts it, and ``cell_size_refused`` names it until the next call."""
+        self.cell_size_refused = []
         if self.front is None and bundle.cell_size_m > 0:
             self.front = FrontPicture(FrontConfig(self.cfg.area_m, float(bundle.cell_size_m)))
         if self.front is None:
@@ -75,6 +88,10 @@ class RasterSuppression:
         if vehicle == VehicleStatus.AIRBORNE and bundle.cells is not None:
             self.front.observe(*bundle.cells, t_s)
         for pf in self.peer_fronts:
+            if not same_cell_size(pf.cell_size_m, self.front.cfg.cell_size_m):
+                reject("cell size")
+                self.cell_size_refused.append((pf.uav_id, pf.cell_size_m))
+                continue
             try:
                 self.front.merge(pf.cells)
                 self.fronts_received += 1

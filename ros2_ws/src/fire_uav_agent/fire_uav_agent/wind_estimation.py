@@ -113,7 +113,8 @@ class WindStateEkf:
         terrain: Terrain | None = None,
         wind0_mps: tuple[float, float] = (0.0, 0.0),
     ) -> None:
-        self.wcfg = config
+        # FF's noise model as StateEkf keeps it (fuse_fixes reads its altimeter bounds); the wind's
+        # two numbers are read here once, so the config itself is not kept
         self.cfg = config.ekf
         self.terrain = terrain or Terrain()
         pose = np.asarray(s0, dtype=float)

@@ -250,7 +250,7 @@ def test_perimeters_and_fronts_from_bad_ids_or_lost_are_dropped():
 
     a = Agent(_cfg(n=3))
     per = [PeerPerimeter(j, 1, 4, 7, {}) for j in (0, 3, -1, 2)]
-    fr = [PeerFront(j, 1, 4, FrontCells.empty()) for j in (0, 3, -1, 1)]
+    fr = [PeerFront(j, 1, 4, FrontCells.empty(), 10.0) for j in (0, 3, -1, 1)]
     got = a._link(5, per + fr, [])
     assert [p.uav_id for p in got] == [2]
     assert [f.uav_id for f in a.raster.peer_fronts] == [1]
@@ -799,16 +799,37 @@ def test_peer_fronts_are_merged_and_malformed_ones_ignored():
     good = FrontCells(np.array([255.0]), np.array([255.0]), np.array([1]), np.array([0.05]), np.array([0.3]))
     bad = FrontCells(np.array([25.0]), np.array([25.0]), np.array([1]), np.array(["noon"]), np.array([0.3]))
     out = _fly(a, 1, 50.0, 50.0, cells=_block(), cell_size=10.0,
-               inbox=[PeerFront(1, 1, 0, good), PeerFront(2, 1, 0, bad)])  # fmt: skip
+               inbox=[PeerFront(1, 1, 0, good, 10.0), PeerFront(2, 1, 0, bad, 10.0)])  # fmt: skip
     assert a.fronts_received == 1 and a.raster.peer_fronts == []
     fr = a.front.front(out.stamp_s)
     assert (255.0, 255.0) in {(float(x), float(y)) for x, y in zip(fr.x_m, fr.y_m, strict=True)}
     # no picture yet (no raster): peer fronts are dropped, not kept for later
     b = Agent(_cfg(n=3))
     _fly(b, 0, 50.0, 50.0)
-    b.raster.peer_fronts.append(PeerFront(1, 1, 0, good))
+    b.raster.peer_fronts.append(PeerFront(1, 1, 0, good, 10.0))
     b.raster.fuse(_bundle(1), AIR, 0.2)
     assert b.raster.peer_fronts == [] and b.front is None and b.fronts_received == 0
+
+
+def test_a_peer_front_of_another_cell_size_is_a_counted_rejection_not_a_merge():
+    """The picture is of 10 m cells; a 30 m sender's cell centred at (255, 255) would be taken as the
+    10 m cell there (its centre too). Rejected, counted in the link as "cell size" (so in the
+    published ``packets_rejected``) and named for the node's log; a 10 m sender's same cell merges."""
+    from fire_uav_agent.fire_front import FrontCells
+    from fire_uav_agent.front_consensus import PeerFront
+
+    a = Agent(_cfg(n=3))
+    _fly(a, 0, 50.0, 50.0, cells=_block(), cell_size=10.0)
+    cell = FrontCells(np.array([255.0]), np.array([255.0]), np.array([1]), np.array([0.05]), np.array([0.3]))
+    out = _fly(a, 1, 50.0, 50.0, cells=_block(), cell_size=10.0, inbox=[PeerFront(2, 1, 0, cell, 30.0)])
+    assert a.link.reject_reasons == {"cell size": 1} and out.state.packets_rejected == 1
+    assert a.raster.cell_size_refused == [(2, 30.0)] and a.fronts_received == 0
+    assert a.front.state[a.front.index(np.array([255.0]), np.array([255.0]))[:2]].tolist() == [-1]  # unknown
+    # float32 on the wire: a 10 m side within float32 rounding is the same raster's
+    near = float(np.float32(10.0 * (1 + 3e-8)))
+    out = _fly(a, 2, 50.0, 50.0, cells=_block(), cell_size=10.0, inbox=[PeerFront(1, 1, 1, cell, near)])
+    assert a.fronts_received == 1 and a.raster.cell_size_refused == [] and out.state.packets_rejected == 1
+    assert a.front.state[a.front.index(np.array([255.0]), np.array([255.0]))[:2]].tolist() == [1]
 
 
 def test_over_a_raster_fire_the_uav_aims_at_a_front_cell_and_releases_only_at_the_peak():
@@ -1250,7 +1271,7 @@ def test_peer_perimeters_and_fronts_from_uav_0_count_and_one_lost_one_does_not_s
 
     a = Agent(_cfg(uid=2, n=4, outages=(LinkOutage(1, 2, 0.0, 100.0),)))
     msgs = [PeerPerimeter(1, 1, 4, 7, {}), PeerPerimeter(1, 2, 4, 8, {}), PeerPerimeter(0, 1, 4, 7, {}),
-            PeerFront(0, 1, 4, FrontCells.empty()), _peer(3, 4, 10.0, 10.0)]  # fmt: skip
+            PeerFront(0, 1, 4, FrontCells.empty(), 10.0), _peer(3, 4, 10.0, 10.0)]  # fmt: skip
     a.last_step = 4
     got = a._link(5, msgs, [])
     assert [p.uav_id for p in got] == [0] and [f.uav_id for f in a.raster.peer_fronts] == [0]
@@ -1443,7 +1464,7 @@ def test_peer_fronts_and_perimeters_count_one_each():
         50.0,
         cells=_block(),
         cell_size=10.0,
-        inbox=[PeerFront(1, 1, 0, f1), PeerFront(2, 1, 0, f2)],
+        inbox=[PeerFront(1, 1, 0, f1, 10.0), PeerFront(2, 1, 0, f2, 10.0)],
     )
     assert a.fronts_received == 2
     m = Agent(_cfg(n=4, prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1),

@@ -8,6 +8,8 @@ diameter, every agent of a line of three holds that picture's front.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from fire_uav_agent.fire_front import FrontCells, FrontConfig, FrontPicture
@@ -111,8 +113,8 @@ def test_concat_keeps_every_column_in_order() -> None:
     assert c.state.tolist() == [B, N, U] and c.state.dtype == np.int64
     assert c.t_obs_s.tolist() == [3.0, 9.0, 10.0]
     assert c.ros_mps[0] == 0.4 and np.isnan(c.ros_mps[1]) and c.ros_mps[2] == 1.5
-    pf = PeerFront(3, 7, 11, c)
-    assert (pf.uav_id, pf.sequence, pf.step, len(pf.cells)) == (3, 7, 11, 3)
+    pf = PeerFront(3, 7, 11, c, 30.0)
+    assert (pf.uav_id, pf.sequence, pf.step, len(pf.cells), pf.cell_size_m) == (3, 7, 11, 3, 30.0)
 
 
 @settings(max_examples=12, deadline=None)
@@ -199,3 +201,11 @@ def test_several_observers_fronts_converge_on_the_front_of_everything_seen(sight
     expect = keyset(ref, ref.front(t_end))
     for a in agents:
         assert keyset(a, a.front(t_end)) == expect
+
+
+def test_the_same_cell_size_is_one_rasters_within_float32_rounding():
+    from fire_uav_agent.front_consensus import same_cell_size
+
+    assert same_cell_size(30.48, float(np.float32(30.48)))  # 100 ft, as the wire's float32 carries it
+    assert not same_cell_size(30.0, 10.0) and not same_cell_size(10.0, 10.001)
+    assert not same_cell_size(math.nan, 10.0) and not same_cell_size(0.0, 0.0)

@@ -262,9 +262,9 @@ def grass():
 
 
 def test_late_peer_messages_are_counted_as_rejections_in_the_receivers_link(grass):
-    """A state or a perimeter map of an older step handed to a gate (as a late DDS delivery
-    reaches the node) is refused and counted in the receiving agent's peer link. (A front picture
-    is unsigned: an old one is dropped as a resent copy, not counted.)"""
+    """A state, a perimeter map or a front picture of an older step handed to a gate (as a late DDS
+    delivery reaches the node) is refused and counted in the receiving agent's peer link (the
+    front, unsigned, by the same id and step checks)."""
     h = Harness(grass, uav_count=3)
     h.run(steps=31)  # step 30: UAV 0 sends a perimeter map and a front picture
     out = h.outputs[0]
@@ -280,7 +280,7 @@ def test_late_peer_messages_are_counted_as_rejections_in_the_receivers_link(gras
         peer_front(read_fire_front(sent.front), 0.1),
     ]
     h._deliver(2, sent, read_uav_state(sent.state), rest)
-    assert h.agents[2].link.reject_reasons == {"stale step": 2}
+    assert h.agents[2].link.reject_reasons == {"stale step": 3}
     assert h.agents[1].link.reject_reasons == {}
 
 

@@ -52,7 +52,7 @@ def perimeter(j: int, step: int, seq: int = 1) -> PeerPerimeter:
 
 def front(j: int, step: int) -> PeerFront:
     z = np.zeros(1)
-    return PeerFront(j, 1, step, FrontCells(z, z, np.zeros(1, dtype=np.int64), z, z))
+    return PeerFront(j, 1, step, FrontCells(z, z, np.zeros(1, dtype=np.int64), z, z), 10.0)
 
 
 def on_state(g: PeerGate, j: int, step: int, final: bool = False, perim: int = 0, fr: int = 0) -> list:
@@ -222,6 +222,37 @@ def test_a_stale_step_is_rejected_in_lockstep_only() -> None:
     for k in (0, 1, 2, 3):
         rt.on_bundle(k, f"b{k}")
     assert rt.on_state(b"", state(1, 1), fires(1, 1), sent(), False) == []
+
+
+def test_a_front_of_a_stale_step_is_rejected_as_a_state_is_and_never_handed_on() -> None:
+    """The front is admitted as the state and the map are (but for the tag: fronts are unsigned).
+    Before, it skipped admission: this stale one was handed to the next step, the far one below
+    stayed in the inbox for good, neither counted."""
+    calls, check = _recording_tag_check()
+    g = gate(n=2, check_tag=check)
+    for k in (1, 2, 3):
+        g.on_bundle(k, f"b{k}")
+        g.on_state(b"signed", state(1, k - 1), fires(1, k - 1), sent(), False)
+    assert g.last_step == 3
+    assert g.on_front(1, 1, front(1, 1)) == [Rejected("/fleet/front", 1, 1, "stale step")]
+    assert g.on_front(1, 10**9, front(1, 10**9)) == [Rejected("/fleet/front", 1, 10**9, "implausible step")]
+    assert g.on_front(7, 3, front(7, 3)) == [Rejected("/fleet/front", 7, 3, "unknown id")]
+    assert g.on_front(1, -1, None) == [Rejected("/fleet/front", 1, -1, "negative step")]
+    assert list(g.inbox()) == []
+    assert g.on_front(1, 3, front(1, 3)) == []  # the step this agent last ran: admitted, unsigned
+    assert [c[1] for c in calls].count("/fleet/front") == 0
+    g.on_bundle(4, "b4")
+    (run,) = runs(g.on_state(b"signed", state(1, 3), fires(1, 3), sent(front=1), False))
+    assert [(type(m).__name__, m.step) for m in run.inbox] == [
+        ("PeerState", 3),
+        ("PeerFires", 3),
+        ("PeerFront", 3),
+    ]
+    assert list(g.inbox()) == []
+    rt: PeerGate = PeerGate(0, 2, 0.1, lockstep=False)  # realtime: an old step is no rejection
+    for k in (0, 1, 2, 3):
+        rt.on_bundle(k, f"b{k}")
+    assert rt.on_front(1, 1, front(1, 1)) == [] and [m.step for m in rt.inbox()] == [1]
 
 
 def _recording_tag_check():

@@ -211,6 +211,14 @@ def test_values_come_through_float32_rounded_and_the_briefed_fire_as_minus_one()
     assert peer_perimeter(w, 0.1).step == 41  # stamped 4.2 s = (41 + 1) T: it answers step 41
 
 
+def test_a_peer_front_keeps_the_senders_cell_size():
+    data = write_fire_front(
+        stamp_ns=10**8, uav_id=1, sequence=1, cell_size_m=7.5, x_m=[1.0], y_m=[1.0],
+        state=[1], observed_s=[0.0], spread_rate_mps=[0.0],
+    )  # fmt: skip
+    assert peer_front(read_fire_front(data), 0.1).cell_size_m == 7.5
+
+
 def test_unequal_front_arrays_are_a_clear_error_for_the_node_to_drop():
     data = write_fire_front(
         stamp_ns=10**8, uav_id=1, sequence=1, cell_size_m=5.0, x_m=[1.0], y_m=[1.0, 2.0],

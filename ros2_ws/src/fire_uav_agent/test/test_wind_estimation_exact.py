@@ -12,6 +12,7 @@ exact posterior of the wind. Fast (~0.3 s): the mutation selection of ``wind_est
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -44,12 +45,59 @@ def _same(ff: StateEkf, w: WindStateEkf, what=None) -> None:
     assert w.updates == ff.updates, (what, w.updates, ff.updates)
 
 
-def test_a_fresh_filter_has_counted_nothing_and_keeps_its_configs():
+def test_a_fresh_filter_has_counted_nothing_and_keeps_ffs_config():
     cfg = WindEkfConfig(wind_prior_sigma_mps=0.5, wind_walk_mps_per_sqrt_s=0.0)  # both valid
     f = WindStateEkf(cfg, np.zeros(4))
     assert f.updates == {"gps": 0, "alt": 0, "gyro": 0}
-    assert f.wcfg is cfg and f.cfg is cfg.ekf
+    assert f.cfg is cfg.ekf
     assert np.array_equal(f.wind_cov, np.diag([0.25, 0.25]))
+
+
+def _one_step(cfg: WindEkfConfig) -> np.ndarray:
+    """State and covariance after one 0.1 s step with a GPS fix, a height and gyro samples."""
+    t0 = 5.0
+    samples = Samples(
+        gps=np.array([[t0 + 0.05, 3.0, -2.0]]),
+        gps_var_m2=np.zeros(1),  # <= 0: the configured sigma_gps_m
+        alt=np.array([[t0 + 0.06, 30.0]]),
+        gyro=np.array([[t0 + 0.015, 0.12], [t0 + 0.045, 0.08]]),
+    )
+    f = WindStateEkf(cfg, np.array([0.0, 0.0, 31.0, 0.7]))
+    f.process(samples, np.array([20.0, 0.5, 0.1]), t0, t0 + 0.1)
+    return np.concatenate([f.x, f.P_full.ravel()])
+
+
+# one change per field of WindEkfConfig and of FF's EkfConfig in it: (field name, the change)
+_FIELD_CASES = [
+    ("wind_prior_sigma_mps", {"wind_prior_sigma_mps": 2.0}),
+    ("wind_walk_mps_per_sqrt_s", {"wind_walk_mps_per_sqrt_s": 1.0}),
+    ("dt_s", {"ekf": EkfConfig(dt_s=0.02)}),
+    ("sigma_nu", {"ekf": EkfConfig(sigma_nu=(2.0, 1.0, 1.0))}),
+    ("sigma_nu", {"ekf": EkfConfig(sigma_nu=(1.0, 2.0, 1.0))}),
+    ("sigma_nu", {"ekf": EkfConfig(sigma_nu=(1.0, 1.0, 2.0))}),
+    ("sigma_gps_m", {"ekf": EkfConfig(sigma_gps_m=6.0)}),
+    ("sigma_alt_m", {"ekf": EkfConfig(sigma_alt_m=3.0)}),
+    ("sigma_gyro_radps", {"ekf": EkfConfig(sigma_gyro_radps=0.1)}),
+    ("alt_max_range_m", {"ekf": EkfConfig(alt_max_range_m=25.0)}),  # the 30 m height out of range
+    ("alt_min_m", {"ekf": EkfConfig(alt_min_m=35.0)}),
+    ("initial_sigma", {"ekf": EkfConfig(initial_sigma=(3.0, 3.0, 1.5, 0.1))}),
+]
+
+
+def test_the_field_cases_cover_every_field_of_the_config():
+    fields = {f.name for f in dataclasses.fields(WindEkfConfig) if f.name != "ekf"}
+    assert {name for name, _ in _FIELD_CASES} == fields | {f.name for f in dataclasses.fields(EkfConfig)}
+
+
+@pytest.mark.parametrize(
+    ("name", "change"), _FIELD_CASES, ids=[f"{n}-{k}" for k, (n, _) in enumerate(_FIELD_CASES)]
+)
+def test_no_field_of_the_config_is_ignored(name, change):
+    """Each field of WindEkfConfig (and of FF's EkfConfig in it) changes the filter's state or
+    covariance after one step: none is stored and silently left unread."""
+    base = _one_step(WindEkfConfig())
+    changed = _one_step(dataclasses.replace(WindEkfConfig(), **change))
+    assert not np.allclose(changed, base, rtol=1e-9, atol=0), name
 
 
 def test_predict_in_a_calm_certain_wind_is_ffs_prediction():

@@ -3,7 +3,10 @@
 
 from __future__ import annotations
 
-__all__ = ["BagError", "ConfigError", "RecordingError"]
+__all__ = ["EXIT_BAD_PARAMETER", "EXIT_BAG_ERROR", "BagError", "ConfigError", "RecordingError"]
+
+EXIT_BAD_PARAMETER = 2  # a node's exit status on a bad parameter (the project's rule for bad input)
+EXIT_BAG_ERROR = 1  # a node's exit status when a bag cannot be written or read (the output exists, ...)
 
 
 class RecordingError(Exception):

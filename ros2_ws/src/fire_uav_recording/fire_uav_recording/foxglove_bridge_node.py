@@ -1,7 +1,8 @@
 """Live bridge to Foxglove: every mission topic, raw CDR with its ros2msg schema, over Foxglove's
 WebSocket protocol (the official ``foxglove-sdk`` server).
 
-Parameters (all read once at start-up):
+Parameters (all read once at start-up; a bad one is one error line naming it and exit status 2,
+:func:`main`):
 - ``host`` ("127.0.0.1"), ``port`` (8765; 0 = any free port, logged): where the server listens.
 - ``topics`` (string[]): regular expressions; a topic is served if one matches it fully.
   Default: every recorded topic of ``fire_uav_common.topics`` (``/tf`` and ``/tf_static`` too).
@@ -55,12 +56,13 @@ import rclpy
 from fire_uav_common import topics
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
+from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 import fire_uav_recording as rec
-from fire_uav_recording.errors import ConfigError
+from fire_uav_recording.errors import EXIT_BAD_PARAMETER, ConfigError, one_line
 from fire_uav_recording.geo import (
     FIRE_AREA_TOPIC,
     NAVSAT_TYPE,
@@ -338,7 +340,10 @@ class FoxgloveBridgeNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    """Serve until SIGINT/SIGTERM; 0 on a clean stop, 1 on a bad parameter."""
+    """Serve until SIGINT/SIGTERM. Exit status 0 on a clean stop; 2 on a bad parameter (one error
+    line naming it: a ``ConfigError`` of the node's checks, its ``scenario_file`` or ``bag`` that
+    cannot be read, ``host``/``port`` it cannot listen on, or a value rclpy refuses against the
+    parameter's descriptor or type)."""
     rclpy.init(args=args)
     node: FoxgloveBridgeNode | None = None
     rc = 0
@@ -347,9 +352,9 @@ def main(args: list[str] | None = None) -> int:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except ConfigError as err:
-        rclpy.logging.get_logger("foxglove_bridge").error(str(err))
-        rc = 1
+    except (ConfigError, InvalidParameterValueException, InvalidParameterTypeException) as err:
+        rclpy.logging.get_logger("foxglove_bridge").error(one_line(err))
+        rc = EXIT_BAD_PARAMETER
     except Exception:  # a signal may shut the context down in the middle of a wait: that is a stop too
         if rclpy.ok():
             raise

@@ -1,7 +1,9 @@
 """Mission recorder: every mission topic, raw CDR, into a rosbag2 directory with MCAP storage.
 
-Parameters (all read once at start-up):
-- ``output`` (string, required): bag directory to create; an existing path is an error.
+Parameters (all read once at start-up; a bad one is one error line naming it and exit status 2,
+:func:`main`):
+- ``output`` (string, required): bag directory to create; an existing path is refused (a bag
+  error: exit status 1, the recorder never overwrites).
 - ``scenario_file`` (string): scenario YAML, stored verbatim in the bag's metadata.
 - ``seed`` (int >= 0): stored in the bag's metadata.
 - ``uav_count`` (int in [0, 255]): stored in the bag's metadata; the per-vehicle topics of
@@ -107,6 +109,7 @@ from fire_uav_common.ros_io import make_executor
 from fire_uav_common.stamps import NS_PER_S
 from rcl_interfaces.msg import IntegerRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
+from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -115,7 +118,7 @@ from rclpy.signals import SignalHandlerOptions
 from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
 
 import fire_uav_recording as rec
-from fire_uav_recording.errors import ConfigError
+from fire_uav_recording.errors import EXIT_BAD_PARAMETER, EXIT_BAG_ERROR, ConfigError, one_line
 from fire_uav_recording.geo import NAVSAT_TYPE, GeoView, geo_frame_of_scenario_file
 from fire_uav_recording.raw_topics import (  # noqa: F401  (re-exported: the recorder's QoS rule)
     MIN_DEPTH,
@@ -134,7 +137,6 @@ DEFAULT_TOPICS = topics.recorded_patterns()
 _INF_SEC, _INF_NSEC = rec.INFINITE_DURATION  # rosbag2 Jazzy's spelling of an infinite duration
 STOP_POLL_WALL_S = 0.1  # [s, wall] longest wait between a stop signal and the spin loop seeing it
 MAX_UAV_COUNT = 255  # vehicle ids are uint8 (the scenario's uavs.count has the same bound)
-
 
 
 @dataclass(frozen=True)
@@ -213,6 +215,9 @@ class RecorderNode(Node):
         )
         self.config = self._read_config()
         self._typestore = rec.fleet_typestore()
+        # before the bag is made (a bad scenario_file leaves no half-made bag behind) and before
+        # the subscriptions (the world waits for them, not for this)
+        self._geo = self._geo_view()
         self._offset_ns = (time.time_ns() // NS_PER_S) * NS_PER_S if self.config.stamp_wall_epoch else 0
         self._writer = rec.BagWriter(
             self.config.output, custom_data=self._custom_data(), compress=self.config.compress
@@ -223,7 +228,6 @@ class RecorderNode(Node):
         self.messages_written = 0
         self.messages_dropped: dict[str, int] = {}  # per topic, over the memory budget (a flood)
         self._pending_bytes = 0  # [B] written since the last flush
-        self._geo = self._geo_view()  # before the subscriptions: the world waits for them, not for this
         self._fix_connections: dict[str, object] = {}
         self.mission_end = MissionEndWatch()  # the world's final truth, expected at a stop
         self._follower = RawTopicFollower(self, self.config.wants, self._typestore, self._on_topic)
@@ -278,10 +282,8 @@ class RecorderNode(Node):
         if not p["output"]:
             raise ConfigError("parameter output: required (the bag directory to create)")
         output = Path(str(p["output"])).expanduser()
-        if output.exists():
-            raise ConfigError(
-                f"parameter output: {output} exists already; refusing to overwrite a bag"
-            )
+        if output.exists():  # a refusal to overwrite a bag (exit status 1), not a bad value
+            raise rec.BagError(f"parameter output: {output} exists already; refusing to overwrite a bag")
         if p["scenario_file"] and not Path(str(p["scenario_file"])).is_file():
             raise ConfigError(f"parameter scenario_file: {p['scenario_file']} is not a readable file")
         if int(p["uav_count"]) > MAX_UAV_COUNT:
@@ -322,10 +324,14 @@ class RecorderNode(Node):
         try:
             frame = geo_frame_of_scenario_file(cfg.scenario_file)
         except Exception as err:  # a scenario or landscape error names what is wrong in one line
-            raise ConfigError(f"parameter scenario_file: {cfg.scenario_file}: {' '.join(str(err).split())}") from None
+            raise ConfigError(
+                f"parameter scenario_file: {cfg.scenario_file}: {' '.join(str(err).split())}"
+            ) from None
         if frame is None:
             return None
-        self.get_logger().info(f"landscape {frame.landscape}: true positions as NavSatFix on /uav_<k>/geo/truth_fix")
+        self.get_logger().info(
+            f"landscape {frame.landscape}: true positions as NavSatFix on /uav_<k>/geo/truth_fix"
+        )
         return GeoView(self._typestore, frame)
 
     def _custom_data(self) -> dict[str, str]:
@@ -375,7 +381,9 @@ class RecorderNode(Node):
         try:
             fixes = self._geo.on_truth(bytes(data))
         except Exception as err:  # a malformed truth must not stop the recording
-            self.get_logger().warning(f"no NavSatFix from a /world/truth message: {err}", throttle_duration_sec=10.0)
+            self.get_logger().warning(
+                f"no NavSatFix from a /world/truth message: {err}", throttle_duration_sec=10.0
+            )
             return
         for name, cdr in fixes:
             fix_conn = self._fix_connections.get(name)
@@ -486,7 +494,10 @@ def executor_wait(executor: Any) -> Callable[[float], bool]:
 
 
 def main(args: list[str] | None = None) -> int:
-    """Run the recorder until SIGINT/SIGTERM; 0 on a clean stop, 1 on a configuration or bag error."""
+    """Run the recorder until SIGINT/SIGTERM. Exit status 0 on a clean stop; 2 on a bad parameter
+    (one error line naming it, no bag made: a ``ConfigError`` of the node's checks, or a value
+    rclpy refuses against the parameter's descriptor or type); 1 on a bag error (``output``
+    exists already, the bag cannot be written or closed)."""
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     stop = StopSignals()
     stop.install()
@@ -501,9 +512,12 @@ def main(args: list[str] | None = None) -> int:
             executor.spin_once(timeout_sec=STOP_POLL_WALL_S)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except (ConfigError, rec.BagError) as err:
+    except (ConfigError, InvalidParameterValueException, InvalidParameterTypeException) as err:
+        rclpy.logging.get_logger("recorder").error(one_line(err))
+        rc = EXIT_BAD_PARAMETER
+    except rec.BagError as err:
         rclpy.logging.get_logger("recorder").error(str(err))
-        rc = 1
+        rc = EXIT_BAG_ERROR
     except Exception:  # the context shut down (not by a signal) in the middle of a wait: a stop too
         if rclpy.ok():
             raise
@@ -515,14 +529,14 @@ def main(args: list[str] | None = None) -> int:
                 node.take_queued(cancelled=lambda: stop.count > 1, wait=wait)
             except Exception as err:  # the bag is closed all the same
                 rclpy.logging.get_logger("recorder").error(f"taking the queued messages failed: {err}")
-                rc = 1
+                rc = EXIT_BAG_ERROR
             if executor is not None:
                 executor.shutdown()
             try:
                 node.close_bag()
             except Exception as err:
                 rclpy.logging.get_logger("recorder").error(f"closing the bag failed: {err}")
-                rc = 1
+                rc = EXIT_BAG_ERROR
             node.destroy_node()
         rclpy.try_shutdown()
     return rc

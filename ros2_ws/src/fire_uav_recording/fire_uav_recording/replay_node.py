@@ -1,6 +1,6 @@
 """Replay a mission bag on ROS topics, with its ``/clock``, at a chosen rate.
 
-Parameters (read once):
+Parameters (read once; a bad one is one error line naming it and exit status 2, :func:`main`):
 - ``bag`` (string, required): bag directory or ``.mcap`` file (an unfinished one is salvaged).
 - ``rate`` (double, > 0, default 1.0): bag seconds per wall second.
 - ``start_s`` (double, >= 0): skip the first ``start_s`` seconds of the bag [s, bag time].
@@ -32,6 +32,7 @@ from fire_uav_common.stamps import ns_to_s, s_to_ns, to_time_msg
 from fire_uav_common.topics import CLOCK_SPEC
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
+from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -39,11 +40,10 @@ from rclpy.task import Future
 from rosbags.interfaces import QosDurability, QosReliability
 
 import fire_uav_recording as rec
-from fire_uav_recording.errors import ConfigError
+from fire_uav_recording.errors import EXIT_BAD_PARAMETER, EXIT_BAG_ERROR, ConfigError, one_line
 from fire_uav_recording.raw_topics import message_class, spec_of
 
 CLOCK_TOPIC = CLOCK_SPEC.name
-
 
 
 @dataclass(frozen=True)
@@ -262,7 +262,10 @@ class ReplayNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    """Replay until the bag ends or SIGINT/SIGTERM; 0 on success, 1 on a parameter or bag error."""
+    """Replay until the bag ends or SIGINT/SIGTERM. Exit status 0 on success; 2 on a bad parameter
+    (one error line naming it: a ``ConfigError`` of the node's checks, ``topics`` the bag lacks,
+    ``start_s`` past its end, or a value rclpy refuses against the parameter's descriptor or
+    type); 1 on a bag error (``bag`` cannot be opened or read)."""
     rclpy.init(args=args)
     node: ReplayNode | None = None
     rc = 0
@@ -276,9 +279,12 @@ def main(args: list[str] | None = None) -> int:
     except (KeyboardInterrupt, ExternalShutdownException):
         if node is not None:
             node._bar.finish()
-    except (ConfigError, rec.BagError) as err:
+    except (ConfigError, InvalidParameterValueException, InvalidParameterTypeException) as err:
+        rclpy.logging.get_logger("replay").error(one_line(err))
+        rc = EXIT_BAD_PARAMETER
+    except rec.BagError as err:
         rclpy.logging.get_logger("replay").error(str(err))
-        rc = 1
+        rc = EXIT_BAG_ERROR
     except Exception:  # a signal may shut the context down in the middle of a wait: that is a stop too
         if rclpy.ok():
             raise

@@ -173,7 +173,7 @@ def to_peer_front(m: FireFront, control_period_s: float) -> PeerFront:
         np.asarray(m.spread_rate_mps, dtype=float),
     )
     step = stamp_to_step(stamp_to_ns(m.header.stamp), s_to_ns(control_period_s))
-    return PeerFront(int(m.uav_id), int(m.sequence), step, cells)
+    return PeerFront(int(m.uav_id), int(m.sequence), step, cells, float(m.cell_size_m))
 
 
 def front_msg(out: StepOutput, stamp: TimeMsg, seq: int, cell_size_m: float) -> FireFront | None:
