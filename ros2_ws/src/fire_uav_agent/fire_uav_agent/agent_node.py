@@ -431,6 +431,7 @@ def main(args: list[str] | None = None) -> int:
     from fire_uav_common.final_acks import published_line, wait_for_final_acks
     from fire_uav_common.ros_io import StopSignals, unacked_topics
     from fire_uav_common.scenario import ScenarioError
+    from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
     from rclpy.signals import SignalHandlerOptions
 
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
@@ -449,8 +450,10 @@ def main(args: list[str] | None = None) -> int:
             profiled(spin, os.path.join(prof_dir, f"agent_{node.cfg.uav_id}.prof"))
         else:
             spin()
-    except (ConfigError, ScenarioError) as e:
-        rclpy.logging.get_logger("uav_agent").error(str(e))
+    except (ConfigError, ScenarioError, InvalidParameterTypeException, InvalidParameterValueException) as e:
+        # a value rclpy refuses against the declared type or range (uav_id:=abc) is a bad
+        # parameter too: one line, not a traceback
+        rclpy.logging.get_logger("uav_agent").error(" ".join(str(e).split()))
         code = 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass

@@ -32,6 +32,7 @@ from fire_uav_msgs.msg import MissionEvent, PayloadRequest
 from geometry_msgs.msg import TwistStamped
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.clock import Clock, ClockType
+from rclpy.exceptions import InvalidParameterTypeException, InvalidParameterValueException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.serialization import deserialize_message
@@ -102,7 +103,9 @@ class WorldNode(Node):
         self.pub_grid = topics.publisher(self, topics.VIZ_FIRE_GRID_SPEC)
         # only a fire on a landscape has fire types: other worlds do not advertise the topic
         self.pub_fire_type = (
-            topics.publisher(self, topics.WORLD_FIRE_TYPE_SPEC) if self.world.fires.fire_type_grid() is not None else None
+            topics.publisher(self, topics.WORLD_FIRE_TYPE_SPEC)
+            if self.world.fires.fire_type_grid() is not None
+            else None
         )
         self.pub_tf = topics.publisher(self, topics.TF_SPEC)
         self._marker_book = viz.MarkerBook()
@@ -503,8 +506,10 @@ def main(args: list[str] | None = None) -> int:
         else:
             _spin_until_done(node)
         code = int(node.done.result() or 0) if node.done.done() else 0
-    except (ScenarioError, ConfigError) as e:
-        rclpy.logging.get_logger("world").error(str(e))
+    except (ScenarioError, ConfigError, InvalidParameterTypeException, InvalidParameterValueException) as e:
+        # a value rclpy refuses against the declared type or range (seed:=abc) is a bad parameter
+        # too: one line, not a traceback
+        rclpy.logging.get_logger("world").error(" ".join(str(e).split()))
         code = 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
