@@ -333,6 +333,8 @@ class UavAgentNode(Node):
         out = self.agent.step(wb.bundle, d.inbox, want_markers=want_markers)
         if out is None:
             return
+        if self.agent.guide.skip_note is not None:  # why its drop runs are not flown: once per agent
+            self.get_logger().info(self.agent.guide.skip_note, once=True)
         coverage = []
         if self.search_link is not None:
             coverage = self.search_link.step(out.stamp_s, out.step, out.state.alive_peers)
