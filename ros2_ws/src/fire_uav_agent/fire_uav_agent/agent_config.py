@@ -3,7 +3,9 @@
 :class:`AgentConfig` holds the scenario's own frozen sub-configs (``timing``, ``vehicle``,
 ``sensors``, ``mission``: ``fire_uav_common.scenario``) instead of copies of their fields, so a
 new scenario field reaches the agent without being copied by hand. The agent never reads the
-scenario's ``fires`` (the truth), only ``fires.drop_radius_m`` (the footprint of its own drop).
+scenario's ``fires`` (the truth), only ``fires.drop_radius_m`` (the footprint of its own drop), the
+drop model and, for pattern drops, the raster fire's fuel map (the ground, not the fire:
+``coverage_levels``).
 
 Units are in the field names: [m], [s], [m/s], [rad], [kg]; positions in the map frame.
 """
@@ -16,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from fire_uav_common import scenario as sc
+from fire_uav_common.drop_coverage import CoverageLevels, coverage_levels_of
 from fire_uav_common.scenario import LinkOutage
 from fire_uav_common.terrain import Lake, Terrain
 
@@ -95,6 +98,10 @@ class AgentConfig:
     # pattern drops: the run's last leg along the front (guidance.Guide._drop_leg); off by default:
     # on grass_running_tanker it put fewer cells out than the straight run (docs/airframes.md)
     drop_leg: bool = False
+    # pattern drops on a raster fire: the coverage level [gal/100 ft^2] the fuel map's fuel needs per
+    # place (scenario fires.raster's fuel_model and fuel_patches, or its landscape's fuel layer: the
+    # ground, known before the fire as the terrain is); None: not known, every drop run is flown
+    coverage_levels: CoverageLevels | None = None
     gains: ControlGains = field(default_factory=ControlGains)
     guidance: GuidanceConfig = field(default_factory=GuidanceConfig)
     separation: SeparationConfig = field(default_factory=SeparationConfig)
@@ -186,7 +193,8 @@ def config_from_scenario(
     """Build the agent's a-priori config from a ``fire_uav_common.scenario.Scenario``.
 
     Reads only area, terrain, lakes, timing, vehicle, sensors, uavs (own start pose, airframe), comms,
-    mission and the drop footprint -- never the fires. Arguments not None override the scenario
+    mission, the drop footprint and model and the raster fire's fuel map -- never the fires' ignitions,
+    wind or moisture. Arguments not None override the scenario
     (runner flags); ``agent_options`` are further :class:`AgentConfig` fields (monitor_alpha, ...).
     """
     n = int(uav_count if uav_count is not None else scenario.uavs.count)
@@ -233,5 +241,8 @@ def config_from_scenario(
         outages=tuple(outages) if outages is not None else tuple(_outage(o) for o in scenario.comms.outages),
         drop_radius_m=float(drop) if drop else DEFAULT_DROP_RADIUS_M,
         pattern_drops=scenario.fires.drop_model == "pattern",
+        coverage_levels=(
+            coverage_levels_of(scenario.fires.raster) if scenario.fires.drop_model == "pattern" else None
+        ),
         **agent_options,
     )

@@ -341,6 +341,8 @@ class UavAgentNode(Node):
                 f"(rejections so far: {self.agent.link.reject_reasons})",
                 throttle_duration_sec=5.0,
             )
+        if self.agent.guide.skip_note is not None:  # why its drop runs are not flown: once per agent
+            self.get_logger().info(self.agent.guide.skip_note, once=True)
         coverage = []
         if self.search_link is not None:
             coverage = self.search_link.step(out.stamp_s, out.step, out.state.alive_peers)

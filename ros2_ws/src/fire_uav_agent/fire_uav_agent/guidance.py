@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from fire_uav_common.constants import Objective, VehicleStatus
+from fire_uav_common.drop_coverage import L_PER_M2_PER_CL, peak_coverage_lpm2
 from fire_uav_common.terrain import Lake
 
 from .agent_config import AgentConfig
@@ -115,6 +116,15 @@ class Guide:
         else:
             self.run_turn_m = turn_radius_m(af0, self.v_slow_mps)
         self.lead_in_m = min(self.drop_run_m, 3.0 * self.run_turn_m + raster.tactic.release_radius_m)
+        # [L/m^2] the most the own pattern lays from the drop run (the lowest raster layer, the run's
+        # speed; fire_uav_common.drop_coverage (P5)): a run whose pattern cannot reach the coverage
+        # level of the fuel under the aim is not flown (_drop_run); how many steps skipped it, and
+        # the first skip's reason (the node logs it once)
+        self.run_peak_lpm2 = peak_coverage_lpm2(
+            load_l, flow_lps, self.v_slow_mps, raster.tactic.layer_height_m(0)
+        )
+        self.run_skips = 0
+        self.skip_note: str | None = None
         self.leg: FinalApproach | None = None  # the drop run's leg along the front (_drop_leg)
         # the estimated poses (x, y, yaw) of the last second: the crab angle on the leg (_crab_rad)
         self._poses: deque[tuple[float, float, float]] = deque(
@@ -348,9 +358,31 @@ class Guide:
         So within ``drop_run_m`` of its aim point a UAV flies its run at the lowest raster layer
         (``tactics.TacticConfig.layer_height_m`` of id 0: the floor the layers were sized for) and
         at the speed of the lake approach (FF IV-D b's "low and slow"). Our addition; FF's drop is
-        a disc at any height."""
+        a disc at any height.
+
+        No run (None) where even the run's pattern cannot put the fuel under the aim point out: its
+        peak coverage (``run_peak_lpm2``, drop_coverage (P5)) under the coverage level that fuel
+        needs (``AgentConfig.coverage_levels``, the drop guides' table). Such a run would only bring
+        the fleet down to one layer for nothing: the small UAV's 10 L at 5 L/s peaks at
+        0.02 L/m^2 from 8 m, a twentieth of grass's 0.41 L/m^2, and its fleet on the run's single
+        layer passed under FF's 10 m in 4 of 6 missions (grass_running, docs/suppression.md). The
+        UAV then keeps its own layer and speed (and still releases over the front)."""
         if self.drop_run_m <= 0.0 or math.hypot(pos[0] - aim[0], pos[1] - aim[1]) >= self.drop_run_m:
             return None
+        levels = self.cfg.coverage_levels
+        if levels is not None:
+            need_cl = levels.at(aim[0], aim[1])
+            if self.run_peak_lpm2 < need_cl * L_PER_M2_PER_CL:
+                self.run_skips += 1
+                if self.skip_note is None:
+                    h = self.raster.tactic.layer_height_m(0)
+                    self.skip_note = (
+                        f"drop run skipped (kept the own layer and speed): the own pattern from the "
+                        f"{h:.0f} m layer at {self.v_slow_mps:.1f} m/s peaks at {self.run_peak_lpm2:.3f} L/m2 "
+                        f"(coverage level {self.run_peak_lpm2 / L_PER_M2_PER_CL:.2f}), under the level "
+                        f"{need_cl:g} the fuel at ({aim[0]:.0f}, {aim[1]:.0f}) m needs"
+                    )
+                return None
         return self.raster.tactic.layer_height_m(0), self.v_slow_mps
 
     def _drop_leg(self, s: np.ndarray, aim: tuple[float, float], t_s: float) -> tuple[float, float]:

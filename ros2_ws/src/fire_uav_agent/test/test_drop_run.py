@@ -198,3 +198,54 @@ def test_front_tangent_is_the_line_of_the_cells(deg):
     gx, gy = np.meshgrid(np.arange(0.0, 100.0, 10.0), np.arange(0.0, 100.0, 10.0))
     assert front_tangent(cells(gx.ravel(), gy.ravel()), (50.0, 50.0), 200.0) is None
     assert front_tangent(cells(x[:4], y[:4]), (x[1], y[1]), 200.0) is None
+
+
+def _small_uav(uid: int):
+    over = {"uavs.vehicle_model": "coordinated_turn", "fires.drop_model": "pattern"}
+    sc = load_scenario(scenario_path("grass_running"), overrides=over)
+    return sc, Agent(config_from_scenario(sc, uid, uav_count=6, seed=1, loss_probability=0.0))
+
+
+@pytest.mark.parametrize("uid", [0, 1, 2])
+def test_a_small_uav_whose_pattern_cannot_put_grass_out_keeps_its_layer(uid):
+    """Issue 36: the small UAV's 10 L at 5 L/s from the run (8 m up, sigma = 2 + 0.5 x 8 = 6 m by
+    (P3), at 18.6 m/s: a 37 m line) peaks by (P2) at (5 / 18.6) / (sqrt(2 pi) 6) = 0.018 L/m^2,
+    under grass's CL 1 (0.41 L/m^2): no run. Its fleet flew the run down to one layer and passed
+    under 10 m in 4 of 6 missions for nothing (docs/suppression.md)."""
+    sc, a = _small_uav(uid)
+    g = a.guide
+    af = sc.uavs.airframe
+    assert (af.water_capacity_kg, af.drop_flow_lps, g.v_slow_mps) == (10.0, 5.0, pytest.approx(18.6))
+    by_hand = (5.0 / 18.6) / (math.sqrt(2.0 * math.pi) * 6.0)  # L >> sigma: the line's middle
+    assert by_hand < 0.05 * GRASS_LPM2
+    assert _peak(sc, 8.0, g.v_slow_mps) == pytest.approx(by_hand, rel=0.02)  # the world's pattern
+    aim = (500.0, 500.0)
+    assert g._drop_run((aim[0] + 0.5 * g.drop_run_m, aim[1]), aim) is None
+    assert g.run_skips == 1 and "drop run skipped" in (g.skip_note or "")
+    assert g._drop_run((aim[0] + 2.0 * g.drop_run_m, aim[1]), aim) is None  # far: no run, no skip
+    assert g.run_skips == 1
+
+
+@pytest.mark.parametrize("fuel_model, flies", [(1, True), (5, False)])
+def test_the_tanker_flies_its_run_only_where_its_pattern_reaches_the_fuels_level(fuel_model, flies):
+    """The tanker's 3,000 L at 757 L/s from the run (8 m, 49.8 m/s: a 197 m line, sigma 6 m) peaks
+    at (757 / 49.8) / (sqrt(2 pi) 6) = 1.01 L/m^2 = CL 2.5 by (P2)-(P3): it reaches grass's CL 1
+    (FBFM 1) and flies the run; not brush's CL 3 (FBFM 5, a fuel patch under the aim): no run."""
+    patch = {
+        "x_min_m": 0.0,
+        "x_max_m": 6000.0,
+        "y_min_m": 2500.0,
+        "y_max_m": 3500.0,
+        "fuel_model": fuel_model,
+    }
+    sc, a = _tanker(1, **{"fires.raster.fuel_patches": [patch]})
+    g = a.guide
+    by_hand = (757.0 / 49.8) / (math.sqrt(2.0 * math.pi) * 6.0)
+    assert GRASS_LPM2 < by_hand < 3.0 * L_PER_M2_PER_CL
+    assert _peak(sc, 8.0, g.v_slow_mps) == pytest.approx(by_hand, rel=0.01)
+    aim = (3000.0, 3000.0)
+    run = g._drop_run((aim[0] + 0.5 * g.drop_run_m, aim[1]), aim)
+    assert (run is not None) is flies
+    assert (g.run_skips == 0) is flies
+    outside = (3000.0, 1000.0)  # grass outside the patch: the run is flown either way
+    assert g._drop_run((outside[0] + 0.5 * g.drop_run_m, outside[1]), outside) is not None

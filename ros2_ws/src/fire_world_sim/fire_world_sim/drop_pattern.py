@@ -40,18 +40,10 @@ forward throw is not modelled) and to fall freely, so that it lands after
 drifted by the wind times t_fall. Drag makes the real fall slower and the drift larger: the
 drift here is a lower bound.
 
-**Coverage levels** (:func:`required_coverage_lpm2`). The fire services rate a drop by its
-coverage level (CL), US gallons per 100 ft^2 (1 gal/100 ft^2 = 0.4074 L/m^2); the level needed
-to hold a fire depends on its fuel model. Table 1 of the USDA FS MTDC airtanker drop guides
-(e.g. Johnson & Jordan 2000, "Ground pattern performance of the Marsh Turbo Thrush",
-0057-2835-MTDC; the same table in every guide of the series), by Fire Behavior Fuel Model
-(Anderson 1982): CL 1: FBFM 1; CL 2: FBFM 2, 8, 9; CL 3: FBFM 3, 5, 11; CL 4: FBFM 10 (and
-southern rough); CL 6: FBFM 4 (chaparral), 6; "greater than 6": FBFM 12, 13 (NWCG glossary,
-"Coverage level": levels 1-6 for most fuel models, > 6 for heavy fuels). Our choices: FBFM 7
-(southern rough, not in the table by number) gets 4, the table's southern-rough level; "> 6"
-is taken as 8. The 40 Scott & Burgan (2005) models are mapped by family to the FBFM they
-resemble (:data:`SCOTT_BURGAN_CL`). The table is for average fire intensity; the guides adjust
-it "up or down depending on the actual fire intensity": not modelled here.
+**Coverage levels** (:func:`required_coverage_lpm2`), the spread law's constants
+(:class:`PatternModel`) and the peak coverage (P5) live in :mod:`fire_uav_common.drop_coverage`,
+where the agents read them too (a UAV skips the low drop run when its pattern cannot reach the
+level of the fuel under its aim: ``fire_uav_agent.guidance``); they are re-exported here.
 """
 
 from __future__ import annotations
@@ -60,6 +52,15 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from fire_uav_common.drop_coverage import (
+    ANDERSON_CL,
+    L_PER_M2_PER_CL,
+    SCOTT_BURGAN_CL,
+    PatternModel,
+    coverage_level,
+    peak_coverage_lpm2,
+    required_coverage_lpm2,
+)
 
 from .errors import ConfigError
 
@@ -75,80 +76,14 @@ __all__ = [
     "coverage_lpm2",
     "coverage_level",
     "pattern_of",
+    "peak_coverage_lpm2",
     "required_coverage_lpm2",
 ]
 
 #: standard gravity [m/s^2]
 G_MPS2 = 9.80665
-#: 1 US gal / 100 ft^2 in L/m^2: 3.785411784 L / 9.290304 m^2
-L_PER_M2_PER_CL = 3.785411784 / 9.290304
 #: the lowest contour the drop guides draw (0.5 gal/100 ft^2): the edge of a pattern's footprint
 MIN_FOOTPRINT_CL = 0.5
-
-#: coverage level [gal/100 ft^2] by Anderson (1982) fire behavior fuel model (drop guides' Table 1)
-ANDERSON_CL: dict[int, float] = {
-    1: 1.0,  # short grass (NFDRS A, L, S)
-    2: 2.0,  # timber with grass (C, T)
-    3: 3.0,  # tall grass (N, sawgrass)
-    4: 6.0,  # chaparral (B, O)
-    5: 3.0,  # brush, green (F)
-    6: 6.0,  # dormant brush (F, Q)
-    7: 4.0,  # southern rough: the table's southern-rough level (choice, see the module text)
-    8: 2.0,  # closed short-needle conifer (H, R)
-    9: 2.0,  # long-needle conifer, hardwood litter (E, P, U)
-    10: 4.0,  # timber with heavy dead litter (G)
-    11: 3.0,  # light slash (K)
-    12: 8.0,  # medium slash (J): "greater than 6", taken as 8
-    13: 8.0,  # heavy slash (I): "greater than 6", taken as 8
-}
-
-#: Scott & Burgan (2005) models by family -> the Anderson model whose level they take (choice):
-#: GR1-2 short grass (1), GR3-9 tall / dense grass (3); GS grass-shrub (2, sagebrush with grass);
-#: SH1-4 low shrub (5), SH5-9 high-load shrub (4); TU1-3 timber understory (2), TU4-5 (10);
-#: TL timber litter (8; TL 7-9 heavy litter: 10); SB1 (11), SB2 (12), SB3-4 (13).
-_SB_AS_ANDERSON: dict[int, int] = {
-    **{m: 1 for m in (101, 102)},
-    **{m: 3 for m in range(103, 110)},
-    **{m: 2 for m in range(121, 125)},
-    **{m: 5 for m in range(141, 145)},
-    **{m: 4 for m in range(145, 150)},
-    **{m: 2 for m in (161, 162, 163)},
-    **{m: 10 for m in (164, 165)},
-    **{m: 8 for m in range(181, 187)},
-    **{m: 10 for m in (187, 188, 189)},
-    201: 11,
-    202: 12,
-    203: 13,
-    204: 13,
-}
-SCOTT_BURGAN_CL: dict[int, float] = {m: ANDERSON_CL[a] for m, a in _SB_AS_ANDERSON.items()}
-
-
-def coverage_level(fuel_model: int) -> float:
-    """Coverage level [gal/100 ft^2] needed to hold a fire of average intensity in ``fuel_model``
-    (Anderson 1-13 or Scott & Burgan 101-204); ``inf`` for a model that does not burn."""
-    fm = int(fuel_model)
-    if fm in ANDERSON_CL:
-        return ANDERSON_CL[fm]
-    return SCOTT_BURGAN_CL.get(fm, math.inf)
-
-
-def required_coverage_lpm2(fuel: np.ndarray) -> np.ndarray:
-    """Per cell of the fuel-model grid ``fuel``: the coverage [L/m^2] that puts a burning cell out."""
-    out = np.full(np.shape(fuel), np.inf)
-    for m in np.unique(fuel):
-        out[fuel == m] = coverage_level(int(m)) * L_PER_M2_PER_CL
-    return out
-
-
-@dataclass(frozen=True)
-class PatternModel:
-    """Constants of (P1)-(P4): the spread sigma = ``sigma0_m`` + ``spread_per_m`` h [m], and the
-    share of the load lost before reaching the ground (``loss_fraction``; 0: none modelled)."""
-
-    sigma0_m: float = 2.0
-    spread_per_m: float = 0.5
-    loss_fraction: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -213,7 +148,7 @@ def pattern_of(release: Release, model: PatternModel | None = None) -> DropPatte
         raise ConfigError(f"flow_lps must be > 0, got {r.flow_lps}")
     if r.ground_speed_mps < 0 or r.height_m < 0 or r.volume_l < 0:
         raise ConfigError("ground_speed_mps, height_m and volume_l must be >= 0")
-    sigma = m.sigma0_m + m.spread_per_m * r.height_m
+    sigma = m.sigma_m(r.height_m)  # (P3)
     if not sigma > 0:
         raise ConfigError(f"spread sigma must be > 0, got {sigma}")
     length = r.ground_speed_mps * r.volume_l / r.flow_lps  # (P1)

@@ -336,3 +336,35 @@ def test_the_line_is_flown_while_the_tank_empties():
     samples the line, which a wrong length of 1e8 m would exhaust memory on)."""
     p = pattern_of(release(ground_speed_mps=50.0, volume_l=3000.0, flow_lps=750.0, heading_rad=0.0))
     assert (p.x1_m - p.x0_m, p.y1_m - p.y0_m) == pytest.approx((200.0, 0.0))
+
+
+@pytest.mark.parametrize(
+    "volume_l, flow_lps, v_mps, h_m, peak_cl",
+    [  # docs/suppression.md, "What one load gives on flat ground" (peak [CL], 2 decimals)
+        (2000.0, 1000.0, 44.7, 12.0, 2.74),
+        (2000.0, 1000.0, 100.0, 36.0, 0.49),
+        (3000.0, 757.0, 46.8, 20.0, 1.32),
+        (3000.0, 757.0, 60.0, 20.0, 1.03),
+        (10.0, 5.0, 15.6, 12.0, 0.04),
+        (10.0, 5.0, 0.0, 12.0, None),  # no ground speed: a round heap, V / (2 pi sigma^2)
+    ],
+)
+def test_the_shared_peak_is_the_patterns_highest_coverage(volume_l, flow_lps, v_mps, h_m, peak_cl):
+    """fire_uav_common.drop_coverage (P5), which the agents decide their drop runs by, against the
+    world's pattern (P2) measured on a 0.25 m grid around the line and the docs' pattern table."""
+    from fire_uav_common.drop_coverage import peak_coverage_lpm2
+
+    r = release(heading_rad=0.0, ground_speed_mps=v_mps, height_m=h_m, volume_l=volume_l, flow_lps=flow_lps)
+    p = pattern_of(r)
+    xs = np.arange(-4.0 * p.sigma_m, p.length_m + 4.0 * p.sigma_m, 0.25)
+    ys = np.arange(-1.0, 1.01, 0.25)
+    xx, yy = np.meshgrid(xs, ys)
+    measured = float(coverage_lpm2(p, xx, yy).max())
+    shared = peak_coverage_lpm2(volume_l, flow_lps, v_mps, h_m)
+    assert shared == pytest.approx(measured, rel=1e-3)
+    assert shared == pytest.approx(p.peak_lpm2, rel=1e-9)
+    if peak_cl is not None:
+        assert round(shared / L_PER_M2_PER_CL, 2) == peak_cl
+    else:
+        assert shared == pytest.approx(volume_l / (2.0 * math.pi * p.sigma_m**2), rel=1e-9)
+    assert peak_coverage_lpm2(0.0, flow_lps, v_mps, h_m) == 0.0
