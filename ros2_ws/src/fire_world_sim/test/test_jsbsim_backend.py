@@ -297,3 +297,30 @@ def test_the_bank_holds_its_limit_through_reversals_from_climbing_to_descending_
     assert max(abs(f.bank_rad) for f in traj) <= J3CUB.bank_max_rad
     assert max(_needed_bank_rad(f) for f in traj) <= J3CUB.bank_max_rad
     assert max(abs(f.bank_rad) for f in traj) > math.radians(33)  # it did turn hard both ways
+
+
+def test_in_wind_the_turn_rate_is_the_air_relative_course_rate_not_the_ground_tracks() -> None:
+    # The envelope check (fire_bench.envelope) reads the truth's turn rate against g tan(phi_max) / v
+    # at the airspeed v: it must be the course rate through the air. In a steady 4 m/s wind a
+    # level coordinated turn turns its air course at g tan(phi) / V_a (B&M Eq. 9.14) all round the
+    # orbit, while its ground track turns faster downwind and slower upwind.
+    m = JsbsimModel(J3CUB)
+    s = m.launch(FlightState(0.0, 0.0, 200.0, 0.0, water_kg=10.0), Command(22.0, 0.0, 0.0))
+    traj = _fly(m, s, Command(22.0, 0.0, 0.25), 40.0, wind=(0.0, 4.0))[-2000:]  # after the gust
+    xs = np.array([f.x_m for f in traj])
+    ys = np.array([f.y_m for f in traj])
+    ground_course = np.unwrap(np.arctan2(np.diff(ys), np.diff(xs)))
+    k = 25
+    air_err = []
+    ground_err = []
+    for i in range(k, len(ground_course) - k, 25):
+        f = traj[i]
+        if abs(f.climb_mps) > 0.3:
+            continue
+        expect = G_MPS2 * math.tan(f.bank_rad) / f.airspeed_mps
+        air_err.append(abs(f.turn_rate_radps - expect) / expect)
+        ground = (ground_course[i + k] - ground_course[i - k]) / (2 * k * DT)
+        ground_err.append(abs(ground - expect) / expect)
+    assert len(air_err) >= 40
+    assert max(air_err) < 0.08
+    assert max(ground_err) > 0.15  # the ground track's rate is not it
