@@ -17,7 +17,7 @@ from fire_uav_common.scenario import AIRFRAMES
 from fire_uav_common.scenario.airframes import G_MPS2
 from fire_world_sim.vehicle import Status
 from fire_world_sim.vehicles import Command, FlightState, JsbsimModel
-from fire_world_sim.vehicles.jsbsim_backend import LB_KG, geodetic_to_map, map_to_geodetic
+from fire_world_sim.vehicles.jsbsim_backend import FT_M, LB_KG, geodetic_to_map, map_to_geodetic
 from fire_world_sim.world import World
 
 from .conftest import make_scenario
@@ -244,3 +244,83 @@ def test_an_aircraft_jsbsim_cannot_trim_is_launched_in_level_flight(water_kg: fl
     track = _fly(m, s, Command(v, 0.0, 0.0), 5.0)
     assert min(f.z_m for f in track) > 199.0
     assert max(abs(f.airspeed_mps - v) for f in track) < 1.0
+
+
+J3CUB = AIRFRAMES["j3cub"]
+#: the agents' turn-rate limit on the J3Cub: its 40 deg bank at its lowest commanded 22 m/s
+J3_OMEGA = J3CUB.turn_rate_max_radps(J3CUB.v_min_mps)
+
+
+def _needed_bank_rad(f: FlightState) -> float:
+    # the bank of a level coordinated turn at the flown course rate and airspeed (B&M Eq. 9.14)
+    return math.atan(abs(f.turn_rate_radps) * f.airspeed_mps / G_MPS2)
+
+
+@pytest.mark.parametrize("turn", [1.0, -1.0])
+@pytest.mark.parametrize("settle_s", [8.0, 24.0])
+def test_a_wind_shift_in_a_hard_turn_stays_within_the_j3cub_envelope(turn: float, settle_s: float) -> None:
+    # grass_brush_hill's wind veers from 3.5 m/s toward 45 deg to 3 m/s toward 90 deg at 480 s. As
+    # a step it reached a J3Cub in its hardest turn as a sharp-edged gust: the load factor jumped
+    # from 1.3 to 1.9 within one substep and the course turned as only a 54 deg bank would (the
+    # truth beyond the preset's 40 deg; 56.8 deg in a sweep of this case). The aircraft meets the
+    # new wind over a gust gradient instead, and stays within bank_max and g tan(bank_max) / v.
+    m = JsbsimModel(J3CUB)
+    s = m.launch(FlightState(0.0, 0.0, 200.0, 0.0, water_kg=10.0), Command(22.0, 0.0, 0.0))
+    cmd = Command(22.0, -1.4, turn * J3_OMEGA)
+    before = _fly(m, s, cmd, settle_s, wind=(2.47, 2.47))
+    after = _fly(m, before[-1], cmd, 6.0, wind=(0.0, 3.0))
+    phi_max = J3CUB.bank_max_rad
+    assert max(abs(f.bank_rad) for f in before[300:] + after) <= phi_max
+    assert max(_needed_bank_rad(f) for f in before[300:] + after) <= phi_max
+    # and flies in the world's new wind once through the gradient
+    assert m.fdm is not None
+    flown = (m.fdm["atmosphere/wind-east-fps"] * FT_M, m.fdm["atmosphere/wind-north-fps"] * FT_M)
+    assert flown == pytest.approx((0.0, 3.0), abs=1e-9)
+
+
+@pytest.mark.parametrize("turn", [1.0, -1.0])
+def test_the_bank_holds_its_limit_through_reversals_from_climbing_to_descending_turns(turn: float) -> None:
+    # a monitor's orbit: a climbing turn at full throttle, then a reversal into a descending turn
+    # at idle. The roll integrator, run through the roll-in while the bank lagged its slewed
+    # command, wound up and carried the J3Cub 2-3 deg beyond its 40 deg preset after the reversal
+    # (42.1 / 42.9 deg; in the mission it held 0.15 of aileron from minutes before).
+    m = JsbsimModel(J3CUB)
+    s = m.launch(FlightState(0.0, 0.0, 200.0, 0.0, water_kg=10.0), Command(22.0, 0.0, 0.0))
+    traj = []
+    for cmd, secs in [
+        (Command(22.0, 1.4, turn * J3_OMEGA), 20.0),
+        (Command(22.0, 1.4, -turn * J3_OMEGA), 5.0),
+        (Command(22.0, -1.4, -turn * J3_OMEGA), 15.0),
+    ]:
+        traj += _fly(m, s, cmd, secs)
+        s = traj[-1]
+    assert max(abs(f.bank_rad) for f in traj) <= J3CUB.bank_max_rad
+    assert max(_needed_bank_rad(f) for f in traj) <= J3CUB.bank_max_rad
+    assert max(abs(f.bank_rad) for f in traj) > math.radians(33)  # it did turn hard both ways
+
+
+def test_in_wind_the_turn_rate_is_the_air_relative_course_rate_not_the_ground_tracks() -> None:
+    # The envelope check (fire_bench.envelope) reads the truth's turn rate against g tan(phi_max) / v
+    # at the airspeed v: it must be the course rate through the air. In a steady 4 m/s wind a
+    # level coordinated turn turns its air course at g tan(phi) / V_a (B&M Eq. 9.14) all round the
+    # orbit, while its ground track turns faster downwind and slower upwind.
+    m = JsbsimModel(J3CUB)
+    s = m.launch(FlightState(0.0, 0.0, 200.0, 0.0, water_kg=10.0), Command(22.0, 0.0, 0.0))
+    traj = _fly(m, s, Command(22.0, 0.0, 0.25), 40.0, wind=(0.0, 4.0))[-2000:]  # after the gust
+    xs = np.array([f.x_m for f in traj])
+    ys = np.array([f.y_m for f in traj])
+    ground_course = np.unwrap(np.arctan2(np.diff(ys), np.diff(xs)))
+    k = 25
+    air_err = []
+    ground_err = []
+    for i in range(k, len(ground_course) - k, 25):
+        f = traj[i]
+        if abs(f.climb_mps) > 0.3:
+            continue
+        expect = G_MPS2 * math.tan(f.bank_rad) / f.airspeed_mps
+        air_err.append(abs(f.turn_rate_radps - expect) / expect)
+        ground = (ground_course[i + k] - ground_course[i - k]) / (2 * k * DT)
+        ground_err.append(abs(ground - expect) / expect)
+    assert len(air_err) >= 40
+    assert max(air_err) < 0.08
+    assert max(ground_err) > 0.15  # the ground track's rate is not it

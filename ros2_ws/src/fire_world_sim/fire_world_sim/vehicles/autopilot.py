@@ -27,7 +27,13 @@ principles", AIAA 83-2239, 1983):
   raises the load factor n above level flight's 1 / cos(phi). The bank is further limited to
   asin(tan(bank_max) / n) and the elevator eases the pull where n sin(phi) exceeds 0.9 tan(bank_max),
   so the flown turn stays within the preset's g tan(bank_max) / v. Integrators stop while their
-  output saturates (anti-windup).
+  output saturates (anti-windup). The roll integrator also stops while the bank command slews or
+  the bank is more than ``ROLL_I_BAND_RAD`` from it (conditional integration: K. J. Astrom, T.
+  Hagglund, *Advanced PID Control*, ISA, 2006, sec. 3.5): it is there for the steady error of a
+  held bank (B&M 6.3.1), and run through every roll-in, while the bank lags its slewed command by
+  tens of degrees, it wound up and carried the J3Cub 2-3 deg past the 5 deg margin after a
+  reversal, and over a monitor's orbits held 0.15 of aileron from minutes before
+  (docs/airframes.md, "The envelope").
 
 Units: SI and radians; the state in the body/NED conventions of JSBSim (phi right wing down
 positive, theta nose up positive, p and q body rates).
@@ -40,6 +46,10 @@ from dataclasses import dataclass
 
 from fire_uav_common.scenario import Airframe
 from fire_uav_common.scenario.airframes import G_MPS2
+
+#: the roll integrator runs only while the bank command has stopped slewing and the bank is
+#: within this of it [rad] (conditional integration: module doc)
+ROLL_I_BAND_RAD = math.radians(2.0)
 
 
 def _clip(x: float, lo: float, hi: float) -> float:
@@ -118,7 +128,7 @@ class Autopilot:
         e_phi = phi_c - s.bank_rad
         ail_raw = js.kp_roll * e_phi + js.ki_roll * self.i_roll - js.kd_roll * s.roll_rate_radps
         ail = _clip(ail_raw, -1.0, 1.0)
-        if ail == ail_raw:
+        if ail == ail_raw and phi_c == phi_target and abs(e_phi) < ROLL_I_BAND_RAD:
             self.i_roll += e_phi * dt_s
         rud = _clip(-js.k_beta * s.sideslip_rad, -1.0, 1.0)
         # longitudinal: TECS
