@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import ArgumentError
 from .scenario.ground import landscape_of
 from .scenario.types import Raster
 
@@ -140,7 +141,7 @@ def peak_coverage_lpm2(
         return 0.0
     sigma = m.sigma_m(height_m)
     if not sigma > 0:
-        raise ValueError(f"spread sigma must be > 0, got {sigma}")
+        raise ArgumentError(f"spread sigma must be > 0, got {sigma}")
     v = volume_l * (1.0 - m.loss_fraction)
     length = max(ground_speed_mps, 0.0) * volume_l / flow_lps  # (P1)
     if length > 1e-6 * sigma:
