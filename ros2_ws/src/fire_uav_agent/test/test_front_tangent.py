@@ -103,3 +103,21 @@ def test_the_aspect_bound_and_the_degenerate_inputs():
     assert front_tangent(_cells([], []), (0.0, 0.0), 100.0) is None
     assert front_tangent(rect, aim, 0.0) is None
     assert front_tangent(rect, aim, -5.0) is None
+    assert front_tangent(rect, aim, -100.0) is None  # not read as a 100 m radius (its square)
+
+
+def test_a_sub_metre_line_within_a_sub_metre_radius():
+    """Nothing in the rule is in metres: five cells 0.2 m apart on a diagonal (spread 0.04 m^2)
+    within a 0.9 m radius are a line along the diagonal."""
+    d = np.array([-0.4, -0.2, 0.0, 0.2, 0.4])
+    got = front_tangent(_cells(10.0 + d, 20.0 + d), (10.0, 20.0), 0.9)
+    assert got is not None and abs(got[0]) == pytest.approx(math.sqrt(0.5)) and got[0] * got[1] > 0
+
+
+def test_a_spread_ratio_of_exactly_max_aspect_is_still_a_line():
+    """None only for a ratio *above* max_aspect: four cells at (+-10, +-5) m have spreads 100 and 25
+    m^2 along the axes (no cross term), a ratio of exactly 0.5."""
+    cells = _cells([90.0, 110.0, 90.0, 110.0], [45.0, 45.0, 55.0, 55.0])
+    got = front_tangent(cells, (100.0, 50.0), 50.0, min_cells=4, max_aspect=0.5)
+    assert got is not None and abs(got[0]) == pytest.approx(1.0)
+    assert front_tangent(cells, (100.0, 50.0), 50.0, min_cells=4, max_aspect=0.4999) is None
