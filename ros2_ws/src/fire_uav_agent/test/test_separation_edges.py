@@ -517,3 +517,11 @@ def test_a_peer_moving_exactly_one_and_a_half_v_max_is_no_jump():
             p = PeerState(0, k, k, x, 5.0, 40.0, 0.0, int(Objective.SEARCH))
             pa.command(np.array([0.0, 0.0, 40.0, 0.0]), (20.0, 0.0, 0.0), (500.0, 0.0), {0: p}, k)
         assert seen[-1][0][3] == vx
+
+
+def test_a_heading_square_to_a_right_of_way_peer_does_not_close_on_it():
+    """cos(heading, bearing from the peer) >= 0 is allowed: a still right-of-way peer 32 m to our
+    left (clear of the 20 m radius), we flying east, square to it: the desired heading is kept."""
+    peer = np.array([[0.0, 32.0, 30.0, 0.0, 0.0]])
+    got = avoid_heading((0.0, 0.0, 30.0), 10.0, 0.0, peer, SeparationConfig(), yield_to=np.array([True]))
+    assert got == (0.0, False, True)
