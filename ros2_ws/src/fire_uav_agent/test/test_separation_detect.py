@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 from fire_uav_agent.agent_config import config_from_scenario
-from fire_uav_agent.separation import PeerAvoidance, SeparationConfig, detect_range_m
+from fire_uav_agent.separation import PeerAvoidance, SeparationConfig, avoid_heading, detect_range_m
 from fire_uav_agent.testing.harness import scenario_path
 from fire_uav_common.codecs.uav_state import PeerState
 from fire_uav_common.constants import Objective
@@ -99,3 +99,96 @@ def test_the_range_is_never_below_the_configured_one():
     """A slow airframe whose horizon is the straight 2 s keeps the 150 m (2 x 20 x 2 + 20 = 100 m)."""
     assert detect_range_m(SeparationConfig(), 20.0, 2.0) == 150.0
     assert detect_range_m(SeparationConfig(), 50.0, 2.0) == pytest.approx(2 * 50.0 * 2.0 + 20.0)
+
+
+# --- the on-course rule beyond on_course_beyond_m (module doc, "Detection range") ---------------
+
+
+def _course_meets_m(own_xy, speed_mps, heading_rad, peer, horizon_s, n=8001):
+    """Brute force: the closest distance [m] between our present course (straight at ``speed_mps``
+    on ``heading_rad`` from ``own_xy``) and a peer row's straight line, sampled over the horizon."""
+    t = np.linspace(0.0, horizon_s, n)
+    ox = own_xy[0] + speed_mps * math.cos(heading_rad) * t
+    oy = own_xy[1] + speed_mps * math.sin(heading_rad) * t
+    return float(np.min(np.hypot(peer[0] + peer[3] * t - ox, peer[1] + peer[4] * t - oy)))
+
+
+def test_beyond_150_m_a_peer_counts_only_when_the_present_course_meets_it():
+    """Random peers 150-400 m away (seeded), half of them flying at us, and half the time we want
+    to fly at them: each is ignored (the answer
+    is the one with no peer) exactly when our present course, sampled, keeps it 30 m (radius +
+    release margin) or more away over the horizon; otherwise it counts (the answer is the one with
+    the rule off)."""
+    cfg = SeparationConfig(detect_m=400.0)
+    off = SeparationConfig(detect_m=400.0, on_course_beyond_m=400.0)
+    rng = np.random.default_rng(24)
+    rate, speed = 0.3, 30.0
+    horizon = max(cfg.horizon_s, 0.5 * math.pi / rate)  # the quarter turn: 5.24 s
+    ignored_mattered = counted_mattered = 0
+    for _ in range(400):
+        own = (float(rng.uniform(-500, 500)), float(rng.uniform(-500, 500)), 40.0)
+        heading = float(rng.uniform(-math.pi, math.pi))
+        dist, bearing = float(rng.uniform(151.0, 300.0)), float(rng.uniform(-math.pi, math.pi))
+        # wanting to fly at the peer, or near our course
+        desired = (bearing if rng.random() < 0.5 else heading) + float(rng.normal(0.0, 0.3))
+        px, py = own[0] + dist * math.cos(bearing), own[1] + dist * math.sin(bearing)
+        if rng.random() < 0.5:  # at us, give or take
+            course = bearing + math.pi + float(rng.normal(0.0, 0.15))
+        else:
+            course = float(rng.uniform(-math.pi, math.pi))
+        pv = float(rng.uniform(10.0, 35.0))
+        peer = np.array([[px, py, 40.0, pv * math.cos(course), pv * math.sin(course)]])
+        meets = _course_meets_m(own, speed, heading, peer[0], horizon)
+        if abs(meets - 30.0) < 0.05:
+            continue  # too close to the line to decide by sampling
+        args = (own, speed, desired)
+        kw = {"turn_rate_radps": rate, "heading_rad": heading}
+        got = avoid_heading(*args, peer, cfg, **kw)
+        alone = avoid_heading(*args, np.zeros((0, 5)), cfg, **kw)
+        full = avoid_heading(*args, peer, off, **kw)
+        if meets >= 30.0:
+            assert got == alone
+            ignored_mattered += full != alone
+        else:
+            assert got == full
+            counted_mattered += full != alone
+    # the cases tell the two sides apart: counting an ignored peer would have changed the answer
+    assert ignored_mattered >= 10 and counted_mattered >= 5  # 21 and 9
+
+
+def test_the_on_course_rule_is_for_fixed_wings_only():
+    """A peer 200 m north coming south at 100 m/s, we heading east and wanting north: our course
+    keeps it 141 m off (relative velocity (-100, -100) from (0, 200)), so a fixed-wing ignores it;
+    FF's unicycle (no turn rate) takes the heading at once and sees it 200 m ahead closing at
+    200 m/s within its 2 s horizon."""
+    cfg = SeparationConfig(detect_m=400.0)
+    peer = np.array([[0.0, 200.0, 30.0, 0.0, -100.0]])
+    up = 0.5 * math.pi
+    assert avoid_heading((0.0, 0.0, 30.0), 100.0, up, peer, cfg, heading_rad=0.0)[1]
+    fixed = avoid_heading((0.0, 0.0, 30.0), 100.0, up, peer, cfg, turn_rate_radps=10.0, heading_rad=0.0)
+    assert fixed == (up, False, True)
+
+
+def test_a_peer_at_on_course_beyond_m_counts_whatever_the_course():
+    """A still peer due east, we heading north (course 150 m off it) and wanting east (straight at
+    it, 200 m in the 2 s horizon): at exactly 150 m it counts, 1 cm further it is ignored."""
+    cfg = SeparationConfig(detect_m=400.0)
+    for dx, counts in ((150.0, True), (150.01, False)):
+        peer = np.array([[dx, 0.0, 30.0, 0.0, 0.0]])
+        got = avoid_heading(
+            (0.0, 0.0, 30.0), 100.0, 0.0, peer, cfg, turn_rate_radps=10.0, heading_rad=0.5 * math.pi
+        )
+        assert got[1] is counts
+
+
+def test_a_course_passing_exactly_radius_plus_margin_off_clears_the_peer():
+    """We fly east at 10 m/s; a still peer at (200, y) is passed y off at t = 20 s (inside the
+    31.4 s quarter turn at 0.05 rad/s). Wanting to fly at it, a counted peer deviates us. At y =
+    radius + release margin (30 m) the course clears it, as the Avoider's release clears a heading
+    (>=); 10 cm nearer it counts."""
+    cfg = SeparationConfig(detect_m=400.0)
+    for y, counts in ((30.0, False), (29.9, True), (10.0, True)):
+        peer = np.array([[200.0, y, 30.0, 0.0, 0.0]])
+        want = math.atan2(y, 200.0)
+        got = avoid_heading((0.0, 0.0, 30.0), 10.0, want, peer, cfg, turn_rate_radps=0.05, heading_rad=0.0)
+        assert got[1] is counts, y
