@@ -194,7 +194,8 @@ def coverage_levels_of(raster: Raster | None) -> CoverageLevels | None:
         land = landscape_of(raster.landscape)
         levels = required_coverage_lpm2(np.asarray(land.fuel)[::-1]) / L_PER_M2_PER_CL  # row 0 south
         levels.flags.writeable = False
-        return CoverageLevels(math.inf, (), levels, 0.0, 0.0, float(land.cell_size_m))
+        o = raster.origin  # the grid's south-west corner in the map frame, as the raster fire has it
+        return CoverageLevels(math.inf, (), levels, float(o.x_m), float(o.y_m), float(land.cell_size_m))
     patches = tuple(
         (p.x_min_m, p.x_max_m, p.y_min_m, p.y_max_m, coverage_level(p.fuel_model))
         for p in raster.fuel_patches

@@ -368,3 +368,19 @@ def test_the_shared_peak_is_the_patterns_highest_coverage(volume_l, flow_lps, v_
     else:
         assert shared == pytest.approx(volume_l / (2.0 * math.pi * p.sigma_m**2), rel=1e-9)
     assert peak_coverage_lpm2(0.0, flow_lps, v_mps, h_m) == 0.0
+
+
+@pytest.mark.parametrize("v_mps", [0.5, 1.0, 3.0, 10.0])
+def test_the_shared_peak_of_a_line_shorter_than_its_spread(v_mps):
+    """A slow release lays a line shorter than sigma (2-20 m against 8 m): still the line's peak
+    (P5), not the round heap's, as the world's pattern (P2) measured on a 0.1 m grid has it."""
+    from fire_uav_common.drop_coverage import peak_coverage_lpm2
+
+    p = pattern_of(
+        release(heading_rad=0.0, ground_speed_mps=v_mps, height_m=12.0, volume_l=10.0, flow_lps=5.0)
+    )
+    assert p.length_m < 3.0 * p.sigma_m
+    xs = np.arange(-4.0 * p.sigma_m, p.length_m + 4.0 * p.sigma_m, 0.1)
+    xx, yy = np.meshgrid(xs, np.array([0.0]))
+    measured = float(coverage_lpm2(p, xx, yy).max())
+    assert peak_coverage_lpm2(10.0, 5.0, v_mps, 12.0) == pytest.approx(measured, rel=1e-4)
