@@ -213,7 +213,8 @@ class UavAgentNode(Node):
         front = None
         try:
             front = peer_front(w, self.cfg.control_period_s)
-        except ValueError as err:  # malformed: counted as arrived, its content dropped
+        except ValueError as err:  # malformed: arrived for the lockstep, its content dropped and counted
+            self.agent.link.count_rejection("malformed front")
             self.get_logger().warning(
                 f"FireFront from uav {w.uav_id} dropped: {err}", throttle_duration_sec=5.0
             )

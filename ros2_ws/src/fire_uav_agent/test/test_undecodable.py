@@ -107,3 +107,27 @@ def test_a_message_the_codec_refuses_still_reads_through_rclpy(reader):
     slow = UavAgentNode._read(stub, data, refuse, msg_type, spec)
     assert same(slow, fast) and reasons == []
     assert (slow.uav_id, slow.sequence if hasattr(slow, "sequence") else slow.state.sequence) == (3, 4)
+
+
+def test_a_front_whose_arrays_differ_in_length_is_counted_and_still_arrives_for_the_lockstep():
+    """A FireFront that decodes but whose cell arrays differ in length: its content dropped and
+    counted (``malformed front``), the message still handed to the gate (its sender sent it: the
+    lockstep wait counts it)."""
+    from fire_uav_common.codecs.fire_front import read_fire_front
+    from fire_uav_msgs.msg import FireFront
+
+    ff = FireFront(uav_id=3, sequence=4, cell_size_m=5.0)
+    ff.x_m, ff.y_m, ff.state, ff.observed_s, ff.spread_rate_mps = [1.5, 2.5], [2.5], b"\x02", [8.25], [0.5]
+    handed: list[tuple] = []
+    stub, reasons, log = _reading_stub()
+    stub.cfg = types.SimpleNamespace(uav_id=0, control_period_s=0.1)
+    stub._read = lambda data, reader, *a: reader(data)
+    stub.gate = types.SimpleNamespace(
+        on_front=lambda sender, step, front: handed.append((sender, front)) or []
+    )
+    stub._act = lambda decisions: None
+    UavAgentNode._on_front(stub, serialize_message(ff))
+    assert reasons == ["malformed front"]
+    assert handed == [(3, None)]
+    assert "FireFront from uav 3 dropped" in log.lines[0]
+    assert read_fire_front(serialize_message(ff)).uav_id == 3
