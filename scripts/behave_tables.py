@@ -204,6 +204,7 @@ def agreement() -> None:
     count: dict[int, int] = {}
     for d in read_csv("behave_53.csv"):
         fm = int(d["fuel_model"])
+
         def one(key: str, d: dict[str, str] = d) -> np.ndarray:
             return np.array([[float(d[key])]])
 
@@ -213,7 +214,9 @@ def agreement() -> None:
             one("aspect_deg"),
             wind_20ft_mps=float(d["wind20_mph"]) * mph,
             wind_from_deg=float(d["wind_from_deg"]),
-            moistures=FuelMoistures(Moisture(*(float(d[k]) for k in ("m1h", "m10h", "m100h", "mherb", "mwoody")))),
+            moistures=FuelMoistures(
+                Moisture(*(float(d[k]) for k in ("m1h", "m10h", "m100h", "mherb", "mwoody")))
+            ),
             canopy_cover=one("canopy_cover"),
             canopy_height_m=one("canopy_height_m"),
             canopy_base_height_m=one("canopy_height_m") * (1.0 - one("crown_ratio")),
@@ -243,7 +246,9 @@ def agreement() -> None:
         "factor), and the largest difference of the head direction. Wind limit: Behave's (Rothermel 1972,\n"
         "effective wind <= 0.9 I_R), as the landscape command uses by default.\n\n"
     )
-    out.write("| model | code | cases | head rate | intensity | flame length | midflame wind | direction [deg] |\n")
+    out.write(
+        "| model | code | cases | head rate | intensity | flame length | midflame wind | direction [deg] |\n"
+    )
     out.write("|---:|---|---:|---:|---:|---:|---:|---:|\n")
     for fm in sorted(worst):
         w = worst[fm]

@@ -83,7 +83,9 @@ def run_pyretechnics(reps: int, wind_20ft_mps: float, out: Path) -> None:
     shape = (1, rows, cols)
     cubes = {
         "slope": SpaceTimeCube(shape, layers["slope"].astype(np.float32)),
-        "aspect": SpaceTimeCube(shape, np.where(layers["aspect"] < 0, 0.0, layers["aspect"]).astype(np.float32)),
+        "aspect": SpaceTimeCube(
+            shape, np.where(layers["aspect"] < 0, 0.0, layers["aspect"]).astype(np.float32)
+        ),
         "fuel_model": SpaceTimeCube(shape, layers["fuel"].astype(np.float32)),
         "canopy_cover": SpaceTimeCube(shape, layers["canopy_cover"].astype(np.float32)),
         "canopy_height": SpaceTimeCube(shape, layers["canopy_height"].astype(np.float32)),
@@ -163,7 +165,9 @@ def spread_scenario(wind_20ft_mps: float, start_s: float = 0.0, uavs: int = 1, m
             "fires.raster.landscape.window": None,
             "area": {"x_min_m": 0.0, "y_min_m": 0.0, "x_max_m": x1 - x0, "y_max_m": y1 - y0},
             "fires.raster.ignitions": [{"x_m": px - x0, "y_m": py - y0, "start_s": start_s}],
-            "fires.raster.wind": [{"start_s": min(start_s, 0.0), "speed_mps": wind_20ft_mps, "direction_deg": 0.0}],
+            "fires.raster.wind": [
+                {"start_s": min(start_s, 0.0), "speed_mps": wind_20ft_mps, "direction_deg": 0.0}
+            ],
             "uavs.count": uavs,
             "timing.max_duration_s": max_duration_s,
         },
@@ -201,7 +205,9 @@ def spread_pyretechnics(hours: float, wind_20ft_mps: float, ignition: tuple[floa
     m = SPREAD_MOISTURE
     cubes = {
         "slope": SpaceTimeCube(shape, layers["slope"].astype(np.float32)),
-        "aspect": SpaceTimeCube(shape, np.where(layers["aspect"] < 0, 0.0, layers["aspect"]).astype(np.float32)),
+        "aspect": SpaceTimeCube(
+            shape, np.where(layers["aspect"] < 0, 0.0, layers["aspect"]).astype(np.float32)
+        ),
         "fuel_model": SpaceTimeCube(shape, layers["fuel"].astype(np.float32)),
         "canopy_cover": SpaceTimeCube(shape, layers["canopy_cover"].astype(np.float32)),
         "canopy_height": SpaceTimeCube(shape, layers["canopy_height"].astype(np.float32)),
@@ -267,7 +273,12 @@ def spread_grass_ours(hours: float, wind_20ft_mps: float) -> dict[str, object]:
         t += 1.0
     cpu_s = time.process_time() - t0
     arrival_s = model.t_ign[model._inner][::-1]  # [s] each cell's ignition time, inf unburned
-    return {"cpu_s": cpu_s, "setup_cpu_s": setup_s, "burned": (model.state_grid() != 0)[::-1], "arrival_s": arrival_s}
+    return {
+        "cpu_s": cpu_s,
+        "setup_cpu_s": setup_s,
+        "burned": (model.state_grid() != 0)[::-1],
+        "arrival_s": arrival_s,
+    }
 
 
 def spread_grass_pyretechnics(hours: float, wind_20ft_mps: float, out: Path) -> None:
@@ -420,12 +431,16 @@ def main() -> None:
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--wind-20ft-mps", type=float, default=0.0)
     ap.add_argument("--pyretechnics-python", type=Path, help="python of a venv with pyretechnics installed")
-    ap.add_argument("--spread", action="store_true", help="free-burning spread instead of the per-cell kernel")
+    ap.add_argument(
+        "--spread", action="store_true", help="free-burning spread instead of the per-cell kernel"
+    )
     ap.add_argument(
         "--grass", action="store_true", help="--spread: 600 x 600 cells of 30 m of fuel model 1 at 6 %%, flat"
     )
     ap.add_argument("--hours", type=float, default=2.0, help="--spread / --world: hours of fire (default 2)")
-    ap.add_argument("--world", action="store_true", help="world step time with a landscape fire and --uavs UAVs")
+    ap.add_argument(
+        "--world", action="store_true", help="world step time with a landscape fire and --uavs UAVs"
+    )
     ap.add_argument("--uavs", type=int, default=20, help="--world: UAVs (default 20)")
     ap.add_argument("--steps", type=int, default=600, help="--world: control steps timed (default 600)")
     ap.add_argument("--as-pyretechnics", type=Path, help=argparse.SUPPRESS)
@@ -468,7 +483,9 @@ def main() -> None:
             "pyretechnics_cpu_s": round(float(theirs["cpu_s"]), 3),
             "pyretechnics_cells_per_cpu_s": round(cells / float(theirs["cpu_s"])),
             "speed_ratio_ours_over_pyretechnics": round(float(theirs["cpu_s"]) / ours_s, 2),
-            "same_fire_type_fraction": round(float((ours["fire_type"] == theirs["fire_type"])[inside].mean()), 5),
+            "same_fire_type_fraction": round(
+                float((ours["fire_type"] == theirs["fire_type"])[inside].mean()), 5
+            ),
             "rate_rel_diff_median": float(np.median(rel)),
             "rate_rel_diff_p99": float(np.percentile(rel, 99)),
             "rate_rel_diff_max": float(rel.max()),

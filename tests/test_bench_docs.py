@@ -89,7 +89,12 @@ def test_update_docs_with_out_is_refused(docs: Path, capsys: pytest.CaptureFixtu
     with pytest.raises(SystemExit) as e:
         bench.main(["--only", "dummy", "--update-docs", "--out", "/tmp/x"])
     assert e.value.code == 2
-    assert capsys.readouterr().err.strip().splitlines()[-1].startswith("bench: error: --update-docs writes into docs/bench; leave out --out")
+    assert (
+        capsys.readouterr()
+        .err.strip()
+        .splitlines()[-1]
+        .startswith("bench: error: --update-docs writes into docs/bench; leave out --out")
+    )
 
 
 def test_render_rewrites_the_page_from_results_and_notes(docs: Path) -> None:

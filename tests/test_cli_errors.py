@@ -130,7 +130,11 @@ def test_report_without_a_bag_is_one_line() -> None:
         ),
         (
             ("tiny_test", "--set", "uavs.vehicle_model=coordinated_turn", "--set", "uavs.airframe=tanker"),
-            ["tiny_test.yaml", "lakes[0].diameter_m", "90 m is shorter than the tanker preset's 702 m scoop run"],
+            [
+                "tiny_test.yaml",
+                "lakes[0].diameter_m",
+                "90 m is shorter than the tanker preset's 702 m scoop run",
+            ],
         ),
         (
             ("grass_running_tanker", "--set", "lakes=[{x_m: 900, y_m: 4700, diameter_m: 700}]"),

@@ -13,7 +13,10 @@ from fire_uav_common.scenario import load_scenario
 # all three. The mark is non-strict and on these cases only, so it cannot hide a change of the
 # other cases (as it once hid, when it was on every case, the landing count that the
 # takeoff-after-land fix changed: see the known-fires test).
-_FAILED_IN_CI_ONLY = pytest.mark.xfail(strict=False, reason="failed once in a fresh-clone CI (14/2 collision, 8/1 landing 5.10 m, drift 0.27 m/s), passes on the same commit here alone and after the package tests, and passed in a later fresh-clone CI; cause not found")
+_FAILED_IN_CI_ONLY = pytest.mark.xfail(
+    strict=False,
+    reason="failed once in a fresh-clone CI (14/2 collision, 8/1 landing 5.10 m, drift 0.27 m/s), passes on the same commit here alone and after the package tests, and passed in a later fresh-clone CI; cause not found",
+)
 
 
 @pytest.mark.slow

@@ -58,7 +58,9 @@ def _imports(name: str, path: Path, mods: dict[str, Path]) -> set[str]:
                 mod = ".".join(base + ([node.module] if node.module else []))
             else:
                 mod = node.module or ""
-            targets = [(mod, False)] + [(f"{mod}.{a.name}", f"{mod}.{a.name}" not in mods) for a in node.names]
+            targets = [(mod, False)] + [
+                (f"{mod}.{a.name}", f"{mod}.{a.name}" not in mods) for a in node.names
+            ]
         for t, from_init in targets:
             # the longest project module that the target names
             while t and t not in mods:

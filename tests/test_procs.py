@@ -57,7 +57,10 @@ def test_domain_claims_are_exclusive_and_run_out(tmp_path: Path) -> None:
     with contextlib.ExitStack() as stack:
         held = [stack.enter_context(claim_domain(7, tmp_path)) for _ in DOMAIN_RANGE]
         assert sorted(held) == list(DOMAIN_RANGE)  # every id once, none twice
-        with pytest.raises(MissionError, match="no free ROS domain id in 100..199"), claim_domain(0, tmp_path):
+        with (
+            pytest.raises(MissionError, match="no free ROS domain id in 100..199"),
+            claim_domain(0, tmp_path),
+        ):
             pass
     with claim_domain(7, tmp_path) as d:  # released again
         assert d == DOMAIN_RANGE[7]

@@ -94,7 +94,10 @@ def overlaps(layout: dict, slack_px: float = 1.0) -> list[tuple[str, str]]:
         a = t["box"]
         for i in layout["imgs"]:
             b = i["box"]
-            if min(a["r"], b["r"]) - max(a["l"], b["l"]) > slack_px and min(a["b"], b["b"]) - max(a["t"], b["t"]) > slack_px:
+            if (
+                min(a["r"], b["r"]) - max(a["l"], b["l"]) > slack_px
+                and min(a["b"], b["b"]) - max(a["t"], b["t"]) > slack_px
+            ):
                 found.append((t["text"], i["src"]))
     return found
 
@@ -137,7 +140,9 @@ def test_no_text_lies_over_a_figure_at_a_laptop_and_a_narrow_width(report, width
     assert isinstance(layout, dict) and layout["width"] == width
     assert len(layout["imgs"]) >= 5 and len(layout["texts"]) > 50, layout["width"]
     assert not overlaps(layout), f"text over a figure at {width} px: {overlaps(layout)[:5]}"
-    assert layout["scrollWidth"] <= width, f"the page is {layout['scrollWidth']} px wide in a {width} px window"
+    assert layout["scrollWidth"] <= width, (
+        f"the page is {layout['scrollWidth']} px wide in a {width} px window"
+    )
     for img in layout["imgs"]:
         assert img["box"]["r"] <= width and img["box"]["r"] - img["box"]["l"] > 100, img
     shot = tmp_path / f"{report}_{width}.png"

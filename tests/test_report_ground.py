@@ -112,7 +112,7 @@ def test_the_ground_is_the_scenarios_window_and_its_lat_lon_the_summarys(worcest
     lat, lon = ground.latlon(750.0, 600.0)
     assert 44.3 < lat < 44.4 and -72.6 < lon < -72.5  # Worcester, Vermont
     # the pond the fleet refills at is open water on the drawn ground
-    (x, y, d), = ground.lakes
+    ((x, y, d),) = ground.lakes
     row, col = int((1200.0 - y) // ground.cell_m), int(x // ground.cell_m)
     assert d > 200 and fuel_class(ground.fuel)[row, col] == WATER
 
@@ -141,7 +141,10 @@ def _events(ground_mission: RecordedMission) -> RecordedMission:
             "y": np.array([300.0, 450.0, 580.0]), "z": np.zeros(3), "yaw": np.zeros(3), "status": np.zeros(3), "step": np.arange(3)}
         for u in (0, 1)
     }  # fmt: skip
-    m.states = {u: dict(v, P=np.zeros((3, 4, 4)), objective=np.zeros(3), lost=np.zeros(3)) for u, v in m.truth_vehicles.items()}
+    m.states = {
+        u: dict(v, P=np.zeros((3, 4, 4)), objective=np.zeros(3), lost=np.zeros(3))
+        for u, v in m.truth_vehicles.items()
+    }
     m.world_events = [
         RecordedEvent(4.0, int(EventType.DROP), 0, -1, 0, 300.0, 590.0, 1000.0, "", "world"),
         RecordedEvent(8.0, int(EventType.CRASH), 1, -1, -1, math.nan, math.nan, 0.0, "injected", "world"),
@@ -163,7 +166,10 @@ def test_places_give_every_position_in_degrees_as_the_summary_does(worcester):
     ign = geo_summary(load_scenario(WORCESTER))["ignitions"][0]  # type: ignore[index]
     assert (rows[0]["x_m"], rows[0]["y_m"], rows[0]["t_s"]) == (285.0, 585.0, -600.0)
     assert (rows[0]["lat_deg"], rows[0]["lon_deg"]) == (ign["lat_deg"], ign["lon_deg"])
-    assert (rows[1]["lat_deg"], rows[1]["lon_deg"]) == (ign["lat_deg"], ign["lon_deg"])  # fire 0 recorded there
+    assert (rows[1]["lat_deg"], rows[1]["lon_deg"]) == (
+        ign["lat_deg"],
+        ign["lon_deg"],
+    )  # fire 0 recorded there
     loss = rows[-1]
     assert (loss["x_m"], loss["y_m"]) == (800.0, 450.0)  # no crash position: where its truth was last
     html = places_html(rows, "worcester_vt")
@@ -181,8 +187,8 @@ def test_the_maps_of_a_landscape_mission_draw_the_ground(worcester, tmp_path):
     for fn in (fig_raster_front, fig_tracks, fig_voronoi):
         plain = tmp_path / "plain"
         plain.mkdir(exist_ok=True)
-        (name, cap), = fn(m, tmp_path, ground)
-        (name0, cap0), = fn(m, plain)
+        ((name, cap),) = fn(m, tmp_path, ground)
+        ((name0, cap0),) = fn(m, plain)
         assert name == name0
         assert (tmp_path / name).read_bytes() != (plain / name).read_bytes()  # the ground is drawn
     assert fig_landscape(m, tmp_path, None) == []  # no ground: the figures of today
@@ -194,6 +200,14 @@ def test_the_page_of_a_mission_without_a_landscape_has_no_places():
     plain = render_page({"outcome": "complete"}, {}, **kw)  # type: ignore[arg-type]
     assert plain == render_page({"outcome": "complete"}, {}, places=[], landscape=None, **kw)  # type: ignore[arg-type]
     assert "latitude" not in plain and 'id="places"' not in plain
-    row = {"what": "fire 0", "t_s": 0.0, "x_m": 1.0, "y_m": 2.0, "lat_deg": 44.1, "lon_deg": -72.5, "kind": "fire"}
+    row = {
+        "what": "fire 0",
+        "t_s": 0.0,
+        "x_m": 1.0,
+        "y_m": 2.0,
+        "lat_deg": 44.1,
+        "lon_deg": -72.5,
+        "kind": "fire",
+    }
     geo = render_page({"outcome": "complete"}, {}, places=[row], landscape="worcester_vt", **kw)  # type: ignore[arg-type]
     assert 'id="places"' in geo and "WGS84" in geo

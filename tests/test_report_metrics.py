@@ -165,7 +165,9 @@ def test_containment_from_area_is_sixty_quiet_seconds_after_the_last_growth():
     grows_to_100 = np.minimum(t, 100.0)
     on = np.ones(t.size, bool)
     assert containment_from_area(t, grows_to_100, on, raster=True) == 160.0  # last growth at 100 s
-    assert containment_from_area(t[:160], grows_to_100[:160], on[:160], raster=True) is None  # 59 s quiet at the end
+    assert (
+        containment_from_area(t[:160], grows_to_100[:160], on[:160], raster=True) is None
+    )  # 59 s quiet at the end
     assert containment_from_area(t[:161], grows_to_100[:161], on[:161], raster=True) == 160.0  # exactly 60 s
     # a breach at 180 s: quiet again 60 s after it
     t3 = np.arange(0.0, 301.0, 1.0)

@@ -69,4 +69,3 @@ def test_report_writes_every_figure_and_page(synthetic, tmp_path, label_check):
     for name in names:
         assert (out / name).stat().st_size > 1000
         assert f'src="{name}"' in html
-

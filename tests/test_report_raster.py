@@ -36,7 +36,9 @@ def disc_grid(t: float, r_m: float) -> dict:
 
 
 def mission() -> RecordedMission:
-    m = RecordedMission(path="mem", custom_data={"fire_uav.seed": "1"}, scenario=dict(PLOT), warnings=[], topics={})
+    m = RecordedMission(
+        path="mem", custom_data={"fire_uav.seed": "1"}, scenario=dict(PLOT), warnings=[], topics={}
+    )
     m.fire_grids = [disc_grid(t, 30.0 + t / 10) for t in (0.0, 100.0, 200.0, 300.0)]
     bins = 36
     m.perimeters = {
@@ -68,7 +70,9 @@ def mission() -> RecordedMission:
             "hit fires [0], 10 of 40 cells burning",
             "world",
         ),
-        RecordedEvent(40.0, EventType.DROP, 1, -1, -1, 10.0, 10.0, 2000.0, "missed, 0 of 40 cells burning", "world"),
+        RecordedEvent(
+            40.0, EventType.DROP, 1, -1, -1, 10.0, 10.0, 2000.0, "missed, 0 of 40 cells burning", "world"
+        ),
     ]
     m.t_last_s = 300.0
     return m

@@ -54,7 +54,9 @@ def test_containment_from_area_is_none_while_growing_and_resets_on_a_breach() ->
     assert containment_from_area(t, grow, np.ones(t.size, bool), raster=True) == 110.0
     breach = grow + (t >= 150.0)  # grows again at 150 s
     assert containment_from_area(t, breach, np.ones(t.size, bool), raster=True) is None
-    assert containment_from_area(t, t, np.zeros(t.size, bool), raster=True) == 0.0  # nothing active: contained
+    assert (
+        containment_from_area(t, t, np.zeros(t.size, bool), raster=True) == 0.0
+    )  # nothing active: contained
 
 
 def test_hit_rate_and_water_on_burning_cells_from_drop_events() -> None:

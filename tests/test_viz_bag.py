@@ -41,9 +41,7 @@ def _record(tmp_path, scenario: str, max_steps: int, **overrides):
                     r.stamp_ns,
                     serialize_message(world_node.WorldNode._markers(fake, r)),
                 )
-                w.write(
-                    conns[topics.TF], r.stamp_ns, serialize_message(ros_messages.tf_msg(r))
-                )
+                w.write(conns[topics.TF], r.stamp_ns, serialize_message(ros_messages.tf_msg(r)))
             w.write(
                 conns[topics.WORLD_TRUTH],
                 r.stamp_ns,

@@ -126,8 +126,8 @@ def test_record_sigint_then_replay(tmp_path, env):
         time.sleep(2.0)
         rep = subprocess.Popen(
             # --delay: the subscriber must be matched before the first message (volatile
-                # publishers); a fresh-clone CI lost 21 of 169 to a 5 ms start
-                [str(ROOT / "scripts/replay"), str(bag), "--rate", "4", "--delay", "3", "--no-progress"],
+            # publishers); a fresh-clone CI lost 21 of 169 to a 5 ms start
+            [str(ROOT / "scripts/replay"), str(bag), "--rate", "4", "--delay", "3", "--no-progress"],
             env=env,
             stderr=subprocess.PIPE,
             text=True,

@@ -10,7 +10,14 @@ from fire_report.data import RecordedEvent, RecordedMission, load_mission
 from fire_report.errors import ReportError
 from fire_report.metrics import compute_metrics
 
-__all__ = ["RecordedEvent", "RecordedMission", "ReportError", "compute_metrics", "load_mission", "write_report"]
+__all__ = [
+    "RecordedEvent",
+    "RecordedMission",
+    "ReportError",
+    "compute_metrics",
+    "load_mission",
+    "write_report",
+]
 
 
 def __getattr__(name: str):

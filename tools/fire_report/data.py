@@ -189,7 +189,9 @@ def _load(bag: bag_io.MissionBag, path: str) -> RecordedMission:
                     "rejected": int(msg.packets_rejected),
                 }
             )
-            for f in getattr(msg, "fires", ()):  # the fire picture rides in the state (bags before: /fleet/fires)
+            for f in getattr(
+                msg, "fires", ()
+            ):  # the fire picture rides in the state (bags before: /fleet/fires)
                 fest[(int(msg.uav_id), int(f.fire_id))].append(
                     {"t": t, "x": f.x_m, "y": f.y_m, "extent": f.extent_m, "status": int(f.status)}
                 )
@@ -239,7 +241,9 @@ def _load(bag: bag_io.MissionBag, path: str) -> RecordedMission:
             )
         elif topic == WORLD_FIRE_TYPE:  # the newest wins: cells keep their type once burnt
             t = _stamp_s(msg)
-            mission.fire_type_cells = np.bincount(np.asarray(msg.data, dtype=np.int64), minlength=4)[1:4].tolist()
+            mission.fire_type_cells = np.bincount(np.asarray(msg.data, dtype=np.int64), minlength=4)[
+                1:4
+            ].tolist()
             mission.fire_type_cell_m = float(msg.info.resolution)
         elif topic == VIZ_FIRE_GRID:
             t = _stamp_s(msg)

@@ -112,7 +112,9 @@ def _draw_crashes(ax: plt.Axes, mission: RecordedMission, t: float) -> None:
             x, y = float(v["x"][i]), float(v["y"][i])
         if np.isfinite(x) and np.isfinite(y):
             ax.plot(x, y, "X", color="k", markersize=10, markeredgecolor="w", zorder=5)
-            ax.annotate(f"UAV {e.uav_id} lost", (x, y), fontsize=7, xytext=(5, -10), textcoords="offset points")
+            ax.annotate(
+                f"UAV {e.uav_id} lost", (x, y), fontsize=7, xytext=(5, -10), textcoords="offset points"
+            )
 
 
 def _draw_world(ax: plt.Axes, mission: RecordedMission, t: float) -> None:
@@ -181,7 +183,9 @@ def fig_voronoi(mission: RecordedMission, out: Path, ground: Ground | None = Non
         "The fleet at takeoff, while fighting the fires and at landing: each UAV (triangle, its own "
         "position estimate) and the area it covers (the part of the map nearest to it); red: the fires, "
         "blue: lakes, black cross: a UAV lost (as in FF Fig. 11)."
-        + (" On a landscape the white lines bound the areas, over the ground's fuel types." if ground else ""),
+        + (
+            " On a landscape the white lines bound the areas, over the ground's fuel types." if ground else ""
+        ),
     )
 
 
@@ -362,7 +366,9 @@ def fig_perimeter(mission: RecordedMission, out: Path) -> list[Figure]:
     fig = plt.figure(figsize=(10, 4.2))
     axp = fig.add_subplot(1, 2, 1, projection="polar")
     axe = fig.add_subplot(1, 2, 2)
-    match = match_tracks_to_fires(mission.fire_estimates, mission.truth_fires) if mission.fire_estimates else {}
+    match = (
+        match_tracks_to_fires(mission.fire_estimates, mission.truth_fires) if mission.fire_estimates else {}
+    )
     for (u, fid), p in sorted(mission.perimeters.items()):
         outer = p["outer"][-1]
         ang = (np.arange(outer.size) + 0.5) * 2 * np.pi / max(outer.size, 1)
@@ -388,12 +394,18 @@ def fig_perimeter(mission: RecordedMission, out: Path) -> list[Figure]:
     )  # fmt: skip
 
 
-def fig_faults(mission: RecordedMission, out: Path, outages: list[tuple[float, float]] | None = None) -> list[Figure]:
+def fig_faults(
+    mission: RecordedMission, out: Path, outages: list[tuple[float, float]] | None = None
+) -> list[Figure]:
     """Lost peer messages over time with the faults marked; ``outages``: (start, end) [s] of every
     link outage, scheduled or injected (default: the scenario's)."""
     if outages is None:
         outages = []
-        for o in (mission.scenario.get("comms") or {}).get("outages") or [] if isinstance(mission.scenario, dict) else []:
+        for o in (
+            (mission.scenario.get("comms") or {}).get("outages") or []
+            if isinstance(mission.scenario, dict)
+            else []
+        ):
             try:
                 outages.append((float(o["start_s"]), float(o["end_s"])))
             except (KeyError, TypeError, ValueError):
@@ -503,7 +515,9 @@ def fig_raster_front(mission: RecordedMission, out: Path, ground: Ground | None 
     return _save(fig, out, "raster_front.png", cap)
 
 
-def fig_burned_area(mission: RecordedMission, out: Path, baseline: RecordedMission | None = None) -> list[Figure]:
+def fig_burned_area(
+    mission: RecordedMission, out: Path, baseline: RecordedMission | None = None
+) -> list[Figure]:
     """Burned area over time, against the no-fleet baseline bag when given (``--baseline``)."""
     t, area, _ = burned_area_series(mission)
     fires = mission.scenario.get("fires") if isinstance(mission.scenario, dict) else None
@@ -566,7 +580,9 @@ def fig_landscape(mission: RecordedMission, out: Path, ground: Ground | None) ->
     if any(d > 0 for _, _, d in ground.lakes):
         handles.append(plt.Line2D([], [], color="k", ls="--", lw=1.0, label="refill disc"))
     starts = [(x, y, f"ignition {i}") for i, (x, y, _) in enumerate(ground.ignitions)] or [
-        (float(f["x"][0]), float(f["y"][0]), f"fire {fid}") for fid, f in sorted(mission.truth_fires.items()) if f
+        (float(f["x"][0]), float(f["y"][0]), f"fire {fid}")
+        for fid, f in sorted(mission.truth_fires.items())
+        if f
     ]  # a raster fire's ignitions, else where each fire was first recorded
     for x, y, label in starts:
         ax.plot(x, y, "*", color="#d7191c", markeredgecolor="k", ms=12, zorder=5)
@@ -580,7 +596,9 @@ def fig_landscape(mission: RecordedMission, out: Path, ground: Ground | None) ->
     ax.set_ylabel("y (north) [m]")
     lax.legend(handles=handles, fontsize=8, loc="upper left", borderaxespad=0.0, frameon=False)
     sw, ne = ground.latlon([x0, x1], [y0, y1])
-    corners = f"south-west corner {_deg(float(sw[0]), float(ne[0]))}, north-east {_deg(float(sw[1]), float(ne[1]))}"
+    corners = (
+        f"south-west corner {_deg(float(sw[0]), float(ne[0]))}, north-east {_deg(float(sw[1]), float(ne[1]))}"
+    )
     return _save(
         fig, out, "landscape.png",
         f"The ground of the mission, landscape {ground.name}: fuel types (the 53 standard fuel models in "

@@ -226,7 +226,9 @@ def safety_metrics(mission: RecordedMission) -> dict[str, Any]:
             touchdown.setdefault(e.uav_id, (e.x_m, e.y_m))
     home = home_xy(mission) if touchdown else {}
     errors = {
-        str(u): math.hypot(x - home[u][0], y - home[u][1]) for u, (x, y) in sorted(touchdown.items()) if u in home
+        str(u): math.hypot(x - home[u][0], y - home[u][1])
+        for u, (x, y) in sorted(touchdown.items())
+        if u in home
     }
     pts = list(touchdown.values())
     spacing = [math.dist(a, b) for i, a in enumerate(pts) for b in pts[i + 1 :]]

@@ -122,7 +122,9 @@ def write_report(
         metrics["baseline_burned_area_m2"] = suppression_metrics(base)["burned_area_m2"]
     metrics["loss_probability"] = loss_probability(mission)
     if mission.fire_type_cells is not None:  # a fire on a landscape: burnt cells per fire type
-        metrics["fire_type_cells"] = dict(zip(("surface", "passive_crown", "active_crown"), mission.fire_type_cells, strict=True))
+        metrics["fire_type_cells"] = dict(
+            zip(("surface", "passive_crown", "active_crown"), mission.fire_type_cells, strict=True)
+        )
         metrics["fire_type_cell_m"] = mission.fire_type_cell_m
     notes = debrief.run_scenario_notes(mission.path)
     if notes:  # e.g. water left out as too small for a refill pass

@@ -155,9 +155,7 @@ def write_synthetic_mission(path: str | Path, spec: SyntheticMission | None = No
             return [
                 FireEstimate(
                     fire_id=fid,
-                    status=FireStatus.EXTINGUISHED
-                    if t >= ext_t.get(fid, math.inf)
-                    else FireStatus.ACTIVE,
+                    status=FireStatus.EXTINGUISHED if t >= ext_t.get(fid, math.inf) else FireStatus.ACTIVE,
                     x_m=fx + u,
                     y_m=fy - u,
                     extent_m=sig,

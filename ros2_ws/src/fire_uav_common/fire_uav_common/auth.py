@@ -102,9 +102,7 @@ class Authenticator:
         return hmac.compare_digest(self.tag(topic, sender, step, data[:-TAG_BYTES]), data[-TAG_BYTES:])
 
 
-def authenticator_from(
-    auth: bool, key: str, error: type[Exception] = FleetKeyError
-) -> Authenticator | None:
+def authenticator_from(auth: bool, key: str, error: type[Exception] = FleetKeyError) -> Authenticator | None:
     """The ``auth`` / ``fleet_key`` parameters of a node (docs/security.md) as an Authenticator;
     None when authentication is off. A missing or malformed key raises ``error`` (the calling
     package's configuration error) naming the parameter."""

@@ -149,11 +149,15 @@ def spec_from_dict(d: dict[str, Any], source: Path) -> LandscapeSpec:
         paths[layer] = (base / v).resolve()
     kind = d.get("fuel_kind", "fbfm40")
     if kind not in FUEL_KINDS:
-        raise LandscapeError(f"{source}: landscape.fuel_kind: expected one of {sorted(FUEL_KINDS)}, got {kind!r}")
+        raise LandscapeError(
+            f"{source}: landscape.fuel_kind: expected one of {sorted(FUEL_KINDS)}, got {kind!r}"
+        )
     scales = dict(LANDFIRE_SCALES)
     for k, v in (d.get("scales") or {}).items():
         if k not in LANDFIRE_SCALES:
-            raise LandscapeError(f"{source}: landscape.scales.{k}: unknown layer; expected one of {sorted(LANDFIRE_SCALES)}")
+            raise LandscapeError(
+                f"{source}: landscape.scales.{k}: unknown layer; expected one of {sorted(LANDFIRE_SCALES)}"
+            )
         scales[k] = _number(f"{source}: landscape.scales.{k}", v)
     window = None
     if d.get("window") is not None:
@@ -172,7 +176,9 @@ def spec_from_dict(d: dict[str, Any], source: Path) -> LandscapeSpec:
             raise LandscapeError(f"{source}: landscape.cell_size_m: must be > 0, got {cell!r}")
     rs = d.get("fuel_resampling", "nearest")
     if rs not in FUEL_RESAMPLING:
-        raise LandscapeError(f"{source}: landscape.fuel_resampling: expected one of {FUEL_RESAMPLING}, got {rs!r}")
+        raise LandscapeError(
+            f"{source}: landscape.fuel_resampling: expected one of {FUEL_RESAMPLING}, got {rs!r}"
+        )
     return LandscapeSpec(source, paths, kind, scales, window, cell, rs)
 
 
@@ -266,7 +272,9 @@ def _open(layer: str, path: Path) -> Any:
     try:
         return rasterio.open(path)
     except RasterioIOError as e:
-        raise LandscapeError(f"layer '{layer}': not a readable GeoTIFF: {path} ({str(e).splitlines()[0]})") from None
+        raise LandscapeError(
+            f"layer '{layer}': not a readable GeoTIFF: {path} ({str(e).splitlines()[0]})"
+        ) from None
 
 
 def load_landscape(spec: LandscapeSpec | str | Path) -> Landscape:
@@ -288,11 +296,19 @@ def load_landscape(spec: LandscapeSpec | str | Path) -> Landscape:
             if ds.crs != ref.crs:
                 raise LandscapeError(f"{where}: CRS {ds.crs} differs from the fuel layer's {ref.crs}")
             if ds.transform != ref.transform:
-                raise LandscapeError(f"{where}: transform {tuple(ds.transform)[:6]} differs from the fuel layer's {tuple(ref.transform)[:6]}")
+                raise LandscapeError(
+                    f"{where}: transform {tuple(ds.transform)[:6]} differs from the fuel layer's {tuple(ref.transform)[:6]}"
+                )
             if ds.shape != ref.shape:
                 raise LandscapeError(f"{where}: shape {ds.shape} differs from the fuel layer's {ref.shape}")
-        if abs(ref.transform.b) > 0 or abs(ref.transform.d) > 0 or abs(ref.transform.a + ref.transform.e) > 1e-9:
-            raise LandscapeError(f"layer 'fuel' ({spec.paths['fuel']}): rotated or non-square cells are not supported")
+        if (
+            abs(ref.transform.b) > 0
+            or abs(ref.transform.d) > 0
+            or abs(ref.transform.a + ref.transform.e) > 1e-9
+        ):
+            raise LandscapeError(
+                f"layer 'fuel' ({spec.paths['fuel']}): rotated or non-square cells are not supported"
+            )
         full = Window(0, 0, ref.width, ref.height)
         win = full
         if spec.window is not None:
@@ -303,7 +319,9 @@ def load_landscape(spec: LandscapeSpec | str | Path) -> Landscape:
                     f"{spec.source}: landscape.window {spec.window} lies outside the raster bounds "
                     f"({left}, {bottom}, {right}, {top})"
                 )
-            win = from_bounds(x0, y0, x1, y1, ref.transform).round_offsets(op="floor").round_lengths(op="ceil")
+            win = (
+                from_bounds(x0, y0, x1, y1, ref.transform).round_offsets(op="floor").round_lengths(op="ceil")
+            )
             win = win.intersection(full)
         transform = window_transform(win, ref.transform)
         out_shape = (int(win.height), int(win.width))
@@ -373,7 +391,14 @@ def _assemble(
         aspect = np.where(np.ma.getmaskarray(arrays["aspect"]), -1.0, aspect)
     return Landscape(
         crs_wkt=crs_wkt,
-        transform=(float(transform[0]), float(transform[1]), float(transform[2]), float(transform[3]), float(transform[4]), float(transform[5])),
+        transform=(
+            float(transform[0]),
+            float(transform[1]),
+            float(transform[2]),
+            float(transform[3]),
+            float(transform[4]),
+            float(transform[5]),
+        ),
         fuel_kind=spec.fuel_kind,
         fuel=fuel,
         elevation_m=out["elevation"],

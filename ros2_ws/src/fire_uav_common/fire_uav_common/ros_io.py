@@ -14,7 +14,15 @@ from typing import Any
 
 from .errors import ExecutorAwaitError, ExecutorError
 
-__all__ = ["LeanExecutor", "PublishCounts", "StopSignals", "make_executor", "private_context", "spin", "unacked_topics"]
+__all__ = [
+    "LeanExecutor",
+    "PublishCounts",
+    "StopSignals",
+    "make_executor",
+    "private_context",
+    "spin",
+    "unacked_topics",
+]
 
 EXECUTOR_ENV = "FIRE_UAV_EXECUTOR"  # "lean" (the default) or "rclpy": which executor make_executor gives
 

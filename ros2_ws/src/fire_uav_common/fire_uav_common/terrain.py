@@ -69,7 +69,9 @@ class Lake:
         """The same lake with the map frame's origin moved by (-dx_m, -dy_m)."""
         run = self.run
         if run is not None:
-            run = StraightRun(run.x0_m + dx_m, run.y0_m + dy_m, run.x1_m + dx_m, run.y1_m + dy_m, run.length_m)
+            run = StraightRun(
+                run.x0_m + dx_m, run.y0_m + dy_m, run.x1_m + dx_m, run.y1_m + dy_m, run.length_m
+            )
         water = None if self.water is None else self.water.shifted(dx_m, dy_m)
         return Lake(self.x_m + dx_m, self.y_m + dy_m, self.diameter_m, water, run)
 
@@ -150,7 +152,9 @@ class GridTerrain(Terrain):
         j1 = np.minimum(j0 + 1, nx - 1)
         i1 = np.minimum(i0 + 1, ny - 1)
         tx, ty = fx - j0, fy - i0
-        out = (e[i0, j0] * (1 - tx) + e[i0, j1] * tx) * (1 - ty) + (e[i1, j0] * (1 - tx) + e[i1, j1] * tx) * ty
+        out = (e[i0, j0] * (1 - tx) + e[i0, j1] * tx) * (1 - ty) + (
+            e[i1, j0] * (1 - tx) + e[i1, j1] * tx
+        ) * ty
         return float(out) if out.ndim == 0 else out
 
     def gradient(self, x_m: float, y_m: float, eps_m: float | None = None) -> tuple[float, float]:

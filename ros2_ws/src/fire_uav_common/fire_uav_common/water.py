@@ -60,7 +60,12 @@ class WaterCells:
         _, ends = np.nonzero(d == -1)  # same row order: one end per start, exclusive
         cs = self.cell_m
         return np.column_stack(
-            (self.x0_m + starts * cs, self.y0_m + rows * cs, self.x0_m + ends * cs, self.y0_m + (rows + 1) * cs)
+            (
+                self.x0_m + starts * cs,
+                self.y0_m + rows * cs,
+                self.x0_m + ends * cs,
+                self.y0_m + (rows + 1) * cs,
+            )
         ).astype(float)
 
     def outline(self) -> list[list[list[tuple[float, float]]]]:
@@ -97,7 +102,9 @@ class StraightRun:
         return math.atan2(self.y1_m - self.y0_m, self.x1_m - self.x0_m)
 
 
-def longest_straight_run(water: WaterCells, *, step_deg: float = 2.0, spacing_cells: float = 0.25) -> StraightRun:
+def longest_straight_run(
+    water: WaterCells, *, step_deg: float = 2.0, spacing_cells: float = 0.25
+) -> StraightRun:
     """The longest straight segment whose sample points all lie over ``water``.
 
     Lines in every direction (every ``step_deg`` over 180 deg) cross the body ``spacing_cells``

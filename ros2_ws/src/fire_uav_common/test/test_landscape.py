@@ -28,10 +28,20 @@ NODATA = 32767
 ORIGIN = (500000.0, 4000000.0)  # x_min, y_max of the toy grid [m]
 
 
-def write_tif(path: Path, data: np.ndarray, *, crs: str = "EPSG:5070", origin: tuple[float, float] = ORIGIN) -> None:
+def write_tif(
+    path: Path, data: np.ndarray, *, crs: str = "EPSG:5070", origin: tuple[float, float] = ORIGIN
+) -> None:
     with rasterio.open(
-        path, "w", driver="GTiff", height=data.shape[0], width=data.shape[1], count=1, dtype="int16",
-        crs=crs, transform=from_origin(origin[0], origin[1], 30.0, 30.0), nodata=NODATA,
+        path,
+        "w",
+        driver="GTiff",
+        height=data.shape[0],
+        width=data.shape[1],
+        count=1,
+        dtype="int16",
+        crs=crs,
+        transform=from_origin(origin[0], origin[1], 30.0, 30.0),
+        nodata=NODATA,
     ) as dst:
         dst.write(data.astype(np.int16), 1)
 
@@ -116,9 +126,18 @@ def test_nodata_outside_the_fuel_is_outside_the_landscape(tmp_path: Path) -> Non
 @pytest.mark.parametrize(
     ("change", "match"),
     [
-        ({"slope_kw": {"crs": "EPSG:32618"}}, r"layer 'slope' \(.*slope.tif\): CRS EPSG:32618 differs from the fuel layer's EPSG:5070"),
-        ({"aspect_kw": {"origin": (500030.0, 4000000.0)}}, r"layer 'aspect' \(.*\): transform .* differs from the fuel layer's"),
-        ({"elevation": np.zeros((5, 8))}, r"layer 'elevation' \(.*\): shape \(5, 8\) differs from the fuel layer's \(6, 8\)"),
+        (
+            {"slope_kw": {"crs": "EPSG:32618"}},
+            r"layer 'slope' \(.*slope.tif\): CRS EPSG:32618 differs from the fuel layer's EPSG:5070",
+        ),
+        (
+            {"aspect_kw": {"origin": (500030.0, 4000000.0)}},
+            r"layer 'aspect' \(.*\): transform .* differs from the fuel layer's",
+        ),
+        (
+            {"elevation": np.zeros((5, 8))},
+            r"layer 'elevation' \(.*\): shape \(5, 8\) differs from the fuel layer's \(6, 8\)",
+        ),
         ({"fuel": np.full((6, 8), 14)}, r"layer 'fuel' \(.*\): unknown FBFM40 fuel code\(s\) \[14\]"),
         (
             {"canopy_cover": np.where(np.arange(48).reshape(6, 8) == 9, NODATA, 50)},
@@ -166,7 +185,10 @@ def test_points_outside_the_grid_and_unburnable_ignitions_are_named(tmp_path: Pa
         land.cell_of(0.0, 0.0)
     with pytest.raises(LandscapeError, match=r"^ignition: point \(0.0, 0.0\) m lies outside"):
         land.require_burnable(0.0, 0.0)
-    with pytest.raises(LandscapeError, match=r"ignition at \(500015.0, 3999985.0\) m: cell \(row 0, col 0\) is non-burnable fuel code 98"):
+    with pytest.raises(
+        LandscapeError,
+        match=r"ignition at \(500015.0, 3999985.0\) m: cell \(row 0, col 0\) is non-burnable fuel code 98",
+    ):
         land.require_burnable(*land.cell_center(0, 0))
     with pytest.raises(LandscapeError, match=r"fire 2 at .*: cell \(row 5, col 7\) is outside the data"):
         land.require_burnable(*land.cell_center(5, 7), what="fire 2")

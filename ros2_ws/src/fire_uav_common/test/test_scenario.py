@@ -259,11 +259,14 @@ def test_dataclasses_are_frozen(tmp_path: Path) -> None:
 
 
 def test_mission_tactic_auto_by_default_flank_on_request_and_a_clear_error(tmp_path: Path) -> None:
-    assert load_scenario(write(tmp_path, MINIMAL)).mission.tactic == "auto"  # docs/studies.md, the 900 s study
+    assert (
+        load_scenario(write(tmp_path, MINIMAL)).mission.tactic == "auto"
+    )  # docs/studies.md, the 900 s study
     s = load_scenario(write(tmp_path, with_(mission={"tactic": "flank"})))
     assert s.mission.tactic == "flank"
     with pytest.raises(
-        ScenarioError, match=r"s\.yaml: mission\.tactic: must be one of \['head', 'flank', 'auto'\], got 'tail'"
+        ScenarioError,
+        match=r"s\.yaml: mission\.tactic: must be one of \['head', 'flank', 'auto'\], got 'tail'",
     ):
         load_scenario(write(tmp_path, with_(mission={"tactic": "tail"})))
 
@@ -342,10 +345,19 @@ FF_TWO_FIRES = SCENARIOS / "ff_two_fires.yaml"
             r"ff_two_fires\.yaml: fires\.analytic\[0\]: fire centre \(3000, 400\) m is outside the area "
             r"x 0\.\.600, y 0\.\.600 m$",
         ),
-        ({"lakes": [{"x_m": 50.0, "y_m": -100.0, "diameter_m": 90.0}]}, r": lakes\[0\]: lake centre \(50, -100\) m is outside"),
-        ({"uavs.first": {"x_m": 700.0, "y_m": 250.0}}, r": uavs\.first: UAV 0 starts at \(700, 250\) m is outside"),
+        (
+            {"lakes": [{"x_m": 50.0, "y_m": -100.0, "diameter_m": 90.0}]},
+            r": lakes\[0\]: lake centre \(50, -100\) m is outside",
+        ),
+        (
+            {"uavs.first": {"x_m": 700.0, "y_m": 250.0}},
+            r": uavs\.first: UAV 0 starts at \(700, 250\) m is outside",
+        ),
         # the fifth UAV of the line: 250 + 4 x 100 = 650 m
-        ({"uavs.spacing": {"dx_m": 0.0, "dy_m": 100.0}}, r": uavs\.spacing: UAV 4 starts at \(50, 650\) m is outside"),
+        (
+            {"uavs.spacing": {"dx_m": 0.0, "dy_m": 100.0}},
+            r": uavs\.spacing: UAV 4 starts at \(50, 650\) m is outside",
+        ),
     ],
 )
 def test_positions_outside_the_area_are_named(overrides: dict, pattern: str) -> None:
@@ -358,11 +370,16 @@ def test_raster_ignition_outside_the_area_or_in_a_lake_is_named(tmp_path: Path) 
     raster = {"cell_size_m": 5.0, "nx": 200, "ny": 200, "ignitions": [{"x_m": 900.0, "y_m": 300.0}]}
     d = {"name": "r", "area": area, "fires": {"model": "raster", "raster": raster}}
     # inside the raster grid (0..1000 m), outside the area (0..400 m)
-    with pytest.raises(ScenarioError, match=r"fires\.raster\.ignitions\[0\]: ignition \(900, 300\) m is outside the area"):
+    with pytest.raises(
+        ScenarioError, match=r"fires\.raster\.ignitions\[0\]: ignition \(900, 300\) m is outside the area"
+    ):
         load_scenario(write(tmp_path, d))
     raster["ignitions"] = [{"x_m": 110.0, "y_m": 95.0}]
     d["lakes"] = [{"x_m": 100.0, "y_m": 100.0, "diameter_m": 40.0}]
-    with pytest.raises(ScenarioError, match=r"fires\.raster\.ignitions\[0\]: ignition \(110, 95\) m is in lakes\[0\]: a non-burnable cell"):
+    with pytest.raises(
+        ScenarioError,
+        match=r"fires\.raster\.ignitions\[0\]: ignition \(110, 95\) m is in lakes\[0\]: a non-burnable cell",
+    ):
         load_scenario(write(tmp_path, d))
     raster["ignitions"] = [{"x_m": 130.0, "y_m": 95.0}]  # just outside the lake's 20 m radius
     assert load_scenario(write(tmp_path, d)).fires.raster is not None

@@ -130,14 +130,28 @@ def _with(tmp_path: Path, **raster_edits: object) -> Path:
     ("edits", "pattern"),
     [
         # the pond's centre: open water
-        ({"ignitions": [{"x_m": 1305.0, "y_m": 645.0}]}, r"w\.yaml: fires\.raster\.ignitions\[0\]: .*non-burnable fuel code 98"),
         (
-            {"landscape": {"source": "worcester_vt", "window": {"x_min_m": 0, "y_min_m": 0, "x_max_m": 10, "y_max_m": 10}}},
+            {"ignitions": [{"x_m": 1305.0, "y_m": 645.0}]},
+            r"w\.yaml: fires\.raster\.ignitions\[0\]: .*non-burnable fuel code 98",
+        ),
+        (
+            {
+                "landscape": {
+                    "source": "worcester_vt",
+                    "window": {"x_min_m": 0, "y_min_m": 0, "x_max_m": 10, "y_max_m": 10},
+                }
+            },
             r"w\.yaml: fires\.raster\.landscape: .*window .* lies outside the raster bounds",
         ),
-        ({"landscape": {"source": "no_such_place"}}, r"fires\.raster\.landscape\.source: 'no_such_place' is neither"),
+        (
+            {"landscape": {"source": "no_such_place"}},
+            r"fires\.raster\.landscape\.source: 'no_such_place' is neither",
+        ),
         ({"nx": 10}, r"fires\.raster\.nx: set by fires\.raster\.landscape: remove it"),
-        ({"landscape": {"source": "worcester_vt", "crown": "rothermel"}}, r"fires\.raster\.landscape\.crown: must be one of"),
+        (
+            {"landscape": {"source": "worcester_vt", "crown": "rothermel"}},
+            r"fires\.raster\.landscape\.crown: must be one of",
+        ),
         (
             {"landscape": {"source": "worcester_vt", "moisture": {"m_1h": 0}}},
             r"fires\.raster\.landscape\.moisture\.m_1h: must be > 0",
@@ -165,7 +179,9 @@ def test_a_path_relative_to_the_scenario_file_works(tmp_path: Path) -> None:
     sub = tmp_path / "sub"
     sub.mkdir()
     d = yaml.safe_load(SCENARIO.read_text())
-    d["fires"]["raster"]["landscape"]["source"] = str(Path(*[".."] * len(sub.parts)) / LANDSCAPE.relative_to("/"))
+    d["fires"]["raster"]["landscape"]["source"] = str(
+        Path(*[".."] * len(sub.parts)) / LANDSCAPE.relative_to("/")
+    )
     (sub / "s.yaml").write_text(yaml.safe_dump(d))
     s = load_scenario(sub / "s.yaml")
     assert s.fires.raster.landscape.source == str(LANDSCAPE.resolve())

@@ -41,7 +41,9 @@ def test_the_threshold_is_the_scoop_run_and_names_the_short_lake() -> None:
     lakes = [{"x_m": 50.0, "y_m": 50.0, "diameter_m": 78.0}, {"x_m": 500.0, "y_m": 500.0, "diameter_m": 77.0}]
     ok = load_scenario(FF, overrides={**FIXED_WING, "lakes": lakes[:1]})
     assert [lk.diameter_m for lk in ok.lakes] == [78.0]  # exactly the run: usable
-    with pytest.raises(ScenarioError, match=r"lakes\[1\]\.diameter_m: 77 m is shorter than the small_uav preset's 78 m"):
+    with pytest.raises(
+        ScenarioError, match=r"lakes\[1\]\.diameter_m: 77 m is shorter than the small_uav preset's 78 m"
+    ):
         load_scenario(FF, overrides={**FIXED_WING, "lakes": lakes})
     # ff_paper hovers over the water: any lake serves
     assert len(load_scenario(FF, overrides={"lakes": lakes}).lakes) == 2
@@ -49,7 +51,9 @@ def test_the_threshold_is_the_scoop_run_and_names_the_short_lake() -> None:
 
 def test_a_preset_with_fields_replaced_names_uavs_airframe() -> None:
     # half the refill rate doubles the run: 156 m > the 90 m lake
-    with pytest.raises(ScenarioError, match=r"lakes\[0\]\.diameter_m: 90 m is shorter than uavs.airframe's 156 m scoop run"):
+    with pytest.raises(
+        ScenarioError, match=r"lakes\[0\]\.diameter_m: 90 m is shorter than uavs.airframe's 156 m scoop run"
+    ):
         load_scenario(FF, overrides={**FIXED_WING, "uavs.airframe.refill_rate_kgps": 1.0})
 
 

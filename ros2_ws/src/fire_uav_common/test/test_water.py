@@ -50,7 +50,9 @@ def test_a_lake_with_water_cells_reads_them_not_its_disc() -> None:
     assert lake.contains(170.0, 45.0)  # far outside the disc, over the channel
     assert not lake.contains(15.0, 25.0)  # inside no water cell
     moved = lake.shifted(-10.0, 5.0)
-    assert moved.contains(160.0, 50.0) and moved.longest_run.x0_m == pytest.approx(lake.longest_run.x0_m - 10.0)
+    assert moved.contains(160.0, 50.0) and moved.longest_run.x0_m == pytest.approx(
+        lake.longest_run.x0_m - 10.0
+    )
 
 
 def test_row_runs_cover_exactly_the_water_cells() -> None:
@@ -62,11 +64,11 @@ def test_row_runs_cover_exactly_the_water_cells() -> None:
     # every cell centre lies in exactly one rectangle if it is water, in none if it is not
     ys, xs = np.mgrid[0:9, 0:13]
     cx, cy = -40.0 + (xs + 0.5) * 30.0, 1000.0 + (ys + 0.5) * 30.0
-    inside = sum(
-        ((cx > x0) & (cx < x1) & (cy > y0) & (cy < y1)).astype(int) for x0, y0, x1, y1 in rects
-    )
+    inside = sum(((cx > x0) & (cx < x1) & (cy > y0) & (cy < y1)).astype(int) for x0, y0, x1, y1 in rects)
     assert np.array_equal(inside, mask.astype(int))
     # one cell high, on cell edges, and together the body's area
     assert np.allclose(rects[:, 3] - rects[:, 1], 30.0)
     assert np.allclose(((rects[:, [0, 2]] + 40.0) / 30.0) % 1.0, 0.0)
-    assert float(np.sum((rects[:, 2] - rects[:, 0]) * (rects[:, 3] - rects[:, 1]))) == pytest.approx(w.area_m2)
+    assert float(np.sum((rects[:, 2] - rects[:, 0]) * (rects[:, 3] - rects[:, 1]))) == pytest.approx(
+        w.area_m2
+    )

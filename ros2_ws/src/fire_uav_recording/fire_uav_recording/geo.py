@@ -52,7 +52,9 @@ NAVSAT_TYPE = "sensor_msgs/msg/NavSatFix"
 TRUTH_TYPE = "fire_uav_msgs/msg/WorldTruth"
 GRID_TYPE = "nav_msgs/msg/OccupancyGrid"
 FIRE_AREA_TOPIC = "/geo/fire_area"
-GRID_BURNT = 60  # /viz/fire_grid cell values (the world's grid_msg): unburned 0, wet 20, burnt 60, burning 100
+GRID_BURNT = (
+    60  # /viz/fire_grid cell values (the world's grid_msg): unburned 0, wet 20, burnt 60, burning 100
+)
 GRID_BURNING = 100
 
 
@@ -128,7 +130,9 @@ def geo_frame_of_bag(path: str | Path) -> GeoFrame | None:
         custom = dict(bag.custom_data)
     text = custom.get(rec.KEY_SCENARIO_YAML, "")
     raw = yaml.safe_load(text) if text else None
-    frame = geo_frame_of_scenario(raw if isinstance(raw, Mapping) else {}, custom.get(rec.KEY_SCENARIO_FILE, ""))
+    frame = geo_frame_of_scenario(
+        raw if isinstance(raw, Mapping) else {}, custom.get(rec.KEY_SCENARIO_FILE, "")
+    )
     try:  # the fleet that flew (the runner's --uavs), not the scenario's default
         return dataclasses.replace(frame, uav_count=int(custom[rec.KEY_UAV_COUNT])) if frame else None
     except (KeyError, ValueError):

@@ -116,7 +116,9 @@ def world_markers(
     return out
 
 
-def _water_marker(i: int, water: object, lake: object, ground: Callable[[float, float], float] | None) -> MarkerSpec:
+def _water_marker(
+    i: int, water: object, lake: object, ground: Callable[[float, float], float] | None
+) -> MarkerSpec:
     """A landscape lake as a flat triangle list over its water cells (two triangles per row run,
     :meth:`~fire_uav_common.water.WaterCells.row_runs`), 0.25 m above its water level like the
     middle of a disc lake's 0.5 m cylinder."""

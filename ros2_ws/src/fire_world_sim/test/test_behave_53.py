@@ -42,6 +42,7 @@ def run_groups() -> list[tuple[dict[str, float], tuple[float, float, float, floa
         groups[(*(d[k] for k in MOISTURE_KEYS), d["wind20_mph"], d["wind_from_deg"])].append(d)
     out = []
     for key, ds in groups.items():
+
         def col(k: str, ds: list[dict[str, float]] = ds) -> np.ndarray:
             return np.array([[d[k] for d in ds]])
 

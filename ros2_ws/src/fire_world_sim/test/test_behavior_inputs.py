@@ -28,8 +28,13 @@ DRY = FuelMoistures(Moisture(0.06, 0.08, 0.10, 0.75, 0.60))
 def run(fuel: list[int], moistures: FuelMoistures = DRY, **kw: object) -> np.ndarray:
     n = len(fuel)
     b = fire_behavior(
-        np.array([fuel]), np.zeros((1, n)), np.zeros((1, n)), wind_20ft_mps=5.0, wind_from_deg=0.0,
-        moistures=moistures, **kw,  # type: ignore[arg-type]
+        np.array([fuel]),
+        np.zeros((1, n)),
+        np.zeros((1, n)),
+        wind_20ft_mps=5.0,
+        wind_from_deg=0.0,
+        moistures=moistures,
+        **kw,  # type: ignore[arg-type]
     )
     return b.ros_mps[0]
 
@@ -126,7 +131,11 @@ def test_the_cell_kernel_equals_the_scalar_one(
     p = spread_params(FUEL_MODELS[fm], m1, m1 + 0.01, m1 + 0.02, herb, 1.0)
     r, d, u = head_spread(p, wind, wind_dir, slope, up, wind_limit=limit)
     cells = SpreadParams(*(np.full((1, 3), v) for v in astuple(p)))
-    rc, dc, uc = head_spread_cells(cells, np.full((1, 3), wind), wind_dir, np.full((1, 3), slope), up, wind_limit=limit)
-    assert rc[0, 1] == pytest.approx(r, rel=1e-12, abs=1e-15) and uc[0, 2] == pytest.approx(u, rel=1e-9, abs=1e-12)
+    rc, dc, uc = head_spread_cells(
+        cells, np.full((1, 3), wind), wind_dir, np.full((1, 3), slope), up, wind_limit=limit
+    )
+    assert rc[0, 1] == pytest.approx(r, rel=1e-12, abs=1e-15) and uc[0, 2] == pytest.approx(
+        u, rel=1e-9, abs=1e-12
+    )
     if r > 0 and (wind > 0 or slope > 0):
         assert abs((dc[0, 0] - d + np.pi) % (2 * np.pi) - np.pi) < 1e-9

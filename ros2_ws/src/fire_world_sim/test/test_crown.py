@@ -43,9 +43,9 @@ def test_van_wagner_1977_worked_example() -> None:
     assert float(critical_surface_intensity_kwpm(6.0, 1.0)) == pytest.approx(2475.6, rel=1e-3)
     assert float(critical_active_rate_mps(0.23)) * 60.0 == pytest.approx(13.04, rel=1e-3)
     # I_0 grows as CBH^1.5 and with foliar moisture
-    assert float(critical_surface_intensity_kwpm(4.0, 1.0)) / float(critical_surface_intensity_kwpm(1.0, 1.0)) == (
-        pytest.approx(8.0)
-    )
+    assert float(critical_surface_intensity_kwpm(4.0, 1.0)) / float(
+        critical_surface_intensity_kwpm(1.0, 1.0)
+    ) == (pytest.approx(8.0))
     assert critical_surface_intensity_kwpm(3.0, 1.2) > critical_surface_intensity_kwpm(3.0, 0.9)
 
 

@@ -85,7 +85,10 @@ def write_bad_landscape(tmp_path: Path) -> Path:
 @pytest.mark.parametrize(
     ("args", "match"),
     [
-        (["no_such_landscape"], r"no_such_landscape: no such landscape file, directory or shipped landscape name"),
+        (
+            ["no_such_landscape"],
+            r"no_such_landscape: no such landscape file, directory or shipped landscape name",
+        ),
         (["worcester_vt", "--moisture", "0.06,0.08"], r"--moisture wants 5 fractions"),
         (["worcester_vt", "--foliar-moisture", "-1"], r"foliar_moisture must be a fraction"),
         (["worcester_vt", "--wind-20ft-mps", "-3"], r"wind_20ft_mps must be >= 0"),

@@ -21,7 +21,8 @@ GARBAGE = [b"", b"\x00\x01\x00\x00", b"not a message at all", b"\x00\x01\x00\x00
 def test_the_world_rejects_undecodable_payload_bytes(data):
     rejected: list[tuple[int, str, str]] = []
     stub = types.SimpleNamespace(
-        gate=types.SimpleNamespace(finished=False), _reject=lambda uid, topic, why: rejected.append((uid, topic, why))
+        gate=types.SimpleNamespace(finished=False),
+        _reject=lambda uid, topic, why: rejected.append((uid, topic, why)),
     )
     WorldNode._on_payload(stub, 1, data)
     assert rejected == [(1, "/uav_1/payload", "undecodable")]
@@ -31,7 +32,8 @@ def test_the_world_reads_a_real_request_past_the_decoding():
     """A well-formed request for another vehicle gets as far as the id check."""
     rejected: list[tuple[int, str, str]] = []
     stub = types.SimpleNamespace(
-        gate=types.SimpleNamespace(finished=False), _reject=lambda uid, topic, why: rejected.append((uid, topic, why))
+        gate=types.SimpleNamespace(finished=False),
+        _reject=lambda uid, topic, why: rejected.append((uid, topic, why)),
     )
     WorldNode._on_payload(stub, 1, serialize_message(PayloadRequest(uav_id=2)))
     assert rejected == [(1, "/uav_1/payload", "wrong id")]

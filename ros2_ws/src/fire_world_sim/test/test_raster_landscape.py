@@ -50,7 +50,9 @@ def test_the_head_runs_at_the_cells_rate_of_spread(running: RasterFireModel) -> 
 
 def test_the_fire_goes_where_the_wind_blows() -> None:
     east = model().truth()[0]
-    west = model(**{"fires.raster.wind": [{"start_s": -600.0, "speed_mps": 8.0, "direction_deg": 180.0}]}).truth()[0]
+    west = model(
+        **{"fires.raster.wind": [{"start_s": -600.0, "speed_mps": 8.0, "direction_deg": 180.0}]}
+    ).truth()[0]
     x0 = 285.0  # the ignition
     assert east.x_m > x0 + 50.0 and west.x_m < x0 - 10.0
 

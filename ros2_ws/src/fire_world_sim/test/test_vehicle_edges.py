@@ -164,7 +164,12 @@ def test_refill_over_a_water_body_follows_its_outline_not_its_disc() -> None:
     mask = np.zeros((3, 20), dtype=bool)
     mask[1, :] = True  # a channel 600 m x 30 m, row 0 south; the disc is 30 m wide at its west end
     lake = Lake(15.0, 45.0, 30.0, water=WaterCells(0.0, 0.0, 30.0, mask))
-    for x_m, y_m, over in ((15.0, 45.0, True), (585.0, 45.0, True), (15.0, 25.0, False), (300.0, 65.0, False)):
+    for x_m, y_m, over in (
+        (15.0, 45.0, True),
+        (585.0, 45.0, True),
+        (15.0, 25.0, False),
+        (300.0, 65.0, False),
+    ):
         v = fly(make(pose=(x_m, y_m, 50.0, 0.0), lakes=(lake,)))
         v.accept_command(Command(50.0, 0.0, 0.0), DT)
         v.x_m, v.y_m, v.z_m, v.water_kg = x_m, y_m, 10.0, 0.0

@@ -57,7 +57,8 @@ def test_bad_arguments_are_refused_with_one_line(kwargs: dict, match: str) -> No
 def test_largest_fleet_and_no_fleet_are_accepted() -> None:
     # 255 UAVs 3 m apart in a line all start inside the 1000 m area
     line = make_scenario(
-        uavs={"count": 2, "first": {"x_m": 100.0, "y_m": 100.0}, "spacing": {"dx_m": 0, "dy_m": 3}}, fires=FAR_FIRE
+        uavs={"count": 2, "first": {"x_m": 100.0, "y_m": 100.0}, "spacing": {"dx_m": 0, "dy_m": 3}},
+        fires=FAR_FIRE,
     )
     assert World(line, uav_count=255).uav_count == 255
     w = World(scenario(count=3), no_fleet=True)

@@ -114,7 +114,9 @@ def _empty_doubles_tail(i: int) -> int:
     return (align8(i) - i) % 8
 
 
-def _array(data: bytes | bytearray | memoryview, i: int, field: str, dtype: str, size: int) -> tuple[np.ndarray, int]:
+def _array(
+    data: bytes | bytearray | memoryview, i: int, field: str, dtype: str, size: int
+) -> tuple[np.ndarray, int]:
     (k,) = U32.unpack_from(data, i)
     i += 4
     if size == 8 and k:

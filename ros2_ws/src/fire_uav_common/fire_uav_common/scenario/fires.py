@@ -112,7 +112,11 @@ def _landscape(ctx: _Ctx, raw: Any, p: str) -> RasterLandscape:
         window = (x0, y0, x1, y1)
     cell = _num(ctx, d, "cell_size_m", p, gt=0) if d.get("cell_size_m") is not None else None
     moisture = _record(
-        ctx, d.get("moisture"), Moistures, f"{p}.moisture", bounds=dict.fromkeys(Moistures.__dataclass_fields__, {"gt": 0, "le": 5})
+        ctx,
+        d.get("moisture"),
+        Moistures,
+        f"{p}.moisture",
+        bounds=dict.fromkeys(Moistures.__dataclass_fields__, {"gt": 0, "le": 5}),
     )
     return RasterLandscape(
         source=source,

@@ -64,11 +64,16 @@ def resolve_landscape_source(ctx: _Ctx, name: str, path: str) -> str:
     shipped = _repo_root() / "data" / "landscapes" / name
     if shipped.is_dir():
         return str(shipped)
-    raise ctx.fail(path, f"{name!r} is neither a landscape file or directory (relative to the scenario) nor a shipped landscape name")
+    raise ctx.fail(
+        path,
+        f"{name!r} is neither a landscape file or directory (relative to the scenario) nor a shipped landscape name",
+    )
 
 
 @functools.lru_cache(maxsize=4)
-def _load(source: str, window: tuple[float, float, float, float] | None, cell_size_m: float | None) -> Landscape:
+def _load(
+    source: str, window: tuple[float, float, float, float] | None, cell_size_m: float | None
+) -> Landscape:
     overrides: dict[str, object] = {}
     if window is not None:
         overrides["window"] = dict(zip(("x_min_m", "y_min_m", "x_max_m", "y_max_m"), window, strict=True))
@@ -184,7 +189,9 @@ def apply_landscape(
         try:
             landscape.require_burnable(ig.x_m + x0, ig.y_m + y0, "ignition")
         except LandscapeError as e:
-            raise ctx.fail(f"fires.raster.ignitions[{i}]", f"({ig.x_m:g}, {ig.y_m:g}) m in the map frame: {e}") from None
+            raise ctx.fail(
+                f"fires.raster.ignitions[{i}]", f"({ig.x_m:g}, {ig.y_m:g}) m in the map frame: {e}"
+            ) from None
     grid = dataclasses.replace(
         raster,
         cell_size_m=cs,

@@ -45,5 +45,7 @@ def check_placement(ctx: _Ctx, scenario: Scenario) -> None:
             _outside(ctx, p, "ignition", ig.x_m, ig.y_m, scenario)
             for j, lake in enumerate(scenario.lakes):
                 if lake.contains(ig.x_m, ig.y_m):
-                    raise ctx.fail(p, f"ignition ({ig.x_m:g}, {ig.y_m:g}) m is in lakes[{j}]: a non-burnable cell")
+                    raise ctx.fail(
+                        p, f"ignition ({ig.x_m:g}, {ig.y_m:g}) m is in lakes[{j}]: a non-burnable cell"
+                    )
     check_uav_starts(ctx, scenario, scenario.uavs.count)

@@ -63,7 +63,10 @@ def _lakes(ctx: _Ctx, raw: Any) -> tuple[Lake, ...]:
         return ()
     if not isinstance(raw, list):
         raise ctx.fail("lakes", f"must be a list, got {type(raw).__name__}")
-    discs = (_record(ctx, item, _LakeDisc, f"lakes[{i}]", bounds={"diameter_m": {"gt": 0}}) for i, item in enumerate(raw))
+    discs = (
+        _record(ctx, item, _LakeDisc, f"lakes[{i}]", bounds={"diameter_m": {"gt": 0}})
+        for i, item in enumerate(raw)
+    )
     return tuple(Lake(d.x_m, d.y_m, d.diameter_m) for d in discs)
 
 

@@ -135,7 +135,9 @@ class FireBehavior:
     residence_s: np.ndarray  # flame residence time 384/sigma min (Anderson 1969) [s]
 
 
-def _param_grid(codes: np.ndarray, moistures: FuelMoistures, fuel_index: np.ndarray) -> tuple[SpreadParams, np.ndarray]:
+def _param_grid(
+    codes: np.ndarray, moistures: FuelMoistures, fuel_index: np.ndarray
+) -> tuple[SpreadParams, np.ndarray]:
     """SpreadParams with one array per field, gathered for every cell from a per-code table."""
     names = [f.name for f in fields(SpreadParams)]
     table = np.zeros((len(names), _LUT_SIZE))
@@ -246,7 +248,9 @@ def fire_behavior(
     aspect = np.asarray(aspect_deg, dtype=float)
     slope_tan = np.where(aspect < 0, 0.0, slope_tan)
     upslope = _compass_to_math_rad(aspect + 180.0)
-    ros, direction, ueff = head_spread_cells(params, midflame, wind_to, slope_tan, upslope, wind_limit=wind_limit)
+    ros, direction, ueff = head_spread_cells(
+        params, midflame, wind_to, slope_tan, upslope, wind_limit=wind_limit
+    )
     spread_dir = (90.0 - np.degrees(direction)) % 360.0
 
     sigma = np.asarray(params.sigma_per_ft, dtype=float)
@@ -261,7 +265,12 @@ def fire_behavior(
         fm10 = np.full(fuel.shape, 10, dtype=np.int64)
         p10, _ = _param_grid(np.array([10]), moistures, fm10)
         r10, _, _ = head_spread_cells(
-            p10, np.broadcast_to(CROWN_WAF * wind_arr, fuel.shape), wind_to, slope_tan, upslope, wind_limit=wind_limit
+            p10,
+            np.broadcast_to(CROWN_WAF * wind_arr, fuel.shape),
+            wind_to,
+            slope_tan,
+            upslope,
+            wind_limit=wind_limit,
         )
         r_sa = _surface_rate_at_active(params, p10, cbd, waf, wind_to, slope_tan, upslope, wind_limit)
         c = crown_fire(

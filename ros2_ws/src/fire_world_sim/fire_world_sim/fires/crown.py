@@ -55,7 +55,9 @@ class FireType(IntEnum):
     ACTIVE = 3
 
 
-def critical_surface_intensity_kwpm(cbh_m: np.ndarray | float, foliar_moisture: float | np.ndarray) -> np.ndarray:
+def critical_surface_intensity_kwpm(
+    cbh_m: np.ndarray | float, foliar_moisture: float | np.ndarray
+) -> np.ndarray:
     """Van Wagner (1977) Eq. 4. ``foliar_moisture`` as a fraction (1.0 = 100 %)."""
     fmc_pct = np.asarray(foliar_moisture, dtype=float) * 100.0
     return np.power(0.010 * np.maximum(np.asarray(cbh_m, dtype=float), 0.0) * (460.0 + 25.9 * fmc_pct), 1.5)
@@ -74,7 +76,9 @@ def crown_fraction_burned(
     """Scott & Reinhardt (2001) Eq. 28: ``CFB = (R_s - R'_init) / (R'_SA - R'_init)``, clipped to [0, 1]."""
     with np.errstate(divide="ignore", invalid="ignore"):
         span = active_surface_rate_mps - initiation_rate_mps
-        cfb = np.where(span > 0, (surface_rate_mps - initiation_rate_mps) / np.where(span > 0, span, 1.0), 1.0)
+        cfb = np.where(
+            span > 0, (surface_rate_mps - initiation_rate_mps) / np.where(span > 0, span, 1.0), 1.0
+        )
     return np.clip(np.nan_to_num(cfb, nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
 
 
@@ -111,7 +115,9 @@ def crown_fire(
         transition = np.where(i0 > 0, surface_intensity_kwpm / np.where(i0 > 0, i0, 1.0), np.inf)
         active_ratio = np.where(np.isfinite(r_crit), crown_active_rate_mps / r_crit, 0.0)
         # R'_initiation = 60 I_0 / H_A [m/min] (S&R 2001 Eq. 12) -> m/s
-        r_init = np.where(heat_per_area_kjpm2 > 0, i0 / np.where(heat_per_area_kjpm2 > 0, heat_per_area_kjpm2, 1.0), np.inf)
+        r_init = np.where(
+            heat_per_area_kjpm2 > 0, i0 / np.where(heat_per_area_kjpm2 > 0, heat_per_area_kjpm2, 1.0), np.inf
+        )
     crowns = burns & has_canopy & (transition >= 1.0)
     active = crowns & (active_ratio >= 1.0)
     passive = crowns & ~active
@@ -121,7 +127,9 @@ def crown_fire(
     r_sa = r_crit if surface_rate_at_active_mps is None else surface_rate_at_active_mps
     cfb = np.where(passive, crown_fraction_burned(surface_rate_mps, r_init, r_sa), 0.0)
     cfb = np.where(active, 1.0, cfb)
-    rate = np.where(passive, surface_rate_mps + cfb * (crown_active_rate_mps - surface_rate_mps), surface_rate_mps)
+    rate = np.where(
+        passive, surface_rate_mps + cfb * (crown_active_rate_mps - surface_rate_mps), surface_rate_mps
+    )
     rate = np.where(active, crown_active_rate_mps, rate)
     canopy_load = np.asarray(cbd_kgpm3) * np.maximum(np.asarray(canopy_height_m) - np.asarray(cbh_m), 0.0)
     intensity = np.where(

@@ -149,10 +149,16 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         help=f"speed unit of --wind-grid (default {DEFAULT_SPEED_UNITS}, WindNinja's default output)",
     )
     ap.add_argument(
-        "--moisture", default="0.06,0.08,0.10,0.75,0.60", help="1H,10H,100H,HERB,WOODY fractions (default 6/8/10/75/60 %%)"
+        "--moisture",
+        default="0.06,0.08,0.10,0.75,0.60",
+        help="1H,10H,100H,HERB,WOODY fractions (default 6/8/10/75/60 %%)",
     )
-    ap.add_argument("--fms", type=Path, help="FlamMap FMS file: per-model moistures [%%] (overrides --moisture)")
-    ap.add_argument("--foliar-moisture", type=float, default=1.0, help="foliar moisture [fraction] (default 1.0)")
+    ap.add_argument(
+        "--fms", type=Path, help="FlamMap FMS file: per-model moistures [%%] (overrides --moisture)"
+    )
+    ap.add_argument(
+        "--foliar-moisture", type=float, default=1.0, help="foliar moisture [fraction] (default 1.0)"
+    )
     ap.add_argument("--crown", choices=CROWN_METHODS, default="none", help="crown fire method (default none)")
     ap.add_argument("--wind-limit", choices=("behave", "andrews2013", "none"), default="behave")
     return ap.parse_args(argv)
@@ -195,7 +201,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     inside = land.has_data
     counts = {FIRE_TYPE_NAMES[t]: int(((b.fire_type == t) & inside).sum()) for t in FireType}
-    lon, lat = land.lonlat(*(0.5 * (land.bounds[0] + land.bounds[2]), 0.5 * (land.bounds[1] + land.bounds[3])))
+    lon, lat = land.lonlat(
+        *(0.5 * (land.bounds[0] + land.bounds[2]), 0.5 * (land.bounds[1] + land.bounds[3]))
+    )
     sys.stdout.write(
         f"fire_behavior: {land.shape[0]} x {land.shape[1]} cells of {land.cell_size_m:g} m, centre "
         f"{lat:.4f} N {lon:.4f} E; max head rate {b.ros_mps[inside].max():.3f} m/s, "

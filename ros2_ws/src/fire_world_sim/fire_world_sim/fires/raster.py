@@ -138,7 +138,9 @@ class RasterFireModel:
         else:
             fuel = np.full((self.ny, self.nx), spec.fuel_model, dtype=np.int16)
             for p in spec.fuel_patches:
-                fuel[(xx >= p.x_min_m) & (xx < p.x_max_m) & (yy >= p.y_min_m) & (yy < p.y_max_m)] = p.fuel_model
+                fuel[(xx >= p.x_min_m) & (xx < p.x_max_m) & (yy >= p.y_min_m) & (yy < p.y_max_m)] = (
+                    p.fuel_model
+                )
         for lake in lakes:
             fuel[(xx - lake.x_m) ** 2 + (yy - lake.y_m) ** 2 <= (lake.diameter_m / 2) ** 2] = 0
         self.fuel = fuel
@@ -506,7 +508,9 @@ class RasterFireModel:
                 seeded = self._seeded = _unique(self._seeded[np.isfinite(self._t_seed.ravel()[self._seeded])])
                 if sidx.size == 0 and seeded.size == 0:
                     return
-                band = _unique(np.concatenate([(sidx[:, None] + self._ring_flat[None, :]).ravel(), seeded]), self._mark)
+                band = _unique(
+                    np.concatenate([(sidx[:, None] + self._ring_flat[None, :]).ravel(), seeded]), self._mark
+                )
                 self._band = band
             tgt = band[burnable[band] & ~np.isfinite(t_ign[band]) & ~ext[band]]
             if tgt.size == 0:
@@ -745,7 +749,9 @@ class RasterFireModel:
         if self._land is None:
             return None
         inner = self._inner
-        return np.where(self.t_ign[inner] <= self.t_s, self._burn_type[inner], FireType.UNBURNABLE).astype(np.uint8)
+        return np.where(self.t_ign[inner] <= self.t_s, self._burn_type[inner], FireType.UNBURNABLE).astype(
+            np.uint8
+        )
 
     def truth(self) -> list[FireTruthRecord]:
         if self._truth_cache is not None:
