@@ -832,6 +832,21 @@ def test_a_peer_front_of_another_cell_size_is_a_counted_rejection_not_a_merge():
     assert a.front.state[a.front.index(np.array([255.0]), np.array([255.0]))[:2]].tolist() == [1]
 
 
+def test_a_refused_peer_front_does_not_stop_the_next_ones_merging():
+    """Peer 1's front (30 m cells, handed over first: inbox order is by sender) is refused; peer 2's
+    of the same step (10 m, the picture's) still merges."""
+    from fire_uav_agent.fire_front import FrontCells
+    from fire_uav_agent.front_consensus import PeerFront
+
+    a = Agent(_cfg(n=3))
+    _fly(a, 0, 50.0, 50.0, cells=_block(), cell_size=10.0)
+    cell = FrontCells(np.array([255.0]), np.array([255.0]), np.array([1]), np.array([0.05]), np.array([0.3]))
+    inbox = [PeerFront(1, 1, 0, cell, 30.0), PeerFront(2, 1, 0, cell, 10.0)]
+    _fly(a, 1, 50.0, 50.0, cells=_block(), cell_size=10.0, inbox=inbox)
+    assert a.raster.cell_size_refused == [(1, 30.0)] and a.fronts_received == 1
+    assert a.front.state[a.front.index(np.array([255.0]), np.array([255.0]))[:2]].tolist() == [1]
+
+
 def test_over_a_raster_fire_the_uav_aims_at_a_front_cell_and_releases_only_at_the_peak():
     """Release rule (tactics): >= 3 burning cells within 0.8 x 20 = 16 m, and no more one step ahead."""
     fire = (145.0, 145.0, 15.0)

@@ -209,3 +209,4 @@ def test_the_same_cell_size_is_one_rasters_within_float32_rounding():
     assert same_cell_size(30.48, float(np.float32(30.48)))  # 100 ft, as the wire's float32 carries it
     assert not same_cell_size(30.0, 10.0) and not same_cell_size(10.0, 10.001)
     assert not same_cell_size(math.nan, 10.0) and not same_cell_size(0.0, 0.0)
+    assert same_cell_size(0.5, 0.5)  # any positive side is a raster's, a sub-metre one too
