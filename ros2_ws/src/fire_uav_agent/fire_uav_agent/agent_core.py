@@ -52,7 +52,7 @@ from .front_consensus import PeerFront
 from .guidance import Guidance, Guide, Situation
 from .mission import Decision, Mission, MissionConfig, MissionView
 from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
-from .peer_gate import inbox_order
+from .peer_gate import SortedInbox, inbox_order
 from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
 from .raster_role import RasterSuppression
@@ -277,9 +277,9 @@ class Agent:
         (PM), which are merged in :meth:`_decide`.
         """
         cfg = self.cfg
-        # the gate hands them in this order already; sorted here too (a no-op then) so that a direct
-        # caller in arrival order gets the same result
-        msgs = sorted(inbox, key=inbox_order)
+        # the gate hands them in this order already (a SortedInbox); anything else is sorted here, so
+        # that a direct caller in arrival order gets the same result
+        msgs = inbox if isinstance(inbox, SortedInbox) else sorted(inbox, key=inbox_order)
         perimeters: list[PeerPerimeter] = []
         for m in msgs:
             if isinstance(m, PeerState):
