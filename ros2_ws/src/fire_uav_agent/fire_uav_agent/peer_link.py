@@ -150,7 +150,7 @@ class PeerLink:
         (:func:`fire_uav_common.rng.uniform_table`, the same doubles) and kept. Arguments outside
         such a table (an id outside the fleet, a negative or 33-bit step) take the single draw.
         """
-        if self.in_outage(sender, step):
+        if self.outages and self.in_outage(sender, step):
             return True
         p = self.loss_probability
         if p == 0.0:

@@ -196,6 +196,30 @@ def test_every_field_is_checked_for_nan_and_inf():
     assert link.alive_fires()[1].fires == (good,)
 
 
+def test_finite_is_kept_per_message_and_is_every_receivers_answer():
+    """finite() is kept on the message once asked (the harness hands one object to every
+    receiver): each receiver gets the answer of the fields, a copy with a NaN is judged on its
+    own, and a state's cached answer is not its fire picture's (or another state's)."""
+    import dataclasses
+
+    good = PeerState(1, 1, 0, 1.0, 2.0, 3.0, 0.1, 1, water_kg=5.0)
+    assert good.finite() and good.finite()
+    for name in ("x_m", "y_m", "z_m", "yaw_rad", "water_kg"):
+        bad = dataclasses.replace(good, **{name: math.nan})
+        assert not bad.finite() and not bad.finite() and good.finite(), name
+    assert good == PeerState(1, 1, 0, 1.0, 2.0, 3.0, 0.1, 1, water_kg=5.0)  # the cache is not a field
+    ok = FireEntry(1, True, 1.0, 2.0, 3.0)
+    pic = PeerFires(1, 1, 0, (ok,))
+    assert pic.finite()
+    nan_pic = PeerFires(1, 1, 0, (ok, dataclasses.replace(ok, vy_mps=math.inf)))
+    assert not nan_pic.finite() and pic.finite() and PeerFires(1, 1, 0).finite()
+    links = [PeerLink(i, 3, seed=0, loss_probability=0.0, control_period_s=0.1) for i in (0, 2)]
+    for link in links:  # the same objects to both receivers
+        assert link.receive_state(dataclasses.replace(good, x_m=math.inf)) == Verdict.REJECTED
+        assert link.receive_fires(nan_pic) == Verdict.REJECTED
+        assert link.receive_state(good) == Verdict.ACCEPTED and link.receive_fires(pic) == Verdict.ACCEPTED
+
+
 def test_a_lost_message_is_never_also_rejected_but_a_bad_id_is_rejected_before_the_draw():
     link = PeerLink(0, 3, seed=0, loss_probability=1.0, control_period_s=0.1)
     assert link.receive_state(state(1, 1, 0, x=math.nan)) == Verdict.LOST
