@@ -45,7 +45,7 @@ from .agent_config import AgentConfig, GuidanceConfig, config_from_scenario
 from .agent_types import AgentEvent, Bundle, MarkersData, OwnState, PeerPerimeter, StepOutput
 from .airframe_model import FlownInput, input_noise_sigma, usable_lakes
 from .consensus import ConsensusConfig, FireConsensus
-from .coverage import gaussian_density, make_grid, own_cell_on_grid
+from .coverage import gaussian_density_at, make_grid, own_cell_on_grid
 from .estimation import EkfConfig, StateEkf
 from .fire_front import FrontPicture
 from .front_consensus import PeerFront
@@ -371,8 +371,10 @@ class Agent:
             self.search.observe(t1, np.vstack([pos[None, :], others]))
         target_fire = -1
         if active:
+            in_cell = np.flatnonzero(cell)  # Eq. 8 over the own cell: the density there only
             masses = [
-                float(gaussian_density(self.grid, [(f.x_m, f.y_m)], [f.extent_m])[cell].sum()) for f in active
+                float(gaussian_density_at(self.grid, [(f.x_m, f.y_m)], [f.extent_m], in_cell).sum())
+                for f in active
             ]
             if max(masses) > 0:
                 target_fire = active[int(np.argmax(masses))].fire_id
