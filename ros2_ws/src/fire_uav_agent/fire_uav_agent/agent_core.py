@@ -45,14 +45,14 @@ from .agent_config import AgentConfig, GuidanceConfig, config_from_scenario
 from .agent_types import AgentEvent, Bundle, MarkersData, OwnState, PeerPerimeter, StepOutput
 from .airframe_model import FlownInput, input_noise_sigma, usable_lakes
 from .consensus import ConsensusConfig, FireConsensus
-from .coverage import gaussian_density, make_grid, own_cell_on_grid
+from .coverage import gaussian_density_at, make_grid, own_cell_on_grid
 from .estimation import EkfConfig, StateEkf
 from .fire_front import FrontPicture
 from .front_consensus import PeerFront
 from .guidance import Guidance, Guide, Situation
 from .mission import Decision, Mission, MissionConfig, MissionView
 from .monitor_role import MonitorPlanner, MonitorPlannerConfig, RoleConfig, assign_monitors
-from .peer_gate import inbox_order
+from .peer_gate import SortedInbox, inbox_order
 from .peer_link import FireEntry, PeerFires, PeerLink, PeerState
 from .planning import Planner, PlannerTarget, PlannerView
 from .raster_role import RasterSuppression
@@ -277,9 +277,9 @@ class Agent:
         (PM), which are merged in :meth:`_decide`.
         """
         cfg = self.cfg
-        # the gate hands them in this order already; sorted here too (a no-op then) so that a direct
-        # caller in arrival order gets the same result
-        msgs = sorted(inbox, key=inbox_order)
+        # the gate hands them in this order already (a SortedInbox); anything else is sorted here, so
+        # that a direct caller in arrival order gets the same result
+        msgs = inbox if isinstance(inbox, SortedInbox) else sorted(inbox, key=inbox_order)
         perimeters: list[PeerPerimeter] = []
         for m in msgs:
             if isinstance(m, PeerState):
@@ -371,8 +371,10 @@ class Agent:
             self.search.observe(t1, np.vstack([pos[None, :], others]))
         target_fire = -1
         if active:
+            in_cell = np.flatnonzero(cell)  # Eq. 8 over the own cell: the density there only
             masses = [
-                float(gaussian_density(self.grid, [(f.x_m, f.y_m)], [f.extent_m])[cell].sum()) for f in active
+                float(gaussian_density_at(self.grid, [(f.x_m, f.y_m)], [f.extent_m], in_cell).sum())
+                for f in active
             ]
             if max(masses) > 0:
                 target_fire = active[int(np.argmax(masses))].fire_id

@@ -248,6 +248,46 @@ def gaussian_density(grid: Grid, centres: ArrayLike, sigmas: ArrayLike) -> np.nd
     return (np.zeros(grid.shape) if out is None else out).ravel()
 
 
+def gaussian_density_at(grid: Grid, centres: ArrayLike, sigmas: ArrayLike, idx: np.ndarray) -> np.ndarray:
+    """``gaussian_density(grid, centres, sigmas)[idx]`` bit for bit, computed at those points only.
+
+    ``idx``: flat grid indices (row-major, as ``grid.points``). Each term of Eqs. 13-15 is
+    ``gy[row] * gx[col]``, the one product ``np.outer`` takes for that point, and the terms are
+    added in the same order, the first kept as it is, so every value is the full grid's. An
+    agent sums or weighs the density over its own Voronoi cell only (Eq. 8's masses, Eq. 9's
+    centroid), a fraction of the grid, every control step."""
+    centres = np.asarray(centres, dtype=float).reshape(-1, 2)
+    sigmas = np.broadcast_to(np.asarray(sigmas, dtype=float), (centres.shape[0],))
+    rows, cols = np.divmod(np.asarray(idx, dtype=np.intp), grid.xs.size)
+    out = None
+    for (cx, cy), s in zip(centres, sigmas, strict=True):
+        if not s > 0:
+            continue
+        gx = np.exp(-((grid.xs - cx) ** 2) / (2 * s * s))
+        gy = np.exp(-((grid.ys - cy) ** 2) / (2 * s * s))
+        term = gy[rows] * gx[cols]
+        if out is None:
+            out = term
+        else:
+            out += term
+    return np.zeros(rows.shape) if out is None else out
+
+
+def density_centroid(
+    grid: Grid, centres: ArrayLike, sigmas: ArrayLike, mask: np.ndarray
+) -> tuple[float, np.ndarray | None]:
+    """:func:`mass_centroid` of :func:`gaussian_density` over ``mask`` (Eqs. 8-9 with 13-15), the
+    same two numbers bit for bit, with the density computed on the masked points only
+    (:func:`gaussian_density_at`): the same weights in the same order, the same sum and product."""
+    idx = np.flatnonzero(mask)
+    w = gaussian_density_at(grid, centres, sigmas, idx)
+    m = float(w.sum())
+    if not m > 0:
+        return 0.0, None
+    c = (w @ grid.points[idx]) / m
+    return m * grid.cell_area_m2, c
+
+
 def mass_centroid(
     points: np.ndarray, density: np.ndarray, mask: np.ndarray, cell_area_m2: float
 ) -> tuple[float, np.ndarray | None]:

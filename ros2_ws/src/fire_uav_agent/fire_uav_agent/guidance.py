@@ -27,7 +27,7 @@ from .airframe_model import (
     slowdown_m,
     turn_radius_m,
 )
-from .coverage import Grid, control_law, gaussian_density, mass_centroid
+from .coverage import Grid, control_law, density_centroid, gaussian_density, mass_centroid
 from .lake_sequence import LakeSequenceConfig, LakeUser, hold_rank, lake_holder
 from .mission import Decision
 from .peer_link import FireEntry, PeerLink
@@ -232,17 +232,17 @@ class Guide:
                     # of a circle around it instead (tactics.direct_run_point)
                     target = direct_run_point(target, cfg.uav_id, self.raster.tactic)
             else:
-                dens = gaussian_density(
-                    self.grid, [(f.x_m, f.y_m) for f in active], [f.extent_m for f in active]
+                target = self._density_centroid_of(
+                    [(f.x_m, f.y_m) for f in active], [f.extent_m for f in active], (tgt.x_m, tgt.y_m), cell
                 )  # Eq. 13
-                target = self._centroid_of(dens, (tgt.x_m, tgt.y_m), cell)
         elif obj == Objective.REFILL and lake is not None:
             lake_xy = (lake.x_m, lake.y_m)
             if dec.direct:
                 target = lake_xy
             else:
-                dens = gaussian_density(self.grid, [lake_xy], [cfg.mission.sigma_water_m])  # Eq. 14
-                target = self._centroid_of(dens, lake_xy, cell)
+                target = self._density_centroid_of(
+                    [lake_xy], [cfg.mission.sigma_water_m], lake_xy, cell
+                )  # Eq. 14
             if math.hypot(pos[0] - lake.x_m, pos[1] - lake.y_m) < lake.diameter_m / 2 + self.lake_margin_m:
                 height = gd.refill_height_fraction * veh.refill_height_m  # low ...
                 v_cap = self.v_slow_mps  # ... and slow
@@ -705,6 +705,14 @@ class Guide:
         self, density: np.ndarray, fallback_xy: tuple[float, float], cell: np.ndarray
     ) -> tuple[float, float]:
         _, c = mass_centroid(self.grid.points, density, cell, self.grid.cell_area_m2)
+        return (float(c[0]), float(c[1])) if c is not None else fallback_xy
+
+    def _density_centroid_of(
+        self, centres: list, sigmas: list, fallback_xy: tuple[float, float], cell: np.ndarray
+    ) -> tuple[float, float]:
+        """:meth:`_centroid_of` the Gaussian density of ``centres`` (Eqs. 13-14), computed in
+        ``cell`` only (:func:`.coverage.density_centroid`: the same numbers)."""
+        _, c = density_centroid(self.grid, centres, sigmas, cell)
         return (float(c[0]), float(c[1])) if c is not None else fallback_xy
 
 

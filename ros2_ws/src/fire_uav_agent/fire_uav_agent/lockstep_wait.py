@@ -65,7 +65,10 @@ class PeerWait:
         key = (step, sender)
         sent = self._sent[key] = tuple(map(int, sent_per_topic))
         got = self._arrived[key]
-        self._owed[key] = sum(n - got.get(t, 0) for t, n in enumerate(sent) if got.get(t, 0) < n)
+        if got:
+            self._owed[key] = sum(n - got.get(t, 0) for t, n in enumerate(sent) if got.get(t, 0) < n)
+        else:  # the state first, as it is published: nothing arrived, every count sent is owed
+            self._owed[key] = sum(n for n in sent if n > 0) if sent and min(sent) < 0 else sum(sent)
         self.on_message(sender, step, STATE_INDEX)
         if final:
             self._final_step[sender] = min(step, self._final_step.get(sender, step))
@@ -73,7 +76,7 @@ class PeerWait:
 
     def on_message(self, sender: int, step: int, loss_index: int) -> None:
         """Any other peer message of ``step`` on the topic with ``loss_index`` arrived."""
-        if not self._valid(sender, step):
+        if not (0 <= sender < self.uav_count and sender != self.uav_id and step >= 0):  # _valid, inline
             return
         key = (step, sender)
         counts = self._arrived[key]

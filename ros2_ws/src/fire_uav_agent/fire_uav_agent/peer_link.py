@@ -83,7 +83,9 @@ class LinkEvent:
     step: int
 
 
-_DRAW_STEPS = 4  # steps of loss draws kept by PeerLink.is_lost
+_BLOCK_STEPS = 64  # steps of loss draws computed at once by PeerLink.is_lost (rng.uniform_table)
+_BLOCKS_KEPT = 16  # (block, topic) tables kept; a lookup needs at most two blocks per topic
+_MAX_WORD = 0xFFFFFFFF  # rng.uniform_table takes 32-bit words only
 
 
 class PeerLink:
@@ -125,9 +127,10 @@ class PeerLink:
         self.max_step_lag = crash_threshold_steps if max_step_lag is None else int(max_step_lag)
         if self.max_step_lag < 1:
             raise ConfigError(f"max_step_lag must be >= 1, got {self.max_step_lag}")
-        # loss draws of the last few steps, {step: {(sender, topic_index): lost}}: the lockstep wait
-        # asks for step k's draws and the receipt of the same messages asks again (a draw costs ~15 us)
-        self._draws: dict[int, dict[tuple[int, int], bool]] = {}
+        # loss draws by block of _BLOCK_STEPS steps and topic: {(block, topic_index): lost[step
+        # in block][sender]}, each table one rng.uniform_table pass (the receipt and the lockstep
+        # wait ask for every (sender, step, topic) of the fleet: ~5 us a draw one at a time)
+        self._blocks: dict[tuple[int, int], list[list[bool]]] = {}
 
     # --- loss model ----------------------------------------------------------------------
     def in_outage(self, sender: int, step: int) -> bool:
@@ -141,23 +144,45 @@ class PeerLink:
     def is_lost(self, sender: int, step: int, topic_index: int) -> bool:
         """True if message (sender -> me, step, topic) is dropped by injection (deterministic).
 
-        The draw is a pure function of its arguments (:func:`fire_uav_common.rng.bernoulli`), so
-        the draws of the last :data:`_DRAW_STEPS` steps asked for are kept and reused.
+        The draw is :func:`fire_uav_common.rng.bernoulli` ``(loss_probability, seed, "loss",
+        sender, uav_id, step, topic_index)``, a pure function of its arguments; the draws of a
+        block of :data:`_BLOCK_STEPS` steps for every sender are computed together
+        (:func:`fire_uav_common.rng.uniform_table`, the same doubles) and kept. Arguments outside
+        such a table (an id outside the fleet, a negative or 33-bit step) take the single draw.
         """
-        if self.in_outage(sender, step):
+        if self.outages and self.in_outage(sender, step):
             return True
-        draws = self._draws.get(step)
-        if draws is None:
-            if len(self._draws) >= _DRAW_STEPS:
-                del self._draws[min(self._draws)]
-            draws = self._draws[step] = {}
-        key = (sender, topic_index)
-        lost = draws.get(key)
-        if lost is None:
-            lost = draws[key] = rng.bernoulli(
-                self.loss_probability, self.seed, "loss", sender, self.uav_id, step, topic_index
+        p = self.loss_probability
+        if p == 0.0:
+            return False
+        block, row = divmod(step, _BLOCK_STEPS) if type(step) is int else (-1, 0)
+        table = self._blocks.get((block, topic_index))
+        if table is None:
+            if not (
+                type(sender) is int
+                and 0 <= sender < self.uav_count
+                and type(topic_index) is int
+                and 0 <= topic_index <= _MAX_WORD
+                and 0 <= block
+                and (block + 1) * _BLOCK_STEPS - 1 <= _MAX_WORD
+                and self.seed <= _MAX_WORD
+                and self.uav_id <= _MAX_WORD
+            ):
+                return rng.bernoulli(p, self.seed, "loss", sender, self.uav_id, step, topic_index)
+            if len(self._blocks) >= _BLOCKS_KEPT:
+                del self._blocks[min(self._blocks)]
+            u = rng.uniform_table(
+                self.seed,
+                "loss",
+                range(self.uav_count),
+                self.uav_id,
+                range(block * _BLOCK_STEPS, (block + 1) * _BLOCK_STEPS),
+                topic_index,
             )
-        return lost
+            table = self._blocks[(block, topic_index)] = (u < p).tolist()
+        elif not (type(sender) is int and 0 <= sender < self.uav_count):
+            return rng.bernoulli(p, self.seed, "loss", sender, self.uav_id, step, topic_index)
+        return table[row][sender]
 
     def expected(self, step: int) -> set[tuple[int, int]]:
         """(peer, topic_index) messages of ``step`` the lockstep wait should hold out for."""

@@ -232,6 +232,23 @@ def test_two_states_of_one_peer_in_one_inbox_are_taken_oldest_first():
     assert a.link.alive_states()[1].step == 2
 
 
+def test_only_the_gates_sorted_inbox_skips_the_sort():
+    """The gate's SortedInbox (already in inbox_order) is taken as it is; any other sequence, a
+    plain tuple included, is sorted first: the same step either way."""
+    from fire_uav_agent.peer_gate import SortedInbox, inbox_order
+
+    msgs = [_peer(2, 2, 20.0, 20.0), _peer(1, 2, 10.0, 10.0), _peer(1, 1, 5.0, 5.0), _peer(2, 1, 4.0, 4.0)]
+    outs = []
+    for inbox in (tuple(msgs), list(reversed(msgs)), SortedInbox(sorted(msgs, key=inbox_order))):
+        a = Agent(_cfg(n=3, takeoff_interval_s=100.0))
+        a.step(_bundle(0, GROUND))
+        a.step(_bundle(1, GROUND))
+        out = a.step(_bundle(3, GROUND), inbox)
+        outs.append((out.state.packets_received, out.state.packets_rejected, a.link.alive_states()))
+    assert outs[0] == outs[1] == outs[2]
+    assert outs[0][:2] == (4, 0) and {j: s.step for j, s in outs[0][2].items()} == {1: 2, 2: 2}
+
+
 def test_peer_states_too_old_for_the_step_window_are_ignored():
     """The window is [k - crash_threshold_steps, k - 1]: at step 20 with threshold 10 a state of step 9
     is refused, one of step 10 accepted."""

@@ -421,3 +421,57 @@ def test_a_small_positive_mass_has_its_centroid():
     m, c = mass_centroid(pts, w, mask, 4.0)
     assert m == pytest.approx(4e-3 * 4.0)
     np.testing.assert_allclose(c, [0.5, 2.0])
+
+
+def test_density_at_masked_points_is_the_full_grids_bit_for_bit():
+    """gaussian_density_at / density_centroid (the density computed in the own cell only) against
+    gaussian_density on the whole grid then masked, and mass_centroid of it: the same bytes, on
+    non-square grids, 1-3 centres inside and outside the area, zero / negative / NaN sigmas,
+    and empty, full, random and Voronoi-cell masks."""
+    import numpy as np
+    from fire_uav_agent.coverage import (
+        density_centroid,
+        gaussian_density,
+        gaussian_density_at,
+        make_grid,
+        mass_centroid,
+        own_cell_on_grid,
+    )
+
+    rng = np.random.default_rng(20261207)
+    for trial in range(300):
+        grid = make_grid(
+            0.0,
+            float(rng.integers(20, 400)),
+            -50.0,
+            float(rng.integers(20, 300)),
+            rng.choice([2.5, 5.0, 7.0]),
+        )
+        k = int(rng.integers(1, 4))
+        centres = rng.uniform(-100.0, 450.0, size=(k, 2))
+        sigmas = (
+            rng.choice([0.0, -1.0, np.nan, 3.0, 20.0, 80.0], size=k)
+            if trial % 5 == 0
+            else rng.uniform(1.0, 90.0, k)
+        )
+        kind = trial % 4
+        if kind == 0:
+            mask = rng.random(grid.points.shape[0]) < 0.3
+        elif kind == 1:
+            mask = (
+                np.ones(grid.points.shape[0], bool)
+                if trial % 8 == 1
+                else np.zeros(grid.points.shape[0], bool)
+            )
+        else:
+            pts = rng.uniform(0.0, 300.0, size=(int(rng.integers(2, 7)), 2))
+            mask = own_cell_on_grid(grid, pts[0], pts[1:], 10.0 if kind == 3 else None)
+        full = gaussian_density(grid, centres, sigmas)
+        idx = np.flatnonzero(mask)
+        at = gaussian_density_at(grid, centres, sigmas, idx)
+        assert at.tobytes() == full[mask].tobytes(), trial
+        assert float(at.sum()).hex() == float(full[mask].sum()).hex()
+        m_new, c_new = density_centroid(grid, centres, sigmas, mask)
+        m_old, c_old = mass_centroid(grid.points, full, mask, grid.cell_area_m2)
+        assert m_new.hex() == m_old.hex(), trial
+        assert (c_new is None and c_old is None) or c_new.tobytes() == c_old.tobytes(), trial

@@ -19,6 +19,7 @@ from fire_uav_agent.peer_gate import (
     Rejected,
     RepeatAnswer,
     RunStep,
+    SortedInbox,
     StartWaiting,
     StillWaiting,
     inbox_order,
@@ -105,6 +106,7 @@ def test_out_of_order_arrivals_give_one_inbox_order() -> None:
                 got += g.on_front(j, 0, front(j, 0))
         (run,) = runs(got)
         assert run.inbox == tuple(sorted(run.inbox, key=inbox_order))
+        assert isinstance(run.inbox, SortedInbox)  # so the agent does not sort it again
         inboxes.add(tuple((type(m).__name__, m.uav_id) for m in run.inbox))
     assert inboxes == {
         (

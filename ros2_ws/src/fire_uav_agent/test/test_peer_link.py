@@ -32,41 +32,63 @@ def test_loss_rate_matches_probability_and_is_order_independent():
 
 
 def test_kept_draws_are_the_draws_whatever_the_order_and_eviction():
-    """is_lost keeps the last steps' draws: every answer is still rng.bernoulli of its arguments.
+    """is_lost computes and keeps blocks of draws: every answer is still rng.bernoulli of its arguments.
 
-    Asked in a shuffled order over 40 steps (so kept steps are evicted and asked again), for
-    every sender, topic index and step, with an outage in the middle that no kept draw hides.
+    Asked in a shuffled order over 140 steps (so tables of 64 steps are evicted and asked
+    again), for every sender, topic index and step, with an outage in the middle that no kept
+    draw hides, and across the blocks' edges (63/64, 127/128).
     """
     import random
 
+    from fire_uav_agent import peer_link as pl
     from fire_uav_common import rng
 
     link = PeerLink(
         2, 5, seed=9, loss_probability=0.4, control_period_s=0.1, outages=(LinkOutage(3, 2, 1.0, 2.0),)
     )
-    asks = [(j, k, t) for j in (0, 1, 3, 4) for k in range(40) for t in (0, 1, 2, 3)] * 2
+    asks = [(j, k, t) for j in (0, 1, 3, 4) for k in range(140) for t in (0, 1, 2, 6)] * 2
     random.Random(4).shuffle(asks)
     for j, k, t in asks:
         outage = j == 3 and 1.0 <= (k + 1) * 0.1 < 2.0
         want = outage or rng.bernoulli(0.4, 9, "loss", j, 2, k, t)
         assert link.is_lost(j, k, t) == want, (j, k, t)
-    assert len(link._draws) <= 4
+    assert len(link._blocks) <= pl._BLOCKS_KEPT
 
 
-def test_a_kept_draw_is_drawn_once(monkeypatch):
-    """The lockstep wait and the receipt ask for the same draw: it is computed once."""
+def test_a_block_of_draws_is_computed_once(monkeypatch):
+    """The lockstep wait and the receipt ask for the same draws: a block is computed once per topic."""
     import fire_uav_agent.peer_link as pl
 
     calls = []
-    real = pl.rng.bernoulli
-    monkeypatch.setattr(pl.rng, "bernoulli", lambda *a: calls.append(a) or real(*a))
+    real = pl.rng.uniform_table
+    monkeypatch.setattr(pl.rng, "uniform_table", lambda *a: calls.append(a) or real(*a))
     link = PeerLink(0, 3, seed=2, loss_probability=0.5, control_period_s=0.1)
     first = link.expected(7)
-    assert len(calls) == 4  # 2 peers x 2 topic indices
+    assert len(calls) == 2  # 2 topic indices, one block each
     assert link.expected(7) == first and [link.is_lost(j, 7, t) for j in (1, 2) for t in (0, 1)]
-    assert len(calls) == 4
-    link.is_lost(1, 8, 0)
-    assert calls[-1] == (0.5, 2, "loss", 1, 0, 8, 0) and len(calls) == 5
+    assert link.expected(8) is not None and len(calls) == 2  # step 8: the same block
+    link.is_lost(1, pl._BLOCK_STEPS, 0)
+    assert calls[-1] == (2, "loss", range(3), 0, range(pl._BLOCK_STEPS, 2 * pl._BLOCK_STEPS), 0)
+    assert len(calls) == 3
+
+
+def test_is_lost_is_rng_bernoulli_outside_the_tables_too():
+    """Arguments no table covers (an id outside the fleet, a negative or 33-bit step or topic,
+    a seed above 32 bits) are the single draw: the same answer or the same error."""
+    from fire_uav_common import rng
+    from fire_uav_common.errors import ArgumentError
+
+    link = PeerLink(1, 4, seed=5, loss_probability=0.5, control_period_s=0.1)
+    for j, k, t in [(0, 2**32 - 1, 0), (0, 2**32 - 70, 1), (7, 3, 0), (2, 10, 2**32 - 1)]:
+        assert link.is_lost(j, k, t) == rng.bernoulli(0.5, 5, "loss", j, 1, k, t), (j, k, t)
+    big = PeerLink(1, 4, seed=2**33 + 1, loss_probability=0.5, control_period_s=0.1)
+    for k in range(100):
+        assert big.is_lost(0, k, 0) == rng.bernoulli(0.5, 2**33 + 1, "loss", 0, 1, k, 0)
+    for j, k, t in [(0, -1, 0), (-1, 3, 0), (0, 3, -1)]:
+        with pytest.raises(ArgumentError):
+            link.is_lost(j, k, t)
+    assert not PeerLink(1, 4, seed=5, loss_probability=0.0, control_period_s=0.1).is_lost(0, -1, 0)
+    assert PeerLink(1, 4, seed=5, loss_probability=1.0, control_period_s=0.1).is_lost(0, 3, 0)
 
 
 def test_bad_messages_rejected_and_counted():
@@ -172,6 +194,30 @@ def test_every_field_is_checked_for_nan_and_inf():
     assert link.reject_reasons == {"nan/inf": 5 + len(fields)} and link.received == 0
     assert link.receive_fires(fires(1, 1, 0, good)) == Verdict.ACCEPTED  # NaN front: not exchanged
     assert link.alive_fires()[1].fires == (good,)
+
+
+def test_finite_is_kept_per_message_and_is_every_receivers_answer():
+    """finite() is kept on the message once asked (the harness hands one object to every
+    receiver): each receiver gets the answer of the fields, a copy with a NaN is judged on its
+    own, and a state's cached answer is not its fire picture's (or another state's)."""
+    import dataclasses
+
+    good = PeerState(1, 1, 0, 1.0, 2.0, 3.0, 0.1, 1, water_kg=5.0)
+    assert good.finite() and good.finite()
+    for name in ("x_m", "y_m", "z_m", "yaw_rad", "water_kg"):
+        bad = dataclasses.replace(good, **{name: math.nan})
+        assert not bad.finite() and not bad.finite() and good.finite(), name
+    assert good == PeerState(1, 1, 0, 1.0, 2.0, 3.0, 0.1, 1, water_kg=5.0)  # the cache is not a field
+    ok = FireEntry(1, True, 1.0, 2.0, 3.0)
+    pic = PeerFires(1, 1, 0, (ok,))
+    assert pic.finite()
+    nan_pic = PeerFires(1, 1, 0, (ok, dataclasses.replace(ok, vy_mps=math.inf)))
+    assert not nan_pic.finite() and pic.finite() and PeerFires(1, 1, 0).finite()
+    links = [PeerLink(i, 3, seed=0, loss_probability=0.0, control_period_s=0.1) for i in (0, 2)]
+    for link in links:  # the same objects to both receivers
+        assert link.receive_state(dataclasses.replace(good, x_m=math.inf)) == Verdict.REJECTED
+        assert link.receive_fires(nan_pic) == Verdict.REJECTED
+        assert link.receive_state(good) == Verdict.ACCEPTED and link.receive_fires(pic) == Verdict.ACCEPTED
 
 
 def test_a_lost_message_is_never_also_rejected_but_a_bad_id_is_rejected_before_the_draw():

@@ -13,7 +13,7 @@ import numpy as np
 
 from .errors import ArgumentError
 
-__all__ = ["stream", "uniform", "bernoulli"]
+__all__ = ["stream", "uniform", "uniform_table", "bernoulli"]
 
 
 @functools.lru_cache(maxsize=256)
@@ -156,6 +156,132 @@ def uniform(seed: int, purpose: str, *ids: int) -> float:
     if max(words) > _M32:  # SeedSequence splits such an int into several words
         return float(stream(seed, purpose, *ids).random())
     return _first_double(words)
+
+
+_M2 = (_PCG_MULT * _PCG_MULT) & _M128  # two PCG64 steps from state x: x * M^2 + inc * (M + 1)
+_M1 = (_PCG_MULT + 1) & _M128
+
+
+def _limbs(x: int) -> tuple[int, int, int, int]:
+    """The four 32-bit limbs of a 128-bit integer, least significant first."""
+    return (x & _M32, (x >> 32) & _M32, (x >> 64) & _M32, (x >> 96) & _M32)
+
+
+_M2_LIMBS, _M1_LIMBS = _limbs(_M2), _limbs(_M1)
+
+
+def _mul128(a: list[np.ndarray], c: tuple[int, int, int, int]) -> list[np.ndarray]:
+    """``a * c mod 2**128`` for 128-bit numbers held as four uint64 arrays of 32-bit limbs.
+
+    Schoolbook product (each limb product < 2**64), its low and high halves summed per column
+    (at most 8 terms < 2**32 each: no overflow), then the carries propagated."""
+    m32 = np.uint64(_M32)
+    s32 = np.uint64(32)
+    cols = [np.zeros_like(a[0]) for _ in range(4)]
+    for i in range(4):
+        for j in range(4 - i):
+            if c[j] == 0:
+                continue
+            prod = a[i] * np.uint64(c[j])
+            cols[i + j] += prod & m32
+            if i + j + 1 < 4:
+                cols[i + j + 1] += prod >> s32
+    out = []
+    carry = np.zeros_like(a[0])
+    for k in range(4):
+        v = cols[k] + carry
+        out.append(v & m32)
+        carry = v >> s32
+    return out
+
+
+def _add128(a: list[np.ndarray], b: list[np.ndarray]) -> list[np.ndarray]:
+    """``a + b mod 2**128`` on 32-bit limbs (see :func:`_mul128`)."""
+    m32 = np.uint64(_M32)
+    s32 = np.uint64(32)
+    out = []
+    carry = np.zeros_like(a[0])
+    for k in range(4):
+        v = a[k] + b[k] + carry
+        out.append(v & m32)
+        carry = v >> s32
+    return out
+
+
+@functools.lru_cache(maxsize=64)
+def _pool_rows(seed: int, key: int, start: int, stop: int, second: int) -> tuple[np.ndarray, ...]:
+    """:func:`_pool_head` of ``(seed, key, a, second)`` for ``a`` in ``range(start, stop)``, as
+    four read-only uint64 rows of shape (1, stop - start), one per pool word."""
+    heads = [_pool_head((seed, key, a, second))[0] for a in range(start, stop)]
+    rows = []
+    for i in range(4):
+        row = np.array([h[i] for h in heads], dtype=np.uint64).reshape(1, len(heads))
+        row.flags.writeable = False
+        rows.append(row)
+    return tuple(rows)
+
+
+def uniform_table(
+    seed: int, purpose: str, firsts: range, second: int, thirds: range, fourth: int
+) -> np.ndarray:
+    """``uniform(seed, purpose, a, second, c, fourth)`` for every ``a`` in ``firsts`` and ``c`` in
+    ``thirds``, as an array of shape ``(len(thirds), len(firsts))``: the same doubles, bit for bit.
+
+    The loss draws of a peer link for a block of steps (``a``: the sender, ``second``: the
+    receiver, ``c``: the step, ``fourth``: the topic's loss index) in one pass of numpy's uint64
+    arithmetic instead of one Python call per draw. The arithmetic is that of
+    :func:`_first_double` (numpy's SeedSequence mixing and ``generate_state``, PCG64's seeding and
+    first XSL-RR output; O'Neill 2014, PCG-XSL-RR 128/64) on arrays: each 32-bit product fits in
+    a uint64 (wrapping modulo 2**64 where Python's integers are exact, and both are then taken
+    modulo 2**32), and the 128-bit state is four 32-bit limbs (:func:`_mul128`). Every word
+    must fit in 32 bits (numpy splits larger ones): :class:`ArgumentError` otherwise.
+    """
+    if seed < 0 or second < 0 or fourth < 0 or (firsts and firsts[0] < 0) or (thirds and thirds[0] < 0):
+        raise ArgumentError(
+            f"seed and ids must be >= 0, got seed={seed}, ids={firsts}, {second}, {thirds}, {fourth}"
+        )
+    if firsts.step != 1 or thirds.step != 1:
+        raise ArgumentError("uniform_table takes ranges of step 1")
+    key = _key(purpose)
+    if (
+        max(seed, key, second, fourth, firsts.stop - 1 if firsts else 0, thirds.stop - 1 if thirds else 0)
+        > _M32
+    ):
+        raise ArgumentError("uniform_table: every word must fit in 32 bits")
+    u64 = np.uint64
+    m32 = u64(_M32)
+    s16 = u64(16)
+    mix_l, mix_r = u64(_MIX_L), u64(_MIX_R)
+    ha, hb = _HA, _HB
+    # the pool after the first four words, one column per sender (cached per head, as in uniform)
+    pool = list(_pool_rows(seed, key, firsts.start, firsts.stop, second))
+    # the step word (one row per step), then the topic word (one constant), 4 hashmixes each
+    steps = np.arange(thirds.start, thirds.stop, dtype=np.uint64)[:, np.newaxis]
+    for dst in range(4):
+        v = ((steps ^ u64(ha[16 + dst])) * u64(ha[17 + dst])) & m32
+        r = (mix_l * pool[dst] - mix_r * (v ^ (v >> s16))) & m32
+        pool[dst] = r ^ (r >> s16)
+    for dst in range(4):
+        v = ((fourth ^ ha[20 + dst]) * ha[21 + dst]) & _M32
+        r = (mix_l * pool[dst] - u64((_MIX_R * (v ^ (v >> 16))) & _M32)) & m32
+        pool[dst] = r ^ (r >> s16)
+    st = []
+    for i in range(8):
+        v = ((pool[i % 4] ^ u64(hb[i])) * u64(hb[i + 1])) & m32
+        st.append(v ^ (v >> s16))
+    # initstate = s0:s1 (high 64 bits) s2:s3 (low); inc = (s4:s5 s6:s7) << 1 | 1
+    init = [st[2], st[3], st[0], st[1]]
+    raw = [st[6], st[7], st[4], st[5]]
+    one, s31 = u64(1), u64(31)
+    inc = [((raw[0] << one) & m32) | one]
+    for k in range(1, 4):
+        inc.append(((raw[k] << one) & m32) | (raw[k - 1] >> s31))
+    # srandom then the first draw's step: s = (inc + initstate) * M^2 + inc * (M + 1)
+    s = _add128(_mul128(_add128(inc, init), _M2_LIMBS), _mul128(inc, _M1_LIMBS))
+    x = ((s[3] ^ s[1]) << u64(32)) | (s[2] ^ s[0])  # XSL: high 64 bits xor low 64 bits
+    rot = s[3] >> u64(26)  # the top 6 bits of the state
+    out = (x >> rot) | (x << ((u64(64) - rot) & u64(63)))
+    return (out >> u64(11)).astype(np.float64) * (1.0 / 9007199254740992.0)
 
 
 def bernoulli(p: float, seed: int, purpose: str, *ids: int) -> bool:

@@ -135,3 +135,47 @@ def test_tables_built_afresh_give_numpys_draws(monkeypatch):
         for _ in range(10):
             words = [r.randint(0, 2**32 - 1) for _ in range(n)]
             assert rng._first_double(words) == np.random.default_rng(np.random.SeedSequence(words)).random()
+
+
+def test_uniform_table_is_numpys_first_draw_bit_for_bit():
+    """rng.uniform_table (numpy uint64 arithmetic, 128-bit PCG64 state on 32-bit limbs) against
+    numpy's own SeedSequence + PCG64 for every entry: seeds, receivers, steps and topics at 0, 1,
+    2**32 - 1 and random 32-bit values, tables at the top of the 32-bit range, empty ones."""
+    import random
+
+    import numpy as np
+    from fire_uav_common.rng import _key, uniform_table
+
+    r = random.Random(20261207)
+    edge = [0, 1, 2**32 - 1]
+    for n in range(60):
+        seed = r.choice([*edge, r.randint(0, 2**32 - 1), r.randint(0, 50)])
+        second = r.choice([*edge, r.randint(0, 2**32 - 1), r.randint(0, 30)])
+        fourth = r.choice([*edge, r.randint(0, 2**32 - 1), r.randint(0, 6)])
+        a0 = r.choice([0, r.randint(0, 2**32 - 1 - 40), 2**32 - 40])
+        firsts = range(a0, a0 + r.randint(0, 40) * (n % 10 != 0))
+        c0 = r.choice([0, r.randint(0, 2**32 - 1 - 70), 2**32 - 70])
+        thirds = range(c0, c0 + r.choice([0, 1, 7, 64, 70]))
+        purpose = r.choice(["loss", "gps"])
+        got = uniform_table(seed, purpose, firsts, second, thirds, fourth)
+        assert got.shape == (len(thirds), len(firsts)) and got.dtype == np.float64
+        k = _key(purpose)
+        picks = [(i, j) for i in range(len(thirds)) for j in range(len(firsts))]
+        for i, j in r.sample(picks, min(len(picks), 40)) + picks[-1:]:
+            ss = np.random.SeedSequence([seed, k, firsts[j], second, thirds[i], fourth])
+            want = np.random.default_rng(ss).random()
+            assert got[i, j] == want, (seed, purpose, firsts[j], second, thirds[i], fourth)
+
+
+def test_uniform_table_refuses_what_it_cannot_draw():
+    from fire_uav_common.errors import ArgumentError
+    from fire_uav_common.rng import uniform_table
+
+    for args in [
+        (-1, "loss", range(3), 0, range(3), 0),
+        (1, "loss", range(3), 2**32, range(3), 0),
+        (1, "loss", range(3), 0, range(2**32 - 1, 2**32 + 1), 0),
+        (1, "loss", range(0, 6, 2), 0, range(3), 0),
+    ]:
+        with pytest.raises(ArgumentError):
+            uniform_table(*args)

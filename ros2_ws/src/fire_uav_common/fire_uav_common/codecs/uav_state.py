@@ -79,8 +79,15 @@ class PeerState:
     centroid_y_m: float = math.nan
 
     def finite(self) -> bool:
-        isf = math.isfinite  # one test per field, no generator (called for every peer state received)
-        return isf(self.x_m) and isf(self.y_m) and isf(self.z_m) and isf(self.yaw_rad) and isf(self.water_kg)
+        """No NaN or infinity in the pose and water. Kept once computed (in ``__dict__``, beside
+        the frozen fields, not one of them): every receiver of one state asks (the in-process
+        harness hands the same object to all N - 1 peers)."""
+        f = self.__dict__.get("_finite")
+        if f is None:
+            isf = math.isfinite  # one test per field, no generator (called for every peer state received)
+            f = isf(self.x_m) and isf(self.y_m) and isf(self.z_m) and isf(self.yaw_rad) and isf(self.water_kg)
+            self.__dict__["_finite"] = f
+        return f
 
 
 @dataclass(frozen=True)
@@ -93,14 +100,17 @@ class PeerFires:
     fires: tuple[FireEntry, ...] = ()
 
     def finite(self) -> bool:
-        isf = math.isfinite
-        for f in self.fires:
-            if not (
+        """No NaN or infinity in any fire's fields; kept once computed, as :meth:`PeerState.finite`."""
+        ok = self.__dict__.get("_finite")
+        if ok is None:
+            isf = math.isfinite
+            ok = all(
                 isf(f.x_m) and isf(f.y_m) and isf(f.extent_m) and isf(f.vx_mps) and isf(f.vy_mps)
                 and isf(f.last_measurement_s)
-            ):  # fmt: skip
-                return False
-        return True
+                for f in self.fires
+            )  # fmt: skip
+            self.__dict__["_finite"] = ok
+        return ok
 
 
 #: UavState.msg and FireEstimate.msg as this reader expects them (name, ROS type), in order
