@@ -1060,6 +1060,20 @@ def test_the_fire_consensus_gets_the_control_period_and_the_sensors_position_noi
     assert (a.fires.cfg.control_period_s, a.fires.cfg.position_sigma_m) == (0.2, 3.5)
 
 
+def test_the_search_map_is_refreshed_only_by_an_airborne_sensor():
+    """FF's staleness search counts a grid point seen when it lies within the fire sensor's range
+    (70 m) of a flying UAV: a UAV on the ground sees nothing, one in the air at (150, 150) marks
+    the points within 70 m of it at t_{k+1}. Before any step the own cell is the whole grid."""
+    ground = Agent(_cfg())
+    assert ground._cell.all() and ground._cell.size == ground.grid.points.shape[0]  # before any step
+    _fly(ground, 0, 150.0, 150.0, vehicle=GROUND)
+    assert np.all(ground.search.last_seen == -ground.search.horizon_s)
+    air = Agent(_cfg())
+    _fly(air, 0, 150.0, 150.0)
+    d = np.hypot(air.grid.points[:, 0] - 150.0, air.grid.points[:, 1] - 150.0)
+    assert np.all(air.search.last_seen[d < 69.0] == T) and np.all(air.search.last_seen[d > 71.0] < 0)
+
+
 # --- wiring of the configuration into the stages ------------------------------------------------
 def test_the_altimeter_measures_height_above_the_a_priori_terrain():
     """h(s) = z - E(x, y) (estimation doc): on ground 5 m above datum, a 24 m reading at prior z = 20
