@@ -724,6 +724,28 @@ def test_fronts_known_from_peers_feed_the_published_fires_and_the_aim():
     assert (aim.x_m, aim.y_m) == (160.0, 180.0)
 
 
+def test_an_own_monitors_front_comes_before_the_peers_reports():
+    """_collect_fronts: a fire this UAV monitors takes its own monitor's head (PerimeterMonitor
+    .front) over a peer's reported front. The monitor's map is given a spreading fire by hand
+    (every bin 1 m/s by Eq. 1, its outer cells 400 m out, beyond the footprint)."""
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1), n=3))
+    for k in range(3):
+        _fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0)
+    fid = a.mission.target_fire_id
+    fm = a.monitor.monitors[fid].fire_map
+    th = fm.bin_center_rad()
+    r = np.where(np.abs(np.sin(th)) < 0.5, 400.0, 390.0)  # farthest east and west
+    fm.outer_x_m[:], fm.outer_y_m[:] = fm.center_x_m + r * np.cos(th), fm.center_y_m + r * np.sin(th)
+    fm.outer_d_m[:], fm.outer_t_s[:] = r, 0.25
+    fm.inner_d_m[:], fm.inner_t_s[:] = r - 0.2, 0.05
+    peer = FireEntry(fid, True, 145.0, 145.0, 15.0, front_x_m=10.0, front_y_m=20.0, max_spread_rate_mps=9.0)
+    out = _fly(a, 3, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[PeerFires(1, 3, 2, (peer,))])
+    own = a.monitor.front(fid)
+    assert own is not None and own[2] == pytest.approx(1.0)
+    (f,) = [e for e in out.fires if e.fire_id == fid]
+    assert (f.front_x_m, f.front_y_m, f.max_spread_rate_mps) == own
+
+
 # --- lockstep helper --------------------------------------------------------------------------
 def test_the_lockstep_wait_expects_the_previous_steps_messages_of_the_alive_peers():
     from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
