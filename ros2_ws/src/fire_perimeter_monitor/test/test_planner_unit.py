@@ -325,3 +325,790 @@ def test_front_config_validation():
         MonitorConfig(cell_size_m=1.0, speed_mps=1.0, front_ros_fraction=1.5)
     with pytest.raises(ValueError, match="front_smooth_bins"):
         MonitorConfig(cell_size_m=1.0, speed_mps=1.0, front_smooth_bins=-1)
+
+
+# --- merge, look-ahead and radial step edges (session 25: the mutation survivors) ---------------
+
+
+def _bins(n=360):
+    """Bin centres [rad] of a PerimeterMap of ``n`` bins (the message doc: bin k about (k + 0.5) 2 pi / n)."""
+    return (np.arange(n) + 0.5) * (2 * np.pi / n)
+
+
+def _mean_angle(deg_lo, deg_hi, n=360):
+    """Angle [rad] of the mean of the unit vectors of bins deg_lo .. deg_hi - 1 (a circle about the centre)."""
+    th = _bins(n)[deg_lo:deg_hi]
+    return math.atan2(float(np.mean(np.sin(th))), float(np.mean(np.cos(th))))
+
+
+def test_the_peer_is_placed_at_its_recent_arc_about_an_off_origin_centre():
+    """Without a position the peer sits at the mean of its bins seen within one cell of flight
+    (cell / speed = 3 s) of its newest visit: a bin exactly 3 s older counts, one 100 s older does
+    not, nor a recent bin without a distance. The centre is off the origin on both axes and the
+    arc off both axes (10-30 deg: a mirrored x or y would move it)."""
+    centre = (100.0, -50.0)
+    m = ImportanceMonitor(
+        MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=centre[0], center_y_m=centre[1])
+    )
+    s = _summary_with_recent_arc(centre=centre, arc_deg=(10, 20))
+    s["outer_visit_time_s"][20:30] = 900.0 - C / SPEED  # exactly one cell of flight older: recent
+    s["outer_visit_time_s"][200:220] = 800.0  # within 300 s (cell x speed) but not 3 s: old
+    s["outer_distance_m"][120] = np.nan
+    s["outer_visit_time_s"][120] = 900.0  # the newest visit, but no distance: not placed
+    m.merge(s, peer_id=4)
+    assert m._peers[4].angle_rad == pytest.approx(_mean_angle(10, 30), abs=1e-12)
+    assert m._peers[4].heard_s == 900.0
+
+
+def test_a_float32_summary_places_the_peer_as_its_values_do():
+    """PerimeterMap carries float32: the recent window is judged on the times' values. With a
+    7 m cell at 10 m/s (0.7 s of flight) a bin at float32(999.3) = 999.29999 s is 0.70001 s older
+    than the newest (1000 s): not recent, as in float64."""
+    m = ImportanceMonitor(MonitorConfig(cell_size_m=7.0, speed_mps=10.0, center_x_m=0.0, center_y_m=0.0))
+    s = _summary_with_recent_arc(arc_deg=(10, 20))
+    s["outer_visit_time_s"][:] = 100.0
+    s["outer_visit_time_s"][10:20] = 1000.0
+    s["outer_visit_time_s"][60:70] = 999.3
+    s32 = {**s, "outer_distance_m": s["outer_distance_m"].astype(np.float32)}
+    s32["outer_visit_time_s"] = s["outer_visit_time_s"].astype(np.float32)
+    assert float(s32["outer_visit_time_s"][60]) < 1000.0 - 0.7
+    m.merge(s32, peer_id=1)
+    assert m._peers[1].angle_rad == pytest.approx(_mean_angle(10, 20), abs=1e-12)
+
+
+def test_a_peer_position_off_the_axes_of_an_off_origin_centre():
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=100.0, center_y_m=100.0))
+    m.merge(_summary_with_recent_arc(centre=(100.0, 100.0)), peer_id=2, peer_pos_m=(400.0, 400.0), t_s=42.0)
+    assert m._peers[2].angle_rad == pytest.approx(math.pi / 4, abs=1e-12)
+
+
+def test_a_peer_without_visit_times_or_time_owns_no_arc():
+    """A summary whose visit times are all unknown, merged without a time: the peer is placed by
+    its position but never heard (heard at minus infinity), so it owns no arc, however late."""
+    m = ImportanceMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=0.0, center_y_m=0.0))
+    s = _summary_with_recent_arc()
+    s["outer_visit_time_s"] = np.full(360, np.nan)
+    assert m.merge(s, peer_id=5, peer_pos_m=(0.0, 500.0)) == 0
+    assert 5 in m._peers
+    m.uav_xy, m.t_s = (-500.0, 0.0), 1e9
+    th = _bins()
+    assert m._peer_weight(500.0 * np.column_stack([np.cos(th), np.sin(th)])) is None
+
+
+def test_before_the_lap_without_a_centre_a_peer_map_waits_for_the_lap():
+    """Centre unknown and the initial lap not done: nothing is merged into the map yet (0 bins
+    taken); the peer's cells with a distance and a visit time wait, at their positions about the
+    peer's centre (x = cx + d cos, y = cy + d sin of the bin centre), for the lap's centre and map."""
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED))
+    s = _summary_with_recent_arc(centre=(100.0, -50.0))
+    s["outer_distance_m"][3] = np.nan
+    s["outer_visit_time_s"][7] = np.nan
+    assert m.merge(s, peer_id=1) == 0
+    assert not m.fire_map.known.any()
+    keep = np.ones(360, dtype=bool)
+    keep[[3, 7]] = False
+    th = _bins()[keep]
+    want = np.column_stack(
+        [100.0 + 500.0 * np.cos(th), -50.0 + 500.0 * np.sin(th), s["outer_visit_time_s"][keep]]
+    )
+    np.testing.assert_allclose(m._lap.raw_cells(), want, rtol=0, atol=1e-9)
+
+
+def test_the_lap_of_no_sighting_is_an_empty_n_by_3():
+    from fire_perimeter_monitor.planner import _Lap
+
+    raw = _Lap().raw_cells()
+    assert raw.shape == (0, 3)
+
+
+def test_merge_error_messages_are_whole():
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=0.0, center_y_m=0.0))
+    with pytest.raises(ValueError, match=r"^peer summary centre is not finite$"):
+        m.merge({**_summary_with_recent_arc(), "center_x_m": math.nan})
+
+
+def _line_fire(n=7, origin=(100.0, 200.0)):
+    """Observed cells: a one-cell-wide line of n burning cells i = 0 .. n-1 at j = 0 (cells of C
+    from ``origin``), the cells above and below it unburned."""
+    rows = []
+    for i in range(n):
+        rows.append((origin[0] + i * C, origin[1], 1))
+    for i in range(n):
+        for dj in (-1, 1):
+            rows.append((origin[0] + i * C, origin[1] + dj * C, 0))
+    return np.array(rows, dtype=float)
+
+
+def test_lookahead_along_a_one_cell_wide_line_goes_round_its_end_and_stops_before_our_cell():
+    """Moore tracing (boundary.py) round a line of cells 0..6, CCW, from cell 3 (first sample: no
+    previous cell, so the first step is the sweep's first fire cell after an outside one, west):
+    2, 1, 0, round the end to 1, 2, then our own cell 3 stops the walk. At each cell of the line
+    both neighbours follow an outside cell; the one not back where we came from is taken."""
+    cells = _line_fire()
+    x0, y0 = 100.0, 200.0
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=0.0, center_y_m=0.0))
+    m.update(cells, (x0 + 3 * C, y0), 10.0)
+    got = [m.lookahead_waypoint(n) for n in range(1, 9)]
+    want_i = [2, 1, 0, 1, 2, 2, 2, 2]
+    assert got == [(x0 + i * C, y0) for i in want_i]
+
+
+def test_the_radial_step_off_a_cell_off_the_grids_diagonal():
+    """The grid is anchored at the first cell seen; a UAV 4 cells east and 1 north of it, inside
+    a burning block with the centre to its south-west, steps one cell outwards (north-east: the
+    rounded unit vector from the centre, (0.8, 0.6) -> (1, 1))."""
+    x0, y0 = 0.0, 0.0
+    block = [(x0, y0, 1)] + [(x0 + i * C, y0 + j * C, 1) for i in range(-3, 9) for j in range(-4, 6)]
+    m = CirclingMonitor(
+        MonitorConfig(
+            cell_size_m=C,
+            speed_mps=SPEED,
+            center_x_m=4 * C - 80.0,
+            center_y_m=C - 60.0,
+            search_radius_cells=0,
+        )
+    )
+    m.update(np.array(block, dtype=float), (4 * C, C), 10.0)
+    assert m.cell == (4, 1)
+    assert m.next_waypoint() == (5 * C, 2 * C)
+
+
+# --- one planning step against Eqs. 3-7 written out (session 25) -------------------------------
+#
+# A map of 8 bins whose outer cells are the vertices of a regular octagon of radius 200 m about
+# an off-origin centre (the bin centres), every one fresh (so the constructed perimeter is the
+# octagon itself, PM IV-B with nothing to close), and the UAV on bin 0's vertex. With a cell of a
+# third of the octagon's side the resampled perimeter is 24 cells: each vertex and the points a
+# third and two thirds of the way to the next one, in the order of Eqs. 5-6 (index 0 the UAV,
+# growing against the flying direction). A cell a third of the way from a vertex lies in that
+# vertex's bin, two thirds in the next one's. Bin 4's Eq. 1 rate is unknown: interpolated
+# halfway between its neighbours.
+
+_NB, _R, _CENTRE = 8, 200.0, (100.0, -50.0)
+_SIDE = 2 * _R * math.sin(math.pi / _NB)
+_T = 1000.0
+
+
+def _octagon_vertex(k):
+    a = (k % _NB + 0.5) * 2 * math.pi / _NB
+    return np.array([_CENTRE[0] + _R * math.cos(a), _CENTRE[1] + _R * math.sin(a)])
+
+
+def _octagon_monitor(ros, t_outer, **kw):
+    """An importance monitor whose map holds the octagon; bin k's Eq. 1 rate ``ros[k]`` (NaN:
+    unknown) from an inner cell 100 s before its outer visit ``t_outer[k]``."""
+    cfg = {
+        "cell_size_m": _SIDE / 3,
+        "speed_mps": 10.0,
+        "center_x_m": _CENTRE[0],
+        "center_y_m": _CENTRE[1],
+        "bin_count": _NB,
+        "revisit_gap_s": 1e4,  # every cell fresh
+        "alpha": 2.0,
+        "min_run_fraction": 0.0,
+    }
+    m = ImportanceMonitor(MonitorConfig(**(cfg | kw)))
+    fm = m.fire_map
+    for k in range(_NB):
+        fm.outer_x_m[k], fm.outer_y_m[k] = _octagon_vertex(k)
+        fm.outer_d_m[k], fm.outer_t_s[k] = _R, t_outer[k]
+        if np.isfinite(ros[k]):
+            fm.inner_t_s[k], fm.inner_d_m[k] = t_outer[k] - 100.0, _R - 100.0 * ros[k]
+    m.uav_xy, m.t_s = tuple(_octagon_vertex(0)), _T
+    return m
+
+
+def _octagon_by_hand(ros, t_outer, ccw=True, alpha=2.0):
+    """The 24 cells, their Eq. 7 rates (alpha) and times since the visit (Eq. 2, never < 0)."""
+    back = -1 if ccw else 1  # against the flying direction
+    cells, bins = [], []
+    for k in range(_NB):
+        a, b = _octagon_vertex(back * k), _octagon_vertex(back * (k + 1))
+        cells += [a, a + (b - a) / 3, a + 2 * (b - a) / 3]
+        bins += [(back * k) % _NB, (back * k) % _NB, (back * (k + 1)) % _NB]
+    filled = np.array(ros, dtype=float)
+    filled[4] = 0.5 * (filled[3] + filled[5])
+    r = filled[bins]
+    adj = (
+        np.where(r <= r.mean(), r, r.min() + alpha * (r - r.min()))
+        if alpha >= 1
+        else r.min() + alpha * (r - r.min())
+    )
+    since = np.maximum(_T - np.asarray(t_outer)[bins], 0.0)
+    return np.array(cells), adj, since
+
+
+def _windows_by_hand(adj, since, weight=None, speed=10.0):
+    """Eqs. 3-6: back cell i reached after i cells, front cell i after 24 - i; Eq. 4 per cell."""
+    i = np.arange(24)
+    t_to = np.where(i < 12, i, 24 - i) * (_SIDE / 3) / speed
+    imp = adj * (since + t_to) * (1.0 if weight is None else weight)
+    return imp
+
+
+def _worst_turns_by_hand(adj, since, reach, keep_in_view=True, weight=None, speed=10.0, margin=0.0):
+    """importance.worst_angle_turn's rule as its docstring writes it: flying on reaches cell i
+    after (M - i) cells, turning back after i, each less the reach, and (keeping the footprint
+    in view) less the time a cell behind stays in it; turn when the largest back value, times
+    1 + margin, is under the largest on value."""
+    sp = _SIDE / 3
+    i = np.arange(24)
+    d_on, d_back = (24 - i) * sp, i * sp
+    keep = reach if keep_in_view else 0.0
+    t_on = np.maximum(np.maximum(d_on - reach, 0) - np.maximum(keep - d_back, 0), 0) / speed
+    t_back = np.maximum(np.maximum(d_back - reach, 0) - np.maximum(keep - d_on, 0), 0) / speed
+    w = 1.0 if weight is None else weight
+    return bool((1 + margin) * np.max(adj * (since + t_back) * w) < np.max(adj * (since + t_on) * w))
+
+
+_ROS = [0.5, 1.0, 3.0, 0.2, np.nan, 0.8, 2.0, 0.4]
+_T_OUTER = [1000.0, 990.0, 900.0, 950.0, 800.0, 999.5, 700.0, 980.0]
+
+
+@pytest.mark.parametrize("direction", [Direction.CCW, Direction.CW])
+def test_a_planning_step_weighs_the_windows_of_eqs_3_to_7(direction):
+    """The cells, the per-cell importance (Eq. 4 with Eq. 7's alpha = 2 rates, the Eq. 2 time
+    since the visit clamped at 0 for the UAV's own bin seen now, the Eq. 3 time to reach) and the
+    Listing 3 decision, both flying directions."""
+    m = _octagon_monitor(_ROS, _T_OUTER, rule="windows", initial_direction=direction)
+    m._plan()
+    cells, adj, since = _octagon_by_hand(_ROS, _T_OUTER, ccw=direction == Direction.CCW)
+    np.testing.assert_allclose(m.last_cells_m, cells, rtol=0, atol=1e-9)
+    imp = _windows_by_hand(adj, since)
+    np.testing.assert_allclose(m.last_window.importance, imp, rtol=1e-12)
+    assert m.last_window.imp_back == pytest.approx(imp[:12].sum(), rel=1e-12)
+    turned = m.direction != direction
+    assert turned == (imp[:12].sum() > imp[12:].sum()) and m.direction_changes == int(turned)
+
+
+def test_no_known_rate_anywhere_weighs_nothing_and_keeps_the_direction():
+    """Every bin seen once, with no ignition time: no Eq. 1 rate is known, so every cell's rate
+    is 0 (nothing is known to spread) and the UAV flies on."""
+    m = _octagon_monitor([np.nan] * _NB, _T_OUTER, rule="windows")
+    m._plan()
+    assert m.last_window is not None and np.all(m.last_window.importance == 0.0)
+    assert m.direction == Direction.CCW and m.direction_changes == 0
+
+
+def test_the_worst_angle_rule_decides_with_its_reach_kept_in_view():
+    """Rates and visit times chosen (by search, once) so that the rules disagree: the worst-angle
+    rule with an 80 m reach kept in view flies on, while Listing 3's windows, the worst-angle rule
+    without the footprint kept in view, and its values over a wrong spacing would turn."""
+    ros = [3.0, 0.4, 0.8, 0.5, np.nan, 0.2, 1.0, 2.0]
+    t_outer = [999.5, 980.0, 1000.0, 950.0, 800.0, 700.0, 900.0, 990.0]
+    cells, adj, since = _octagon_by_hand(ros, t_outer)
+    imp = _windows_by_hand(adj, since)
+    assert imp[:12].sum() > imp[12:].sum()  # the windows would turn
+    assert _worst_turns_by_hand(adj, since, 80.0, keep_in_view=False)
+    assert not _worst_turns_by_hand(adj, since, 80.0)
+    m = _octagon_monitor(ros, t_outer, rule="worst", reach_m=80.0)
+    m._plan()
+    assert m.direction == Direction.CCW and m.direction_changes == 0
+    w = _octagon_monitor(ros, t_outer, rule="windows", reach_m=80.0)
+    w._plan()
+    assert w.direction == Direction.CW
+
+
+def test_after_a_turn_the_next_decision_waits_a_quarter_of_the_perimeter():
+    """Hysteresis: min_run_fraction 0.25 of the 24 cells is 6; with a turn behind it the monitor
+    keeps its direction at 5 cells flown and decides again at 6; before any turn it decides at
+    once (the windows turn here)."""
+    for changes, run, turns in ((1, 5, False), (1, 6, True), (0, 0, True)):
+        m = _octagon_monitor(_ROS, _T_OUTER, rule="windows", min_run_fraction=0.25)
+        m.direction_changes, m.run_cells = changes, run
+        m._plan()
+        assert (m.direction == Direction.CW) == turns, (changes, run)
+
+
+def test_a_perimeter_of_three_vertices_is_planned_on_two_is_not():
+    """The UAV and two known bins close a triangle, enough to weigh windows; one known bin is not."""
+    for known, planned in ((2, True), (1, False)):
+        ros = [0.5] * _NB
+        t_outer = [_T - 10.0] * _NB
+        m = _octagon_monitor(ros, t_outer, rule="windows")
+        fm = m.fire_map
+        for arr in (fm.outer_x_m, fm.outer_y_m, fm.outer_d_m, fm.outer_t_s, fm.inner_d_m, fm.inner_t_s):
+            arr[1 + known :] = np.nan
+            arr[0] = np.nan
+        m._plan()
+        assert (m.last_window is not None) == planned, known
+        assert (m.last_cells_m is not None) == planned, known
+
+
+def _angle_owned(cells, mine_deg, *peer_degs):
+    """Cells nearer in angle about the octagon's centre to us than to every peer (the bisectors)."""
+    ang = np.arctan2(cells[:, 1] - _CENTRE[1], cells[:, 0] - _CENTRE[0])
+
+    def adist(a, b):
+        return np.abs((a - b + np.pi) % (2 * np.pi) - np.pi)
+
+    owned = np.ones(len(cells), dtype=bool)
+    for p in peer_degs:
+        owned &= adist(ang, math.radians(mine_deg)) < adist(ang, math.radians(p))
+    return owned.astype(float)
+
+
+def _with_peer_at(m, deg, peer_id=1):
+    x, y = _CENTRE[0] + 300.0 * math.cos(math.radians(deg)), _CENTRE[1] + 300.0 * math.sin(math.radians(deg))
+    s = _summary_with_recent_arc(n=_NB, centre=_CENTRE)
+    m.merge(s, peer_id=peer_id, peer_pos_m=(x, y), t_s=_T - 1.0)
+
+
+_ROS_1 = [3.0, 0.4, 0.8, 0.5, np.nan, 0.2, 1.0, 2.0]
+_T_OUTER_1 = [999.5, 980.0, 1000.0, 950.0, 800.0, 700.0, 900.0, 990.0]
+
+
+@pytest.mark.parametrize(
+    "ros,t_outer,peer_deg,reach,turns",
+    [
+        # the peer's cells hold the worst value: counted, the UAV would turn
+        (_ROS, _T_OUTER, 252.0, 0.0, False),
+        # with a peer only the footprint ahead counts (keep_in_view off); kept in view it would fly on
+        (_ROS_1, _T_OUTER_1, 190.0, 80.0, True),
+    ],
+)
+def test_a_live_peers_arc_weighs_nothing_in_the_step(ros, t_outer, peer_deg, reach, turns):
+    """The angle split: cells nearer in angle (about the off-origin centre) to the peer than to
+    us weigh 0 in the windows and in the worst-angle rule, which then counts the reach ahead only.
+    A peer at 190 deg is more than half a turn below us (22.5 deg) in atan2's range."""
+    cells, adj, since = _octagon_by_hand(ros, t_outer)
+    owned = _angle_owned(cells, 22.5, peer_deg)
+    assert 0 < owned.sum() < 24
+    weighted = _worst_turns_by_hand(adj, since, reach, keep_in_view=False, weight=owned)
+    assert weighted == turns
+    assert _worst_turns_by_hand(adj, since, reach, keep_in_view=False) != turns or (
+        _worst_turns_by_hand(adj, since, reach, keep_in_view=True, weight=owned) != turns
+    )
+    m = _octagon_monitor(ros, t_outer, rule="worst", reach_m=reach)
+    _with_peer_at(m, peer_deg)
+    m._plan()
+    np.testing.assert_allclose(m.last_window.importance, _windows_by_hand(adj, since, owned), rtol=1e-12)
+    assert (m.direction == Direction.CW) == turns
+
+
+def test_two_live_peers_each_take_their_side():
+    cells, adj, since = _octagon_by_hand(_ROS, _T_OUTER)
+    owned = _angle_owned(cells, 22.5, 140.0, 280.0)
+    assert (
+        owned.sum() < _angle_owned(cells, 22.5, 140.0).sum()
+        and owned.sum() < _angle_owned(cells, 22.5, 280.0).sum()
+    )
+    m = _octagon_monitor(_ROS, _T_OUTER, rule="windows")
+    _with_peer_at(m, 140.0, peer_id=1)
+    _with_peer_at(m, 280.0, peer_id=2)
+    m._plan()
+    np.testing.assert_allclose(m.last_window.importance, _windows_by_hand(adj, since, owned), rtol=1e-12)
+
+
+def test_the_worst_angle_rule_turns_by_its_margin():
+    """Largest on value / largest back value = 1.0877 (a 20 m reach): the UAV turns with no
+    margin, not with a margin of 0.5; and nothing known ties at 0, where it flies on."""
+    ros = [0.8, 1.0, 3.0, 0.5, np.nan, 2.0, 0.2, 0.4]
+    t_outer = [900.0, 950.0, 980.0, 1000.0, 800.0, 700.0, 990.0, 999.5]
+    cells, adj, since = _octagon_by_hand(ros, t_outer)
+    assert _worst_turns_by_hand(adj, since, 20.0) and not _worst_turns_by_hand(adj, since, 20.0, margin=0.5)
+    for margin, turns in ((0.0, True), (0.5, False)):
+        m = _octagon_monitor(ros, t_outer, rule="worst", reach_m=20.0, turn_margin=margin)
+        m.prev_cell = (3, 4)
+        m._plan()
+        assert (m.direction == Direction.CW) == turns, margin
+        # after a turn going back the way we came is intended: no previous cell to avoid
+        assert (m.prev_cell is None) == turns
+    m = _octagon_monitor([np.nan] * _NB, t_outer, rule="worst", reach_m=20.0)
+    m._plan()
+    assert m.direction == Direction.CCW
+
+
+def test_a_window_tie_turns_only_when_asked():
+    """Uniform spread; bin 7 (back cells 2-4) seen 4 cells of flight earlier than the rest, which
+    makes up the front window's longer times to reach (Eq. 3: sum 78 against 66 cells): a tie,
+    kept by default and turned with turn_on_tie (PM V-A's reading)."""
+    sp = _SIDE / 3
+    t_outer = [900.0] * _NB
+    t_outer[7] = 900.0 - 4 * sp / 10.0
+    cells, adj, since = _octagon_by_hand([1.0] * _NB, t_outer)
+    imp = _windows_by_hand(adj, since)
+    assert imp[:12].sum() == pytest.approx(imp[12:].sum(), rel=1e-12)
+    for on_tie in (False, True):
+        m = _octagon_monitor([1.0] * _NB, t_outer, rule="windows", turn_on_tie=on_tie)
+        m._plan()
+        assert (m.direction == Direction.CW) == on_tie
+
+
+def test_the_summary_keeps_the_largest_importance_of_each_bin():
+    """Bin 4 holds cells 11 (back, 11 cells away), 12 and 13 (front, 12 and 11 away): the
+    largest, cell 12's, is the bin's, not the last one's."""
+    m = _octagon_monitor(_ROS, _T_OUTER, rule="windows")
+    m._plan()
+    cells, adj, since = _octagon_by_hand(_ROS, _T_OUTER)
+    imp = _windows_by_hand(adj, since)
+    assert imp[12] > imp[13]
+    got = m.to_summary()["importance"]
+    assert got[4] == np.float32(imp[12])
+    assert got[7] == np.float32(max(imp[2], imp[3], imp[4]))
+
+
+def _front_map(ros, dist, **kw):
+    """A monitor of 8 bins about (0, 0) whose bin k has its outer cell ``dist[k]`` m out on the
+    bin's centre ray (NaN: bin unknown) and the Eq. 1 rate ``ros[k]`` (NaN: unknown)."""
+    m = ImportanceMonitor(
+        MonitorConfig(cell_size_m=5.0, speed_mps=10.0, center_x_m=0.0, center_y_m=0.0, bin_count=8, **kw)
+    )
+    fm = m.fire_map
+    th = fm.bin_center_rad()
+    for k in range(8):
+        if np.isfinite(dist[k]):
+            fm.outer_x_m[k], fm.outer_y_m[k] = dist[k] * math.cos(th[k]), dist[k] * math.sin(th[k])
+            fm.outer_d_m[k], fm.outer_t_s[k] = dist[k], 500.0
+            if np.isfinite(ros[k]):
+                fm.inner_d_m[k], fm.inner_t_s[k] = dist[k] - 100.0 * ros[k], 400.0
+    return m, th
+
+
+_DIST = [100.0, 120.0, 150.0, 90.0, np.nan, 200.0, 110.0, 105.0]
+
+
+def test_the_front_is_the_fastest_bin_when_the_fraction_is_one():
+    """front_ros_fraction 1, no smoothing: only the fastest bin (2, 3 m/s) is fast, whatever the
+    farther slower ones (bin 5, 200 m) and a known bin without a rate (3) or an unknown bin (4)."""
+    m, th = _front_map(
+        [1.0, 2.0, 3.0, np.nan, np.nan, 0.5, 1.0, 1.0], _DIST, front_smooth_bins=0, front_ros_fraction=1.0
+    )
+    x, y, top = m.front()
+    assert (x, y) == pytest.approx((150.0 * math.cos(th[2]), 150.0 * math.sin(th[2])), abs=1e-9)
+    assert top == pytest.approx(3.0)
+
+
+def test_the_front_averages_unknown_rates_as_zero():
+    """+-1 bin smoothing, fraction 0.9: bin 1's average is (1 + 1 + 3) / 3 = 5/3, the top;
+    bin 2's is (1 + 3 + 0) / 3 = 4/3 (bin 3's unknown rate counts 0), under 0.9 x 5/3 = 1.5, so
+    the front is bin 1's outer cell (120 m) and not the farther bin 2's."""
+    m, th = _front_map(
+        [1.0, 1.0, 3.0, np.nan, np.nan, 0.5, 1.0, 1.0], _DIST, front_smooth_bins=1, front_ros_fraction=0.9
+    )
+    x, y, top = m.front()
+    assert (x, y) == pytest.approx((120.0 * math.cos(th[1]), 120.0 * math.sin(th[1])), abs=1e-9)
+    assert top == pytest.approx(5.0 / 3.0)
+
+
+def test_no_front_where_nothing_spreads():
+    m, _ = _front_map([0.0] * 8, _DIST, front_smooth_bins=1)
+    assert m.front() is None
+
+
+def test_smooth_circular_averages_in_float64():
+    """float32 rates (a PerimeterMap's) are averaged as their float64 values."""
+    v = (np.sin(np.arange(50) * 0.37) * 3.7 + 5.0).astype(np.float32)
+    ref = np.array(
+        [np.mean(np.take(v.astype(float), np.arange(i - 3, i + 4), mode="wrap")) for i in range(50)]
+    )
+    np.testing.assert_allclose(smooth_circular(v, 3), ref, rtol=1e-13)
+    assert smooth_circular(v, 0).dtype == np.float64
+
+
+def test_next_waypoint_on_a_line_goes_on_away_from_where_it_came_from():
+    """On a one-cell-wide line both neighbours follow an outside cell in the sweep; having come
+    from cell 2 to cell 3 the UAV goes on to 4 (Moore tracing's neck rule, boundary.py)."""
+    cells = _line_fire()
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=0.0, center_y_m=0.0))
+    m.update(cells, (100.0 + 2 * C, 200.0), 10.0)
+    m.update(cells, (100.0 + 3 * C, 200.0), 11.0)
+    assert m.next_waypoint() == (100.0 + 4 * C, 200.0)
+
+
+def test_off_the_perimeter_the_nearest_boundary_cell_within_the_search_radius():
+    """Two cells north of the line's cell 3, nothing burns around the UAV: the nearest
+    perimeter cell within 3 cells is cell 3 (two cells south), not a radial step."""
+    cells = _line_fire()
+    m = CirclingMonitor(
+        MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=100.0 + 3 * C, center_y_m=900.0)
+    )
+    m.update(cells, (100.0 + 3 * C, 200.0 + 2 * C), 10.0)
+    assert m.next_waypoint() == (100.0 + 3 * C, 200.0)
+
+
+def test_the_lap_without_a_centre_ends_when_the_heading_has_turned_once():
+    """Without a centre the lap ends when the heading, cell to cell, has turned by 2 pi: round a
+    square of cells (east, north, west, south) it has turned 3 pi / 2 back at the start corner
+    and 2 pi one cell east of it. The square lies away from the grid's anchor (the first cell
+    seen), off its diagonal."""
+    seen = np.array([[0.0, 0.0, 1.0], [C, 0.0, 0.0]])
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED))
+    path = (
+        [(i, 2) for i in range(10, 15)]
+        + [(14, j) for j in range(3, 7)]
+        + [(i, 6) for i in range(13, 9, -1)]
+        + [(10, j) for j in range(5, 1, -1)]
+    )
+    for k, (i, j) in enumerate(path):
+        m.update(seen, (i * C, j * C), float(k))
+        assert not m.initial_lap_done, (i, j)
+    m.update(seen, (11 * C, 2 * C), float(len(path)))
+    assert m.initial_lap_done and m.center_known
+    # the lap's sightings (the burning cell at the anchor, its unburned neighbour east) are
+    # replayed into the map with their times
+    t = m.fire_map.outer_t_s[m.fire_map.known]
+    assert t.size and np.all(np.isin(t, np.arange(len(path) + 1.0)))
+
+
+# --- the relay and spread splits through the monitor (session 25) ------------------------------
+# The expected masks come from split.py's functions (tested by hand in test_split.py /
+# test_relay_reference.py) fed with what the monitor's docs say it hands them: the peer's cell
+# (the nearest to its angle; on our own cell: cell 1 for the lower id, M - 1 for the higher),
+# the mean cell spacing (the closed perimeter's length / M), the head's half arc
+# (reach + speed x relay_head_period_s / 2) and the tie going to the lower id.
+
+
+def _ring_cells(m, first_step_deg=20.0, radius=300.0):
+    """``m`` cells on a circle about the octagon's centre, cell 0 at angle 0, the first step
+    ``first_step_deg`` and the others equal: an uneven spacing (one long chord)."""
+    rest = (360.0 - first_step_deg) / (m - 1)
+    ang = np.radians(np.concatenate([[0.0], first_step_deg + rest * np.arange(m - 1)]))
+    # the index grows against the flying direction (CCW): angles decrease
+    return np.column_stack([_CENTRE[0] + radius * np.cos(-ang), _CENTRE[1] + radius * np.sin(-ang)])
+
+
+def _mean_spacing(cells):
+    return float(np.mean(np.hypot(*(np.roll(cells, -1, axis=0) - cells).T)))
+
+
+@pytest.mark.parametrize("me,peer,m,head", [(0, 1, 47, 24), (1, 0, 48, 23)])
+def test_the_relay_with_a_peer_on_our_cell(me, peer, m, head):
+    """A peer on our own cell stands on cell 1 (we are the lower id) or M - 1. With the head at
+    24 of 47 cells the lower id ties with the peer on cell 1 (23 cells each way) and holds it;
+    with the head at 23 of 48 the higher id is 23 cells from it, the peer on cell 47 is 24. The
+    half arc is 2 spacings and 1 cm: cells 2 spacings from the head are in it."""
+    from fire_perimeter_monitor.split import relay_split
+
+    cells = _ring_cells(m)
+    sp = _mean_spacing(cells)
+    reach = 2 * sp + 0.01 - 10.0 * 3.5 / 2
+    ros = np.full(m, 0.5)
+    ros[head - 2 : head + 3] = [1.0, 2.0, 3.0, 2.0, 1.0]  # its +-2 cell average peaks at the head alone
+    mon = ImportanceMonitor(
+        MonitorConfig(
+            cell_size_m=5.0,
+            speed_mps=10.0,
+            center_x_m=_CENTRE[0],
+            center_y_m=_CENTRE[1],
+            split="relay",
+            relay_fast_fraction=0.0,
+            reach_m=reach,
+            uav_id=me,
+        )
+    )
+    mon.merge(_summary_with_recent_arc(centre=_CENTRE), peer_id=peer, peer_pos_m=tuple(cells[0]), t_s=_T)
+    mon.uav_xy, mon.t_s = tuple(cells[0]), _T
+    got = mon._peer_weight(cells, ros)
+    k = 1 if me < peer else m - 1
+    want = relay_split(ros, sp, k, 2 * sp + 0.01, me < peer, 0.0).astype(float)
+    np.testing.assert_array_equal(got, want)
+    assert got[head] == 1.0 and got[head + 2] == 1.0 and got[head + 3] == 0.0  # we hold the head
+
+
+@pytest.mark.parametrize("me,peer", [(0, 1), (1, 0)])
+def test_the_spread_split_with_a_peer_on_our_cell(me, peer):
+    from fire_perimeter_monitor.split import arc_work, work_bisector_split
+
+    m = 40
+    cells = _ring_cells(m)
+    ros = np.linspace(0.2, 3.0, m)
+    mon = ImportanceMonitor(
+        MonitorConfig(
+            cell_size_m=5.0,
+            speed_mps=10.0,
+            center_x_m=_CENTRE[0],
+            center_y_m=_CENTRE[1],
+            split="spread",
+            uav_id=me,
+        )
+    )
+    mon.merge(_summary_with_recent_arc(centre=_CENTRE), peer_id=peer, peer_pos_m=tuple(cells[0]), t_s=_T)
+    mon.uav_xy, mon.t_s = tuple(cells[0]), _T
+    k = 1 if me < peer else m - 1
+    want = work_bisector_split(arc_work(ros, _mean_spacing(cells)), np.array([k])).astype(float)
+    np.testing.assert_array_equal(mon._peer_weight(cells, ros), want)
+
+
+@pytest.mark.parametrize("split", ["relay", "spread"])
+def test_a_three_cell_perimeter_is_split_by_work(split):
+    """Three cells (0, -60 and -210 deg about the centre, the peer by the last) are enough for
+    the relay and the spread split, whose answers here differ from the angle split's."""
+    from fire_perimeter_monitor.split import arc_work, relay_split, work_bisector_split
+
+    ang = np.radians([0.0, -60.0, -210.0])
+    cells = np.column_stack([_CENTRE[0] + 300.0 * np.cos(ang), _CENTRE[1] + 300.0 * np.sin(ang)])
+    ros = np.array([5.0, 0.1, 0.1])
+    mon = ImportanceMonitor(
+        MonitorConfig(
+            cell_size_m=5.0,
+            speed_mps=10.0,
+            center_x_m=_CENTRE[0],
+            center_y_m=_CENTRE[1],
+            split=split,
+            relay_fast_fraction=0.0,
+            reach_m=0.0,
+            relay_head_period_s=0.0,
+        )
+    )
+    a = math.radians(-205.0)
+    peer_xy = (_CENTRE[0] + 300.0 * math.cos(a), _CENTRE[1] + 300.0 * math.sin(a))  # nearest cell 2
+    mon.merge(_summary_with_recent_arc(centre=_CENTRE), peer_id=1, peer_pos_m=peer_xy, t_s=_T)
+    mon.uav_xy, mon.t_s = tuple(cells[0]), _T
+    sp = _mean_spacing(cells)
+    if split == "relay":
+        want = relay_split(ros, sp, 2, 0.0, True, 0.0)
+    else:
+        want = work_bisector_split(arc_work(ros, sp), np.array([2]))
+    got = mon._peer_weight(cells, ros)
+    np.testing.assert_array_equal(got, want.astype(float))
+    angle = ImportanceMonitor(
+        MonitorConfig(cell_size_m=5.0, speed_mps=10.0, center_x_m=_CENTRE[0], center_y_m=_CENTRE[1])
+    )
+    angle.merge(_summary_with_recent_arc(centre=_CENTRE), peer_id=1, peer_pos_m=peer_xy, t_s=_T)
+    angle.uav_xy, angle.t_s = tuple(cells[0]), _T
+    assert not np.array_equal(angle._peer_weight(cells, ros), got)
+
+
+# --- the map the monitor keeps (session 25) -----------------------------------------------------
+
+
+def test_the_maps_settings_come_from_the_config():
+    """MonitorConfig's docs: Eq. 1 over at least ros_baseline_s (default 20 cells of flight) and
+    ros_baseline_cells of spread; the map's cells of cell_size_m."""
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, ros_baseline_cells=3.5))
+    assert (m.fire_map.ros_baseline_s, m.fire_map.ros_baseline_cells, m.fire_map.cell_size_m) == (
+        20 * C / SPEED,
+        3.5,
+        C,
+    )
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, ros_baseline_s=7.0))
+    assert m.fire_map.ros_baseline_s == 7.0
+
+
+def test_the_footprint_is_the_farthest_cell_seen_from_the_uav():
+    """Off the origin on both axes: the farthest cell 3 east and 4 north of the UAV is 5 cells
+    away; a UAV that sees only its own cell has a footprint of 0 m."""
+    ux, uy = 400.0, -250.0
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=0.0, center_y_m=0.0))
+    m.update(np.array([[ux, uy, 1.0], [ux + 3 * C, uy + 4 * C, 0.0], [ux - C, uy, 0.0]]), (ux, uy), 1.0)
+    assert m.footprint_m == pytest.approx(5 * C) and m.reach_m == pytest.approx(5 * C)
+    own = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=0.0, center_y_m=0.0))
+    own.update(np.array([[ux, uy, 1.0]]), (ux, uy), 1.0)
+    assert own.footprint_m == 0.0
+
+
+@pytest.mark.parametrize("step,linked", [((1, 1), True), ((1, 2), False)])
+def test_only_neighbouring_perimeter_cells_fill_the_bins_between_them(step, linked):
+    """Far from the centre (3 km, 0.1 deg bins) two perimeter cells of one sighting skip bins;
+    FireMap.record fills those between neighbouring cells (8-neighbours, sqrt 2 cells apart),
+    not between cells a knight's move (sqrt 5 cells) apart."""
+    m = CirclingMonitor(
+        MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=0.0, center_y_m=0.0, bin_count=3600)
+    )
+    a = (3000.0, 0.0)
+    b = (a[0] + step[0] * C, a[1] + step[1] * C)
+    seen = np.array(
+        [[*a, 1.0], [a[0] + C, a[1] - C, 0.0], [a[0], a[1] - C, 0.0], [*b, 1.0], [b[0] + C, b[1], 0.0]]
+    )
+    m.update(seen, a, 5.0)
+    ba, bb = (int(m.fire_map.bin_of(*p)) for p in (a, b))
+    assert bb - ba >= 2
+    known = np.flatnonzero(m.fire_map.known)
+    assert known.tolist() == (list(range(ba, bb + 1)) if linked else [ba, bb])
+
+
+def test_a_nearer_perimeter_is_taken_where_the_old_outer_cell_is_seen_unburned():
+    """PM IV-A keeps the farthest cell; FireMap.record moves a bin's outer cell inwards only on
+    evidence, the same sighting's unburned cell where the outer cell was: the monitor hands it."""
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=0.0, center_y_m=0.0))
+    m.update(np.array([[3000.0, 0.0, 1.0], [3030.0, 0.0, 0.0]]), (3000.0, 0.0), 10.0)
+    assert m.fire_map.outer_d_m[0] == 3000.0
+    m.update(np.array([[2970.0, 0.0, 1.0], [3000.0, 0.0, 0.0], [3030.0, 0.0, 0.0]]), (2970.0, 0.0), 200.0)
+    assert m.fire_map.outer_d_m[0] == 2970.0
+
+
+def test_a_known_centre_lap_ends_on_the_heading_only_after_a_turn_and_a_quarter():
+    """A known centre outside the loop (angles about it never go round): the square of the
+    heading test ends its lap only when the heading has turned 5 pi / 2, at the fifth corner."""
+    seen = np.array([[0.0, 0.0, 1.0], [C, 0.0, 0.0]])
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=-5000.0, center_y_m=-5000.0))
+    path = (
+        [(i, 2) for i in range(10, 15)]
+        + [(14, j) for j in range(3, 7)]
+        + [(i, 6) for i in range(13, 9, -1)]
+        + [(10, j) for j in range(5, 1, -1)]
+        + [(i, 2) for i in range(11, 15)]
+    )
+    for k, (i, j) in enumerate(path):
+        m.update(seen, (i * C, j * C), float(k))
+        assert not m.initial_lap_done, (i, j)
+    m.update(seen, (14 * C, 3 * C), float(len(path)))
+    assert m.initial_lap_done
+
+
+def test_a_lap_without_a_centre_or_any_perimeter_centres_on_the_uav():
+    """Nothing but burning cells seen (no perimeter cell): at the lap's end the map's centre is
+    the UAV's position."""
+    seen = np.array([[0.0, 0.0, 1.0]])
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED))
+    path = (
+        [(i, 2) for i in range(10, 15)]
+        + [(14, j) for j in range(3, 7)]
+        + [(i, 6) for i in range(13, 9, -1)]
+        + [(10, j) for j in range(5, 1, -1)]
+        + [(11, 2)]
+    )
+    for k, (i, j) in enumerate(path):
+        m.update(seen, (i * C, j * C), float(k))
+    assert m.initial_lap_done
+    assert (m.fire_map.center_x_m, m.fire_map.center_y_m) == (11 * C, 2 * C)
+
+
+@pytest.mark.parametrize("split", ["spread", "relay"])
+def test_a_planning_step_splits_by_eq_7_work_with_the_spread_and_relay_splits(split):
+    """Through a whole step: the spread and relay splits get Eq. 7's rates of the cells (alpha
+    2), the peer's cell is the one nearest its angle, the spacing the mean chord (a third of the
+    octagon's side) and the relay's half arc reach + speed x period / 2; their masks weigh the
+    windows (and differ from the angle split's here)."""
+    from fire_perimeter_monitor.split import arc_work, relay_split, work_bisector_split
+
+    cells, adj, since = _octagon_by_hand(_ROS, _T_OUTER)
+    ang = np.arctan2(cells[:, 1] - _CENTRE[1], cells[:, 0] - _CENTRE[0])
+    k = int(np.argmin(np.abs((ang - math.radians(160.0) + np.pi) % (2 * np.pi) - np.pi)))
+    sp = _SIDE / 3
+    if split == "spread":
+        owned = work_bisector_split(arc_work(adj, sp), np.array([k]))
+    else:
+        owned = relay_split(adj, sp, k, 30.0 + 10.0 * 3.5 / 2, True, 0.5)
+    owned = owned.astype(float)
+    assert not np.array_equal(owned, _angle_owned(cells, 22.5, 160.0))
+    m = _octagon_monitor(_ROS, _T_OUTER, rule="windows", split=split, reach_m=30.0)
+    _with_peer_at(m, 160.0)
+    m._plan()
+    np.testing.assert_allclose(m.last_window.importance, _windows_by_hand(adj, since, owned), rtol=1e-12)
+
+
+def test_the_worst_angle_rule_weighs_eq_7s_alpha():
+    """With alpha 2 the fast cells weigh more (Eq. 7) and the UAV flies on; with alpha 1 it
+    would turn (a 40 m reach)."""
+    ros = [0.8, 3.0, 1.0, 0.4, np.nan, 2.0, 0.2, 0.5]
+    t_outer = [700.0, 1000.0, 900.0, 999.5, 980.0, 990.0, 800.0, 950.0]
+    _, adj2, since = _octagon_by_hand(ros, t_outer, alpha=2.0)
+    _, adj1, _ = _octagon_by_hand(ros, t_outer, alpha=1.0)
+    assert not _worst_turns_by_hand(adj2, since, 40.0) and _worst_turns_by_hand(adj1, since, 40.0)
+    m = _octagon_monitor(ros, t_outer, rule="worst", reach_m=40.0)
+    m._plan()
+    assert m.direction == Direction.CCW
+
+
+def test_the_angle_split_about_a_centre_far_off_the_y_axis():
+    """Centre (1000, 0), we at 180 deg (x = 500), the peer at 90 deg: ours are the cells nearer
+    in angle to 180 than to 90 deg."""
+    m = ImportanceMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, center_x_m=1000.0, center_y_m=0.0))
+    m.merge(_summary_with_recent_arc(centre=(1000.0, 0.0)), peer_id=7, peer_pos_m=(1000.0, 500.0), t_s=900.0)
+    m.uav_xy, m.t_s = (500.0, 0.0), 950.0
+    th = np.radians(np.arange(0.5, 360.0, 1.0))
+    cells = np.column_stack([1000.0 + 500.0 * np.cos(th), 500.0 * np.sin(th)])
+    deg = np.degrees(th)
+    assert m._peer_weight(cells).tolist() == ((deg > 135) & (deg < 315)).astype(float).tolist()

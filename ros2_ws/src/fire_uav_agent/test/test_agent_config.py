@@ -142,6 +142,19 @@ def test_the_drop_footprint_and_model(base):
     assert config_from_scenario(_odd(base, drop_model="disc"), 0).pattern_drops is False
 
 
+def test_a_pattern_drop_fleet_knows_the_raster_fuel_maps_coverage_levels(base):
+    """Pattern drops over a raster fire: the agent gets the fuel map's coverage levels (drop
+    guides' Table 1 as drop_coverage cites it: Anderson 1 short grass 1, Anderson 4 chaparral
+    6 gal/100 ft^2), a patch's model inside it; a disc drop or no raster fire: no levels."""
+    raster = sc.Raster(fuel_model=1, fuel_patches=(sc.FuelPatch(100.0, 200.0, 300.0, 400.0, 4),))
+    c = config_from_scenario(_odd(base, drop_model="pattern", raster=raster), 0)
+    assert c.coverage_levels is not None
+    assert c.coverage_levels.at(50.0, 50.0) == 1.0
+    assert c.coverage_levels.at(150.0, 350.0) == 6.0
+    assert config_from_scenario(_odd(base, drop_model="disc", raster=raster), 0).coverage_levels is None
+    assert config_from_scenario(_odd(base, drop_model="pattern", raster=None), 0).coverage_levels is None
+
+
 def test_a_fixed_wing_fleet_hands_its_airframe_to_the_agent(base):
     # uavs.vehicle_model coordinated_turn: the scenario's airframe envelope (small_uav by default)
     s = load_scenario(scenario_path("ff_two_fires"), overrides={"uavs.vehicle_model": "coordinated_turn"})

@@ -14,6 +14,7 @@ stages see exactly that pose.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -740,6 +741,28 @@ def test_fronts_known_from_peers_feed_the_published_fires_and_the_aim():
     assert (aim.x_m, aim.y_m) == (160.0, 180.0)
 
 
+def test_an_own_monitors_front_comes_before_the_peers_reports():
+    """_collect_fronts: a fire this UAV monitors takes its own monitor's head (PerimeterMonitor
+    .front) over a peer's reported front. The monitor's map is given a spreading fire by hand
+    (every bin 1 m/s by Eq. 1, its outer cells 400 m out, beyond the footprint)."""
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1), n=3))
+    for k in range(3):
+        _fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0)
+    fid = a.mission.target_fire_id
+    fm = a.monitor.monitors[fid].fire_map
+    th = fm.bin_center_rad()
+    r = np.where(np.abs(np.sin(th)) < 0.5, 400.0, 390.0)  # farthest east and west
+    fm.outer_x_m[:], fm.outer_y_m[:] = fm.center_x_m + r * np.cos(th), fm.center_y_m + r * np.sin(th)
+    fm.outer_d_m[:], fm.outer_t_s[:] = r, 0.25
+    fm.inner_d_m[:], fm.inner_t_s[:] = r - 0.2, 0.05
+    peer = FireEntry(fid, True, 145.0, 145.0, 15.0, front_x_m=10.0, front_y_m=20.0, max_spread_rate_mps=9.0)
+    out = _fly(a, 3, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[PeerFires(1, 3, 2, (peer,))])
+    own = a.monitor.front(fid)
+    assert own is not None and own[2] == pytest.approx(1.0)
+    (f,) = [e for e in out.fires if e.fire_id == fid]
+    assert (f.front_x_m, f.front_y_m, f.max_spread_rate_mps) == own
+
+
 # --- lockstep helper --------------------------------------------------------------------------
 def test_the_lockstep_wait_expects_the_previous_steps_messages_of_the_alive_peers():
     from fire_uav_common.topics import FLEET_FIRES_SPEC, FLEET_STATE_SPEC
@@ -1003,6 +1026,91 @@ def test_a_malformed_peer_perimeter_counts_nothing():
     good = PeerPerimeter(1, 3, 3, fid, a.monitor.active.to_summary())
     _fly(a, 4, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[good])
     assert (a.perimeter_received, a.perimeter_lost) == (1, 0)
+
+
+def test_a_peer_perimeter_is_merged_with_the_peers_id_position_and_the_step_time():
+    """The monitor of the fire gets the peer's map with the peer's id, its published position
+    (which places it for the split: the angle about the map's centre) and the step's time t_{k+1}
+    (its heard time); a map of a fire this UAV does not monitor, first in the inbox, is skipped
+    and the next one still merged."""
+    from fire_uav_agent.agent_types import PeerPerimeter
+
+    a = Agent(_cfg(prior_fires=((145.0, 145.0, 15.0),), mission=sc.MissionSettings(monitors_per_fire=1)))
+    for k in range(3):
+        _fly(a, k, 60.0, 145.0, cells=_block(), cell_size=10.0)
+    fid = a.mission.target_fire_id
+    mon = a.monitor.monitors[fid]
+    summary = a.monitor.active.to_summary()
+    other = PeerPerimeter(1, 1, 2, fid + 1, summary)
+    good = PeerPerimeter(1, 2, 2, fid, summary)
+    peer = _peer(1, 2, 230.0, 200.0)
+    _fly(a, 3, 60.0, 145.0, cells=_block(), cell_size=10.0, inbox=[peer, other, good])
+    assert a.perimeter_received == 1
+    p = mon._peers[1]
+    cx, cy = mon.fire_map.center_x_m, mon.fire_map.center_y_m
+    assert p.angle_rad == pytest.approx(math.atan2(200.0 - cy, 230.0 - cx), abs=1e-12)
+    assert p.heard_s == pytest.approx(T * 4)
+
+
+def test_a_fixed_wing_agent_is_built_on_its_airframe():
+    """A fixed-wing fleet (ff_two_fires on coordinated_turn: small_uav): the EKF with two wind
+    states (wind_estimation), starting at the start pose with no wind, over the configured
+    terrain, with no floor under its height, the input noise of the airframe (airframe_model's
+    input_noise_sigma over the physics period), the flown input on the airframe, the lakes long
+    enough for its scoop run, and the separation's turn rate the airframe's at each speed (B&M
+    Eq. 9.14, under the vehicle limit); FF's unicycle otherwise."""
+    from fire_uav_agent.agent_config import config_from_scenario
+    from fire_uav_agent.airframe_model import input_noise_sigma, usable_lakes
+    from fire_uav_agent.estimation import StateEkf
+    from fire_uav_agent.testing.harness import scenario_path
+    from fire_uav_agent.wind_estimation import WindStateEkf
+    from fire_uav_common.scenario import load_scenario
+
+    s = load_scenario(scenario_path("ff_two_fires"), overrides={"uavs.vehicle_model": "coordinated_turn"})
+    base = config_from_scenario(s, 1)
+    assert base.airframe is not None
+    # a model error (raises the speed and climb noise) and a pond too short for the scoop run
+    af = dataclasses.replace(base.airframe, model_error_mps=0.5)
+    cfg = dataclasses.replace(
+        base, airframe=af, terrain=Terrain(base_m=5.0), lakes=(*base.lakes, Lake(60.0, 60.0, 2.0))
+    )
+    a = Agent(cfg)
+    assert isinstance(a.ekf, WindStateEkf)
+    np.testing.assert_array_equal(a.ekf.x, [*cfg.start_pose, 0.0, 0.0])
+    assert a.ekf.terrain is cfg.terrain and a.ekf.cfg.alt_min_m == -math.inf
+    want = input_noise_sigma(af, cfg.vehicle.process_noise_sigma, cfg.physics_period_s)
+    assert tuple(a.ekf.cfg.sigma_nu) == tuple(want) and want[0] > cfg.vehicle.process_noise_sigma
+    assert a.flown.af is af and a.guide.flown is a.flown
+    assert a.lakes == usable_lakes(cfg.lakes, af)[0] and len(a.lakes) == len(cfg.lakes) - 1
+    lim = cfg.limits
+    for v in (lim.v_stall_mps, 0.5 * (lim.v_stall_mps + lim.v_max_mps), lim.v_max_mps):
+        assert a.avoidance.turn_rate_at(v) == min(lim.omega_max_radps, af.turn_rate_max_radps(v))
+    rotor = Agent(dataclasses.replace(cfg, airframe=None))
+    assert isinstance(rotor.ekf, StateEkf) and rotor.ekf.cfg.alt_min_m == 0.0
+    assert rotor.avoidance.turn_rate_at is None and rotor.flown.af is None
+
+
+def test_the_fire_consensus_gets_the_control_period_and_the_sensors_position_noise():
+    """FF III-C's fusion predicts over one control period T and weighs detections with the fire
+    sensor's centre noise (scenario sensors.fire.position_sigma_m): both from the scenario, here
+    off their defaults (T = 0.2 s, 3.5 m)."""
+    sens = sc.Sensors(fire=sc.FireSensorSpec(position_sigma_m=3.5))
+    a = Agent(_cfg(sensors=sens, timing=sc.Timing(control_period_s=0.2)))
+    assert (a.fires.cfg.control_period_s, a.fires.cfg.position_sigma_m) == (0.2, 3.5)
+
+
+def test_the_search_map_is_refreshed_only_by_an_airborne_sensor():
+    """FF's staleness search counts a grid point seen when it lies within the fire sensor's range
+    (70 m) of a flying UAV: a UAV on the ground sees nothing, one in the air at (150, 150) marks
+    the points within 70 m of it at t_{k+1}. Before any step the own cell is the whole grid."""
+    ground = Agent(_cfg())
+    assert ground._cell.all() and ground._cell.size == ground.grid.points.shape[0]  # before any step
+    _fly(ground, 0, 150.0, 150.0, vehicle=GROUND)
+    assert np.all(ground.search.last_seen == -ground.search.horizon_s)
+    air = Agent(_cfg())
+    _fly(air, 0, 150.0, 150.0)
+    d = np.hypot(air.grid.points[:, 0] - 150.0, air.grid.points[:, 1] - 150.0)
+    assert np.all(air.search.last_seen[d < 69.0] == T) and np.all(air.search.last_seen[d > 71.0] < 0)
 
 
 # --- wiring of the configuration into the stages ------------------------------------------------
