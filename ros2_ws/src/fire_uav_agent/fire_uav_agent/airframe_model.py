@@ -254,13 +254,17 @@ class FlownInput:
         v_c = _clip(float(u[0]), af.v_min_mps, af.v_max_mps)
         vz_c = _clip(float(u[1]), -af.descent_max_mps, af.climb_max_mps)
         p_max = math.radians(af.roll_rate_max_degps)
+        energy = af.excess_power
         sum_g = sum_z = sum_w = 0.0
         for _ in range(self.substeps):
             v_old = max(v, 1e-3)
             dv = _clip((v_c - v) / af.tau_airspeed_s, -af.accel_max_mps2, af.accel_max_mps2)
+            vz_t = vz_c
+            if energy is not None:  # the energy limit: climb first, the modelled climb spends P_s
+                vz_t, dv = energy.split(v_old, water_kg, vz_c, dv, climb)
             v = max(v + dt * dv, 1e-3)
             gamma = math.asin(_clip(climb / v_old, -1.0, 1.0))
-            gamma_c = math.asin(_clip(vz_c / v, -1.0, 1.0))
+            gamma_c = math.asin(_clip(vz_t / v, -1.0, 1.0))
             gamma += dt * (gamma_c - gamma) / af.tau_gamma_s
             climb = _clip(v * math.sin(gamma), -af.descent_max_mps, af.climb_max_mps)
             lim = bank_limit_rad(af, v, water_kg)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 import pytest
 from fire_uav_common.errors import ArgumentError, ScheduleError
 from fire_uav_common.scenario import AIRFRAMES, Scenario
@@ -109,3 +110,65 @@ def test_a_negative_count_of_start_poses_is_named():
 def test_takeoff_slots_every_interval():
     s = _line()
     assert [s.takeoff_time_s(i) for i in range(4)] == [0.0, 2.5, 5.0, 7.5]
+
+
+def _energy(margin: float = 1.0) -> t.ExcessPower:
+    return t.ExcessPower(
+        speeds_mps=(40.0, 50.0, 70.0),
+        water_kg=(0.0, 1000.0),
+        climb_mps=((2.0, 6.0, 4.0), (0.0, 3.0, 1.0)),
+        power_mps=((4.0, 6.0, 4.0), (2.0, 3.0, 1.0)),
+        margin=margin,
+    )
+
+
+def test_the_energy_tables_are_bilinear_between_their_points():
+    e = _energy()
+    for v in (35.0, 40.0, 44.0, 50.0, 63.0, 70.0, 90.0):  # the end values beyond the axis
+        for w, row in ((0.0, 0), (1000.0, 1)):
+            assert e.power_at(v, w) == pytest.approx(float(np.interp(v, e.speeds_mps, e.power_mps[row])))
+        lo = float(np.interp(v, e.speeds_mps, e.climb_mps[0]))
+        hi = float(np.interp(v, e.speeds_mps, e.climb_mps[1]))
+        assert e.climb_max_at(v, 250.0) == pytest.approx(0.75 * lo + 0.25 * hi)
+    assert _energy(0.9).power_at(50.0, 0.0) == pytest.approx(5.4)
+
+
+@pytest.mark.parametrize(
+    ("v", "climb_c", "accel_c"),
+    [
+        (45.0, 5.0, 1.0),
+        (50.0, 2.0, 1.0),
+        (50.0, 2.0, 0.1),
+        (60.0, -3.0, 1.0),
+        (70.0, 5.0, -0.5),
+        (80.0, 1.0, 0.5),
+    ],
+)
+def test_the_energy_split_spends_no_more_than_the_excess_power_and_climbs_first(v, climb_c, accel_c):
+    """Energy conservation (Lambregts 1983): climb + (v / g) dv/dt <= P_s; the climb gets what it is
+    commanded up to its limit before the speed gets any (climb first); a descent is never limited."""
+    e = _energy()
+    w = 0.0
+    climb, accel = e.split(v, w, climb_c, accel_c)
+    assert climb + v * accel / t.G_MPS2 <= e.power_at(v, w) + 1e-9 or accel == accel_c
+    assert accel <= accel_c
+    assert climb == (climb_c if climb_c <= 0.0 else min(climb_c, max(e.climb_max_at(v, w), 0.0)))
+    if accel < accel_c:  # the speed short: the power is spent, no more
+        assert climb + v * accel / t.G_MPS2 == pytest.approx(e.power_at(v, w))
+
+
+def test_the_energy_split_of_the_modelled_climb_and_beyond_the_top_speed():
+    e = _energy()
+    # 5 m/s of a lagging climb spend all but 1 m/s of 6: the speed gets g x 1 / 50
+    assert e.split(50.0, 0.0, 6.0, 3.0, 5.0) == (6.0, pytest.approx(t.G_MPS2 / 50.0))
+    # where the climb is below zero at full throttle it is cut to level, and the aircraft slows
+    e2 = t.ExcessPower((60.0, 80.0), (0.0,), ((1.0, -2.0),), ((1.0, -2.0),), margin=1.0)
+    climb, accel = e2.split(80.0, 0.0, 3.0, 1.0)
+    assert climb == 0.0 and accel == pytest.approx(-2.0 * t.G_MPS2 / 80.0)
+
+
+def test_energy_tables_of_the_wrong_shape_are_refused():
+    with pytest.raises(ArgumentError):
+        t.ExcessPower((40.0, 50.0), (0.0,), ((1.0, 2.0, 3.0),), ((1.0, 2.0),))
+    with pytest.raises(ArgumentError):
+        t.ExcessPower((50.0, 40.0), (0.0,), ((1.0, 2.0),), ((1.0, 2.0),))

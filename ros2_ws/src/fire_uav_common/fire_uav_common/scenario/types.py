@@ -105,6 +105,91 @@ class Vehicle:
 
 
 @dataclass(frozen=True)
+class ExcessPower:
+    """An aircraft's energy limit at full throttle: the specific excess power P_s = (T - D) v / W
+    [m/s] and the steepest climb it holds [m/s], tabulated over airspeed and water aboard (measured
+    under the ``jsbsim`` backend's autopilot: ``fire_world_sim.vehicles.jsbsim_envelope``,
+    docs/airframes.md).
+
+    Energy conservation bounds what the aircraft flies: climb rate + (v / g) dv/dt <= P_s(v, m)
+    (the specific energy rate; A. A. Lambregts, "Vertical flight path and speed control autopilot
+    design using total energy principles", AIAA 83-2239, 1983; B&M Eq. 9.18's airspeed response
+    under it). Where the pitch limit bounds the climb before the power does (the PC-7 full of water
+    near its 46.8 m/s floor) ``climb_mps`` is below ``power_mps``. :meth:`split` is the order in
+    which the autopilot spends it, climb first: world and agents read the same rule.
+
+    ``speeds_mps`` and ``water_kg`` ascending; ``climb_mps[i][j]`` and ``power_mps[i][j]`` at
+    ``water_kg[i]`` and ``speeds_mps[j]``; bilinear between the points, the end values beyond them.
+    ``margin``: the share of the measured figures the split spends (the throttle keeps a reserve to
+    track with).
+    """
+
+    speeds_mps: tuple[float, ...]
+    water_kg: tuple[float, ...]
+    climb_mps: tuple[tuple[float, ...], ...]
+    power_mps: tuple[tuple[float, ...], ...]
+    margin: float = 0.9
+
+    def __post_init__(self) -> None:
+        ns, nw = len(self.speeds_mps), len(self.water_kg)
+        rows = (self.climb_mps, self.power_mps)
+        if ns < 2 or nw < 1 or any(len(t) != nw or any(len(r) != ns for r in t) for t in rows):
+            raise ArgumentError(f"ExcessPower: tables must be {nw} x {ns} (water x speed), with >= 2 speeds")
+        for axis in (self.speeds_mps, self.water_kg):
+            if any(axis[k + 1] <= axis[k] for k in range(len(axis) - 1)):
+                raise ArgumentError(f"ExcessPower: axis must be ascending, got {axis}")
+
+    def _at(self, table: tuple[tuple[float, ...], ...], v_mps: float, water_kg: float) -> float:
+        def bracket(axis: tuple[float, ...], x: float) -> tuple[int, float]:
+            if x <= axis[0] or len(axis) == 1:
+                return 0, 0.0
+            if x >= axis[-1]:
+                return len(axis) - 2, 1.0
+            i = max(k for k in range(len(axis) - 1) if axis[k] <= x)
+            return i, (x - axis[i]) / (axis[i + 1] - axis[i])
+
+        j, fv = bracket(self.speeds_mps, v_mps)
+        if len(self.water_kg) == 1:
+            r = table[0]
+            return r[j] + fv * (r[j + 1] - r[j])
+        i, fw = bracket(self.water_kg, water_kg)
+        lo = table[i][j] + fv * (table[i][j + 1] - table[i][j])
+        hi = table[i + 1][j] + fv * (table[i + 1][j + 1] - table[i + 1][j])
+        return lo + fw * (hi - lo)
+
+    def climb_max_at(self, v_mps: float, water_kg: float) -> float:
+        """The steepest climb held at full throttle and airspeed v [m/s] (the table, times ``margin``)."""
+        c = self._at(self.climb_mps, v_mps, water_kg)
+        return self.margin * c if c > 0.0 else c / self.margin
+
+    def power_at(self, v_mps: float, water_kg: float) -> float:
+        """P_s at full throttle and airspeed v [m/s] (the table, times ``margin``)."""
+        p = self._at(self.power_mps, v_mps, water_kg)
+        return self.margin * p if p > 0.0 else p / self.margin
+
+    def split(
+        self,
+        v_mps: float,
+        water_kg: float,
+        climb_c_mps: float,
+        accel_c_mps2: float,
+        climb_now_mps: float | None = None,
+    ) -> tuple[float, float]:
+        """(climb command [m/s], acceleration command [m/s^2]) within the energy limit, climb first.
+
+        The climb command is kept within :meth:`climb_max_at`; the acceleration within what the
+        rest of P_s gives, (g / v) (P_s - climb), ``climb_now_mps`` the climb that spends it (None:
+        the climb command as limited, where the autopilot splits its commands; the modelled climb
+        where the agent predicts the speed). A climb command is cut to level flight at most, never to a descent;
+        above the speed where P_s is 0 the acceleration is negative (the aircraft slows)."""
+        v = max(v_mps, 1.0)
+        climb = min(climb_c_mps, max(self.climb_max_at(v, water_kg), min(climb_c_mps, 0.0)))
+        spent = climb if climb_now_mps is None else climb_now_mps
+        accel_lim = G_MPS2 * (self.power_at(v, water_kg) - spent) / v
+        return climb, min(accel_c_mps2, accel_lim)
+
+
+@dataclass(frozen=True)
 class JsbsimSetup:
     """What the ``jsbsim`` backend flies for a preset: a JSBSim aircraft and its autopilot's gains.
 
@@ -147,6 +232,8 @@ class JsbsimSetup:
     throttle_min: float = 0.1
     tecs_speed_weight: float = 0.5
     k_load: float = 6.0
+    # the aircraft's energy limit, measured; None: the autopilot splits no command by it (the J3Cub)
+    excess_power: ExcessPower | None = None
 
 
 @dataclass(frozen=True)
@@ -180,6 +267,9 @@ class Airframe:
     # [m/s] rms error of the first-order model above (the agents' on-board one) against the
     # aircraft in speed and climb rate; 0: the aircraft is that model (coordinated_turn)
     model_error_mps: float = 0.0
+    # the aircraft's energy limit the agents' model flies by (``jsbsim.excess_power`` on the ``jsbsim``
+    # backend, set by the scenario loader; None elsewhere: ``coordinated_turn`` has no energy limit)
+    excess_power: ExcessPower | None = None
 
     @property
     def v_min_mps(self) -> float:

@@ -111,8 +111,15 @@ class Autopilot:
         return _clip(v_lin_mps, lo, max(lo, self.af.v_max_mps))
 
     def update(
-        self, s: AirState, v_lin_mps: float, v_z_mps: float, omega_z_radps: float, dt_s: float
+        self,
+        s: AirState,
+        v_lin_mps: float,
+        v_z_mps: float,
+        omega_z_radps: float,
+        dt_s: float,
+        water_kg: float = 0.0,
     ) -> Surfaces:
+        """The surfaces for one substep; ``water_kg`` the load aboard (the energy limit's mass)."""
         af, js = self.af, self.js
         v = max(s.airspeed_mps, 1.0)
         # lateral: coordinated-turn bank command, roll PID, rudder against sideslip
@@ -134,11 +141,13 @@ class Autopilot:
         # longitudinal: TECS
         v_c = self.speed_command_mps(v_lin_mps)
         vz_c = _clip(v_z_mps, -af.descent_max_mps, af.climb_max_mps)
-        gamma = math.asin(_clip(s.climb_mps / v, -1.0, 1.0))
-        gamma_c = math.asin(_clip(vz_c / v, -1.0, 1.0))
         vdot = 0.0 if self.prev_airspeed_mps is None else (s.airspeed_mps - self.prev_airspeed_mps) / dt_s
         self.prev_airspeed_mps = s.airspeed_mps
         vdot_c = _clip(js.k_speed_1ps * (v_c - s.airspeed_mps), -af.accel_max_mps2, af.accel_max_mps2)
+        if js.excess_power is not None:  # short of power: climb first, the rest to speed (module doc)
+            vz_c, vdot_c = js.excess_power.split(s.airspeed_mps, water_kg, vz_c, vdot_c)
+        gamma = math.asin(_clip(s.climb_mps / v, -1.0, 1.0))
+        gamma_c = math.asin(_clip(vz_c / v, -1.0, 1.0))
         e_t = (gamma_c - gamma) + (vdot_c - vdot) / G_MPS2
         e_d = (gamma_c - gamma) - js.tecs_speed_weight * (vdot_c - vdot) / G_MPS2
         thr_raw = self.trim_throttle + js.tecs_kp_t * e_t + js.tecs_ki_t * self.i_t
