@@ -261,7 +261,8 @@ class FlownInput:
             dv = _clip((v_c - v) / af.tau_airspeed_s, -af.accel_max_mps2, af.accel_max_mps2)
             vz_t = vz_c
             if energy is not None:  # the energy limit: climb first, the modelled climb spends P_s
-                vz_t, dv = energy.split(v_old, water_kg, vz_c, dv, climb)
+                n_turn = 1.0 / max(math.cos(phi), 0.3)
+                vz_t, dv = energy.split(v_old, water_kg, vz_c, dv, climb, n_turn, af.v_min_mps)
             v = max(v + dt * dv, 1e-3)
             gamma = math.asin(_clip(climb / v_old, -1.0, 1.0))
             gamma_c = math.asin(_clip(vz_t / v, -1.0, 1.0))

@@ -42,11 +42,13 @@ DEFAULT_AIRFRAMES = {"coordinated_turn": DEFAULT_AIRFRAME, "jsbsim": "j3cub"}
 #: docs/airframes.md): at each water load and commanded airspeed, full throttle, the steepest
 #: climb held with the speed within 0.7 m/s, and P_s (the same where the speed holds; at 46.8 and
 #: 50 m/s, where the 15 deg pitch limit bounds the climb first, the climb flown where the speed
-#: settled, at 49.5-52.4 m/s). Full of water it climbs 3.2 m/s at 55 m/s, 0.7 m/s at 75 m/s.
+#: settled, at 49.5-52.4 m/s). Full of water it climbs 3.2 m/s at 55 m/s, 0.7 m/s at 75 m/s; in
+#: a 45 deg turn the induced drag takes 3.3-3.9 m/s more of it (ExcessPower: below 0 at 47-75 m/s).
 # fmt: off
 PC7_EXCESS_POWER = ExcessPower(
     speeds_mps=(46.8, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0),
     water_kg=(0.0, 1000.0, 2000.0, 3000.0),
+    mass_kg=(1494.5, 1840.7, 2187.1, 2529.7),  # JSBSim's inertia/weight-lbs with the water aboard
     climb_mps=(
         (7.27, 8.95, 9.76, 9.16, 7.76, 4.74, 1.22, -2.55),
         (4.87, 6.70, 6.87, 6.37, 5.63, 4.45, 1.40, -2.00),

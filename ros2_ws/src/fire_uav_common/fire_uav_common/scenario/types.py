@@ -118,6 +118,15 @@ class ExcessPower:
     near its 46.8 m/s floor) ``climb_mps`` is below ``power_mps``. :meth:`split` is the order in
     which the autopilot spends it, climb first: world and agents read the same rule.
 
+    In a turn at load factor n the induced drag, k n^2 W^2 / q for a parabolic polar, grows by
+    (n^2 - 1) times its level value, which lowers P_s by B(v) m (n^2 - 1) (B&M sec. 4.3's drag
+    polar; the turn's n = 1 / cos(phi), B&M Eq. 9.14's coordinated turn). With P_s = A(v) / m -
+    B(v) m at each speed (thrust power less parasitic drag over the weight, less the induced part),
+    the lightest and heaviest rows (``mass_kg``: the aircraft's mass at each water row, as JSBSim
+    weighs it) give B(v), and B(v) = c / v (the induced power per weight falls as 1 / v) with c
+    their median over the speeds (at 75-80 m/s the table's rows do not follow the polar); no
+    ``mass_kg``: no turn term.
+
     ``speeds_mps`` and ``water_kg`` ascending; ``climb_mps[i][j]`` and ``power_mps[i][j]`` at
     ``water_kg[i]`` and ``speeds_mps[j]``; bilinear between the points, the end values beyond them.
     ``margin``: the share of the measured figures the split spends (the throttle keeps a reserve to
@@ -128,6 +137,7 @@ class ExcessPower:
     water_kg: tuple[float, ...]
     climb_mps: tuple[tuple[float, ...], ...]
     power_mps: tuple[tuple[float, ...], ...]
+    mass_kg: tuple[float, ...] = ()
     margin: float = 0.9
 
     def __post_init__(self) -> None:
@@ -135,37 +145,69 @@ class ExcessPower:
         rows = (self.climb_mps, self.power_mps)
         if ns < 2 or nw < 1 or any(len(t) != nw or any(len(r) != ns for r in t) for t in rows):
             raise ArgumentError(f"ExcessPower: tables must be {nw} x {ns} (water x speed), with >= 2 speeds")
-        for axis in (self.speeds_mps, self.water_kg):
+        if self.mass_kg and (len(self.mass_kg) != nw or nw < 2):
+            raise ArgumentError(
+                f"ExcessPower: mass_kg needs one mass per water row (>= 2), got {self.mass_kg}"
+            )
+        for axis in (self.speeds_mps, self.water_kg, self.mass_kg):
             if any(axis[k + 1] <= axis[k] for k in range(len(axis) - 1)):
                 raise ArgumentError(f"ExcessPower: axis must be ascending, got {axis}")
 
+    @staticmethod
+    def _bracket(axis: tuple[float, ...], x: float) -> tuple[int, float]:
+        if len(axis) == 1 or x <= axis[0]:
+            return 0, 0.0
+        if x >= axis[-1]:
+            return len(axis) - 2, 1.0
+        i = max(k for k in range(len(axis) - 1) if axis[k] <= x)
+        return i, (x - axis[i]) / (axis[i + 1] - axis[i])
+
+    def _row(self, row: tuple[float, ...], v_mps: float) -> float:
+        j, f = self._bracket(self.speeds_mps, v_mps)
+        return row[j] + f * (row[j + 1] - row[j])
+
     def _at(self, table: tuple[tuple[float, ...], ...], v_mps: float, water_kg: float) -> float:
-        def bracket(axis: tuple[float, ...], x: float) -> tuple[int, float]:
-            if x <= axis[0] or len(axis) == 1:
-                return 0, 0.0
-            if x >= axis[-1]:
-                return len(axis) - 2, 1.0
-            i = max(k for k in range(len(axis) - 1) if axis[k] <= x)
-            return i, (x - axis[i]) / (axis[i + 1] - axis[i])
-
-        j, fv = bracket(self.speeds_mps, v_mps)
         if len(self.water_kg) == 1:
-            r = table[0]
-            return r[j] + fv * (r[j + 1] - r[j])
-        i, fw = bracket(self.water_kg, water_kg)
-        lo = table[i][j] + fv * (table[i][j + 1] - table[i][j])
-        hi = table[i + 1][j] + fv * (table[i + 1][j + 1] - table[i + 1][j])
-        return lo + fw * (hi - lo)
+            return self._row(table[0], v_mps)
+        i, f = self._bracket(self.water_kg, water_kg)
+        lo, hi = self._row(table[i], v_mps), self._row(table[i + 1], v_mps)
+        return lo + f * (hi - lo)
 
-    def climb_max_at(self, v_mps: float, water_kg: float) -> float:
-        """The steepest climb held at full throttle and airspeed v [m/s] (the table, times ``margin``)."""
-        c = self._at(self.climb_mps, v_mps, water_kg)
-        return self.margin * c if c > 0.0 else c / self.margin
+    def induced_mps(self, v_mps: float, water_kg: float) -> float:
+        """B(v) m = c m / v: the part of P_s [m/s] that level flight's induced drag takes (class doc)."""
+        if not self.mass_kg:
+            return 0.0
+        i, f = self._bracket(self.water_kg, water_kg)
+        m = self.mass_kg[i] + f * (self.mass_kg[i + 1] - self.mass_kg[i])
+        return self._induced_c * m / max(v_mps, 1.0)
 
-    def power_at(self, v_mps: float, water_kg: float) -> float:
-        """P_s at full throttle and airspeed v [m/s] (the table, times ``margin``)."""
-        p = self._at(self.power_mps, v_mps, water_kg)
-        return self.margin * p if p > 0.0 else p / self.margin
+    @property
+    def _induced_c(self) -> float:
+        """c of B(v) = c / v (the induced power 2 k W / (rho S v) per weight falls as 1 / v): the
+        median over the table's speeds of B(v) v, each B(v) from the lightest and heaviest rows,
+        P_s = A / m - B m at two masses."""
+        m1, m2 = self.mass_kg[0], self.mass_kg[-1]
+        cs = sorted(
+            max((p2 - p1 * m1 / m2) / (m1 * m1 / m2 - m2), 0.0) * v
+            for v, p1, p2 in zip(self.speeds_mps, self.power_mps[0], self.power_mps[-1], strict=True)
+        )
+        k = len(cs)
+        return 0.5 * (cs[(k - 1) // 2] + cs[k // 2])
+
+    def _spend(self, x: float) -> float:
+        return self.margin * x if x > 0.0 else x / self.margin
+
+    def climb_max_at(self, v_mps: float, water_kg: float, load_factor: float = 1.0) -> float:
+        """The steepest climb held at full throttle, airspeed v and load factor n [m/s] (the table,
+        times ``margin``, less the turn's induced drag)."""
+        turn = self.induced_mps(v_mps, water_kg) * (max(load_factor, 1.0) ** 2 - 1.0)
+        return self._spend(self._at(self.climb_mps, v_mps, water_kg) - turn)
+
+    def power_at(self, v_mps: float, water_kg: float, load_factor: float = 1.0) -> float:
+        """P_s at full throttle, airspeed v and load factor n [m/s] (the table, times ``margin``,
+        less the turn's induced drag)."""
+        turn = self.induced_mps(v_mps, water_kg) * (max(load_factor, 1.0) ** 2 - 1.0)
+        return self._spend(self._at(self.power_mps, v_mps, water_kg) - turn)
 
     def split(
         self,
@@ -174,19 +216,29 @@ class ExcessPower:
         climb_c_mps: float,
         accel_c_mps2: float,
         climb_now_mps: float | None = None,
+        load_factor: float = 1.0,
+        v_floor_mps: float = 0.0,
     ) -> tuple[float, float]:
         """(climb command [m/s], acceleration command [m/s^2]) within the energy limit, climb first.
 
         The climb command is kept within :meth:`climb_max_at`; the acceleration within what the
         rest of P_s gives, (g / v) (P_s - climb), ``climb_now_mps`` the climb that spends it (None:
         the climb command as limited, where the autopilot splits its commands; the modelled climb
-        where the agent predicts the speed). A climb command is cut to level flight at most, never to a descent;
-        above the speed where P_s is 0 the acceleration is negative (the aircraft slows)."""
+        where the agent predicts the speed). A climb command is cut to level flight at most, and
+        the aircraft slows where P_s is short of that; at or below ``v_floor_mps`` (the slowest it
+        flies) the speed is held first: the climb is cut to P_s, a descent if P_s < 0 (a hard turn
+        full of water), and the acceleration is not below 0."""
         v = max(v_mps, 1.0)
-        climb = min(climb_c_mps, max(self.climb_max_at(v, water_kg), min(climb_c_mps, 0.0)))
+        n = load_factor
+        climb = min(climb_c_mps, max(self.climb_max_at(v, water_kg, n), min(climb_c_mps, 0.0)))
+        p_s = self.power_at(v, water_kg, n)
+        if v_mps <= v_floor_mps and accel_c_mps2 >= 0.0 and climb > p_s:
+            climb = p_s  # the speed first at the floor
         spent = climb if climb_now_mps is None else climb_now_mps
-        accel_lim = G_MPS2 * (self.power_at(v, water_kg) - spent) / v
-        return climb, min(accel_c_mps2, accel_lim)
+        accel = min(accel_c_mps2, G_MPS2 * (p_s - spent) / v)
+        if v_mps <= v_floor_mps:
+            accel = max(accel, min(accel_c_mps2, 0.0))
+        return climb, accel
 
 
 @dataclass(frozen=True)

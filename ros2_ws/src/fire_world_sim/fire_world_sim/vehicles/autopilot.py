@@ -145,7 +145,11 @@ class Autopilot:
         self.prev_airspeed_mps = s.airspeed_mps
         vdot_c = _clip(js.k_speed_1ps * (v_c - s.airspeed_mps), -af.accel_max_mps2, af.accel_max_mps2)
         if js.excess_power is not None:  # short of power: climb first, the rest to speed (module doc)
-            vz_c, vdot_c = js.excess_power.split(s.airspeed_mps, water_kg, vz_c, vdot_c)
+            n_turn = 1.0 / max(math.cos(s.bank_rad), 0.3)
+            floor = max(af.v_min_mps, js.v_floor_mps)
+            vz_c, vdot_c = js.excess_power.split(
+                s.airspeed_mps, water_kg, vz_c, vdot_c, load_factor=n_turn, v_floor_mps=floor
+            )
         gamma = math.asin(_clip(s.climb_mps / v, -1.0, 1.0))
         gamma_c = math.asin(_clip(vz_c / v, -1.0, 1.0))
         e_t = (gamma_c - gamma) + (vdot_c - vdot) / G_MPS2
