@@ -193,8 +193,8 @@ def test_the_tankers_model_predicts_the_pc7s_speed_and_climb_short_of_power() ->
     """The agents' model of the tanker on ``jsbsim`` against JSBSim's PC-7 full of water (3,000 kg),
     launched at its 46.8 m/s floor and commanded to accelerate to 75 m/s and climb 5 m/s for 60 s
     (a takeoff), then to level off at 75 m/s for 80 s: the model's speed and climb rate follow the
-    aircraft's (rms 0.6 and 0.2 m/s). Without the energy limit (speed, climb rate and bank each a
-    first-order response on its own) it was 12.4 m/s and 1.9 m/s off: it reached 75 m/s in 30 s,
+    aircraft's (rms 0.61 and 0.21 m/s). Without the energy limit (speed, climb rate and bank each a
+    first-order response on its own) it was 11.9 m/s and 1.8 m/s off: it reached 75 m/s in 30 s,
     which the PC-7, its specific excess power 3.2 m/s at best, takes over two minutes to near."""
     import numpy as np
     from fire_uav_agent.airframe_model import FlownInput

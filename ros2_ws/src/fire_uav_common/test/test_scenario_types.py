@@ -172,3 +172,32 @@ def test_energy_tables_of_the_wrong_shape_are_refused():
         t.ExcessPower((40.0, 50.0), (0.0,), ((1.0, 2.0, 3.0),), ((1.0, 2.0),))
     with pytest.raises(ArgumentError):
         t.ExcessPower((50.0, 40.0), (0.0,), ((1.0, 2.0),), ((1.0, 2.0),))
+
+
+def test_the_turns_induced_drag_is_that_of_a_parabolic_polar():
+    """A made-up aircraft with a parabolic drag polar: P_s = A(v) / m - c m n^2 / v (thrust power
+    less parasitic drag over the weight, less the induced drag k n^2 W^2 / q times v over W). Its
+    level-flight table at two masses gives back the turn's P_s at any mass and load factor."""
+    speeds, masses, c = (40.0, 55.0, 70.0), (1500.0, 2500.0), 0.07
+    a = {40.0: 9000.0, 55.0: 12000.0, 70.0: 10000.0}
+
+    def ps(v: float, m: float, n: float = 1.0) -> float:
+        return a[v] / m - c * m * n * n / v
+
+    rows = tuple(tuple(ps(v, m) for v in speeds) for m in masses)
+    e = t.ExcessPower(speeds, (0.0, 1000.0), rows, rows, mass_kg=masses, margin=1.0)
+    for v in speeds:
+        for w, m in ((0.0, 1500.0), (1000.0, 2500.0)):
+            for n in (1.0, 1.0 / math.cos(math.radians(30.0)), math.sqrt(2.0)):
+                assert e.power_at(v, w, n) == pytest.approx(ps(v, m, n))
+                assert e.climb_max_at(v, w, n) == pytest.approx(ps(v, m, n))
+
+
+def test_at_its_floor_the_aircraft_holds_its_speed_before_it_climbs():
+    """Full of water in a hard turn at the slowest speed it flies, P_s < 0: the split holds the
+    speed (no deceleration below the floor) and gives up height at P_s (energy conservation);
+    above the floor the same command cuts the climb to level and slows the aircraft."""
+    e = t.ExcessPower((40.0, 60.0), (0.0,), ((-1.0, -1.0),), ((-1.0, -1.0),), margin=1.0)
+    assert e.split(45.0, 0.0, 2.0, 0.5, v_floor_mps=46.0) == (-1.0, 0.0)
+    climb, accel = e.split(50.0, 0.0, 2.0, 0.5, v_floor_mps=46.0)
+    assert climb == 0.0 and accel == pytest.approx(-t.G_MPS2 / 50.0)

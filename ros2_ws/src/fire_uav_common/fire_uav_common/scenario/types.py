@@ -286,6 +286,9 @@ class JsbsimSetup:
     k_load: float = 6.0
     # the aircraft's energy limit, measured; None: the autopilot splits no command by it (the J3Cub)
     excess_power: ExcessPower | None = None
+    # [m/s] the agents' model error against this aircraft, where the preset's model_error_mps is 0
+    # (a preset flown by coordinated_turn too: there the model is exact)
+    model_error_mps: float = 0.0
 
 
 @dataclass(frozen=True)

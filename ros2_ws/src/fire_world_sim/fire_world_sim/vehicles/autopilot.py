@@ -23,6 +23,16 @@ principles", AIAA 83-2239, 1983):
   floor (``throttle_min``): on a propeller aircraft such as the J3Cub the propwash over the tail
   gives the elevator its authority at low speed. The pitch command goes
   to the elevator by a PD on pitch and on the pitch rate beyond a steady turn's (B&M 6.4.1).
+- the energy split, on an aircraft short of power (``jsbsim.excess_power``: the PC-7 full of water,
+  whose specific excess power at full throttle is 3.2 m/s at best): the weight w shares a
+  saturated throttle's shortfall between climb and speed in a ratio that drifts with the state
+  (the PC-7 commanded to 75 m/s and a climb traded climb for speed over minutes). So before the TECS
+  the commands are split by the measured energy limit (Lambregts' specific energy rate, climb +
+  (v / g) dv/dt <= P_s; :meth:`fire_uav_common.scenario.ExcessPower.split`), climb first: the climb
+  command within the climb the aircraft holds at this speed, load and bank, the acceleration
+  within the rest of P_s, the speed held first at the floor. The TECS then tracks commands the
+  aircraft can fly with its throttle off the stop (the split spends 90 % of the measured P_s), in
+  the order the agents' model predicts. No table (the J3Cub): no split, the TECS as before.
 - the envelope: the course turns at g n sin(phi) / v, more than g tan(phi) / v when a pull-up
   raises the load factor n above level flight's 1 / cos(phi). The bank is further limited to
   asin(tan(bank_max) / n) and the elevator eases the pull where n sin(phi) exceeds 0.9 tan(bank_max),
