@@ -226,3 +226,17 @@ def test_the_tankers_model_predicts_the_pc7s_speed_and_climb_short_of_power() ->
         err_z.append(float(np.mean(zs)) - u[1])
     assert math.sqrt(float(np.mean(np.square(err_v)))) < 1.5
     assert math.sqrt(float(np.mean(np.square(err_z)))) < 0.5
+
+
+def test_the_tankers_agents_know_the_pc7s_energy_limit_on_jsbsim_only() -> None:
+    """On ``jsbsim`` the tanker's agents fly their model by the PC-7's measured energy limit and
+    their EKF carries its model error; on ``coordinated_turn``, which flies that first-order model
+    exactly, neither (its missions unchanged)."""
+    on = {}
+    for model in ("jsbsim", "coordinated_turn"):
+        sc = load_scenario(scenario_path("ff_two_fires_tanker"), overrides={"uavs.vehicle_model": model})
+        on[model] = config_from_scenario(sc, 0).airframe
+    assert on["jsbsim"] is not None and on["coordinated_turn"] is not None
+    assert on["jsbsim"].excess_power is AIRFRAMES["tanker"].jsbsim.excess_power is not None
+    assert on["jsbsim"].model_error_mps > 0.0
+    assert on["coordinated_turn"].excess_power is None and on["coordinated_turn"].model_error_mps == 0.0

@@ -38,12 +38,12 @@ DEFAULT_AIRFRAME = "small_uav"
 DEFAULT_AIRFRAMES = {"coordinated_turn": DEFAULT_AIRFRAME, "jsbsim": "j3cub"}
 
 
-#: The PC-7's energy limit under the world's autopilot (``jsbsim_envelope.measure_excess_power``,
-#: docs/airframes.md): at each water load and commanded airspeed, full throttle, the steepest
+#: The PC-7's energy limit under the world's autopilot (``jsbsim_envelope.full_throttle_climb``,
+#: ``scripts/jsbsim_envelope.py --airframe tanker --excess-power``; docs/airframes.md): at each water load and commanded airspeed, full throttle, the steepest
 #: climb held with the speed within 0.7 m/s, and P_s (the same where the speed holds; at 46.8 and
 #: 50 m/s, where the 15 deg pitch limit bounds the climb first, the climb flown where the speed
 #: settled, at 49.5-52.4 m/s). Full of water it climbs 3.2 m/s at 55 m/s, 0.7 m/s at 75 m/s; in
-#: a 45 deg turn the induced drag takes 3.3-3.9 m/s more of it (ExcessPower: below 0 at 47-75 m/s).
+#: a 45 deg turn full the induced drag takes 2.3-3.7 m/s more of it (ExcessPower: P_s 0.1 m/s at best).
 # fmt: off
 PC7_EXCESS_POWER = ExcessPower(
     speeds_mps=(46.8, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0),

@@ -255,7 +255,10 @@ class JsbsimSetup:
     roll PID on aileron, rudder on sideslip, pitch PD on elevator, the total-energy controller's
     proportional / integral gains on throttle (``tecs_*_t``) and on pitch (``tecs_*_d``), and the
     speed loop ``k_speed_1ps`` that turns an airspeed error into a commanded acceleration, ``k_load``
-    the elevator's easing of a pull that would turn the course beyond the envelope.
+    the elevator's easing of a pull that would turn the course beyond the envelope;
+    ``excess_power`` the aircraft's measured energy limit (:class:`ExcessPower`: the autopilot splits
+    its commands by it, and the agents on ``jsbsim`` model it), ``model_error_mps`` the agents'
+    model error against this aircraft where the preset gives none.
     """
 
     aircraft: str = "J3Cub"
