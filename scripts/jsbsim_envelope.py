@@ -6,9 +6,12 @@ agent, calm air, 100 Hz) at the full and the empty tank and prints what it flies
 and level speeds, the top speed at full throttle, and at the autopilot's slowest speed the climb
 and descent rates, the bank and turn rate of the hardest level turn, the roll rate, the
 acceleration and the response times; then the preset's figures for the same fields. The
-``j3cub`` preset's figures come from this script. Prints, no asserts.
+``j3cub`` preset's figures come from this script. With ``--excess-power`` it measures instead the
+energy limit at full throttle (``full_throttle_climb``: the steepest climb held and P_s) over the
+preset's ``jsbsim.excess_power`` grid (``tanker``: ``PC7_EXCESS_POWER``), beside the preset's
+values. Prints, no asserts.
 
-Usage: .venv/bin/python scripts/jsbsim_envelope.py [--airframe j3cub] [--v-slow 22]
+Usage: .venv/bin/python scripts/jsbsim_envelope.py [--airframe j3cub] [--v-slow 22] [--excess-power]
 """
 
 from __future__ import annotations
@@ -19,17 +22,33 @@ import math
 
 from fire_uav_common.scenario import AIRFRAMES
 from fire_uav_common.scenario.airframes import G_MPS2
-from fire_world_sim.vehicles.jsbsim_envelope import measure_envelope
+from fire_world_sim.vehicles.jsbsim_envelope import full_throttle_climb, measure_envelope
 
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="jsbsim_envelope.py", description=__doc__.split("\n\n")[0])
     p.add_argument("--airframe", default="j3cub", choices=sorted(AIRFRAMES))
     p.add_argument("--v-slow", type=float, default=None, help="fly climb, descent, turn at this [m/s]")
+    p.add_argument("--excess-power", action="store_true", help="measure the energy limit's table")
     a = p.parse_args(argv)
     if a.v_slow is not None and not a.v_slow > 0:
         p.error(f"--v-slow must be > 0, got {a.v_slow}")
     af = AIRFRAMES[a.airframe]
+    if a.excess_power:
+        ep = af.jsbsim.excess_power
+        if ep is None:
+            p.error(f"preset {a.airframe} has no jsbsim.excess_power grid")
+        print(
+            f"preset {a.airframe}, JSBSim aircraft {af.jsbsim.aircraft}: climb held / P_s at full throttle [m/s]"
+        )
+        for i, water in enumerate(ep.water_kg):
+            for j, v in enumerate(ep.speeds_mps):
+                climb, ps = full_throttle_climb(af, v, water)
+                print(
+                    f"  water {water:6.0f} kg  v {v:5.1f} m/s  measured {climb:6.2f} / {ps:6.2f}"
+                    f"  preset {ep.climb_mps[i][j]:6.2f} / {ep.power_mps[i][j]:6.2f}"
+                )
+        return 0
     print(
         f"preset {a.airframe}, JSBSim aircraft {af.jsbsim.aircraft}, autopilot floor {af.jsbsim.v_floor_mps:g} m/s"
     )

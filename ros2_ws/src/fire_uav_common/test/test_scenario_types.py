@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 import pytest
 from fire_uav_common.errors import ArgumentError, ScheduleError
 from fire_uav_common.scenario import AIRFRAMES, Scenario
@@ -109,3 +110,94 @@ def test_a_negative_count_of_start_poses_is_named():
 def test_takeoff_slots_every_interval():
     s = _line()
     assert [s.takeoff_time_s(i) for i in range(4)] == [0.0, 2.5, 5.0, 7.5]
+
+
+def _energy(margin: float = 1.0) -> t.ExcessPower:
+    return t.ExcessPower(
+        speeds_mps=(40.0, 50.0, 70.0),
+        water_kg=(0.0, 1000.0),
+        climb_mps=((2.0, 6.0, 4.0), (0.0, 3.0, 1.0)),
+        power_mps=((4.0, 6.0, 4.0), (2.0, 3.0, 1.0)),
+        margin=margin,
+    )
+
+
+def test_the_energy_tables_are_bilinear_between_their_points():
+    e = _energy()
+    for v in (35.0, 40.0, 44.0, 50.0, 63.0, 70.0, 90.0):  # the end values beyond the axis
+        for w, row in ((0.0, 0), (1000.0, 1)):
+            assert e.power_at(v, w) == pytest.approx(float(np.interp(v, e.speeds_mps, e.power_mps[row])))
+        lo = float(np.interp(v, e.speeds_mps, e.climb_mps[0]))
+        hi = float(np.interp(v, e.speeds_mps, e.climb_mps[1]))
+        assert e.climb_max_at(v, 250.0) == pytest.approx(0.75 * lo + 0.25 * hi)
+    assert _energy(0.9).power_at(50.0, 0.0) == pytest.approx(5.4)
+
+
+@pytest.mark.parametrize(
+    ("v", "climb_c", "accel_c"),
+    [
+        (45.0, 5.0, 1.0),
+        (50.0, 2.0, 1.0),
+        (50.0, 2.0, 0.1),
+        (60.0, -3.0, 1.0),
+        (70.0, 5.0, -0.5),
+        (80.0, 1.0, 0.5),
+    ],
+)
+def test_the_energy_split_spends_no_more_than_the_excess_power_and_climbs_first(v, climb_c, accel_c):
+    """Energy conservation (Lambregts 1983): climb + (v / g) dv/dt <= P_s; the climb gets what it is
+    commanded up to its limit before the speed gets any (climb first); a descent is never limited."""
+    e = _energy()
+    w = 0.0
+    climb, accel = e.split(v, w, climb_c, accel_c)
+    assert climb + v * accel / t.G_MPS2 <= e.power_at(v, w) + 1e-9 or accel == accel_c
+    assert accel <= accel_c
+    assert climb == (climb_c if climb_c <= 0.0 else min(climb_c, max(e.climb_max_at(v, w), 0.0)))
+    if accel < accel_c:  # the speed short: the power is spent, no more
+        assert climb + v * accel / t.G_MPS2 == pytest.approx(e.power_at(v, w))
+
+
+def test_the_energy_split_of_the_modelled_climb_and_beyond_the_top_speed():
+    e = _energy()
+    # 5 m/s of a lagging climb spend all but 1 m/s of 6: the speed gets g x 1 / 50
+    assert e.split(50.0, 0.0, 6.0, 3.0, 5.0) == (6.0, pytest.approx(t.G_MPS2 / 50.0))
+    # where the climb is below zero at full throttle it is cut to level, and the aircraft slows
+    e2 = t.ExcessPower((60.0, 80.0), (0.0,), ((1.0, -2.0),), ((1.0, -2.0),), margin=1.0)
+    climb, accel = e2.split(80.0, 0.0, 3.0, 1.0)
+    assert climb == 0.0 and accel == pytest.approx(-2.0 * t.G_MPS2 / 80.0)
+
+
+def test_energy_tables_of_the_wrong_shape_are_refused():
+    with pytest.raises(ArgumentError):
+        t.ExcessPower((40.0, 50.0), (0.0,), ((1.0, 2.0, 3.0),), ((1.0, 2.0),))
+    with pytest.raises(ArgumentError):
+        t.ExcessPower((50.0, 40.0), (0.0,), ((1.0, 2.0),), ((1.0, 2.0),))
+
+
+def test_the_turns_induced_drag_is_that_of_a_parabolic_polar():
+    """A made-up aircraft with a parabolic drag polar: P_s = A(v) / m - c m n^2 / v (thrust power
+    less parasitic drag over the weight, less the induced drag k n^2 W^2 / q times v over W). Its
+    level-flight table at two masses gives back the turn's P_s at any mass and load factor."""
+    speeds, masses, c = (40.0, 55.0, 70.0), (1500.0, 2500.0), 0.07
+    a = {40.0: 9000.0, 55.0: 12000.0, 70.0: 10000.0}
+
+    def ps(v: float, m: float, n: float = 1.0) -> float:
+        return a[v] / m - c * m * n * n / v
+
+    rows = tuple(tuple(ps(v, m) for v in speeds) for m in masses)
+    e = t.ExcessPower(speeds, (0.0, 1000.0), rows, rows, mass_kg=masses, margin=1.0)
+    for v in speeds:
+        for w, m in ((0.0, 1500.0), (1000.0, 2500.0)):
+            for n in (1.0, 1.0 / math.cos(math.radians(30.0)), math.sqrt(2.0)):
+                assert e.power_at(v, w, n) == pytest.approx(ps(v, m, n))
+                assert e.climb_max_at(v, w, n) == pytest.approx(ps(v, m, n))
+
+
+def test_at_its_floor_the_aircraft_holds_its_speed_before_it_climbs():
+    """Full of water in a hard turn at the slowest speed it flies, P_s < 0: the split holds the
+    speed (no deceleration below the floor) and gives up height at P_s (energy conservation);
+    above the floor the same command cuts the climb to level and slows the aircraft."""
+    e = t.ExcessPower((40.0, 60.0), (0.0,), ((-1.0, -1.0),), ((-1.0, -1.0),), margin=1.0)
+    assert e.split(45.0, 0.0, 2.0, 0.5, v_floor_mps=46.0) == (-1.0, 0.0)
+    climb, accel = e.split(50.0, 0.0, 2.0, 0.5, v_floor_mps=46.0)
+    assert climb == 0.0 and accel == pytest.approx(-t.G_MPS2 / 50.0)

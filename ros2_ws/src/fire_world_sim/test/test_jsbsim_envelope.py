@@ -53,3 +53,20 @@ def test_the_bank_limit_holds_and_the_planned_turn_is_the_flown_one(preset, meas
 def test_speed_limits_are_within_what_it_flies(preset, measured) -> None:
     assert preset.v_max_mps <= measured.v_level_max_mps
     assert preset.accel_max_mps2 <= measured.accel_max_mps2
+
+
+@pytest.mark.parametrize(("v_mps", "water_kg"), [(50.0, 1000.0), (60.0, 3000.0), (70.0, 0.0), (75.0, 3000.0)])
+def test_the_tankers_energy_limit_is_what_the_pc7_flies(v_mps: float, water_kg: float) -> None:
+    """The tanker's ``jsbsim.excess_power`` table (the agents' and the autopilot's energy limit):
+    the steepest climb JSBSim's PC-7 holds at full throttle and the commanded speed, and its P_s,
+    flown again at points of the grid (at 50 m/s the pitch limit bounds the climb below P_s)."""
+    from fire_uav_common.scenario.airframes import AIRFRAMES
+    from fire_world_sim.vehicles.jsbsim_envelope import full_throttle_climb
+
+    af = AIRFRAMES["tanker"]
+    ep = af.jsbsim.excess_power
+    assert ep is not None
+    i, j = ep.water_kg.index(water_kg), ep.speeds_mps.index(v_mps)
+    climb, ps = full_throttle_climb(af, v_mps, water_kg)
+    assert climb == pytest.approx(ep.climb_mps[i][j], abs=0.3)
+    assert ps == pytest.approx(ep.power_mps[i][j], abs=0.3)

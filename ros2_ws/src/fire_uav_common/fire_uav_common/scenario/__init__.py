@@ -51,6 +51,7 @@ from .airframes import (
     DEFAULT_AIRFRAMES,
     VEHICLE_MODELS,
     Airframe,
+    ExcessPower,
     envelope_vehicle,
 )
 from .fields import _Ctx, _int, _mapping, _str
@@ -108,6 +109,7 @@ from .types import (
 __all__ = [
     "AIRFRAMES",
     "Airframe",
+    "ExcessPower",
     "VEHICLE_MODELS",
     "AltimeterSpec",
     "AnalyticFire",

@@ -14,13 +14,14 @@ import dataclasses
 from typing import Any
 
 from .fields import _Ctx, _mapping, _num, _str
-from .types import G_MPS2, Airframe, JsbsimSetup, Vehicle
+from .types import G_MPS2, Airframe, ExcessPower, JsbsimSetup, Vehicle
 
 __all__ = [
     "AIRFRAMES",
     "DEFAULT_AIRFRAME",
     "DEFAULT_AIRFRAMES",
     "G_MPS2",
+    "ExcessPower",
     "JsbsimSetup",
     "VEHICLE_MODELS",
     "Airframe",
@@ -36,6 +37,32 @@ DEFAULT_AIRFRAME = "small_uav"
 #: the J3Cub, whose own envelope is ``j3cub``'s (docs/airframes.md)
 DEFAULT_AIRFRAMES = {"coordinated_turn": DEFAULT_AIRFRAME, "jsbsim": "j3cub"}
 
+
+#: The PC-7's energy limit under the world's autopilot (``jsbsim_envelope.full_throttle_climb``,
+#: ``scripts/jsbsim_envelope.py --airframe tanker --excess-power``; docs/airframes.md): at each water load and commanded airspeed, full throttle, the steepest
+#: climb held with the speed within 0.7 m/s, and P_s (the same where the speed holds; at 46.8 and
+#: 50 m/s, where the 15 deg pitch limit bounds the climb first, the climb flown where the speed
+#: settled, at 49.5-52.4 m/s). Full of water it climbs 3.2 m/s at 55 m/s, 0.7 m/s at 75 m/s; in
+#: a 45 deg turn full the induced drag takes 2.3-3.7 m/s more of it (ExcessPower: P_s 0.1 m/s at best).
+# fmt: off
+PC7_EXCESS_POWER = ExcessPower(
+    speeds_mps=(46.8, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0),
+    water_kg=(0.0, 1000.0, 2000.0, 3000.0),
+    mass_kg=(1494.5, 1840.7, 2187.1, 2529.7),  # JSBSim's inertia/weight-lbs with the water aboard
+    climb_mps=(
+        (7.27, 8.95, 9.76, 9.16, 7.76, 4.74, 1.22, -2.55),
+        (4.87, 6.70, 6.87, 6.37, 5.63, 4.45, 1.40, -2.00),
+        (2.44, 4.42, 4.79, 4.38, 3.75, 2.93, 1.82, -0.65),
+        (0.00, 2.12, 3.21, 2.85, 2.31, 1.60, 0.71, -0.41),
+    ),
+    power_mps=(
+        (8.35, 9.67, 9.76, 9.16, 7.76, 4.74, 1.22, -2.55),
+        (6.46, 7.03, 6.87, 6.37, 5.63, 4.45, 1.40, -2.00),
+        (4.60, 4.92, 4.79, 4.38, 3.75, 2.93, 1.82, -0.65),
+        (2.78, 3.27, 3.21, 2.85, 2.31, 1.60, 0.71, -0.41),
+    ),
+)
+# fmt: on
 
 #: Presets; their figures and sources are listed in docs/airframes.md.
 AIRFRAMES: dict[str, Airframe] = {
@@ -109,13 +136,17 @@ AIRFRAMES: dict[str, Airframe] = {
             water_pointmass=0,
             water_weight_scale=0.347,
             simple_trim=False,  # JSBSim's trim fails for it (jsbsim_backend.JsbsimModel.launch)
+            excess_power=PC7_EXCESS_POWER,
+            # the agents' model (with the energy limit) against the PC-7, ff_two_fires_tanker seed 1,
+            # 5 UAVs, first 120 s: rms 1.43 m/s in ground speed, 1.38 m/s in climb rate
+            model_error_mps=1.4,
         ),
         drop_flow_lps=757.0,  # 200 US gal/s: AT-802F constant-flow settings span 77-450 gal/s
     ),
 }
 
 #: the numeric envelope fields a scenario may override (the preset's ``jsbsim`` setup is kept)
-_FIELDS = tuple(f.name for f in dataclasses.fields(Airframe) if f.name != "jsbsim")
+_FIELDS = tuple(f.name for f in dataclasses.fields(Airframe) if f.name not in ("jsbsim", "excess_power"))
 
 
 def read_airframe(ctx: _Ctx, d: dict, model: str) -> Airframe | None:
@@ -149,10 +180,14 @@ def read_airframe(ctx: _Ctx, d: dict, model: str) -> Airframe | None:
     values: dict[str, Any] = {}
     for f in _FIELDS:
         if f == "model_error_mps":
-            values[f] = _num(ctx, a, f, p, getattr(base, f), ge=0)
+            # on jsbsim the aircraft's own figure where the preset has none (the tanker's PC-7)
+            own = base.jsbsim.model_error_mps if model == "jsbsim" else 0.0
+            values[f] = _num(ctx, a, f, p, getattr(base, f) or own, ge=0)
         else:
             values[f] = _num(ctx, a, f, p, getattr(base, f), gt=0)
-    af = Airframe(**values, jsbsim=base.jsbsim)
+    # the energy limit is the JSBSim aircraft's: the agents fly by it on the jsbsim backend only
+    energy = base.jsbsim.excess_power if model == "jsbsim" else None
+    af = Airframe(**values, jsbsim=base.jsbsim, excess_power=energy)
     if not af.v_stall_mps < af.v_max_mps:
         raise ctx.fail(f"{p}.v_stall_mps", f"must be < v_max_mps ({af.v_max_mps:g}), got {af.v_stall_mps:g}")
     if not 0 < af.bank_max_deg <= 80:

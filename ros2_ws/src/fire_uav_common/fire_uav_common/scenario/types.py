@@ -105,6 +105,143 @@ class Vehicle:
 
 
 @dataclass(frozen=True)
+class ExcessPower:
+    """An aircraft's energy limit at full throttle: the specific excess power P_s = (T - D) v / W
+    [m/s] and the steepest climb it holds [m/s], tabulated over airspeed and water aboard (measured
+    under the ``jsbsim`` backend's autopilot: ``fire_world_sim.vehicles.jsbsim_envelope``,
+    docs/airframes.md).
+
+    Energy conservation bounds what the aircraft flies: climb rate + (v / g) dv/dt <= P_s(v, m)
+    (the specific energy rate; A. A. Lambregts, "Vertical flight path and speed control autopilot
+    design using total energy principles", AIAA 83-2239, 1983; B&M Eq. 9.18's airspeed response
+    under it). Where the pitch limit bounds the climb before the power does (the PC-7 full of water
+    near its 46.8 m/s floor) ``climb_mps`` is below ``power_mps``. :meth:`split` is the order in
+    which the autopilot spends it, climb first: world and agents read the same rule.
+
+    In a turn at load factor n the induced drag, k n^2 W^2 / q for a parabolic polar, grows by
+    (n^2 - 1) times its level value, which lowers P_s by B(v) m (n^2 - 1) (B&M sec. 4.3's drag
+    polar; the turn's n = 1 / cos(phi), B&M Eq. 9.14's coordinated turn). With P_s = A(v) / m -
+    B(v) m at each speed (thrust power less parasitic drag over the weight, less the induced part),
+    the lightest and heaviest rows (``mass_kg``: the aircraft's mass at each water row, as JSBSim
+    weighs it) give B(v), and B(v) = c / v (the induced power per weight falls as 1 / v) with c
+    their median over the speeds (at 75-80 m/s the table's rows do not follow the polar); no
+    ``mass_kg``: no turn term.
+
+    ``speeds_mps`` and ``water_kg`` ascending; ``climb_mps[i][j]`` and ``power_mps[i][j]`` at
+    ``water_kg[i]`` and ``speeds_mps[j]``; bilinear between the points, the end values beyond them.
+    ``margin``: the share of the measured figures the split spends (the throttle keeps a reserve to
+    track with).
+    """
+
+    speeds_mps: tuple[float, ...]
+    water_kg: tuple[float, ...]
+    climb_mps: tuple[tuple[float, ...], ...]
+    power_mps: tuple[tuple[float, ...], ...]
+    mass_kg: tuple[float, ...] = ()
+    margin: float = 0.9
+
+    def __post_init__(self) -> None:
+        ns, nw = len(self.speeds_mps), len(self.water_kg)
+        rows = (self.climb_mps, self.power_mps)
+        if ns < 2 or nw < 1 or any(len(t) != nw or any(len(r) != ns for r in t) for t in rows):
+            raise ArgumentError(f"ExcessPower: tables must be {nw} x {ns} (water x speed), with >= 2 speeds")
+        if self.mass_kg and (len(self.mass_kg) != nw or nw < 2):
+            raise ArgumentError(
+                f"ExcessPower: mass_kg needs one mass per water row (>= 2), got {self.mass_kg}"
+            )
+        for axis in (self.speeds_mps, self.water_kg, self.mass_kg):
+            if any(axis[k + 1] <= axis[k] for k in range(len(axis) - 1)):
+                raise ArgumentError(f"ExcessPower: axis must be ascending, got {axis}")
+
+    @staticmethod
+    def _bracket(axis: tuple[float, ...], x: float) -> tuple[int, float]:
+        if len(axis) == 1 or x <= axis[0]:
+            return 0, 0.0
+        if x >= axis[-1]:
+            return len(axis) - 2, 1.0
+        i = max(k for k in range(len(axis) - 1) if axis[k] <= x)
+        return i, (x - axis[i]) / (axis[i + 1] - axis[i])
+
+    def _row(self, row: tuple[float, ...], v_mps: float) -> float:
+        j, f = self._bracket(self.speeds_mps, v_mps)
+        return row[j] + f * (row[j + 1] - row[j])
+
+    def _at(self, table: tuple[tuple[float, ...], ...], v_mps: float, water_kg: float) -> float:
+        if len(self.water_kg) == 1:
+            return self._row(table[0], v_mps)
+        i, f = self._bracket(self.water_kg, water_kg)
+        lo, hi = self._row(table[i], v_mps), self._row(table[i + 1], v_mps)
+        return lo + f * (hi - lo)
+
+    def induced_mps(self, v_mps: float, water_kg: float) -> float:
+        """B(v) m = c m / v: the part of P_s [m/s] that level flight's induced drag takes (class doc)."""
+        if not self.mass_kg:
+            return 0.0
+        i, f = self._bracket(self.water_kg, water_kg)
+        m = self.mass_kg[i] + f * (self.mass_kg[i + 1] - self.mass_kg[i])
+        return self._induced_c * m / max(v_mps, 1.0)
+
+    @property
+    def _induced_c(self) -> float:
+        """c of B(v) = c / v (the induced power 2 k W / (rho S v) per weight falls as 1 / v): the
+        median over the table's speeds of B(v) v, each B(v) from the lightest and heaviest rows,
+        P_s = A / m - B m at two masses."""
+        m1, m2 = self.mass_kg[0], self.mass_kg[-1]
+        cs = sorted(
+            max((p2 - p1 * m1 / m2) / (m1 * m1 / m2 - m2), 0.0) * v
+            for v, p1, p2 in zip(self.speeds_mps, self.power_mps[0], self.power_mps[-1], strict=True)
+        )
+        k = len(cs)
+        return 0.5 * (cs[(k - 1) // 2] + cs[k // 2])
+
+    def _spend(self, x: float) -> float:
+        return self.margin * x if x > 0.0 else x / self.margin
+
+    def climb_max_at(self, v_mps: float, water_kg: float, load_factor: float = 1.0) -> float:
+        """The steepest climb held at full throttle, airspeed v and load factor n [m/s] (the table,
+        times ``margin``, less the turn's induced drag)."""
+        turn = self.induced_mps(v_mps, water_kg) * (max(load_factor, 1.0) ** 2 - 1.0)
+        return self._spend(self._at(self.climb_mps, v_mps, water_kg) - turn)
+
+    def power_at(self, v_mps: float, water_kg: float, load_factor: float = 1.0) -> float:
+        """P_s at full throttle, airspeed v and load factor n [m/s] (the table, times ``margin``,
+        less the turn's induced drag)."""
+        turn = self.induced_mps(v_mps, water_kg) * (max(load_factor, 1.0) ** 2 - 1.0)
+        return self._spend(self._at(self.power_mps, v_mps, water_kg) - turn)
+
+    def split(
+        self,
+        v_mps: float,
+        water_kg: float,
+        climb_c_mps: float,
+        accel_c_mps2: float,
+        climb_now_mps: float | None = None,
+        load_factor: float = 1.0,
+        v_floor_mps: float = 0.0,
+    ) -> tuple[float, float]:
+        """(climb command [m/s], acceleration command [m/s^2]) within the energy limit, climb first.
+
+        The climb command is kept within :meth:`climb_max_at`; the acceleration within what the
+        rest of P_s gives, (g / v) (P_s - climb), ``climb_now_mps`` the climb that spends it (None:
+        the climb command as limited, where the autopilot splits its commands; the modelled climb
+        where the agent predicts the speed). A climb command is cut to level flight at most, and
+        the aircraft slows where P_s is short of that; at or below ``v_floor_mps`` (the slowest it
+        flies) the speed is held first: the climb is cut to P_s, a descent if P_s < 0 (a hard turn
+        full of water), and the acceleration is not below 0."""
+        v = max(v_mps, 1.0)
+        n = load_factor
+        climb = min(climb_c_mps, max(self.climb_max_at(v, water_kg, n), min(climb_c_mps, 0.0)))
+        p_s = self.power_at(v, water_kg, n)
+        if v_mps <= v_floor_mps and accel_c_mps2 >= 0.0 and climb > p_s:
+            climb = p_s  # the speed first at the floor
+        spent = climb if climb_now_mps is None else climb_now_mps
+        accel = min(accel_c_mps2, G_MPS2 * (p_s - spent) / v)
+        if v_mps <= v_floor_mps:
+            accel = max(accel, min(accel_c_mps2, 0.0))
+        return climb, accel
+
+
+@dataclass(frozen=True)
 class JsbsimSetup:
     """What the ``jsbsim`` backend flies for a preset: a JSBSim aircraft and its autopilot's gains.
 
@@ -118,7 +255,10 @@ class JsbsimSetup:
     roll PID on aileron, rudder on sideslip, pitch PD on elevator, the total-energy controller's
     proportional / integral gains on throttle (``tecs_*_t``) and on pitch (``tecs_*_d``), and the
     speed loop ``k_speed_1ps`` that turns an airspeed error into a commanded acceleration, ``k_load``
-    the elevator's easing of a pull that would turn the course beyond the envelope.
+    the elevator's easing of a pull that would turn the course beyond the envelope;
+    ``excess_power`` the aircraft's measured energy limit (:class:`ExcessPower`: the autopilot splits
+    its commands by it, and the agents on ``jsbsim`` model it), ``model_error_mps`` the agents'
+    model error against this aircraft where the preset gives none.
     """
 
     aircraft: str = "J3Cub"
@@ -147,6 +287,11 @@ class JsbsimSetup:
     throttle_min: float = 0.1
     tecs_speed_weight: float = 0.5
     k_load: float = 6.0
+    # the aircraft's energy limit, measured; None: the autopilot splits no command by it (the J3Cub)
+    excess_power: ExcessPower | None = None
+    # [m/s] the agents' model error against this aircraft, where the preset's model_error_mps is 0
+    # (a preset flown by coordinated_turn too: there the model is exact)
+    model_error_mps: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -180,6 +325,9 @@ class Airframe:
     # [m/s] rms error of the first-order model above (the agents' on-board one) against the
     # aircraft in speed and climb rate; 0: the aircraft is that model (coordinated_turn)
     model_error_mps: float = 0.0
+    # the aircraft's energy limit the agents' model flies by (``jsbsim.excess_power`` on the ``jsbsim``
+    # backend, set by the scenario loader; None elsewhere: ``coordinated_turn`` has no energy limit)
+    excess_power: ExcessPower | None = None
 
     @property
     def v_min_mps(self) -> float:

@@ -23,6 +23,16 @@ principles", AIAA 83-2239, 1983):
   floor (``throttle_min``): on a propeller aircraft such as the J3Cub the propwash over the tail
   gives the elevator its authority at low speed. The pitch command goes
   to the elevator by a PD on pitch and on the pitch rate beyond a steady turn's (B&M 6.4.1).
+- the energy split, on an aircraft short of power (``jsbsim.excess_power``: the PC-7 full of water,
+  whose specific excess power at full throttle is 3.2 m/s at best): the weight w shares a
+  saturated throttle's shortfall between climb and speed in a ratio that drifts with the state
+  (the PC-7 commanded to 75 m/s and a climb traded climb for speed over minutes). So before the TECS
+  the commands are split by the measured energy limit (Lambregts' specific energy rate, climb +
+  (v / g) dv/dt <= P_s; :meth:`fire_uav_common.scenario.ExcessPower.split`), climb first: the climb
+  command within the climb the aircraft holds at this speed, load and bank, the acceleration
+  within the rest of P_s, the speed held first at the floor. The TECS then tracks commands the
+  aircraft can fly with its throttle off the stop (the split spends 90 % of the measured P_s), in
+  the order the agents' model predicts. No table (the J3Cub): no split, the TECS as before.
 - the envelope: the course turns at g n sin(phi) / v, more than g tan(phi) / v when a pull-up
   raises the load factor n above level flight's 1 / cos(phi). The bank is further limited to
   asin(tan(bank_max) / n) and the elevator eases the pull where n sin(phi) exceeds 0.9 tan(bank_max),
@@ -111,8 +121,15 @@ class Autopilot:
         return _clip(v_lin_mps, lo, max(lo, self.af.v_max_mps))
 
     def update(
-        self, s: AirState, v_lin_mps: float, v_z_mps: float, omega_z_radps: float, dt_s: float
+        self,
+        s: AirState,
+        v_lin_mps: float,
+        v_z_mps: float,
+        omega_z_radps: float,
+        dt_s: float,
+        water_kg: float = 0.0,
     ) -> Surfaces:
+        """The surfaces for one substep; ``water_kg`` the load aboard (the energy limit's mass)."""
         af, js = self.af, self.js
         v = max(s.airspeed_mps, 1.0)
         # lateral: coordinated-turn bank command, roll PID, rudder against sideslip
@@ -134,11 +151,17 @@ class Autopilot:
         # longitudinal: TECS
         v_c = self.speed_command_mps(v_lin_mps)
         vz_c = _clip(v_z_mps, -af.descent_max_mps, af.climb_max_mps)
-        gamma = math.asin(_clip(s.climb_mps / v, -1.0, 1.0))
-        gamma_c = math.asin(_clip(vz_c / v, -1.0, 1.0))
         vdot = 0.0 if self.prev_airspeed_mps is None else (s.airspeed_mps - self.prev_airspeed_mps) / dt_s
         self.prev_airspeed_mps = s.airspeed_mps
         vdot_c = _clip(js.k_speed_1ps * (v_c - s.airspeed_mps), -af.accel_max_mps2, af.accel_max_mps2)
+        if js.excess_power is not None:  # short of power: climb first, the rest to speed (module doc)
+            n_turn = 1.0 / max(math.cos(s.bank_rad), 0.3)
+            floor = max(af.v_min_mps, js.v_floor_mps)
+            vz_c, vdot_c = js.excess_power.split(
+                s.airspeed_mps, water_kg, vz_c, vdot_c, load_factor=n_turn, v_floor_mps=floor
+            )
+        gamma = math.asin(_clip(s.climb_mps / v, -1.0, 1.0))
+        gamma_c = math.asin(_clip(vz_c / v, -1.0, 1.0))
         e_t = (gamma_c - gamma) + (vdot_c - vdot) / G_MPS2
         e_d = (gamma_c - gamma) - js.tecs_speed_weight * (vdot_c - vdot) / G_MPS2
         thr_raw = self.trim_throttle + js.tecs_kp_t * e_t + js.tecs_ki_t * self.i_t

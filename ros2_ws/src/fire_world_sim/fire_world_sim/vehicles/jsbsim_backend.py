@@ -176,7 +176,7 @@ class JsbsimModel:
             yaw = math.pi / 2 - fdm["attitude/psi-rad"]
             err = math.remainder(state.yaw_rad - yaw, 2 * math.pi)
             omega = 0.3 * err
-            u = ap.update(self.air_state(), v_mps, 0.0, omega, dt_s)
+            u = ap.update(self.air_state(), v_mps, 0.0, omega, dt_s, state.water_kg)
             fdm["fcs/aileron-cmd-norm"] = u.aileron
             fdm["fcs/elevator-cmd-norm"] = u.elevator
             fdm["fcs/rudder-cmd-norm"] = u.rudder
@@ -288,7 +288,7 @@ class JsbsimModel:
         wind_e, wind_n = self._gust(wind_mps, dt_s)
         fdm["atmosphere/wind-east-fps"] = wind_e / FT_M
         fdm["atmosphere/wind-north-fps"] = wind_n / FT_M
-        u = ap.update(self.air_state(), cmd.v_lin_mps, cmd.v_z_mps, cmd.omega_z_radps, dt_s)
+        u = ap.update(self.air_state(), cmd.v_lin_mps, cmd.v_z_mps, cmd.omega_z_radps, dt_s, self._water_kg)
         fdm["fcs/aileron-cmd-norm"] = u.aileron
         fdm["fcs/elevator-cmd-norm"] = u.elevator
         fdm["fcs/rudder-cmd-norm"] = u.rudder

@@ -24,6 +24,13 @@ preset's, which the autopilot flies by design):
   slowest usable speed to ``v_level_max_mps``;
 - ``tau_*_s``: 63 % rise times of the airspeed, climb-rate and bank responses to a step.
 
+And the energy limit (:func:`full_throttle_climb`, a preset's ``jsbsim.excess_power``): at a
+commanded airspeed and water load, the steady climb at full throttle with the speed held (the
+autopilot's speed weight raised to ``SPEED_FIRST_WEIGHT``, so that the climb takes the shortfall),
+which is the specific excess power P_s = climb + (v / g) dv/dt at steady speed; where the pitch
+limit stops the climb before the power does (the speed then settles above the command), the
+steepest climb held with the speed (bisection) and P_s as flown where the speed settled.
+
 Units: SI; degrees where the name says so.
 """
 
@@ -35,11 +42,19 @@ from dataclasses import dataclass
 
 import numpy as np
 from fire_uav_common.scenario import Airframe
+from fire_uav_common.scenario.airframes import G_MPS2
 
 from .base import Command, FlightState
 from .jsbsim_backend import FT_M, JsbsimModel
 
-__all__ = ["MeasuredEnvelope", "fly", "holds_level", "lowest_trim_speed_mps", "measure_envelope"]
+__all__ = [
+    "MeasuredEnvelope",
+    "fly",
+    "full_throttle_climb",
+    "holds_level",
+    "lowest_trim_speed_mps",
+    "measure_envelope",
+]
 
 DT_S = 0.01
 HOLD_TOL_MPS = 0.7  # [m/s] a held speed: within this of the command over the tail
@@ -47,13 +62,15 @@ CLIMB_TOL_MPS = 0.3  # [m/s] a held climb rate: within this of the command over 
 TAIL_S = 5.0  # [s] the tail over which a steady value is read
 Z0_M = 200.0
 V_HOLD_SEARCH_MAX_MPS = 80.0  # [m/s] the slowest-held-speed search gives up here
+SPEED_FIRST_WEIGHT = 10.0  # the TECS speed weight of the energy-limit measurement (module doc)
 
 
 def _unlimited(af: Airframe, v_floor_mps: float) -> Airframe:
     """The preset with the autopilot's speed floor at ``v_floor_mps`` and the limits on speed,
     climb, descent and acceleration lifted (the autopilot clips its commands to them: the aircraft
-    sets these figures). The bank limit and roll rate stay the preset's: the autopilot flies them
-    by design (the bank figures are the flown ones under those limits)."""
+    sets these figures), and the energy limit's split too (it would limit the climb to its own
+    table). The bank limit and roll rate stay the preset's: the autopilot flies them by design
+    (the bank figures are the flown ones under those limits)."""
     return dataclasses.replace(
         af,
         v_max_mps=max(af.v_max_mps, 120.0),
@@ -62,7 +79,7 @@ def _unlimited(af: Airframe, v_floor_mps: float) -> Airframe:
         accel_max_mps2=20.0,
         min_speed_factor=1.0,
         v_stall_mps=min(af.v_stall_mps, v_floor_mps),
-        jsbsim=dataclasses.replace(af.jsbsim, v_floor_mps=v_floor_mps),
+        jsbsim=dataclasses.replace(af.jsbsim, v_floor_mps=v_floor_mps, excess_power=None),
     )
 
 
@@ -218,3 +235,31 @@ def measure_envelope(af: Airframe, water_kg: float, v_slow_mps: float | None = N
         tau_climb_s=tau_c,
         tau_bank_s=tau_b,
     )
+
+
+def full_throttle_climb(af: Airframe, v_mps: float, water_kg: float) -> tuple[float, float]:
+    """(steepest climb held [m/s], specific excess power P_s [m/s]) at full throttle and the
+    commanded airspeed ``v_mps`` (module doc: the energy limit). 50 s flown, the last 10 s read."""
+    a = _unlimited(af, min(v_mps, af.jsbsim.v_floor_mps))
+    a = dataclasses.replace(a, jsbsim=dataclasses.replace(a.jsbsim, tecs_speed_weight=SPEED_FIRST_WEIGHT))
+    k = round(10.0 / DT_S)
+
+    def climb_at(climb_c: float) -> tuple[float, float, float]:
+        traj, _ = fly(a, [(Command(v_mps, climb_c, 0.0), 50.0)], v_mps, water_kg)
+        vs = np.array([f.airspeed_mps for f in traj[-k:]])
+        cs = np.array([f.climb_mps for f in traj[-k:]])
+        vdot = (vs[-1] - vs[0]) / (k * DT_S)
+        return float(vs.mean()), float(cs.mean()), float(cs.mean() + vs.mean() * vdot / G_MPS2)
+
+    v, climb, ps = climb_at(15.0)
+    if abs(v - v_mps) < HOLD_TOL_MPS:
+        return climb, ps
+    lo, hi = 0.0, climb  # the pitch limit first: bisect the steepest climb held with the speed
+    while hi - lo > 0.05:
+        mid = 0.5 * (lo + hi)
+        v_m, c_m, _ = climb_at(mid)
+        if abs(v_m - v_mps) < HOLD_TOL_MPS and abs(c_m - mid) < CLIMB_TOL_MPS:
+            lo = mid
+        else:
+            hi = mid
+    return lo, ps
