@@ -325,7 +325,9 @@ class FinalApproach:
     within 90 deg of the course), the vehicle follows the line with Beard & McLain's straight-line
     vector field (*Small Unmanned Aircraft*, 2012, Eq. 10.8): course chi_c = chi_q - chi_inf (2/pi)
     atan(k e), e the cross-track error, chi_inf = 60 deg, k = ``line_gain_per_m`` (0: 1 / r; the
-    landing's final sizes it with :func:`line_gain_per_m`). Otherwise it flies to the entry
+    landing's final sizes it with :func:`line_gain_per_m`, within ``line_band_m`` of the line: beyond
+    it the argument of atan grows as e / r, so the capture from far off is B&M's k = 1 / r, shifted
+    by (k - 1 / r) ``line_band_m``). Otherwise it flies to the entry
     point, ``length_m`` + r behind the threshold; within 2 r of it and heading the wrong way, it
     turns at its limit toward the course, on the side of the line (the turn ends captured).
     """
@@ -336,6 +338,8 @@ class FinalApproach:
     turn_radius_m: float
     approach_angle_rad: float = math.radians(60.0)  # chi_inf of B&M Eq. 10.8
     line_gain_per_m: float = 0.0  # k of B&M Eq. 10.8 [1/m]; 0: 1 / turn_radius_m
+    # [m] > 0: line_gain_per_m only within this of the line; beyond it the slope is 1 / turn_radius_m
+    line_band_m: float = 0.0
 
     @property
     def entry_xy(self) -> tuple[float, float]:
@@ -374,8 +378,14 @@ class FinalApproach:
     def line_course(self, xy: tuple[float, float]) -> float:
         """B&M Eq. 10.8: the course that brings the vehicle onto the line."""
         _, cross = self.frame(xy)
-        k = self.line_gain_per_m if self.line_gain_per_m > 0.0 else 1.0 / max(self.turn_radius_m, 1e-3)
-        return self.course_rad - self.approach_angle_rad * (2.0 / math.pi) * math.atan(k * cross)
+        k0 = 1.0 / max(self.turn_radius_m, 1e-3)
+        k = self.line_gain_per_m if self.line_gain_per_m > 0.0 else k0
+        if self.line_band_m > 0.0:  # k within the band, B&M's 1 / r beyond it (the capture unchanged)
+            b = self.line_band_m
+            u = k0 * cross + (k - k0) * _clip(cross, -b, b)
+        else:
+            u = k * cross
+        return self.course_rad - self.approach_angle_rad * (2.0 / math.pi) * math.atan(u)
 
     def turn_side(self, pose: tuple[float, float, float]) -> float:
         """+1 (left) or -1 (right): the turn whose circle centre lies nearer the centre line."""

@@ -181,13 +181,15 @@ class Guide:
             descent = 2.0 * lim.v_stall_mps * (top - low) / lim.vz_max_mps
             slow = slowdown_m(af, af.v_max_mps, lim.v_stall_mps)
             # the line's gain k (B&M Eq. 10.8) sized for the final's heading loop and speed
-            # (airframe_model.line_gain_per_m): k = 1 / r held a final 2.7-4.2 m beside the line when
-            # the EKF's heading was a few degrees off, and the UAV went round (docs/airframes.md)
+            # (airframe_model.line_gain_per_m) within the touch-down radius of the line: k = 1 / r held
+            # a final 2.7-4.2 m beside the line when the EKF's heading was a few degrees off, and the
+            # UAV went round. Beyond it k = 1 / r: with the stiffer field everywhere the capture
+            # at the back of the final steepened, and two UAVs capturing neighbouring finals from
+            # 50-65 m off came to 5.9 m (ff_two_fires, coordinated_turn, seed 6; docs/airframes.md)
             chi_inf = FinalApproach.approach_angle_rad
             k_line = line_gain_per_m(self.land_gains.ka, lim.v_stall_mps, chi_inf)
-            self.approach = FinalApproach(
-                start, course, max(gd.land_approach_radius_m, 4.0 * r, descent, slow), r, chi_inf, k_line
-            )
+            length = max(gd.land_approach_radius_m, 4.0 * r, descent, slow)
+            self.approach = FinalApproach(start, course, length, r, chi_inf, k_line, gd.touchdown_radius_m)
 
     def run(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray, last_step: int) -> Guidance:
         """Stage 5, FF Eqs. 8-15: the command (v_lin [m/s], v_z [m/s], omega_z [rad/s]) for the objective.
@@ -661,7 +663,9 @@ class Guide:
             # mostly the EKF's heading error (no wind on FF's map), which held the UAV off the line
             # by delta / K (airframe_model.line_gain_per_m)
             self._poses.append((pos[0], pos[1], float(s[3])))
-            chi = ap.line_course(pos) - self._crab_rad()
+            chi = ap.line_course(pos)
+            if abs(ap.frame(pos)[1]) <= r:  # near the line, not in the capture turn
+                chi -= self._crab_rad()
             aim = (pos[0] + 4.0 * r * math.cos(chi), pos[1] + 4.0 * r * math.sin(chi))
             cmd = control_law(s, np.array(aim), height, cfg.terrain, lim, self.land_gains, lim.v_stall_mps)
             return Guidance(self._separate(s, cmd, aim, last_step) if cfg.avoidance else cmd, start)
