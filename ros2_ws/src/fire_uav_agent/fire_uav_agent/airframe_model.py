@@ -58,6 +58,7 @@ __all__ = [
     "descent_m",
     "input_noise_sigma",
     "inside_turn_circle",
+    "line_gain_per_m",
     "scoop_run_m",
     "slowdown_m",
     "turn_radius_m",
@@ -298,6 +299,32 @@ def final_approach_course(
     return math.remainder(round(b / (0.5 * math.pi)) * 0.5 * math.pi, math.tau)
 
 
+#: damping ratio of the final's linearised lateral loop (:func:`line_gain_per_m`)
+LINE_DAMPING = 0.7
+
+
+def line_gain_per_m(heading_gain_1ps: float, speed_mps: float, approach_angle_rad: float) -> float:
+    """k [1/m] of B&M's straight-line vector field (Eq. 10.8) for a final flown at ``speed_mps``
+    under the heading loop omega = K_a (chi_c - psi) (FF Eq. 11, K_a = ``heading_gain_1ps``).
+
+    Linearised about the line (B&M Eq. 10.8 near e = 0: chi_c - chi_q = -K e, K = chi_inf (2/pi) k;
+    de/dt = v (psi - chi_q); dpsi/dt = K_a (chi_c - psi)) the cross-track error obeys
+    e'' + K_a e' + K_a v K e = 0: natural frequency w_n = sqrt(K_a v K), damping zeta =
+    sqrt(K_a / (4 v K)). k is chosen for zeta = :data:`LINE_DAMPING`, K = K_a / (4 zeta^2 v).
+    Two reasons to be as stiff as that damping allows: the steady offset from a heading error delta
+    (the EKF's heading estimate, a crab angle not corrected) is delta / K, and the estimate's wander
+    is followed within about 1 / (zeta w_n). k = 1 / r (the default) gives zeta 1.0 on small_uav
+    (K_a 1.67 1/s, 15.6 m/s, r 24.8 m): an offset of 0.65 m per degree of heading error, 3.2 m for
+    the 5 deg (2 sd) the EKF's heading was off on the final (ff_two_fires, coordinated_turn), past
+    the 2.5 m touch-down disc. zeta 0.7 gives k = 2.03 / r there (0.32 m per degree), 1.14 / r
+    for the J3Cub (K_a 0.56 1/s, 22 m/s) and 1.83 / r for the tanker (K_a 0.5 1/s, 46.8 m/s).
+    The bank lag tau_b adds a third pole; the loop stays stable while v K tau_b < 1 (Routh-Hurwitz
+    on tau_b s^3 + s^2 + K_a s + K_a v K): 0.26 for small_uav (tau_b 0.3 s, K 0.055 rad/m).
+    """
+    k_rad_per_m = heading_gain_1ps / (4.0 * LINE_DAMPING**2 * max(speed_mps, 1e-3))
+    return k_rad_per_m / (approach_angle_rad * 2.0 / math.pi)
+
+
 @dataclass(frozen=True)
 class FinalApproach:
     """A landing approach lined up with the takeoff point (the threshold): a straight final leg of
@@ -306,7 +333,10 @@ class FinalApproach:
     Captured (behind the threshold within ``length_m`` + 3 r, within 3 r of the centre line, heading
     within 90 deg of the course), the vehicle follows the line with Beard & McLain's straight-line
     vector field (*Small Unmanned Aircraft*, 2012, Eq. 10.8): course chi_c = chi_q - chi_inf (2/pi)
-    atan(k e), e the cross-track error, chi_inf = 60 deg, k = 1 / r. Otherwise it flies to the entry
+    atan(k e), e the cross-track error, chi_inf = 60 deg, k = ``line_gain_per_m`` (0: 1 / r; the
+    landing's final sizes it with :func:`line_gain_per_m`, within ``line_band_m`` of the line: beyond
+    it the argument of atan grows as e / r, so the capture from far off is B&M's k = 1 / r, shifted
+    by (k - 1 / r) ``line_band_m``). Otherwise it flies to the entry
     point, ``length_m`` + r behind the threshold; within 2 r of it and heading the wrong way, it
     turns at its limit toward the course, on the side of the line (the turn ends captured).
     """
@@ -316,6 +346,9 @@ class FinalApproach:
     length_m: float
     turn_radius_m: float
     approach_angle_rad: float = math.radians(60.0)  # chi_inf of B&M Eq. 10.8
+    line_gain_per_m: float = 0.0  # k of B&M Eq. 10.8 [1/m]; 0: 1 / turn_radius_m
+    # [m] > 0: line_gain_per_m only within this of the line; beyond it the slope is 1 / turn_radius_m
+    line_band_m: float = 0.0
 
     @property
     def entry_xy(self) -> tuple[float, float]:
@@ -354,8 +387,14 @@ class FinalApproach:
     def line_course(self, xy: tuple[float, float]) -> float:
         """B&M Eq. 10.8: the course that brings the vehicle onto the line."""
         _, cross = self.frame(xy)
-        k = 1.0 / max(self.turn_radius_m, 1e-3)
-        return self.course_rad - self.approach_angle_rad * (2.0 / math.pi) * math.atan(k * cross)
+        k0 = 1.0 / max(self.turn_radius_m, 1e-3)
+        k = self.line_gain_per_m if self.line_gain_per_m > 0.0 else k0
+        if self.line_band_m > 0.0:  # k within the band, B&M's 1 / r beyond it (the capture unchanged)
+            b = self.line_band_m
+            u = k0 * cross + (k - k0) * _clip(cross, -b, b)
+        else:
+            u = k * cross
+        return self.course_rad - self.approach_angle_rad * (2.0 / math.pi) * math.atan(u)
 
     def turn_side(self, pose: tuple[float, float, float]) -> float:
         """+1 (left) or -1 (right): the turn whose circle centre lies nearer the centre line."""

@@ -24,6 +24,7 @@ from .airframe_model import (
     descent_m,
     final_approach_course,
     inside_turn_circle,
+    line_gain_per_m,
     slowdown_m,
     turn_radius_m,
 )
@@ -179,9 +180,16 @@ class Guide:
             low = gd.land_height_fraction * veh.landing_height_m
             descent = 2.0 * lim.v_stall_mps * (top - low) / lim.vz_max_mps
             slow = slowdown_m(af, af.v_max_mps, lim.v_stall_mps)
-            self.approach = FinalApproach(
-                start, course, max(gd.land_approach_radius_m, 4.0 * r, descent, slow), r
-            )
+            # the line's gain k (B&M Eq. 10.8) sized for the final's heading loop and speed
+            # (airframe_model.line_gain_per_m) within the touch-down radius of the line: k = 1 / r held
+            # a final 2.7-4.2 m beside the line when the EKF's heading was a few degrees off, and the
+            # UAV went round. Beyond it k = 1 / r: with the stiffer field everywhere the capture
+            # at the back of the final steepened, and two UAVs capturing neighbouring finals from
+            # 50-65 m off came to 5.9 m (ff_two_fires, coordinated_turn, seed 6; docs/airframes.md)
+            chi_inf = FinalApproach.approach_angle_rad
+            k_line = line_gain_per_m(self.land_gains.ka, lim.v_stall_mps, chi_inf)
+            length = max(gd.land_approach_radius_m, 4.0 * r, descent, slow)
+            self.approach = FinalApproach(start, course, length, r, chi_inf, k_line, gd.touchdown_radius_m)
 
     def run(self, sit: Situation, vehicle: VehicleStatus, s: np.ndarray, last_step: int) -> Guidance:
         """Stage 5, FF Eqs. 8-15: the command (v_lin [m/s], v_z [m/s], omega_z [rad/s]) for the objective.
@@ -627,6 +635,7 @@ class Guide:
             spare = max(0.0, 0.5 * lim.vz_max_mps / lim.v_stall_mps - path_rate)
             above = agl - _glide_height(dist, cruise, low, flat, length)
             self.on_final = above <= max(2.0, spare * max(0.0, dist - flat * length))
+            self._poses.clear()  # the crab angle of the final is measured on the final (_crab_rad)
         if not captured:
             self.on_final = False
             self._final_agl.clear()
@@ -649,7 +658,14 @@ class Guide:
                 pos, step_m, gd.touchdown_radius_m
             ):
                 return Guidance((0.0, -gd.touchdown_sink_mps, 0.0))  # below stall speed: it lands
+            # B&M's field gives a course; the control law steers the heading. The heading that flies
+            # that course is the course less the crab angle (_crab_rad, as the drop leg does): here
+            # mostly the EKF's heading error (no wind on FF's map), which held the UAV off the line
+            # by delta / K (airframe_model.line_gain_per_m)
+            self._poses.append((pos[0], pos[1], float(s[3])))
             chi = ap.line_course(pos)
+            if abs(ap.frame(pos)[1]) <= r:  # near the line, not in the capture turn
+                chi -= self._crab_rad()
             aim = (pos[0] + 4.0 * r * math.cos(chi), pos[1] + 4.0 * r * math.sin(chi))
             cmd = control_law(s, np.array(aim), height, cfg.terrain, lim, self.land_gains, lim.v_stall_mps)
             return Guidance(self._separate(s, cmd, aim, last_step) if cfg.avoidance else cmd, start)
