@@ -295,3 +295,18 @@ def test_uniform_table_refuses_each_word_numpy_would_not_take_as_one():
         uniform_table(**{**ok, "thirds": range(0, 6, 3)})
     assert uniform_table(**{**ok, "firsts": range(big + 5, big + 5)}).shape == (2, 0)
     assert uniform_table(**{**ok, "thirds": range(big + 5, big + 5)}).shape == (0, 3)
+
+
+@pytest.mark.xfail(
+    strict=True, raises=OverflowError, reason="rng.uniform's integer port overflows on numpy ints"
+)
+def test_uniform_takes_a_numpy_integer_step_as_numpy_does():
+    """Known bug (session 25): stream() takes numpy integer ids as SeedSequence does, but
+    uniform()'s plain-integer port mixes an np.int64 past the head into Python ints and raises
+    OverflowError (every step 0-399 of this case) instead of returning stream()'s first draw.
+    No caller passes numpy ints today (peer_link and fleet pass Python ints)."""
+    import numpy as np
+    from fire_uav_common.rng import stream, uniform
+
+    for k in range(20):
+        assert uniform(5, "loss", 0, 1, np.int64(k), 0) == stream(5, "loss", 0, 1, k, 0).random()
