@@ -283,3 +283,88 @@ def test_invalid_link_configuration_names_the_field():
     with pytest.raises(ValueError, match="outage end_s 1.0 before start_s 2.0"):
         LinkOutage(0, 1, 2.0, 1.0)
     assert LinkOutage(0, 1, 1.0, 1.0).end_s == 1.0  # an empty window is allowed
+
+
+def _numpy_loss(p: float, seed: int, sender: int, receiver: int, step: int, topic: int) -> bool:
+    """docs/protocol.md's loss draw written with numpy alone: the first random() of the
+    SeedSequence (seed, crc32("loss"), sender, receiver, step, topic) below p."""
+    import zlib
+
+    import numpy as np
+
+    words = [seed, zlib.crc32(b"loss"), sender, receiver, step, topic]
+    return bool(np.random.default_rng(np.random.SeedSequence(words)).random() < p)
+
+
+def test_senders_outside_the_fleet_and_33_bit_steps_are_the_single_draw_beside_a_table():
+    """Once a table of the block exists, a sender outside the fleet (uav_count, above it) still
+    gets its own draw (numpy's), a negative sender is refused, and steps of 2**32 and more
+    (numpy splits them into two words) are drawn singly, not tabled."""
+    from fire_uav_common.errors import ArgumentError
+
+    link = PeerLink(1, 4, seed=5, loss_probability=0.37, control_period_s=0.1)
+    # sender uav_count on a block with no table yet: the single draw, no table built for it
+    assert [link.is_lost(4, k, 0) for k in range(128, 192)] == [
+        _numpy_loss(0.37, 5, 4, 1, k, 0) for k in range(128, 192)
+    ]
+    assert not link._blocks
+    for t in (0, 1):
+        assert link.is_lost(0, 0, t) == _numpy_loss(0.37, 5, 0, 1, 0, t)  # the block's table
+        got = [link.is_lost(j, k, t) for j in (4, 5, 9) for k in range(64)]
+        assert got == [_numpy_loss(0.37, 5, j, 1, k, t) for j in (4, 5, 9) for k in range(64)]
+        with pytest.raises(ArgumentError):
+            link.is_lost(-1, 3, t)
+    for k in (2**32, 2**32 + 5, 2**33):
+        assert [link.is_lost(j, k, 0) for j in (0, 2, 3)] == [
+            _numpy_loss(0.37, 5, j, 1, k, 0) for j in (0, 2, 3)
+        ]
+
+
+def test_every_draw_in_the_fleet_and_the_32_bit_range_comes_from_one_table(monkeypatch):
+    """The edges of the tabled range: senders 0 and uav_count - 1, topic 2**32 - 1, a seed of
+    2**32 - 1 and the last block of 32-bit steps (2**32 - 64 .. 2**32 - 1) are each one
+    uniform_table pass per (block, topic) and no single draw, asked again no pass at all; every
+    answer is numpy's draw."""
+    import fire_uav_agent.peer_link as pl
+
+    tables, singles = [], []
+    real_table, real_single = pl.rng.uniform_table, pl.rng.bernoulli
+    monkeypatch.setattr(pl.rng, "uniform_table", lambda *a: tables.append(a) or real_table(*a))
+    monkeypatch.setattr(pl.rng, "bernoulli", lambda *a: singles.append(a) or real_single(*a))
+    top = 2**32 - 1
+    link = PeerLink(2, 3, seed=top, loss_probability=0.5, control_period_s=0.1)
+    asks = [(j, k, t) for k in (0, 63, top - 63, top - 1, top) for t in (0, top) for j in (0, 1)]
+    for n in range(2):
+        for j, k, t in asks:
+            assert link.is_lost(j, k, t) == _numpy_loss(0.5, top, j, 2, k, t), (j, k, t)
+        assert len(tables) == 4 and not singles, n  # 2 blocks x 2 topics, the first time only
+
+
+def test_no_outage_scheduled_is_never_an_outage_and_a_draw_equal_to_p_is_kept():
+    """in_outage with no schedule is False for every sender and step (docs/protocol.md: only the
+    scheduled windows cut a link); a loss draw exactly equal to the loss probability is not a
+    loss (P(u < p) = p for u uniform on [0, 1)), one just above it is."""
+    import math
+
+    from fire_uav_common import rng
+
+    link = PeerLink(0, 3, seed=4, loss_probability=0.5, control_period_s=0.1)
+    assert not any(link.in_outage(j, k) for j in (1, 2) for k in range(-5, 200))
+    u = rng.uniform(4, "loss", 2, 0, 10, 1)
+    assert not PeerLink(0, 3, seed=4, loss_probability=u, control_period_s=0.1).is_lost(2, 10, 1)
+    assert PeerLink(0, 3, seed=4, loss_probability=math.nextafter(u, 1.0), control_period_s=0.1).is_lost(
+        2, 10, 1
+    )
+
+
+def test_at_most_the_kept_tables_and_the_oldest_block_goes_first():
+    """The kept tables are bounded (_BLOCKS_KEPT (block, topic) pairs): after 40 blocks of one
+    topic the newest _BLOCKS_KEPT remain, and a block asked again is still numpy's draw."""
+    import fire_uav_agent.peer_link as pl
+
+    link = PeerLink(0, 3, seed=8, loss_probability=0.5, control_period_s=0.1)
+    for b in range(40):
+        link.is_lost(1, b * pl._BLOCK_STEPS, 0)
+        assert len(link._blocks) == min(b + 1, pl._BLOCKS_KEPT)
+    assert sorted(link._blocks) == [(b, 0) for b in range(40 - pl._BLOCKS_KEPT, 40)]
+    assert [link.is_lost(2, k, 0) for k in range(64)] == [_numpy_loss(0.5, 8, 2, 0, k, 0) for k in range(64)]

@@ -179,3 +179,134 @@ def test_uniform_table_refuses_what_it_cannot_draw():
     ]:
         with pytest.raises(ArgumentError):
             uniform_table(*args)
+
+
+def _limbs_of(x: int):
+    import numpy as np
+
+    return [np.array([(x >> (32 * k)) & 0xFFFFFFFF], dtype=np.uint64) for k in range(4)]
+
+
+def _int_of(limbs) -> int:
+    assert all(v.dtype.name == "uint64" and int(v[0]) <= 0xFFFFFFFF for v in limbs)
+    return sum(int(v[0]) << (32 * k) for k, v in enumerate(limbs))
+
+
+def test_mul128_and_add128_are_pythons_exact_integers_mod_2_128():
+    """The 32-bit-limb product and sum of rng.uniform_table against Python's exact integers taken
+    modulo 2**128, on random numbers and on edge limbs: all ones (every column at its largest
+    sum, carries through every limb), zeros in any limb of either operand, single limbs."""
+    import itertools
+    import random
+
+    from fire_uav_common.rng import _add128, _mul128
+
+    m = 1 << 128
+    ones = 0xFFFFFFFF
+    edges = [0, 1, m - 1, 1 << 32, 1 << 64, 1 << 96, ones, ones << 96, (ones << 64) | ones]
+    edges += [
+        sum(v << (32 * k) for k, v in enumerate(pat)) for pat in itertools.product((0, ones, 7), repeat=4)
+    ]
+    r = random.Random(128)
+    rand = [r.getrandbits(128) for _ in range(60)] + [
+        r.getrandbits(32) << (32 * r.randrange(4)) for _ in range(20)
+    ]
+    for a, c in itertools.chain(
+        itertools.product(edges[:9], edges),
+        ((r.choice(edges + rand), r.choice(edges + rand)) for _ in range(400)),
+    ):
+        c_limbs = tuple(int(v[0]) for v in _limbs_of(c))
+        assert _int_of(_mul128(_limbs_of(a), c_limbs)) == (a * c) % m, (hex(a), hex(c))
+        assert _int_of(_add128(_limbs_of(a), _limbs_of(c))) == (a + c) % m, (hex(a), hex(c))
+
+
+def test_mul128_works_on_whole_arrays_and_keeps_their_shape():
+    """Limbs are arrays of any shape (uniform_table's are steps x senders): each entry's product
+    is its own, the same as Python's integers."""
+    import random
+
+    import numpy as np
+    from fire_uav_common.rng import _add128, _mul128
+
+    r = random.Random(3)
+    xs = [[r.getrandbits(128) for _ in range(5)] for _ in range(3)]
+    ys = [[r.getrandbits(128) for _ in range(5)] for _ in range(3)]
+    c = r.getrandbits(128)
+
+    def limbs(rows):
+        return [
+            np.array([[(x >> (32 * k)) & 0xFFFFFFFF for x in row] for row in rows], dtype=np.uint64)
+            for k in range(4)
+        ]
+
+    prod = _mul128(limbs(xs), tuple((c >> (32 * k)) & 0xFFFFFFFF for k in range(4)))
+    tot = _add128(limbs(xs), limbs(ys))
+    for i in range(3):
+        for j in range(5):
+            assert sum(int(prod[k][i, j]) << (32 * k) for k in range(4)) == xs[i][j] * c % (1 << 128)
+            assert sum(int(tot[k][i, j]) << (32 * k) for k in range(4)) == (xs[i][j] + ys[i][j]) % (1 << 128)
+            assert all(v.shape == (3, 5) for v in prod + tot)
+
+
+def test_limbs_split_128_bit_numbers_least_significant_first():
+    """rng._limbs against Python's integers, and the two limb constants of uniform_table against
+    numpy's PCG64 multiplier (pcg64.h, PCG_DEFAULT_MULTIPLIER_128): M^2 and M + 1 mod 2**128."""
+    import random
+
+    from fire_uav_common.rng import _M1_LIMBS, _M2_LIMBS, _limbs
+
+    r = random.Random(32)
+    for x in [0, 1, (1 << 128) - 1, 0xFFFFFFFF, 1 << 32, 1 << 64, 1 << 96] + [
+        r.getrandbits(128) for _ in range(50)
+    ]:
+        got = _limbs(x)
+        assert len(got) == 4 and all(0 <= v <= 0xFFFFFFFF for v in got)
+        assert sum(v << (32 * k) for k, v in enumerate(got)) == x
+    mult = 0x2360ED051FC65DA44385DF649FCCF645
+    for limbs, want in [(_M2_LIMBS, mult * mult % (1 << 128)), (_M1_LIMBS, mult + 1)]:
+        assert sum(v << (32 * k) for k, v in enumerate(limbs)) == want
+
+
+def test_uniform_table_refuses_each_word_numpy_would_not_take_as_one():
+    """Every word position on its own: a negative word (numpy's SeedSequence refuses it) and a word
+    of 2**32 or more (numpy splits it into two words, so no 32-bit arithmetic gives its draw)
+    raise ArgumentError with the docstring's reason; an empty range holds no word at all, so
+    its bounds are not checked and the table is empty along it."""
+    import numpy as np
+    from fire_uav_common.errors import ArgumentError
+    from fire_uav_common.rng import uniform_table
+
+    with pytest.raises(ValueError, match="non-negative"):
+        np.random.SeedSequence([1, -1])
+    big = 2**32
+    ok = dict(seed=1, purpose="loss", firsts=range(3), second=0, thirds=range(2), fourth=0)
+    for name, neg, over in [
+        ("seed", -1, big),
+        ("second", -1, big),
+        ("fourth", -1, big),
+        ("firsts", range(-1, 2), range(big - 1, big + 1)),
+        ("thirds", range(-2, 1), range(big - 2, big + 1)),
+    ]:
+        with pytest.raises(ArgumentError, match=r"^seed and ids must be >= 0, got seed="):
+            uniform_table(**{**ok, name: neg})
+        with pytest.raises(ArgumentError, match=r"^uniform_table: every word must fit in 32 bits$"):
+            uniform_table(**{**ok, name: over})
+    with pytest.raises(ArgumentError, match=r"^uniform_table takes ranges of step 1$"):
+        uniform_table(**{**ok, "thirds": range(0, 6, 3)})
+    assert uniform_table(**{**ok, "firsts": range(big + 5, big + 5)}).shape == (2, 0)
+    assert uniform_table(**{**ok, "thirds": range(big + 5, big + 5)}).shape == (0, 3)
+
+
+@pytest.mark.xfail(
+    strict=True, raises=OverflowError, reason="rng.uniform's integer port overflows on numpy ints"
+)
+def test_uniform_takes_a_numpy_integer_step_as_numpy_does():
+    """Known bug (session 25): stream() takes numpy integer ids as SeedSequence does, but
+    uniform()'s plain-integer port mixes an np.int64 past the head into Python ints and raises
+    OverflowError (every step 0-399 of this case) instead of returning stream()'s first draw.
+    No caller passes numpy ints today (peer_link and fleet pass Python ints)."""
+    import numpy as np
+    from fire_uav_common.rng import stream, uniform
+
+    for k in range(20):
+        assert uniform(5, "loss", 0, 1, np.int64(k), 0) == stream(5, "loss", 0, 1, k, 0).random()
