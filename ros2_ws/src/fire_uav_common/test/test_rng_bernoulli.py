@@ -297,16 +297,21 @@ def test_uniform_table_refuses_each_word_numpy_would_not_take_as_one():
     assert uniform_table(**{**ok, "thirds": range(big + 5, big + 5)}).shape == (0, 3)
 
 
-@pytest.mark.xfail(
-    strict=True, raises=OverflowError, reason="rng.uniform's integer port overflows on numpy ints"
-)
 def test_uniform_takes_a_numpy_integer_step_as_numpy_does():
-    """Known bug (session 25): stream() takes numpy integer ids as SeedSequence does, but
-    uniform()'s plain-integer port mixes an np.int64 past the head into Python ints and raises
-    OverflowError (every step 0-399 of this case) instead of returning stream()'s first draw.
-    No caller passes numpy ints today (peer_link and fleet pass Python ints)."""
+    """stream() takes numpy integer ids as SeedSequence does; uniform()'s plain-integer port
+    mixed an np.int64 past the head into its 32-bit words and raised OverflowError (session 25,
+    every step 0-399 of this case) instead of returning stream()'s first draw. A float is refused
+    by both."""
     import numpy as np
     from fire_uav_common.rng import stream, uniform
 
     for k in range(20):
         assert uniform(5, "loss", 0, 1, np.int64(k), 0) == stream(5, "loss", 0, 1, k, 0).random()
+        assert (
+            uniform(np.int64(5), "loss", np.uint32(0), 1, k, np.int32(0))
+            == stream(5, "loss", 0, 1, k, 0).random()
+        )
+    with pytest.raises(TypeError):
+        uniform(5, "loss", 0, 1, 2.0, 0)
+    with pytest.raises(TypeError):
+        np.random.SeedSequence([5, 0, 1, 2.0])
