@@ -91,6 +91,30 @@ def test_is_lost_is_rng_bernoulli_outside_the_tables_too():
     assert PeerLink(1, 4, seed=5, loss_probability=1.0, control_period_s=0.1).is_lost(0, 3, 0)
 
 
+def test_a_numpy_integer_step_draws_what_the_same_int_draws():
+    """A numpy integer step (np.int64: what a step read from an array is) is the same message as
+    the int: the single draw, as numpy's own generator gives it, whichever tables are kept."""
+    import numpy as np
+
+    link = PeerLink(1, 4, seed=5, loss_probability=0.5, control_period_s=0.1)
+    for k in range(64, 128):  # block 1's tables for both topics
+        link.is_lost(0, k, 0), link.is_lost(0, k, 1)
+    for t in (0, 1):
+        for j in (0, 2, 3):
+            for k in range(64):
+                want = (
+                    np.random.default_rng(np.random.SeedSequence([5, _loss_key(), j, 1, k, t])).random() < 0.5
+                )
+                assert link.is_lost(j, np.int64(k), t) == want, (j, k, t)
+                assert link.is_lost(j, k, t) == want, (j, k, t)
+
+
+def _loss_key() -> int:
+    from fire_uav_common.rng import _key
+
+    return _key("loss")
+
+
 def test_bad_messages_rejected_and_counted():
     link = PeerLink(1, 3, seed=0, loss_probability=0.0, control_period_s=0.1)
     assert link.receive_state(state(0, 1, 0)) == Verdict.ACCEPTED
