@@ -7,15 +7,19 @@ it gives must be the mean of what the world flew over each control period.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 from fire_uav_agent.airframe_model import (
+    LINE_DAMPING,
     FinalApproach,
     FlownInput,
+    descent_m,
     final_approach_course,
     inside_turn_circle,
+    line_gain_per_m,
     slowdown_m,
     turn_radius_m,
 )
@@ -544,3 +548,121 @@ def test_a_j3cub_entering_the_lake_approach_on_the_top_layer_reaches_the_shore_l
     assert a.guide.lake_margin_m > gd.lake_approach_margin_m
     assert height_after(a.guide.lake_margin_m) <= scen.vehicle.refill_height_m
     assert height_after(gd.lake_approach_margin_m) > scen.vehicle.refill_height_m  # FF's margin is too short
+
+
+# --- session 25: the final's line gain, its band, the model's energy split, the distances by hand
+@pytest.mark.parametrize(("k_a", "v"), [(1.67, 15.6), (0.5, 46.8)])
+def test_the_finals_line_gain_gives_the_lateral_loop_its_damping(k_a: float, v: float):
+    """B&M Eq. 10.8's field flown under the heading loop omega = K_a (chi_c - psi) (FF Eq. 11):
+    de/dt = v sin(psi - chi_q). Linearised, e'' + K_a e' + K_a v K e = 0; released 0.2 m beside the
+    line on course (e' = 0) its first swing past the line is e0 exp(-zeta pi / sqrt(1 - zeta^2))
+    (the second-order response), from which the damping is read back: 0.7 (LINE_DAMPING)."""
+    ap = FinalApproach(
+        (5000.0, 0.0), 0.0, 4000.0, 200.0, line_gain_per_m=line_gain_per_m(k_a, v, math.radians(60.0))
+    )
+
+    def rate(st: np.ndarray) -> np.ndarray:
+        x, y, psi = st
+        return np.array([v * math.cos(psi), v * math.sin(psi), k_a * (ap.line_course((x, y)) - psi)])
+
+    st, dt, e0, lowest = np.array([0.0, 0.2, 0.0]), 0.005, 0.2, 0.0
+    for _ in range(int(4.0 * math.pi / math.sqrt(k_a * v * 2.0 / 3.0 * ap.line_gain_per_m) / dt)):
+        k1 = rate(st)
+        k2 = rate(st + 0.5 * dt * k1)
+        k3 = rate(st + 0.5 * dt * k2)
+        k4 = rate(st + dt * k3)
+        st = st + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        lowest = min(lowest, float(st[1]))
+    assert lowest < 0.0  # underdamped: it swings past the line
+    ln_os = math.log(-lowest / e0)
+    zeta = -ln_os / math.sqrt(math.pi**2 + ln_os**2)
+    assert zeta == pytest.approx(LINE_DAMPING, abs=0.01)
+
+
+def test_within_its_band_the_line_gain_holds_and_beyond_it_the_slope_is_one_over_r():
+    """FinalApproach's doc: k within ``line_band_m`` of the line, beyond it the argument of B&M's atan
+    grows as e / r (continuous at the band's edge); either side of the line alike; no band: k everywhere,
+    no gain: 1 / r."""
+    r, k, b, chi = 25.0, 0.1, 3.0, math.radians(60.0)
+
+    def arg(ap: FinalApproach, cross: float) -> float:  # atan's argument, read back from the course
+        return math.tan((ap.course_rad - ap.line_course((-100.0, cross))) / (chi * 2.0 / math.pi))
+
+    banded = FinalApproach((0.0, 0.0), 0.0, 500.0, r, line_gain_per_m=k, line_band_m=b)
+    for sign in (1.0, -1.0):
+        for e in (0.5, 1.0, 2.9):
+            assert arg(banded, sign * e) == pytest.approx(sign * k * e)
+        for e in (3.5, 10.0, 60.0):
+            assert arg(banded, sign * e) == pytest.approx(sign * (k * b + (e - b) / r))
+    thin = FinalApproach((0.0, 0.0), 0.0, 500.0, r, line_gain_per_m=k, line_band_m=0.5)
+    assert arg(thin, 2.0) == pytest.approx(k * 0.5 + 1.5 / r)
+    plain = FinalApproach((0.0, 0.0), 0.0, 500.0, r, line_gain_per_m=k)
+    assert arg(plain, 10.0) == pytest.approx(k * 10.0)
+    weak = FinalApproach((0.0, 0.0), 0.0, 500.0, r, line_gain_per_m=0.5 / r)
+    assert arg(weak, 10.0) == pytest.approx(0.5 * 10.0 / r)
+    assert arg(FinalApproach((0.0, 0.0), 0.0, 500.0, r), 10.0) == pytest.approx(10.0 / r)
+
+
+def _pc7_model(substeps_dt: float = 0.01) -> tuple[FlownInput, object]:
+    af = dataclasses.replace(TANKER, excess_power=TANKER.jsbsim.excess_power)
+    lim = VehicleLimits.of(sc.airframes.envelope_vehicle(sc.Vehicle(), af))
+    return FlownInput(af, lim, 0.01, substeps_dt), af
+
+
+def test_the_models_energy_split_spends_no_more_than_the_excess_power_of_the_turn():
+    """Energy conservation (Lambregts 1983): climb + (v / g) dv/dt <= P_s(v, m, n) at each substep,
+    n = 1 / cos(bank) (B&M Eq. 9.14's coordinated turn) and P_s the PC-7's measured table; where the
+    speed gets less than its first-order command (B&M Eq. 9.18) the power is spent whole."""
+    f, af = _pc7_model()
+    e, w, g = af.excess_power, 1000.0, 9.80665
+    cmd = np.array([65.0, 5.0, 1.0])  # faster, climbing, turning at the bank limit
+    f.input(cmd, False, AIR, w)
+    spent_whole = 0
+    for _ in range(2000):
+        v0, c0, phi0 = f.state.airspeed_mps, f.state.climb_mps, f.state.bank_rad
+        f.input(cmd, True, AIR, w)
+        dv = (f.state.airspeed_mps - v0) / 0.01
+        rate = c0 + v0 * dv / g
+        p_s = e.power_at(v0, w, 1.0 / math.cos(phi0))
+        assert rate <= p_s + 1e-9
+        asked = min(max((65.0 - v0) / af.tau_airspeed_s, -af.accel_max_mps2), af.accel_max_mps2)
+        if dv < asked - 1e-9:
+            assert rate == pytest.approx(p_s, abs=1e-9)
+            spent_whole += 1
+    assert f.state.bank_rad > math.radians(40.0) and spent_whole > 1000
+
+
+def test_at_its_lowest_speed_full_of_water_in_a_hard_turn_the_model_holds_the_speed_and_sinks():
+    """P_s < 0 at 46.8 m/s full of water in a 45 deg turn (-1 m/s): at its lowest speed the aircraft
+    gives up height, not speed (ExcessPower.split's floor, the autopilot's rule the agents model)."""
+    f, af = _pc7_model(0.1)
+    cmd = np.array([af.v_min_mps, 0.0, 1.0])
+    f.input(cmd, False, AIR, 3000.0)
+    for _ in range(100):
+        u = f.input(cmd, True, AIR, 3000.0)
+        assert f.state.airspeed_mps >= af.v_min_mps - 1e-9
+    assert f.state.bank_rad > math.radians(40.0) and u[1] < -0.5
+
+
+def test_the_distances_to_slow_down_and_to_descend_by_hand():
+    """Constant deceleration a from v0 to v1 takes (v0 - v1) / a at the mean speed (small_uav, a = 3
+    m/s^2: 30 -> 18.6 m/s in 3.8 s at 24.3 m/s, 92.34 m, the docstring's 92 m); a descent of h at the
+    descent limit takes h / descent_max at the speed flown (tanker 8 m/s: 30 m in 3.75 s at 46.8 m/s,
+    175.5 m; small_uav 5 m/s: 1 m at 20 m/s, 4 m); no descent, no distance."""
+    assert slowdown_m(SMALL, 30.0, 18.6) == pytest.approx(3.8 * 24.3)
+    assert slowdown_m(SMALL, 20.0, 20.0) == 0.0
+    assert descent_m(TANKER, 46.8, 30.0) == pytest.approx(175.5)
+    assert descent_m(SMALL, 20.0, 1.0) == pytest.approx(4.0)
+    assert descent_m(SMALL, 20.0, 0.0) == 0.0
+    assert descent_m(SMALL, 20.0, -5.0) == 0.0
+
+
+def test_the_touchdown_step_rule_at_its_edges():
+    """at_threshold's doc: the step rule is for an airframe that flies *more than* the radius in a
+    step, at the step with |along| <= step / 2 (the one at -step / 2 included: the pass's next step
+    is a whole step on), not a step further past the threshold."""
+    ap = FinalApproach((0.0, 0.0), 0.0, 1800.0, 223.0)  # course 0: along = x
+    assert not ap.at_threshold((1.0, 2.4), 2.5, 2.5)  # a step of exactly the radius: the disc alone
+    assert ap.at_threshold((1.0, 2.4), 2.6, 2.5)
+    assert ap.at_threshold((-2.34, 2.4), 4.68, 2.5)
+    assert not ap.at_threshold((0.6 * 4.68, 2.4), 4.68, 2.5)

@@ -475,3 +475,27 @@ def test_density_at_masked_points_is_the_full_grids_bit_for_bit():
         m_old, c_old = mass_centroid(grid.points, full, mask, grid.cell_area_m2)
         assert m_new.hex() == m_old.hex(), trial
         assert (c_new is None and c_old is None) or c_new.tobytes() == c_old.tobytes(), trial
+
+
+def test_density_at_points_is_numpys_sum_of_the_gaussians_there():
+    """gaussian_density_at against Eqs. 13-15 written out in numpy over the whole grid, then indexed:
+    sum over the fires with sigma > 0 of exp(-|q - c|^2 / (2 sigma^2)). A sigma-0 fire centred on a
+    grid point adds nothing (not a 0 / 0 there), a narrow one (sigma 0.5 m, less than a cell) its
+    1.0 at its centre; an empty list of indices gives no values, as numpy's indexing does."""
+    from fire_uav_agent.coverage import gaussian_density_at, make_grid
+
+    grid = make_grid(0.0, 100.0, 0.0, 60.0, 2.5)
+    centres = np.array([[51.25, 31.25], [26.25, 11.25], [70.0, 40.0]])  # the first two on grid points
+    sigmas = np.array([0.0, 0.5, 20.0])
+    d2 = ((grid.points[:, None, :] - centres[None, :, :]) ** 2).sum(axis=2)
+    keep = sigmas > 0
+    truth = np.exp(-d2[:, keep] / (2.0 * sigmas[keep] ** 2)).sum(axis=1)
+    rng = np.random.default_rng(7)
+    for idx in (np.arange(truth.size), rng.choice(truth.size, 200, replace=False)):
+        np.testing.assert_allclose(
+            gaussian_density_at(grid, centres, sigmas, idx), truth[idx], rtol=1e-12, atol=0
+        )
+    on_narrow = 4 * grid.xs.size + 10  # (26.25, 11.25): row 4, column 10
+    wide = math.exp(-((26.25 - 70.0) ** 2 + (11.25 - 40.0) ** 2) / (2.0 * 20.0**2))
+    assert gaussian_density_at(grid, centres, sigmas, [on_narrow])[0] == pytest.approx(1.0 + wide, rel=1e-12)
+    assert gaussian_density_at(grid, centres, sigmas, []).shape == (0,)

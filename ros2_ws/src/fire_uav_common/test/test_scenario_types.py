@@ -201,3 +201,93 @@ def test_at_its_floor_the_aircraft_holds_its_speed_before_it_climbs():
     assert e.split(45.0, 0.0, 2.0, 0.5, v_floor_mps=46.0) == (-1.0, 0.0)
     climb, accel = e.split(50.0, 0.0, 2.0, 0.5, v_floor_mps=46.0)
     assert climb == 0.0 and accel == pytest.approx(-t.G_MPS2 / 50.0)
+
+
+def _polar(masses: tuple[float, ...], c: float = 0.07, margin: float = 1.0) -> t.ExcessPower:
+    """A made-up aircraft with a parabolic drag polar (as above), tabulated at each mass in level
+    flight, water 0, 500, 1000 kg for three masses (JSBSim weighs the water linearly)."""
+    speeds = (40.0, 55.0, 70.0)
+    a = {40.0: 9000.0, 55.0: 12000.0, 70.0: 10000.0}
+    rows = tuple(tuple(a[v] / m - c * m / v for v in speeds) for m in masses)
+    water = tuple(500.0 * k for k in range(len(masses)))
+    return t.ExcessPower(speeds, water, rows, rows, mass_kg=masses, margin=margin)
+
+
+def test_a_third_water_row_is_interpolated_between_its_neighbours():
+    """Bilinear in water as well: at 750 kg halfway between the second and third rows (of three),
+    the level-flight value is their mean; the turn's induced drag there is c m n^2 / v less c m / v
+    with m halfway between their masses (1875 kg), c = 0.07 the polar's."""
+    e = t.ExcessPower(
+        (40.0, 50.0),
+        (0.0, 500.0, 1000.0),
+        ((1.0, 2.0), (3.0, 4.0), (7.0, 10.0)),
+        ((1.0, 2.0), (3.0, 4.0), (7.0, 10.0)),
+        margin=1.0,
+    )
+    assert e.power_at(45.0, 750.0) == pytest.approx(0.5 * (3.5 + 8.5))
+    assert e.climb_max_at(50.0, 250.0) == pytest.approx(3.0)
+    p = _polar((1500.0, 1750.0, 2000.0))
+    n = math.sqrt(2.0)
+    for v in (40.0, 55.0, 70.0):
+        assert p.power_at(v, 750.0) - p.power_at(v, 750.0, n) == pytest.approx(0.07 * 1875.0 / v)
+
+
+def test_the_defaults_are_level_flight_and_without_masses_there_is_no_turn_term():
+    """The tables are measured in level flight (n = 1): a call without a load factor reads them as
+    they are; a table without ``mass_kg`` has no induced-drag term (class doc), so a turn reads the
+    same."""
+    p = _polar((1500.0, 2500.0))
+    for v, row in ((40.0, 0), (70.0, 1)):
+        w = 1000.0 * row
+        assert p.power_at(v, w) == pytest.approx(p.power_mps[row][p.speeds_mps.index(v)])
+        assert p.climb_max_at(v, w) == pytest.approx(p.climb_mps[row][p.speeds_mps.index(v)])
+        assert p.split(v, w, 50.0, 0.0) == (pytest.approx(p.climb_mps[row][p.speeds_mps.index(v)]), 0.0)
+    e = _energy()
+    assert e.power_at(50.0, 0.0, 2.0) == e.power_at(50.0, 0.0) == 6.0
+    assert e.climb_max_at(50.0, 0.0, 2.0) == e.climb_max_at(50.0, 0.0) == 6.0
+
+
+def test_in_a_turn_the_split_spends_the_turns_excess_power():
+    """At n = sqrt(2) (a 45 deg coordinated turn, B&M Eq. 9.14) the polar's P_s is A / m - 2 c m / v:
+    the climb is cut to it and the speed gets nothing more (Lambregts: climb + (v / g) dv/dt <= P_s);
+    a small climb leaves the rest, g (P_s - climb) / v, to the speed."""
+    p = _polar((1500.0, 2500.0))
+    n, v, m = math.sqrt(2.0), 55.0, 1500.0
+    ps = 12000.0 / m - 0.07 * m * n * n / v
+    climb, accel = p.split(v, 0.0, 50.0, 1.0, load_factor=n)
+    assert climb == pytest.approx(ps) and accel == pytest.approx(0.0, abs=1e-9)
+    climb, accel = p.split(v, 0.0, 1.0, 5.0, load_factor=n)
+    assert climb == 1.0 and accel == pytest.approx(t.G_MPS2 * (ps - 1.0) / v)
+
+
+def test_at_exactly_its_floor_the_speed_comes_first_even_on_a_hold():
+    """The split's doc: *at or below* ``v_floor_mps`` the speed is held first. At the floor itself,
+    and on a command to hold the speed (dv/dt 0), the climb is cut to P_s < 0; a modelled climb that
+    still spends 2 m/s does not slow the aircraft below its floor."""
+    e = t.ExcessPower((40.0, 60.0), (0.0,), ((-1.0, -1.0),), ((-1.0, -1.0),), margin=1.0)
+    assert e.split(46.0, 0.0, 2.0, 0.5, v_floor_mps=46.0) == (-1.0, 0.0)
+    assert e.split(45.0, 0.0, 2.0, 0.0, v_floor_mps=46.0) == (-1.0, 0.0)
+    assert e.split(46.0, 0.0, 2.0, 0.5, climb_now_mps=2.0, v_floor_mps=46.0) == (-1.0, 0.0)
+
+
+def test_the_margin_keeps_a_reserve_on_either_side_of_zero():
+    """``margin`` < 1 keeps a reserve: what the split may spend is below the measured P_s whether
+    that is a surplus (a share of it, 0.9 x 0.5) or a deficit (counted larger)."""
+    e = t.ExcessPower((40.0, 60.0), (0.0,), ((0.5, -1.0),), ((0.5, -1.0),), margin=0.9)
+    assert e.power_at(40.0, 0.0) == pytest.approx(0.45)
+    assert e.power_at(60.0, 0.0) < -1.0
+    assert e.climb_max_at(60.0, 0.0) < -1.0
+
+
+def test_every_malformed_table_is_refused_with_its_reason():
+    one = ((1.0,),)
+    with pytest.raises(ArgumentError, match=r"tables must be 1 x 1 \(water x speed\), with >= 2 speeds"):
+        t.ExcessPower((40.0,), (0.0,), one, one)
+    with pytest.raises(
+        ArgumentError, match=r"mass_kg needs one mass per water row \(>= 2\), got \(1\.0, 2\.0, 3\.0\)"
+    ):
+        t.ExcessPower((40.0, 50.0), (0.0, 1.0), ((1.0, 2.0),) * 2, ((1.0, 2.0),) * 2, mass_kg=(1.0, 2.0, 3.0))
+    with pytest.raises(ArgumentError, match="mass_kg needs one mass per water row"):
+        t.ExcessPower((40.0, 50.0), (0.0,), ((1.0, 2.0),), ((1.0, 2.0),), mass_kg=(1.0,))
+    with pytest.raises(ArgumentError, match=r"axis must be ascending, got \(40\.0, 40\.0\)"):
+        t.ExcessPower((40.0, 40.0), (0.0,), ((1.0, 2.0),), ((1.0, 2.0),))
