@@ -37,7 +37,7 @@ import fire_uav_recording as bag_io
 import numpy as np
 import yaml
 from fire_bench.envelope import envelope_share
-from fire_mission.cli import OneLineParser
+from fire_mission.cli import OneLineParser, set_overrides
 from fire_mission.inprocess import run_inprocess
 from fire_uav_agent.testing.harness import scenario_path
 from fire_uav_common.constants import VehicleStatus
@@ -57,12 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     a = p.parse_args(argv)
     if a.bag:
         return from_bag(p, a.bag, a.bank_deg)
-    overrides = {}
-    for kv in a.set:
-        if "=" not in kv:
-            p.error(f"--set {kv!r}: expected FIELD=VALUE")
-        k, v = kv.split("=", 1)
-        overrides[k] = yaml.safe_load(v)
+    overrides = set_overrides(p, a.set)
     try:
         sc = load_scenario(scenario_path(a.scenario), overrides=overrides)
     except (FileNotFoundError, ScenarioError) as e:

@@ -28,9 +28,8 @@ import sys
 from pathlib import Path
 
 import fire_uav_agent.testing.harness as harness_mod
-import yaml
 from fire_bench.envelope import envelope_share
-from fire_mission.cli import OneLineParser
+from fire_mission.cli import OneLineParser, set_overrides
 from fire_mission.inprocess import run_inprocess
 from fire_uav_agent.testing.harness import scenario_path
 from fire_uav_common.constants import VehicleStatus
@@ -132,12 +131,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE")
     p.add_argument("--json", type=Path, help="write the mission's summary dict (with landing_probe) here")
     a = p.parse_args(argv)
-    overrides = {}
-    for kv in a.set:
-        if "=" not in kv:
-            p.error(f"--set {kv!r}: expected FIELD=VALUE")
-        k, v = kv.split("=", 1)
-        overrides[k] = yaml.safe_load(v)
+    overrides = set_overrides(p, a.set)
     try:
         sc = load_scenario(scenario_path(a.scenario), overrides=overrides)
     except (FileNotFoundError, ScenarioError) as e:

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import argparse
-from typing import NoReturn
+from collections.abc import Iterable
+from typing import Any, NoReturn
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -13,6 +14,20 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def set_overrides(p: argparse.ArgumentParser, pairs: Iterable[str]) -> dict[str, Any]:
+    """The scenario overrides of repeated ``--set FIELD=VALUE`` options, each value read as YAML
+    (``3``, ``true``, ``[1, 2]``); a pair without ``=`` is a usage error naming it."""
+    import yaml
+
+    overrides: dict[str, Any] = {}
+    for kv in pairs:
+        if "=" not in kv:
+            p.error(f"--set {kv!r}: expected FIELD=VALUE")
+        k, v = kv.split("=", 1)
+        overrides[k] = yaml.safe_load(v)
+    return overrides
 
 
 def mission_exit_status(outcome: str, uav_count: int, user_max_duration_s: float | None) -> int:

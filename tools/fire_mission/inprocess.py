@@ -27,7 +27,7 @@ from fire_uav_common.constants import FireStatus, VehicleStatus
 from fire_uav_common.scenario import Scenario, load_scenario
 from fire_uav_common.scenario.ground import geo_summary
 
-from .cli import OneLineParser, mission_exit_status
+from .cli import OneLineParser, mission_exit_status, set_overrides
 from .errors import MissionError
 from .summary import LiveEvent, LiveSummary, table
 
@@ -151,14 +151,7 @@ def main(argv: list[str] | None = None) -> int:
         p.error(f"--uavs must be >= 0 (0: the fire alone), got {a.uavs}")
     if a.max_duration is not None and not a.max_duration > 0:
         p.error(f"--max-duration must be > 0 s, got {a.max_duration}")
-    import yaml
-
-    ov = {}
-    for kv in a.set:
-        if "=" not in kv:
-            p.error(f"--set {kv!r}: expected FIELD=VALUE")
-        k, v = kv.split("=", 1)
-        ov[k] = yaml.safe_load(v)
+    ov = set_overrides(p, a.set)
     if a.max_duration is not None:
         ov["timing.max_duration_s"] = a.max_duration
     from fire_uav_common.scenario import ScenarioError

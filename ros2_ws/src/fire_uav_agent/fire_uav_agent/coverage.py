@@ -19,6 +19,7 @@ regular grid of cell centres (FF III-A); ``Grid.points`` is (M, 2) in row-major 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -230,16 +231,23 @@ def _row_intervals(
     return mask, np.arange(total) + np.repeat(first - (np.cumsum(lens) - lens), lens)
 
 
-def gaussian_density(grid: Grid, centres: ArrayLike, sigmas: ArrayLike) -> np.ndarray:
-    """Eqs. 13-15: sum of isotropic Gaussians exp(-|q - c|^2 / (2 sigma^2)) on the grid, (M,)."""
+def _gaussian_factors(
+    grid: Grid, centres: ArrayLike, sigmas: ArrayLike
+) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """Each Gaussian of Eqs. 13-15 with sigma > 0 as its separable factors along the grid's
+    columns and rows, ``(gx, gy)``: exp(-(dx^2 + dy^2) / 2 s^2) = gx * gy."""
     centres = np.asarray(centres, dtype=float).reshape(-1, 2)
     sigmas = np.broadcast_to(np.asarray(sigmas, dtype=float), (centres.shape[0],))
-    out = None
     for (cx, cy), s in zip(centres, sigmas, strict=True):
         if not s > 0:
             continue
-        gx = np.exp(-((grid.xs - cx) ** 2) / (2 * s * s))
-        gy = np.exp(-((grid.ys - cy) ** 2) / (2 * s * s))
+        yield np.exp(-((grid.xs - cx) ** 2) / (2 * s * s)), np.exp(-((grid.ys - cy) ** 2) / (2 * s * s))
+
+
+def gaussian_density(grid: Grid, centres: ArrayLike, sigmas: ArrayLike) -> np.ndarray:
+    """Eqs. 13-15: sum of isotropic Gaussians exp(-|q - c|^2 / (2 sigma^2)) on the grid, (M,)."""
+    out = None
+    for gx, gy in _gaussian_factors(grid, centres, sigmas):
         term = np.outer(gy, gx)  # separable: exp(-(dx^2+dy^2)/2s^2) = gx * gy
         if out is None:
             out = term  # the first term as it is: 0 + v is v for every v >= 0 (no zeros, no add)
@@ -256,15 +264,9 @@ def gaussian_density_at(grid: Grid, centres: ArrayLike, sigmas: ArrayLike, idx: 
     added in the same order, the first kept as it is, so every value is the full grid's. An
     agent sums or weighs the density over its own Voronoi cell only (Eq. 8's masses, Eq. 9's
     centroid), a fraction of the grid, every control step."""
-    centres = np.asarray(centres, dtype=float).reshape(-1, 2)
-    sigmas = np.broadcast_to(np.asarray(sigmas, dtype=float), (centres.shape[0],))
     rows, cols = np.divmod(np.asarray(idx, dtype=np.intp), grid.xs.size)
     out = None
-    for (cx, cy), s in zip(centres, sigmas, strict=True):
-        if not s > 0:
-            continue
-        gx = np.exp(-((grid.xs - cx) ** 2) / (2 * s * s))
-        gy = np.exp(-((grid.ys - cy) ** 2) / (2 * s * s))
+    for gx, gy in _gaussian_factors(grid, centres, sigmas):
         term = gy[rows] * gx[cols]
         if out is None:
             out = term
