@@ -113,3 +113,48 @@ def test_the_dds_row_flies_the_vehicle_model_it_names_over_an_airborne_window(mo
     assert (plain["vehicle_model"], plain["head_steps_per_s"]) == ("ff_paper", 8.0)
     assert (jsb["vehicle_model"], jsb["head_steps_per_s"], jsb["head_agent_rss_mb"]) == ("jsbsim", 5.0, 80.0)
     assert (jsb["head_world_cpu_ms_per_step"], jsb["head_agent_cpu_ms_per_step"]) == (2.0, 4.0)
+
+
+def test_a_difference_that_is_not_positive_is_flagged_not_printed(monkeypatch, tmp_path, capsys):
+    """Session 25: under load the base's world CPU at 20 J3Cubs came out as -2.84 ms/step (the
+    longer run spent less CPU than the shorter one). Such a figure is not a measure: the row keeps
+    it empty and says why, the page lists it under the table, and the run warns on stderr."""
+
+    def run(root, argv, timeout_s):
+        out = Path(argv[argv.index("--out") + 1])
+        t = float(argv[argv.index("--max-duration") + 1])
+        long = t > speed.airborne_after_s(20)
+        # the longer run: 10 steps/s over the window, agents 4 ms/step more, the world 2.84 ms/step *less*
+        n = t * 10
+        wall = 50.0 + (15.0 if long else 0.0)
+        world_cpu_s = 10.0 - (0.426 if long else 0.0)
+        agent_cpu_s = 5.0 + (0.6 if long else 0.0)
+        procs = {
+            "world": {"cpu_ms_per_step": 1000 * world_cpu_s / n},
+            "agent_0": {"cpu_ms_per_step": 1000 * agent_cpu_s / n, "rss_mb": 80.0},
+        }
+        summary = {
+            "mission_time_s": t,
+            "control_period_s": 0.1,
+            "steps_per_wall_s": n / wall,
+            "processes": procs,
+        }
+        (out / "summary.json").write_text(json.dumps(summary))
+        return 1.0, ""
+
+    monkeypatch.setattr(speed, "_run", run)
+    row = speed.dds_row({"base": tmp_path}, 20, 15.0, "jsbsim")
+    assert row["base_steps_per_s"] == 10.0
+    assert row["base_agent_cpu_ms_per_step"] == 4.0
+    assert row["base_world_cpu_ms_per_step"] is None
+    assert len(row["not_measured"]) == 1 and "base world CPU ms/step" in row["not_measured"][0]
+    assert "-2.840" in row["not_measured"][0]
+    assert "not a measure" in capsys.readouterr().err
+    results = {
+        "speed": {"command": "c", "inprocess": [], "dds": [row], "head_commit": "h", "base_commit": "b"}
+    }
+    md = tmp_path / "benchmarks.md"
+    write_markdown(results, tmp_path, md)
+    text = md.read_text()
+    assert "-2.84" not in text.replace(row["not_measured"][0], "")  # only in the note, never a cell
+    assert "Not measured (empty cells above):" in text and "20 UAVs, jsbsim: base world CPU ms/step" in text

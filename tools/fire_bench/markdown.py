@@ -542,6 +542,14 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
         ),
         "",
     ]
+    # a figure left empty because the two runs' difference was not positive says so (speed.dds_row)
+    flagged = [
+        f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {note}"
+        for row in r.get("dds", [])
+        for note in row.get("not_measured", [])
+    ]
+    if flagged:
+        lines += ["Not measured (empty cells above):", "", *flagged, ""]
     t = r.get("targets")
     if t:
         lines += [

@@ -32,6 +32,7 @@ from __future__ import annotations
 import json
 import os
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -263,15 +264,34 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
         row[f"{tag}_agent_rss_mb"] = round(sum(rss) / len(rss), 1) if rss else None
         for key in ("steps_per_s", "world_cpu_ms_per_step", "agent_cpu_ms_per_step"):
             row[f"{tag}_{key}"] = None
-        if short is None or full is None or full[1] <= short[1]:
+        if short is None or full is None:
             continue
         steps = full[0] - short[0]
+        if full[1] <= short[1] or steps <= 0:
+            _not_a_measure(
+                row, f"{tag} steps/s", f"{full[1] - short[1]:.3f} s of wall time for {steps:g} steps"
+            )
+            continue
         row[f"{tag}_steps_per_s"] = round(steps / (full[1] - short[1]), 2)
         for i, key in ((2, "world"), (3, "agent")):
             a, b = short[i], full[i]
-            if a is not None and b is not None:
-                row[f"{tag}_{key}_cpu_ms_per_step"] = round(1000 * (b - a) / steps, 3)
+            if a is None or b is None:
+                continue
+            if b <= a:
+                _not_a_measure(row, f"{tag} {key} CPU ms/step", f"{1000 * (b - a) / steps:.3f}")
+                continue
+            row[f"{tag}_{key}_cpu_ms_per_step"] = round(1000 * (b - a) / steps, 3)
     return row
+
+
+def _not_a_measure(row: dict, figure: str, value: str) -> None:
+    """A difference of the two runs that is not positive is not a measure of the window (the
+    longer run spent no more than the shorter: the machine's load changed between them). The
+    figure stays empty, and the row says which and what the difference was, so that the page
+    shows it instead of printing a negative rate or CPU time."""
+    note = f"{figure}: difference of the two runs {value}, not positive (load changed between them?): not a measure"
+    row.setdefault("not_measured", []).append(note)
+    print(f"bench: warning: {row['uavs']} UAVs {row['vehicle_model']}: {note}", file=sys.stderr)
 
 
 def bench_speed(base: Path | None, quick: bool, dds_sizes: list[int] | None = None) -> dict:

@@ -376,8 +376,9 @@ class FinalApproach:
     def at_threshold(self, xy: tuple[float, float], step_m: float, radius_m: float) -> bool:
         """Whether to touch down here: within ``radius_m`` of the threshold, or, for an airframe that
         flies more than ``radius_m`` in one control step (``step_m``: the tanker's 4.7 m at 46.8 m/s
-        against the 2.5 m touch-down disc), at the step nearest to it along the line (|along| <=
-        step / 2) within ``radius_m`` of the line. Without the second rule a pass stepped over the
+        against the 2.5 m touch-down disc), at the step nearest to it along the line (-step / 2 <=
+        along < step / 2: half-open, so that of two steps straddling the threshold exactly one
+        touches down) within ``radius_m`` of the line. Without the second rule a pass stepped over the
         disc whenever its cross-track error exceeded about 1 m, and the tanker went round again."""
         along, cross = self.frame(xy)
         if math.hypot(along, cross) <= radius_m:

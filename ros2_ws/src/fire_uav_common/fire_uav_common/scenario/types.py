@@ -130,7 +130,9 @@ class ExcessPower:
     ``speeds_mps`` and ``water_kg`` ascending; ``climb_mps[i][j]`` and ``power_mps[i][j]`` at
     ``water_kg[i]`` and ``speeds_mps[j]``; bilinear between the points, the end values beyond them.
     ``margin``: the share of the measured figures the split spends (the throttle keeps a reserve to
-    track with).
+    track with). A positive figure is multiplied by it, a negative one (a hard turn full of water,
+    where the aircraft at full throttle must descend or slow) divided by it: either way the figure
+    spent is the more cautious one, a smaller climb or a steeper required descent.
     """
 
     speeds_mps: tuple[float, ...]
