@@ -152,8 +152,9 @@ class MonitorConfig:
 @dataclass
 class _Peer:
     peer_id: int
-    angle_rad: float
+    angle_rad: float  # about the map's centre
     heard_s: float
+    xy_m: tuple[float, float]  # where the peer was placed (its angle is re-taken when the centre is found)
 
 
 @dataclass
@@ -374,19 +375,19 @@ class PerimeterMonitor:
             self._lap.raw.append(np.column_stack([px[ok], py[ok], tv[ok]]))
         heard = float(t_s) if t_s is not None else float(np.nanmax(tv)) if np.isfinite(tv).any() else -np.inf
         if peer_pos_m is not None:
-            ang = math.atan2(
-                peer_pos_m[1] - self.fire_map.center_y_m, peer_pos_m[0] - self.fire_map.center_x_m
-            )
+            at = (float(peer_pos_m[0]), float(peer_pos_m[1]))
+            ang = math.atan2(at[1] - self.fire_map.center_y_m, at[0] - self.fire_map.center_x_m)
         elif np.isfinite(tv).any() and np.isfinite(d).any():
             ok = np.isfinite(tv) & np.isfinite(d)
             recent = ok & (tv >= np.nanmax(tv[ok]) - self.config.cell_size_m / self.config.speed_mps)
             xs, ys = px[recent], py[recent]
+            at = (float(np.mean(xs)), float(np.mean(ys)))
             ang = math.atan2(
                 float(np.mean(ys - self.fire_map.center_y_m)), float(np.mean(xs - self.fire_map.center_x_m))
             )
         else:
             return taken
-        self._peers[peer_id] = _Peer(peer_id, ang, heard)
+        self._peers[peer_id] = _Peer(peer_id, ang, heard, at)
         return taken
 
     def hull_m(self) -> np.ndarray:
@@ -444,6 +445,10 @@ class PerimeterMonitor:
             self.fire_map.set_center(cx, cy, raw)
             self.center_known = True
             lap.raw.clear()
+            # peers merged before the centre was found were placed by their angle about the
+            # placeholder centre: place them again about the centre the lap found
+            for p in self._peers.values():
+                p.angle_rad = math.atan2(p.xy_m[1] - cy, p.xy_m[0] - cx)
         lap.done = True
 
     def _peer_weight(self, cells_m: np.ndarray, ros_mps: np.ndarray | None = None) -> np.ndarray | None:

@@ -264,3 +264,26 @@ def test_config_edges_and_whole_messages():
     MonitorConfig(cell_size_m=C, speed_mps=SPEED, min_run_fraction=0.0, min_run_cells=0, turn_margin=0.0)
     with pytest.raises(RuntimeError, match=r"^next_waypoint\(\) before any update\(\)$"):
         CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED)).next_waypoint()
+
+
+def test_a_peer_merged_before_the_centre_is_found_is_placed_about_the_centre_the_lap_finds(disc):
+    """A peer heard during the initial lap (centre unknown) was placed by its angle about the
+    map's placeholder centre and kept it after the lap, until its next summary: a peer due east of
+    the fire (angle 0 about the true centre) sat at atan2(600, 800) = 0.64 rad about (0, 0).
+    After the lap its angle is the one about the centre found (geometry: east of the centre is 0)."""
+    cx, cy = disc.ignition_xy_m
+    m = CirclingMonitor(MonitorConfig(cell_size_m=C, speed_mps=SPEED, ignition_time_s=0.0))
+    summary = {
+        "center_x_m": cx,
+        "center_y_m": cy,
+        "outer_distance_m": np.full(16, 0.05 * T0),
+        "outer_visit_time_s": np.full(16, T0),
+    }
+    m.merge(summary, peer_id=7, peer_pos_m=(cx + 300.0, cy), t_s=T0)
+    assert not m.center_known
+    _fly(disc, m, 7.0)
+    assert m.initial_lap_done and m.center_known
+    fm = m.fire_map
+    expected = math.atan2(cy - fm.center_y_m, cx + 300.0 - fm.center_x_m)  # the centre found is within a cell
+    assert abs(expected) < math.atan2(C, 300.0 - C)
+    assert m._peers[7].angle_rad == pytest.approx(expected, abs=1e-12)
