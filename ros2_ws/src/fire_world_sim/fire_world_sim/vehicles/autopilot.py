@@ -36,7 +36,19 @@ principles", AIAA 83-2239, 1983):
 - the envelope: the course turns at g n sin(phi) / v, more than g tan(phi) / v when a pull-up
   raises the load factor n above level flight's 1 / cos(phi). The bank is further limited to
   asin(tan(bank_max) / n) and the elevator eases the pull where n sin(phi) exceeds 0.9 tan(bank_max),
-  so the flown turn stays within the preset's g tan(bank_max) / v. Integrators stop while their
+  so the flown turn stays within the preset's g tan(bank_max) / v. That easing acts on the
+  elevator after the pull has begun; on the PC-7 (65 m/s, 40 deg bank, levelling off from a
+  descent) it fought the pitch PD in a limit cycle (n 0.8-2.2 every 1.25 s, the pitch command
+  wound up 14 deg above the pitch) and the course turned as a 55 deg bank would. So the load
+  factor is also limited where the pull is commanded (a load-factor protection, as a fly-by-wire
+  normal law's or an autopilot's limit on its pitch command): by the point-mass flight-path
+  equation v dgamma/dt = g (n cos(phi) - cos(gamma)) (B&M sec. 9.4's guidance model, lift along
+  the body normal), with n within n_max = 0.9 tan(bank_max) / |sin(phi)| (``LOAD_LIMIT_MARGIN``)
+  the flight path rises at most at (g / v)(n_max cos(phi) - cos(gamma)); the pitch command noses
+  up no faster (its integrator held meanwhile), and the bank is limited to
+  atan(0.9 tan(bank_max) / (cos(gamma) + v r / g)), the bank at which the wanted rise
+  r = (gamma_c - gamma) / ``PULL_TAU_S`` fits, the flight path first as in Lambregts' TECS (a
+  level-off in a turn rolls out part of the bank instead of sinking further). Integrators stop while their
   output saturates (anti-windup). The roll integrator also stops while the bank command slews or
   the bank is more than ``ROLL_I_BAND_RAD`` from it (conditional integration: K. J. Astrom, T.
   Hagglund, *Advanced PID Control*, ISA, 2006, sec. 3.5): it is there for the steady error of a
@@ -60,7 +72,9 @@ from fire_uav_common.scenario.airframes import G_MPS2
 #: the roll integrator runs only while the bank command has stopped slewing and the bank is
 #: within this of it [rad] (conditional integration: module doc)
 ROLL_I_BAND_RAD = math.radians(2.0)
+#: the load-factor limit's share of n sin(phi) = tan(bank_max) (module doc: the envelope)
 LOAD_LIMIT_MARGIN = 0.9
+#: the time over which a flight-path error is to be closed when the bank is limited for it [s]
 PULL_TAU_S = 1.5
 
 
