@@ -48,7 +48,9 @@ principles", AIAA 83-2239, 1983):
   up no faster (its integrator held meanwhile), and the bank is limited to
   atan(0.9 tan(bank_max) / (cos(gamma) + v r / g)), the bank at which the wanted rise
   r = (gamma_c - gamma) / ``PULL_TAU_S`` fits, the flight path first as in Lambregts' TECS (a
-  level-off in a turn rolls out part of the bank instead of sinking further). Integrators stop while their
+  level-off in a turn rolls out part of the bank instead of sinking further). Only where the
+  preset's ``jsbsim.load_protection`` says so (the PC-7): the J3Cub, which the easing holds within
+  its 40 deg (hardest 39.3 deg over ff_two_fires seeds 1-3), flies as before. Integrators stop while their
   output saturates (anti-windup). The roll integrator also stops while the bank command slews or
   the bank is more than ``ROLL_I_BAND_RAD`` from it (conditional integration: K. J. Astrom, T.
   Hagglund, *Advanced PID Control*, ISA, 2006, sec. 3.5): it is there for the steady error of a
@@ -183,7 +185,10 @@ class Autopilot:
         # flight's, the bank that keeps it within g tan(bank_max) / v is asin(tan(bank_max) / n)
         n = max(s.load_factor, 1.0)
         n_lim = math.asin(min(1.0, math.tan(af.bank_max_rad) / n)) - math.radians(js.bank_margin_deg)
-        lim = max(min(self.bank_limit_rad(v), n_lim, self.pull_bank_limit_rad(v, gamma, gamma_c)), 0.0)
+        lim = min(self.bank_limit_rad(v), n_lim)
+        if js.load_protection:  # the bank at which the wanted pull fits (module doc)
+            lim = min(lim, self.pull_bank_limit_rad(v, gamma, gamma_c))
+        lim = max(lim, 0.0)
         # JSBSim's bank is positive right wing down, a clockwise turn: omega_z (ccw) enters negated
         phi_target = _clip(math.atan(-omega_z_radps * v / G_MPS2), -lim, lim)
         step = math.radians(af.roll_rate_max_degps) * dt_s  # the bank command slews at the roll rate
@@ -206,7 +211,7 @@ class Autopilot:
         # the pitch command slews at pitch_rate_max (no sudden pull-up out of a descent), and noses
         # up no faster than the flight path may rise within the load-factor limit (module doc)
         th_step = math.radians(js.pitch_rate_max_degps) * dt_s
-        up_step = min(th_step, self.pull_rate_max_radps(s, gamma) * dt_s)
+        up_step = min(th_step, self.pull_rate_max_radps(s, gamma) * dt_s) if js.load_protection else th_step
         slewed = _clip(theta_c, self.theta_c_rad - th_step, self.theta_c_rad + up_step)
         held = slewed < theta_c and up_step < th_step  # the load limit holds the command back
         if (theta_c == th_raw or (th_raw > th_max) == (e_d < 0.0)) and not (held and e_d > 0.0):
