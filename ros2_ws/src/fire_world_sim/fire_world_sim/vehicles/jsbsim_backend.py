@@ -16,8 +16,7 @@ JSBSim's own ground is put far below (``ic/terrain-elevation-ft``), so its landi
 touches: the world's terrain is the floor and the world lands the vehicle (``VehicleSim``).
 
 Water is the weight of one of the aircraft's point masses (``inertia/pointmass-weight-lbs[i]``),
-set at launch and whenever the world's tank changes (a refill as the world fills it, a drop at the
-preset's flow rate: ``_water_towards``). Wind is JSBSim's
+set at launch and whenever the world's tank changes (refill, drop). Wind is JSBSim's
 ``atmosphere/wind-north-fps`` / ``wind-east-fps`` (the air's velocity). No process noise: the
 vehicles' noise streams are not drawn.
 
@@ -50,8 +49,6 @@ WGS84_A_M = 6378137.0
 WGS84_E2 = 6.69437999014e-3
 _EAST_M_PER_RAD = WGS84_A_M  # N cos(lat) at lat 0
 _NORTH_M_PER_RAD = WGS84_A_M * (1.0 - WGS84_E2)  # meridian radius M at lat 0
-#: the mass of a litre of the tank's water [kg/L]
-WATER_KG_PER_L = 1.0
 #: JSBSim's ground, far below any map terrain [ft]
 _GROUND_FT = -10000.0
 #: the fallback trim (JsbsimModel._fly_to_trim): the height above the takeoff it flies at [m] and
@@ -205,17 +202,6 @@ class JsbsimModel:
         )
         self._water_kg = water_kg
 
-    def _water_towards(self, water_kg: float, dt_s: float) -> float:
-        """The water aboard after this substep [kg]: the world's, but a drop leaves the tank at the
-        preset's ``drop_flow_lps`` (1 kg/L), as the drop pattern takes it to
-        (``fire_world_sim.drop_pattern``: a tank released at a constant flow rate), not within one
-        substep. The world empties the tank at once; a PC-7 that lost 3,000 kg in 10 ms in a 38 deg
-        bank kept its lift and pulled 2.1 g, its course turning as a 57.6 deg bank would
-        (docs/airframes.md). A refill is taken as the world gives it (at its refill rate)."""
-        if water_kg >= self._water_kg:
-            return water_kg
-        return max(water_kg, self._water_kg - self.af.drop_flow_lps * WATER_KG_PER_L * dt_s)
-
     def _reposition(self, s: FlightState) -> None:
         """Move the aircraft to a state the world changed (the terrain floor lifted it): its
         height (JSBSim's ``position/lat-geod-rad`` is read-only: writing it does nothing, so the
@@ -298,7 +284,7 @@ class JsbsimModel:
         if last is not None and (s.x_m, s.y_m, s.z_m) != (last.x_m, last.y_m, last.z_m):
             self._reposition(s)
         if s.water_kg != self._water_kg:
-            self._set_water(self._water_towards(s.water_kg, dt_s))
+            self._set_water(s.water_kg)
         wind_e, wind_n = self._gust(wind_mps, dt_s)
         fdm["atmosphere/wind-east-fps"] = wind_e / FT_M
         fdm["atmosphere/wind-north-fps"] = wind_n / FT_M
