@@ -3,7 +3,7 @@
 
 Steps one ``jsbsim`` vehicle at fixed commands (``fire_world_sim.vehicles.jsbsim_envelope``: no
 agent, calm air, 100 Hz) at the full and the empty tank and prints what it flies: the lowest trim
-and level speeds, the top speed at full throttle, and at the autopilot's slowest speed the climb
+and level speeds, the top speed held level, and at the autopilot's slowest speed the climb
 and descent rates, the bank and turn rate of the hardest level turn, the roll rate, the
 acceleration and the response times; then the preset's figures for the same fields. The
 ``j3cub`` preset's figures come from this script. With ``--excess-power`` it measures instead the

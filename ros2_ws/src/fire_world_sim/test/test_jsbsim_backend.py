@@ -342,3 +342,35 @@ def test_a_pc7_full_of_water_short_of_power_climbs_first_at_its_best_climb_speed
     late = traj[round(60.0 / DT) :]
     assert float(np.mean([f.climb_mps for f in late])) > 0.85 * 3.21
     assert min(f.airspeed_mps for f in traj) > 46.0  # never below the floor it launched at
+
+
+TANKER = AIRFRAMES["tanker"]
+
+
+@pytest.mark.parametrize(
+    ("water_kg", "vz_before", "vz_after"),
+    [(0.0, -8.0, 0.0), (0.0, -4.0, 0.0), (3000.0, -8.0, 0.0), (0.0, 0.0, 3.0)],
+)
+def test_a_pc7_levelling_off_in_a_turn_stays_within_its_45_deg_envelope(
+    water_kg: float, vz_before: float, vz_after: float
+) -> None:
+    """The tanker's PC-7 at 65 m/s in its hardest turn (commanded g tan(45 deg) / v, flown at the
+    autopilot's 40 deg), descending, then commanded level (the lake's and the final's heights in
+    ff_two_fires_tanker), or level and then commanded to climb. The course turns at g n sin(phi) / v
+    (n the normal load factor JSBSim reports): a pull-up in the bank turns it faster than a level
+    turn at phi. At the base the pitch loop pulled 2.2 g against the elevator's easing in a limit
+    cycle (n 0.8-2.2 every 1.25 s) and the flown course turned as a 55.0 deg bank would (empty,
+    -8 m/s; 54.3 at -4, 45.9 full, 53.9 into the climb). The flown truth must stay within
+    g tan(45 deg) / v (B&M Eq. 9.14 at the preset's bank_max) and the bank within 45 deg, and the
+    aircraft must still level off (climb within 0.5 m/s of the command within 15 s)."""
+    m = JsbsimModel(TANKER)
+    v = 65.0
+    s = m.launch(FlightState(0.0, 0.0, 600.0, 0.0, water_kg=water_kg), Command(v, 0.0, 0.0))
+    omega = G_MPS2 * math.tan(TANKER.bank_max_rad) / v
+    before = _fly(m, s, Command(v, vz_before, omega), 15.0)
+    after = _fly(m, before[-1], Command(v, vz_after, omega), 15.0)
+    traj = before[300:] + after
+    assert max(_needed_bank_rad(f) for f in traj) <= TANKER.bank_max_rad
+    assert max(abs(f.bank_rad) for f in traj) <= TANKER.bank_max_rad
+    assert min(abs(f.bank_rad) for f in before[-100:]) > math.radians(38)  # the hardest turn
+    assert abs(after[-1].climb_mps - vz_after) < 0.5

@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from fire_uav_agent.testing.harness import scenario_path
 from fire_uav_common.scenario import load_scenario
 from fire_uav_common.scenario.airframes import G_MPS2
-from fire_world_sim.vehicles.jsbsim_envelope import holds_level, measure_envelope
+from fire_world_sim.vehicles import Command, FlightState, JsbsimModel
+from fire_world_sim.vehicles.jsbsim_envelope import _unlimited, holds_level, measure_envelope
 
 
 @pytest.fixture(scope="module")
@@ -70,3 +72,25 @@ def test_the_tankers_energy_limit_is_what_the_pc7_flies(v_mps: float, water_kg: 
     climb, ps = full_throttle_climb(af, v_mps, water_kg)
     assert climb == pytest.approx(ep.climb_mps[i][j], abs=0.3)
     assert ps == pytest.approx(ep.power_mps[i][j], abs=0.3)
+
+
+def test_the_top_speed_is_a_level_flight_at_full_power(preset, measured) -> None:
+    """The top speed of level flight is where level flight takes the whole of the engine: flown
+    level at ``v_level_max_mps`` (trimmed 2 m/s faster, 30 s), the J3Cub holds its height and
+    speed with the throttle at >= 95 %. At the base the figure came from a run commanded to 120 m/s
+    at full throttle in which the autopilot's pitch command stood on its -15 deg stop: 40.3 m/s,
+    flown climbing at 2.25 m/s; level at 40.3 m/s the J3Cub needs 78 % throttle."""
+    v = measured.v_level_max_mps
+    m = JsbsimModel(_unlimited(preset, v))
+    s = m.launch(
+        FlightState(0.0, 0.0, 200.0, 0.0, water_kg=preset.water_capacity_kg), Command(v + 2.0, 0.0, 0.0)
+    )
+    tail = []
+    for i in range(3000):
+        (s,) = m.step([s], [Command(v, 0.0, 0.0)], 0.01, [np.random.default_rng(0)])
+        if i >= 2500:
+            tail.append(s)
+    assert max(abs(f.climb_mps) for f in tail) < 0.3
+    assert max(abs(f.airspeed_mps - v) for f in tail) < 0.7
+    assert m.fdm is not None
+    assert m.fdm["fcs/throttle-cmd-norm"] >= 0.95

@@ -136,6 +136,9 @@ AIRFRAMES: dict[str, Airframe] = {
             water_pointmass=0,
             water_weight_scale=0.347,
             simple_trim=False,  # JSBSim's trim fails for it (jsbsim_backend.JsbsimModel.launch)
+            # the elevator's easing alone let it pull 2 g in a 40 deg bank (the course turned as a
+            # 59.8 deg bank would, ff_two_fires_tanker): the load-factor limit before the pull
+            load_protection=True,
             excess_power=PC7_EXCESS_POWER,
             # the agents' model (with the energy limit) against the PC-7, ff_two_fires_tanker seed 1,
             # 5 UAVs, first 120 s: rms 1.43 m/s in ground speed, 1.38 m/s in climb rate

@@ -257,7 +257,8 @@ class JsbsimSetup:
     roll PID on aileron, rudder on sideslip, pitch PD on elevator, the total-energy controller's
     proportional / integral gains on throttle (``tecs_*_t``) and on pitch (``tecs_*_d``), and the
     speed loop ``k_speed_1ps`` that turns an airspeed error into a commanded acceleration, ``k_load``
-    the elevator's easing of a pull that would turn the course beyond the envelope;
+    the elevator's easing of a pull that would turn the course beyond the envelope,
+    ``load_protection`` the load-factor limit on the pitch command and the bank before the pull;
     ``excess_power`` the aircraft's measured energy limit (:class:`ExcessPower`: the autopilot splits
     its commands by it, and the agents on ``jsbsim`` model it), ``model_error_mps`` the agents'
     model error against this aircraft where the preset gives none.
@@ -289,6 +290,9 @@ class JsbsimSetup:
     throttle_min: float = 0.1
     tecs_speed_weight: float = 0.5
     k_load: float = 6.0
+    # the load-factor protection on the pitch command and the bank (autopilot module doc); False:
+    # the elevator's easing alone (k_load), which holds the J3Cub within its envelope and not the PC-7
+    load_protection: bool = False
     # the aircraft's energy limit, measured; None: the autopilot splits no command by it (the J3Cub)
     excess_power: ExcessPower | None = None
     # [m/s] the agents' model error against this aircraft, where the preset's model_error_mps is 0

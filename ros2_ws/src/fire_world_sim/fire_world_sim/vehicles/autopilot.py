@@ -36,7 +36,21 @@ principles", AIAA 83-2239, 1983):
 - the envelope: the course turns at g n sin(phi) / v, more than g tan(phi) / v when a pull-up
   raises the load factor n above level flight's 1 / cos(phi). The bank is further limited to
   asin(tan(bank_max) / n) and the elevator eases the pull where n sin(phi) exceeds 0.9 tan(bank_max),
-  so the flown turn stays within the preset's g tan(bank_max) / v. Integrators stop while their
+  so the flown turn stays within the preset's g tan(bank_max) / v. That easing acts on the
+  elevator after the pull has begun; on the PC-7 (65 m/s, 40 deg bank, levelling off from a
+  descent) it fought the pitch PD in a limit cycle (n 0.8-2.2 every 1.25 s, the pitch command
+  wound up 14 deg above the pitch) and the course turned as a 55 deg bank would. So the load
+  factor is also limited where the pull is commanded (a load-factor protection, as a fly-by-wire
+  normal law's or an autopilot's limit on its pitch command): by the point-mass flight-path
+  equation v dgamma/dt = g (n cos(phi) - cos(gamma)) (B&M sec. 9.4's guidance model, lift along
+  the body normal), with n within n_max = 0.9 tan(bank_max) / |sin(phi)| (``LOAD_LIMIT_MARGIN``)
+  the flight path rises at most at (g / v)(n_max cos(phi) - cos(gamma)); the pitch command noses
+  up no faster (its integrator held meanwhile), and the bank is limited to
+  atan(0.9 tan(bank_max) / (cos(gamma) + v r / g)), the bank at which the wanted rise
+  r = (gamma_c - gamma) / ``PULL_TAU_S`` fits, the flight path first as in Lambregts' TECS (a
+  level-off in a turn rolls out part of the bank instead of sinking further). Only where the
+  preset's ``jsbsim.load_protection`` says so (the PC-7): the J3Cub, which the easing holds within
+  its 40 deg (hardest 39.3 deg over ff_two_fires seeds 1-3), flies as before. Integrators stop while their
   output saturates (anti-windup). The roll integrator also stops while the bank command slews or
   the bank is more than ``ROLL_I_BAND_RAD`` from it (conditional integration: K. J. Astrom, T.
   Hagglund, *Advanced PID Control*, ISA, 2006, sec. 3.5): it is there for the steady error of a
@@ -60,6 +74,10 @@ from fire_uav_common.scenario.airframes import G_MPS2
 #: the roll integrator runs only while the bank command has stopped slewing and the bank is
 #: within this of it [rad] (conditional integration: module doc)
 ROLL_I_BAND_RAD = math.radians(2.0)
+#: the load-factor limit's share of n sin(phi) = tan(bank_max) (module doc: the envelope)
+LOAD_LIMIT_MARGIN = 0.9
+#: the time over which a flight-path error is to be closed when the bank is limited for it [s]
+PULL_TAU_S = 1.5
 
 
 def _clip(x: float, lo: float, hi: float) -> float:
@@ -115,6 +133,22 @@ class Autopilot:
         stall_lim = math.acos(ratio) if ratio < 1.0 else 0.0
         return max(min(self.af.bank_max_rad, stall_lim) - math.radians(self.js.bank_margin_deg), 0.0)
 
+    def pull_bank_limit_rad(self, v_mps: float, gamma_rad: float, gamma_c_rad: float) -> float:
+        """The largest bank at which the flight path can rise toward its command at the rate
+        (gamma_c - gamma) / PULL_TAU_S within the load-factor limit [rad] (module doc)."""
+        rate = max(gamma_c_rad - gamma_rad, 0.0) / PULL_TAU_S
+        n_vert = math.cos(gamma_rad) + max(v_mps, 1.0) * rate / G_MPS2
+        return math.atan(LOAD_LIMIT_MARGIN * math.tan(self.af.bank_max_rad) / n_vert)
+
+    def pull_rate_max_radps(self, s: AirState, gamma_rad: float) -> float:
+        """The fastest rise of the flight path within the load-factor limit [rad/s, >= 0]."""
+        sin_phi = abs(math.sin(s.bank_rad))
+        if sin_phi < 1e-3:
+            return math.inf
+        n_max = LOAD_LIMIT_MARGIN * math.tan(self.af.bank_max_rad) / sin_phi
+        v = max(s.airspeed_mps, 1.0)
+        return max(G_MPS2 * (n_max * math.cos(s.bank_rad) - math.cos(gamma_rad)) / v, 0.0)
+
     def speed_command_mps(self, v_lin_mps: float) -> float:
         """The airspeed held [m/s]: the command within [max(v_min, the aircraft's floor), v_max]."""
         lo = max(self.af.v_min_mps, self.js.v_floor_mps)
@@ -132,22 +166,6 @@ class Autopilot:
         """The surfaces for one substep; ``water_kg`` the load aboard (the energy limit's mass)."""
         af, js = self.af, self.js
         v = max(s.airspeed_mps, 1.0)
-        # lateral: coordinated-turn bank command, roll PID, rudder against sideslip
-        # the course turns at g n sin(phi) / v: with the load factor n of a pull-up above level
-        # flight's, the bank that keeps it within g tan(bank_max) / v is asin(tan(bank_max) / n)
-        n = max(s.load_factor, 1.0)
-        n_lim = math.asin(min(1.0, math.tan(af.bank_max_rad) / n)) - math.radians(js.bank_margin_deg)
-        lim = max(min(self.bank_limit_rad(v), n_lim), 0.0)
-        # JSBSim's bank is positive right wing down, a clockwise turn: omega_z (ccw) enters negated
-        phi_target = _clip(math.atan(-omega_z_radps * v / G_MPS2), -lim, lim)
-        step = math.radians(af.roll_rate_max_degps) * dt_s  # the bank command slews at the roll rate
-        phi_c = self.phi_c_rad = _clip(phi_target, self.phi_c_rad - step, self.phi_c_rad + step)
-        e_phi = phi_c - s.bank_rad
-        ail_raw = js.kp_roll * e_phi + js.ki_roll * self.i_roll - js.kd_roll * s.roll_rate_radps
-        ail = _clip(ail_raw, -1.0, 1.0)
-        if ail == ail_raw and phi_c == phi_target and abs(e_phi) < ROLL_I_BAND_RAD:
-            self.i_roll += e_phi * dt_s
-        rud = _clip(-js.k_beta * s.sideslip_rad, -1.0, 1.0)
         # longitudinal: TECS
         v_c = self.speed_command_mps(v_lin_mps)
         vz_c = _clip(v_z_mps, -af.descent_max_mps, af.climb_max_mps)
@@ -162,6 +180,25 @@ class Autopilot:
             )
         gamma = math.asin(_clip(s.climb_mps / v, -1.0, 1.0))
         gamma_c = math.asin(_clip(vz_c / v, -1.0, 1.0))
+        # lateral: coordinated-turn bank command, roll PID, rudder against sideslip
+        # the course turns at g n sin(phi) / v: with the load factor n of a pull-up above level
+        # flight's, the bank that keeps it within g tan(bank_max) / v is asin(tan(bank_max) / n)
+        n = max(s.load_factor, 1.0)
+        n_lim = math.asin(min(1.0, math.tan(af.bank_max_rad) / n)) - math.radians(js.bank_margin_deg)
+        lim = min(self.bank_limit_rad(v), n_lim)
+        if js.load_protection:  # the bank at which the wanted pull fits (module doc)
+            lim = min(lim, self.pull_bank_limit_rad(v, gamma, gamma_c))
+        lim = max(lim, 0.0)
+        # JSBSim's bank is positive right wing down, a clockwise turn: omega_z (ccw) enters negated
+        phi_target = _clip(math.atan(-omega_z_radps * v / G_MPS2), -lim, lim)
+        step = math.radians(af.roll_rate_max_degps) * dt_s  # the bank command slews at the roll rate
+        phi_c = self.phi_c_rad = _clip(phi_target, self.phi_c_rad - step, self.phi_c_rad + step)
+        e_phi = phi_c - s.bank_rad
+        ail_raw = js.kp_roll * e_phi + js.ki_roll * self.i_roll - js.kd_roll * s.roll_rate_radps
+        ail = _clip(ail_raw, -1.0, 1.0)
+        if ail == ail_raw and phi_c == phi_target and abs(e_phi) < ROLL_I_BAND_RAD:
+            self.i_roll += e_phi * dt_s
+        rud = _clip(-js.k_beta * s.sideslip_rad, -1.0, 1.0)
         e_t = (gamma_c - gamma) + (vdot_c - vdot) / G_MPS2
         e_d = (gamma_c - gamma) - js.tecs_speed_weight * (vdot_c - vdot) / G_MPS2
         thr_raw = self.trim_throttle + js.tecs_kp_t * e_t + js.tecs_ki_t * self.i_t
@@ -171,11 +208,15 @@ class Autopilot:
         th_max = math.radians(js.pitch_max_deg)
         th_raw = self.trim_pitch_rad + js.tecs_kp_d * e_d + js.tecs_ki_d * self.i_d
         theta_c = _clip(th_raw, -th_max, th_max)
-        if theta_c == th_raw or (th_raw > th_max) == (e_d < 0.0):
-            self.i_d += e_d * dt_s
-        # the pitch command slews at pitch_rate_max (no sudden pull-up out of a descent)
+        # the pitch command slews at pitch_rate_max (no sudden pull-up out of a descent), and noses
+        # up no faster than the flight path may rise within the load-factor limit (module doc)
         th_step = math.radians(js.pitch_rate_max_degps) * dt_s
-        theta_c = self.theta_c_rad = _clip(theta_c, self.theta_c_rad - th_step, self.theta_c_rad + th_step)
+        up_step = min(th_step, self.pull_rate_max_radps(s, gamma) * dt_s) if js.load_protection else th_step
+        slewed = _clip(theta_c, self.theta_c_rad - th_step, self.theta_c_rad + up_step)
+        held = slewed < theta_c and up_step < th_step  # the load limit holds the command back
+        if (theta_c == th_raw or (th_raw > th_max) == (e_d < 0.0)) and not (held and e_d > 0.0):
+            self.i_d += e_d * dt_s
+        theta_c = self.theta_c_rad = slewed
         # pitch PD on the elevator (JSBSim's sign: positive elevator pitches nose down); the rate
         # term damps the pitch rate beyond a steady turn's, q = (g / v) tan(phi) sin(phi)
         q_turn = G_MPS2 * math.tan(s.bank_rad) * math.sin(s.bank_rad) / v

@@ -12,7 +12,13 @@ preset's, which the autopilot flies by design):
 - ``v_hold_min_mps``: the lowest commanded airspeed the autopilot holds level (speed within
   ``HOLD_TOL_MPS``, height rate within ``CLIMB_TOL_MPS`` over the last ``TAIL_S`` s, elevator
   not saturated) -- the aircraft's slowest usable speed, its 1.3 V_S in a preset's terms;
-- ``v_level_max_mps``: the steady airspeed in level flight at full throttle;
+- ``v_level_max_mps``: the top speed of level flight: the fastest commanded airspeed, in 1 m/s steps
+  up from ``v_hold_min_mps``, that the autopilot holds level as above (:func:`level_top_speed_mps`).
+  Not a full-throttle run commanded far beyond it: with its speed error the total-energy
+  autopilot (speed weight 0.5) put the pitch on its -15 deg stop, and the PC-7 dived at 15-23 m/s
+  to 90 / 102 m/s (its level top speed is 77.7 / 78.2 m/s, empty / full, flown at full throttle
+  with the height held for 150 / 400 s), while the J3Cub, its pitch loop short of the stop,
+  climbed at 2.25 m/s at 40.3 m/s (it holds 46 m/s level at 98 % throttle);
 - ``climb_max_mps``: the steady climb at the slowest usable speed and full throttle, commanded
   more than the aircraft can give;
 - ``descent_max_mps``: the steepest commanded descent the autopilot holds at the slowest usable
@@ -20,8 +26,12 @@ preset's, which the autopilot flies by design):
 - ``bank_max_deg`` / ``turn_rate_max_radps``: the largest bank and the steady turn rate of a
   level turn commanded at far more than the aircraft can turn, at the slowest usable speed;
 - ``roll_rate_max_degps``: the largest roll rate in a reversal from that turn to the other side;
-- ``accel_max_mps2``: the largest dV/dt (averaged over 1 s) of a level speed step from the
-  slowest usable speed to ``v_level_max_mps``;
+- ``accel_max_mps2``: the largest dV/dt (averaged over 1 s) of a full-throttle run from the
+  slowest usable speed commanded to 120 m/s at a climb rate of 0, the autopilot's acceleration
+  limit lifted. Not level: the total-energy autopilot pitches down for the speed (the PC-7 dives
+  at 15-23 m/s, docs/airframes.md). Level, the flight path held first (speed
+  weight 0), it is 1.05 m/s^2 for the J3Cub at 10 kg (the ``j3cub`` preset's 1.7 rests on this
+  run's 2.5) and 0.64 m/s^2 for the PC-7 full (docs/airframes.md);
 - ``tau_*_s``: 63 % rise times of the airspeed, climb-rate and bank responses to a step.
 
 And the energy limit (:func:`full_throttle_climb`, a preset's ``jsbsim.excess_power``): at a
@@ -52,6 +62,7 @@ __all__ = [
     "fly",
     "full_throttle_climb",
     "holds_level",
+    "level_top_speed_mps",
     "lowest_trim_speed_mps",
     "measure_envelope",
 ]
@@ -62,6 +73,7 @@ CLIMB_TOL_MPS = 0.3  # [m/s] a held climb rate: within this of the command over 
 TAIL_S = 5.0  # [s] the tail over which a steady value is read
 Z0_M = 200.0
 V_HOLD_SEARCH_MAX_MPS = 80.0  # [m/s] the slowest-held-speed search gives up here
+V_TOP_SEARCH_MAX_MPS = 150.0  # [m/s] the level top speed search gives up here
 SPEED_FIRST_WEIGHT = 10.0  # the TECS speed weight of the energy-limit measurement (module doc)
 
 
@@ -144,6 +156,15 @@ def holds_level(af: Airframe, v_mps: float, water_kg: float, seconds: float = 30
     )
 
 
+def level_top_speed_mps(af: Airframe, v_held_mps: float, water_kg: float) -> float:
+    """The fastest airspeed [m/s], in 1 m/s steps up from ``v_held_mps`` (one it holds), that the
+    autopilot holds level (:func:`holds_level`; module doc: ``v_level_max_mps``)."""
+    v = float(v_held_mps)
+    while v + 1.0 <= V_TOP_SEARCH_MAX_MPS and holds_level(af, v + 1.0, water_kg):
+        v += 1.0
+    return v
+
+
 def _tau_s(values: list[float], start: float, end: float) -> float:
     """63 % rise time [s] of ``values`` (one per substep) from ``start`` toward ``end``."""
     goal = start + 0.632 * (end - start)
@@ -185,9 +206,9 @@ def measure_envelope(af: Airframe, water_kg: float, v_slow_mps: float | None = N
     v_hold_f = float(v_hold)
     v_slow = af.jsbsim.v_floor_mps if v_slow_mps is None else v_slow_mps
     a = _unlimited(af, v_slow)
-    # full throttle level: the top speed; and the acceleration from the slowest usable speed
+    # the level top speed; and the acceleration of a full-throttle run from the slowest usable speed
+    v_top = level_top_speed_mps(af, v_hold_f, water_kg)
     traj, _ = fly(a, [(Command(120.0, 0.0, 0.0), 90.0)], v_slow, water_kg)
-    v_top = float(np.mean([f.airspeed_mps for f in traj[-n:]]))
     v = np.array([f.airspeed_mps for f in traj])
     k = round(1.0 / DT_S)
     accel = float(np.max((v[k:] - v[:-k]) / 1.0))
