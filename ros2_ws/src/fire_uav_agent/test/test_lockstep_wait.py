@@ -135,8 +135,9 @@ def _missing_by_recount(w: PeerWait, arrived: dict, sent: dict, step: int) -> li
 def test_missing_equals_a_recount_over_any_arrival_order(seed: int) -> None:
     """Messages in any order: before or after their state, duplicates, topics beyond what the
     state lists, negative and unknown indexes, states announcing no topic or negative counts, a second state replacing the first's counts, final
-    states, peers gone and pruning; ``missing`` must agree with a recount from scratch after every
-    input (the live peers recomputed by the reference: ``_live_peers``, uncached)."""
+    states, peers gone and pruning; ``missing`` and ``ready`` must agree with a recount from scratch
+    after every input (the live peers recomputed by the reference: ``_live_peers``, uncached), with
+    the steps asked in any order (``ready`` keeps, per step, how far it got)."""
     import random
 
     rng = random.Random(seed)
@@ -165,8 +166,10 @@ def test_missing_equals_a_recount_over_any_arrival_order(seed: int) -> None:
             for d in (arrived, sent):
                 for key in [key for key in d if key[0] < k - 1]:
                     del d[key]
-        for s in range(1, 5):
-            assert w.missing(s) == _missing_by_recount(w, arrived, sent, s), (seed, s)
+        for s in rng.sample(range(1, 5), 4):  # ``ready`` resumes where its last call stopped
+            recount = _missing_by_recount(w, arrived, sent, s)
+            assert w.ready(s) == (not recount), (seed, s)
+            assert w.missing(s) == recount, (seed, s)
 
 
 def test_a_peers_first_final_state_stands_when_a_later_one_arrives() -> None:
