@@ -63,8 +63,17 @@ class PeerWait:
             raise ConfigError(f"control period must be > 0 s, got {self.period_s}")
 
     # --- inputs --------------------------------------------------------------------------------
-    def on_state(self, sender: int, step: int, sent_per_topic: tuple[int, ...], final: bool) -> None:
-        """A peer's UavState of ``step`` arrived (before any loss draw)."""
+    def on_state(
+        self,
+        sender: int,
+        step: int,
+        sent_per_topic: tuple[int, ...],
+        final: bool,
+        carried: tuple[int, ...] = (),
+    ) -> None:
+        """A peer's UavState of ``step`` arrived (before any loss draw), with the parts it carries
+        on the topics of loss indexes ``carried`` (the fire picture): each counted after the state,
+        as :meth:`on_message` counts it, without a call per part."""
         if not self._valid(sender, step):
             return
         key = (step, sender)
@@ -73,10 +82,15 @@ class PeerWait:
         sent = self._sent[key] = tuple(map(int, sent_per_topic))
         got = self._arrived[key]
         if got:
-            self._owed[key] = sum(n - got.get(t, 0) for t, n in enumerate(sent) if got.get(t, 0) < n)
+            owed = sum(n - got.get(t, 0) for t, n in enumerate(sent) if got.get(t, 0) < n)
         else:  # the state first, as it is published: nothing arrived, every count sent is owed
-            self._owed[key] = sum(n for n in sent if n > 0) if sent and min(sent) < 0 else sum(sent)
-        self.on_message(sender, step, STATE_INDEX)
+            owed = sum(n for n in sent if n > 0) if sent and min(sent) < 0 else sum(sent)
+        n_topics = len(sent)
+        for t in (STATE_INDEX, *carried):  # on_message's count, inline (its checks hold already)
+            c = got[t] = got.get(t, 0) + 1
+            if 0 <= t < n_topics and c <= sent[t]:
+                owed -= 1
+        self._owed[key] = owed
         if final:
             self._final_step[sender] = min(step, self._final_step.get(sender, step))
             self._live.clear()
