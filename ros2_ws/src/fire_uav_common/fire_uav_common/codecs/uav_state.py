@@ -106,11 +106,14 @@ class PeerFires:
         ok = self.__dict__.get("_finite")
         if ok is None:
             isf = math.isfinite
-            ok = all(
-                isf(f.x_m) and isf(f.y_m) and isf(f.extent_m) and isf(f.vx_mps) and isf(f.vy_mps)
-                and isf(f.last_measurement_s)
-                for f in self.fires
-            )  # fmt: skip
+            ok = True
+            for f in self.fires:  # a loop, not all() over a generator: asked of every picture received
+                if not (
+                    isf(f.x_m) and isf(f.y_m) and isf(f.extent_m) and isf(f.vx_mps) and isf(f.vy_mps)
+                    and isf(f.last_measurement_s)
+                ):  # fmt: skip
+                    ok = False
+                    break
             self.__dict__["_finite"] = ok
         return ok
 
