@@ -330,8 +330,7 @@ class UavAgentNode(Node):
     def _run(self, d: RunStep[WireBundle, tuple]) -> None:
         self._liveness_timer.cancel()
         wb, k = d.bundle, d.step
-        want_markers = self.marker_every > 0 and k % self.marker_every == 0
-        out = self.agent.step(wb.bundle, d.inbox, want_markers=want_markers)
+        out = self.agent.step(wb.bundle, d.inbox, want_markers=self._want_markers(k))
         if out is None:
             return
         for j, cell_m in self.agent.raster.cell_size_refused:  # this step's, counted in the link
@@ -349,6 +348,15 @@ class UavAgentNode(Node):
             coverage = self.search_link.step(out.stamp_s, out.step, out.state.alive_peers)
         final = wb.bundle.vehicle == VehicleStatus.CRASHED
         self._publish(out, TimeMsg(sec=wb.stamp_sec, nanosec=wb.stamp_nanosec), coverage, final)
+
+    def _want_markers(self, k: int) -> bool:
+        """Markers at step ``k``: every ``marker_every_steps`` steps, while a reader of ``viz`` is
+        matched. The topic is best effort and volatile, so markers published with no reader reach
+        no one; building them costs ~1 ms (the cell's border, a ``MarkerArray`` of ~100 points and
+        its conversion), ~0.2 ms per step at every fifth step, and the agent decides nothing by them."""
+        return (
+            self.marker_every > 0 and k % self.marker_every == 0 and self.pub_viz.get_subscription_count() > 0
+        )
 
     # --- output ---------------------------------------------------------------------------------------
     def _publish(self, out: StepOutput, stamp: TimeMsg, coverage: list, final: bool) -> None:

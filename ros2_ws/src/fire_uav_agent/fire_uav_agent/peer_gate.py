@@ -67,7 +67,7 @@ WAIT_REPORT_NS = 5 * 10**9
 _KIND = {PeerState: 0, PeerFires: 1, PeerPerimeter: 2, PeerFront: 3}
 # looked up once: on_state runs for every peer every step (``draw_index`` is a property)
 _STATE_TOPIC, _STATE_INDEX = FLEET_STATE_SPEC.name, FLEET_STATE_SPEC.draw_index
-_FIRES_INDEX = FLEET_FIRES_SPEC.draw_index
+_CARRIED = (FLEET_FIRES_SPEC.draw_index,)  # the part a state carries: its fire picture
 
 
 def inbox_order(m: PeerMessage) -> tuple[int, int, int, int]:
@@ -254,10 +254,9 @@ class PeerGate(Generic[B, K]):
             return [rejected]
         if self.resend.duplicate(sender, _STATE_INDEX, step):
             return []  # a resent copy: dropped with the fire picture it carries
-        self.wait.on_state(sender, step, sent_per_topic, final)
-        self._inbox.append(state)
         # the fire picture it carries is counted and kept as the part it is (its own loss draw)
-        self.wait.on_message(sender, step, _FIRES_INDEX)
+        self.wait.on_state(sender, step, sent_per_topic, final, _CARRIED)
+        self._inbox.append(state)
         self._inbox.append(fires)
         return self._maybe_run()
 

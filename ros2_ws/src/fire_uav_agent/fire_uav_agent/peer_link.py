@@ -63,6 +63,10 @@ class Verdict(IntEnum):
     REJECTED = 2
 
 
+# the members, looked up once: receipt runs for ~60 messages per step at 30 UAVs
+_ACCEPTED, _LOST, _REJECTED = Verdict.ACCEPTED, Verdict.LOST, Verdict.REJECTED
+
+
 @dataclass
 class _Peer:
     missed: int = 0
@@ -200,7 +204,7 @@ class PeerLink:
         """Count one rejected peer message of kind ``reason`` (also used by the node's checks)."""
         self.rejected += 1
         self.reject_reasons[reason] = self.reject_reasons.get(reason, 0) + 1
-        return Verdict.REJECTED
+        return _REJECTED
 
     def _check(
         self, sender: int, step: int, seq: int, finite: bool, ti: int, now_step: int | None
@@ -217,7 +221,7 @@ class PeerLink:
             return self.count_rejection("implausible sequence")
         if self.is_lost(sender, step, ti):
             self.lost += 1
-            return Verdict.LOST
+            return _LOST
         if not finite:
             return self.count_rejection("nan/inf")
         last_step, last_seq = self.peers[sender].last_seq[ti]
@@ -227,14 +231,14 @@ class PeerLink:
             return self.count_rejection("duplicate")
         if seq <= last_seq:
             self.restarts += 1  # a newer step with a lower sequence: the peer restarted
-        return Verdict.ACCEPTED
+        return _ACCEPTED
 
     def receive_state(self, msg: PeerState, now_step: int | None = None) -> Verdict:
         """Bookkeeping of a peer's state; ``now_step``: the step being run (enables the step window)."""
         if msg.objective not in _OBJECTIVES:
             return self.count_rejection("unknown objective")
         v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), _STATE, now_step)
-        if v == Verdict.ACCEPTED:
+        if v is _ACCEPTED:
             p = self.peers[msg.uav_id]
             p.last_seq[_STATE] = (msg.step, msg.sequence)
             p.state = msg
@@ -244,7 +248,7 @@ class PeerLink:
 
     def receive_fires(self, msg: PeerFires, now_step: int | None = None) -> Verdict:
         v = self._check(msg.uav_id, msg.step, msg.sequence, msg.finite(), _FIRES, now_step)
-        if v == Verdict.ACCEPTED:
+        if v is _ACCEPTED:
             p = self.peers[msg.uav_id]
             p.last_seq[_FIRES] = (msg.step, msg.sequence)
             p.fires = msg

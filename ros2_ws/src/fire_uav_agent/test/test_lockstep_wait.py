@@ -134,9 +134,11 @@ def _missing_by_recount(w: PeerWait, arrived: dict, sent: dict, step: int) -> li
 @pytest.mark.parametrize("seed", range(40))
 def test_missing_equals_a_recount_over_any_arrival_order(seed: int) -> None:
     """Messages in any order: before or after their state, duplicates, topics beyond what the
-    state lists, negative and unknown indexes, states announcing no topic or negative counts, a second state replacing the first's counts, final
-    states, peers gone and pruning; ``missing`` must agree with a recount from scratch after every
-    input (the live peers recomputed by the reference: ``_live_peers``, uncached)."""
+    state lists, negative and unknown indexes, states announcing no topic or negative counts and
+    carrying parts (any index, counted with the state), a second state replacing the first's counts, final
+    states, peers gone and pruning; ``missing`` and ``ready`` must agree with a recount from scratch
+    after every input (the live peers recomputed by the reference: ``_live_peers``, uncached), with
+    the steps asked in any order (``ready`` keeps, per step, how far it got)."""
     import random
 
     rng = random.Random(seed)
@@ -150,10 +152,12 @@ def test_missing_equals_a_recount_over_any_arrival_order(seed: int) -> None:
             w.mark_gone(j)
         elif rng.random() < 0.25:
             counts = tuple(rng.randint(-1 if rng.random() < 0.2 else 0, 3) for _ in range(rng.randint(0, 5)))
-            w.on_state(j, step, counts, final=rng.random() < 0.03)
+            carried = tuple(rng.randint(-1, 6) for _ in range(rng.choice((0, 1, 1, 2))))
+            w.on_state(j, step, counts, final=rng.random() < 0.03, carried=carried)
             sent[(step, j)] = counts
             got = arrived.setdefault((step, j), {})
-            got[STATE] = got.get(STATE, 0) + 1
+            for t in (STATE, *carried):  # the state, then each part it carries
+                got[t] = got.get(t, 0) + 1
         else:
             t = rng.randint(-1, 6)
             w.on_message(j, step, t)
@@ -165,8 +169,10 @@ def test_missing_equals_a_recount_over_any_arrival_order(seed: int) -> None:
             for d in (arrived, sent):
                 for key in [key for key in d if key[0] < k - 1]:
                     del d[key]
-        for s in range(1, 5):
-            assert w.missing(s) == _missing_by_recount(w, arrived, sent, s), (seed, s)
+        for s in rng.sample(range(1, 5), 4):  # ``ready`` resumes where its last call stopped
+            recount = _missing_by_recount(w, arrived, sent, s)
+            assert w.ready(s) == (not recount), (seed, s)
+            assert w.missing(s) == recount, (seed, s)
 
 
 def test_a_peers_first_final_state_stands_when_a_later_one_arrives() -> None:

@@ -368,3 +368,49 @@ def test_a_fires_time_that_is_not_finite_or_negative_is_written_as_zero():
         )  # fmt: skip
         lm = deserialize_message(data, UavState).fires[0].last_measurement
         assert (lm.sec, lm.nanosec) == (0, 0), t
+
+
+# --- the fast reading against the field-by-field one it falls back to ---------------------------------
+def _outcome(read, data: bytes):
+    """What ``read`` makes of ``data``: its result, with each object's ``__dict__`` (a field set
+    outside the dataclass's own ``__init__`` shows there), or the error it raises."""
+    try:
+        w = read(data)
+    except ValueError as e:
+        return ("error", type(e), str(e))
+    fires = tuple(sorted(f.__dict__.items()) for f in w.fires.fires)
+    return ("read", w, sorted(w.state.__dict__.items()), sorted(w.fires.__dict__.items()), fires)
+
+
+def _same_outcome(a, b) -> bool:
+    if a[0] != b[0]:
+        return False
+    if a[0] == "error":
+        return a == b
+    return same(a[1], b[1]) and all(repr(x) == repr(y) for x, y in zip(a[2:], b[2:], strict=True))
+
+
+@settings(max_examples=300, deadline=None)
+@given(uav_states(), st.data())
+def test_the_fast_reading_is_the_checked_one_for_any_bytes(m, data):
+    """``read_uav_state`` (one unpack for the fixed fields, one per fire, objects built without
+    their frozen ``__init__``) against ``read_uav_state_checked`` (the reader as it was, each field
+    read and checked in turn): the same values, types and attributes for every message (frame ids
+    of every length, 0-6 fires at either 8-byte phase), read without falling back, and the same
+    error or the same values once a byte is flipped, the bytes are cut anywhere or bytes are added."""
+    from unittest import mock
+
+    from fire_uav_common.codecs import uav_state
+    from fire_uav_common.codecs.uav_state import read_uav_state_checked
+
+    raw = serialize_message(m)
+    want = _outcome(read_uav_state_checked, raw)
+    with mock.patch.object(uav_state, "read_uav_state_checked", side_effect=AssertionError("fell back")):
+        assert _same_outcome(_outcome(read_uav_state, raw), want)  # a message: read without falling back
+    flipped = bytearray(raw)
+    i = data.draw(st.integers(0, len(raw) - 1))
+    flipped[i] ^= data.draw(st.integers(1, 255))
+    cut = raw[: data.draw(st.integers(0, len(raw)))]
+    longer = raw + data.draw(st.binary(min_size=1, max_size=9))
+    for b in (bytes(flipped), cut, longer):
+        assert _same_outcome(_outcome(read_uav_state, b), _outcome(read_uav_state_checked, b))

@@ -100,3 +100,38 @@ def test_signing_names_what_is_wrong_with_its_input():
         with pytest.raises(ValueError) as e:
             a.sign_serialized(bad, "/t", 0, 0)  # type: ignore[arg-type]
         assert str(e.value) == f"sign_serialized: expected the CDR bytes of a message, got {what}"
+
+
+def _reference_tag(key: bytes, topic: str, sender: int, step: int, body: bytes) -> bytes:
+    """``Authenticator.tag`` as it was written before its keyed states were kept: one
+    ``hmac.new`` over the whole text (docs/security.md's construction)."""
+    t = topic.encode("utf-8")
+    head = b"fire-uav-auth-cdr-v1\x00" + struct.pack(">I", len(t)) + t + struct.pack(">iq", sender, step)
+    return hmac.new(key, head + body, hashlib.sha256).digest()
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.binary(min_size=32, max_size=32),
+    st.lists(st.text(max_size=80), min_size=1, max_size=5),
+    st.integers(-(2**31), 2**31 - 1),
+    st.integers(-(2**63), 2**63 - 1),
+    st.binary(max_size=300),
+)
+def test_the_kept_keyed_states_give_hmac_news_tags(key, topic_list, sender, step, body):
+    """The tag from the keyed hashes kept per Authenticator and per topic (RFC 2104 written out)
+    is ``hmac.new``'s, for any key, topic (empty, non-ASCII, longer than a block), sender, step
+    and body, asked again and after more topics than are kept; checked from bytes, a bytearray
+    or a memoryview of them alike."""
+    a = Authenticator(key)
+    for _ in range(2):  # the second time from the kept states
+        for topic in topic_list:
+            want = _reference_tag(key, topic, sender, step, body)
+            assert a.tag(topic, sender, step, body) == want
+            assert a.tag(topic, sender, step, memoryview(body)) == want
+            signed = HEADER + body + _reference_tag(key, topic, sender, step, HEADER + body)
+            assert a.check_serialized(signed, topic, sender, step)
+            assert a.check_serialized(bytearray(signed), topic, sender, step)
+    for i in range(70):  # beyond the topics kept: each still tagged as hmac.new tags it
+        assert a.tag(f"/t{i}", sender, step, body) == _reference_tag(key, f"/t{i}", sender, step, body)
+    assert a.tag(topic_list[0], sender, step, body) == _reference_tag(key, topic_list[0], sender, step, body)

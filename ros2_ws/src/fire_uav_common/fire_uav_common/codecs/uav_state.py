@@ -27,8 +27,9 @@ from __future__ import annotations
 
 import math
 import struct
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, fields
+from typing import Any
 
 from ..cdr import ENCAPSULATION, U32, CdrError, align4, align8, check_encapsulation, pad, read_string_end
 
@@ -40,6 +41,7 @@ __all__ = [
     "PeerState",
     "WireState",
     "read_uav_state",
+    "read_uav_state_checked",
     "write_uav_state",
 ]
 
@@ -104,11 +106,14 @@ class PeerFires:
         ok = self.__dict__.get("_finite")
         if ok is None:
             isf = math.isfinite
-            ok = all(
-                isf(f.x_m) and isf(f.y_m) and isf(f.extent_m) and isf(f.vx_mps) and isf(f.vy_mps)
-                and isf(f.last_measurement_s)
-                for f in self.fires
-            )  # fmt: skip
+            ok = True
+            for f in self.fires:  # a loop, not all() over a generator: asked of every picture received
+                if not (
+                    isf(f.x_m) and isf(f.y_m) and isf(f.extent_m) and isf(f.vx_mps) and isf(f.vy_mps)
+                    and isf(f.last_measurement_s)
+                ):  # fmt: skip
+                    ok = False
+                    break
             self.__dict__["_finite"] = ok
         return ok
 
@@ -158,6 +163,51 @@ class WireState:
     fires: PeerFires
 
 
+# --- the fast reading: one unpack for the fixed fields, one per fire, the objects built directly ----
+_HEADS: dict[int, struct.Struct] = {}  # header.frame_id length (NUL included) -> _head_struct(k)
+_HEADS_KEPT = 16  # frame ids of so many lengths kept (the fleet sends one: "map")
+# a FireEstimate whose fire_id is at a payload index 8m (phase 0) or 8m + 4 (phase 4): fire_id,
+# status, the padding to the next 8-byte boundary, x, y, extent, vx, vy, last_measurement (sec,
+# nanosec), front x, y, max spread rate
+_FIRE_AT_PHASE = (struct.Struct("<IB3x5diI3d"), struct.Struct("<IB7x5diI3d"))
+
+
+def _head_struct(k: int) -> struct.Struct:
+    """The fields from ``uav_id`` to ``alive_peers``' length of a UavState whose frame id takes ``k``
+    bytes, as one little-endian Struct read at index 16 + k: the alignment padding of
+    :func:`read_uav_state_checked` (the same ``align4`` / ``align8``) written as pad bytes."""
+    s = _HEADS.get(k)
+    if s is None:
+        at = 16 + k  # uav_id
+        ids = align4(at + 1)  # sequence, step
+        pose = align8(ids + 8)  # x, y, z, yaw, then the 16 covariance doubles (skipped)
+        objective = pose + 20 * 8
+        tail = align4(objective + 1)  # target_fire_id, water_kg
+        centroid = align8(tail + 8)  # then alive_peers' uint32 length at centroid + 16
+        s = struct.Struct(
+            f"<B{ids - at - 1}xII{pose - ids - 8}x4d128xB{tail - objective - 1}xif{centroid - tail - 8}x2dI"
+        )
+        if len(_HEADS) < _HEADS_KEPT:
+            _HEADS[k] = s
+    return s
+
+
+def _builder(cls: type) -> Callable[[tuple], Any]:
+    """``build(values)``: an instance of the frozen dataclass ``cls`` with its fields set to
+    ``values`` (every field, in order), as its ``__init__`` leaves it (none of these classes has a
+    ``__post_init__``), written into its ``__dict__`` without the ``object.__setattr__`` per field
+    a frozen ``__init__`` pays (~3x faster at 12 fields). Generated as dataclasses generates
+    ``__init__``, so a field added to the class is one more the builder sets."""
+    names = tuple(f.name for f in fields(cls))
+    lines = "".join(f"    d[{name!r}] = values[{i}]\n" for i, name in enumerate(names))
+    namespace: dict[str, Any] = {"new": object.__new__, "cls": cls}
+    exec(f"def build(values):\n    obj = new(cls)\n    d = obj.__dict__\n{lines}    return obj\n", namespace)
+    return namespace["build"]
+
+
+_fire_entry, _peer_state, _peer_fires = _builder(FireEntry), _builder(PeerState), _builder(PeerFires)
+
+
 def read_uav_state(data: bytes | bytearray | memoryview) -> WireState:
     """A serialised ``fire_uav_msgs/UavState`` (as received raw) -> :class:`WireState`.
 
@@ -165,7 +215,60 @@ def read_uav_state(data: bytes | bytearray | memoryview) -> WireState:
     runs past the end, or bytes left after the ``auth`` field. The values are the message's, as
     ``deserialize_message`` would give them (``water_kg`` is the float32 widened exactly; the fire's
     ``last_measurement`` is seconds as ``stamps.stamp_to_s`` computes them).
+
+    The same reading as :func:`read_uav_state_checked` with fewer Python steps (at 30 UAVs an agent
+    reads 29 states a step): the fixed fields in one ``unpack_from`` (:func:`_head_struct`), a fire
+    in one, the objects built without their frozen ``__init__`` (:func:`_builder`). Bytes it does not
+    take as they are (any length or position check that fails, a truncation) are read again by
+    :func:`read_uav_state_checked`, which raises the error that names them.
     """
+    n = len(data)
+    if data[0:2] != b"\x00\x01" or n < 20:
+        return read_uav_state_checked(data)
+    try:
+        (k,) = U32.unpack_from(data, 12)  # header.frame_id's length, after the stamp
+        if k < 1 or 16 + k > n:
+            return read_uav_state_checked(data)
+        head = _head_struct(k)
+        uav_id, sequence, step, x, y, z, yaw, objective, target, water, cx, cy, m = head.unpack_from(
+            data, 16 + k
+        )
+        i = align4(16 + k + head.size + m)  # past alive_peers (uint8[], not read)
+        (m,) = U32.unpack_from(data, i)
+        i = align4(i + 4 + m) + 12  # past crashed_peers and the three packet counters (not read)
+        (m,) = U32.unpack_from(data, i)
+        i += 4
+        if i + 2 * m > n:
+            return read_uav_state_checked(data)
+        sent = struct.unpack_from(f"<{m}H", data, i)
+        i += 2 * m
+        final = data[i]
+        fires_sequence, m = _IDS.unpack_from(data, align4(i + 1))
+        i = align4(i + 1) + 8
+        if i + _FIRE_MIN_BYTES * m > n:
+            return read_uav_state_checked(data)
+        fires = []
+        for _ in range(m):
+            i = align4(i)
+            f = _FIRE_AT_PHASE[(i - 4) >> 2 & 1]  # i - 4 is 0 or 4 mod 8
+            fire_id, status, fx, fy, ext, vx, vy, t_sec, t_nsec, frx, fry, rate = f.unpack_from(data, i)
+            i += f.size
+            t_s = (t_sec * _NS_PER_S + t_nsec) / _NS_PER_S
+            fires.append(
+                _fire_entry((fire_id, status == _STATUS_ACTIVE, fx, fy, ext, vx, vy, t_s, frx, fry, rate))
+            )
+    except (struct.error, IndexError):
+        return read_uav_state_checked(data)
+    if i + _AUTH_BYTES != n:
+        return read_uav_state_checked(data)
+    state = _peer_state((uav_id, sequence, step, x, y, z, yaw, objective, target, water, cx, cy))
+    picture = _peer_fires((uav_id, fires_sequence, step, tuple(fires)))
+    return WireState(uav_id, step, sent, bool(final), state, picture)  # type: ignore[arg-type]
+
+
+def read_uav_state_checked(data: bytes | bytearray | memoryview) -> WireState:
+    """:func:`read_uav_state` field by field, each length and position checked as it is read: the
+    reading the fast one falls back to, whose errors name what is wrong."""
     n = len(data)
     check_encapsulation(data, "UavState")
     try:
