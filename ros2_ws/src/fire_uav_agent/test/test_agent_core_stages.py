@@ -1141,6 +1141,36 @@ def test_a_fixed_wing_agent_is_built_on_its_airframe():
     assert rotor.avoidance.turn_rate_at is None and rotor.flown.af is None
 
 
+def test_the_flown_input_banks_with_the_water_aboard():
+    """The EKF's flown input (airframe_model.FlownInput) is given the bundle's water: the stall
+    bank limit acos((V_S(m) / v)^2) (lift = weight / cos(phi), B&M Eq. 9.14's coordinated turn)
+    falls with the mass. small_uav (V_S 12 m/s full, 15 kg empty + 10 kg water) at 1.05 V_S,
+    banked 20 deg and commanded a hard turn: full, its stall limit (24.9 deg at the start) holds
+    the bank back; empty (V_S 12 sqrt(15 / 25) = 9.3 m/s, limit 45 deg) it banks farther."""
+    from fire_uav_agent.agent_config import config_from_scenario
+    from fire_uav_agent.airframe_model import OnboardState
+    from fire_uav_agent.testing.harness import scenario_path
+    from fire_uav_common.scenario import load_scenario
+
+    s = load_scenario(scenario_path("ff_two_fires"), overrides={"uavs.vehicle_model": "coordinated_turn"})
+    cfg = config_from_scenario(s, 1)
+    af = cfg.airframe
+    assert af is not None and (af.v_stall_mps, af.empty_mass_kg, af.water_capacity_kg) == (12.0, 15.0, 10.0)
+    end = {}
+    for water in (0.0, 10.0):
+        a = Agent(cfg)
+        a._last_vehicle = int(AIR)
+        a.flown.state = OnboardState(1.05 * 12.0, 0.0, math.radians(20.0))
+        a.last_command = np.array([af.v_min_mps, 0.0, 2.0])
+        a.step(_bundle(0, water=water))
+        end[water] = a.flown.state
+    full = end[10.0]
+    assert full.bank_rad <= math.acos((12.0 / full.airspeed_mps) ** 2)  # within its stall limit
+    assert end[0.0].airspeed_mps == full.airspeed_mps and end[0.0].bank_rad > full.bank_rad + math.radians(
+        2.0
+    )
+
+
 def test_the_fire_consensus_gets_the_control_period_and_the_sensors_position_noise():
     """FF III-C's fusion predicts over one control period T and weighs detections with the fire
     sensor's centre noise (scenario sensors.fire.position_sigma_m): both from the scenario, here
