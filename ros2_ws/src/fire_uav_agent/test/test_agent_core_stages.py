@@ -474,6 +474,18 @@ def test_an_attack_run_flies_at_the_fire_itself():
     assert out.direct and out.state.centroid_xy == (150.0, 150.0)
 
 
+def test_the_centroid_steered_to_feeds_the_deadlock_rule():
+    """Mission doc (FF IV-D deadlock): a UAV in SUPPRESS with water whose centroid moved less than
+    deadlock_centroid_move_m (10 m) for deadlock_timeout_s attacks directly. Hovering 100 m from
+    the fire (no drop), its Eq. 9 centroid stays on the fire: with a 0.5 s timeout, the attack run
+    starts at the first step 0.5 s after SUPPRESS began (t 0.1 s), at t 0.6 s, not before."""
+    a = _suppressor(fire=(150.0, 150.0, 20.0))
+    a.mission.cfg = dataclasses.replace(a.mission.cfg, deadlock_timeout_s=0.5)
+    outs = [_fly(a, k, 50.0, 150.0) for k in range(8)]
+    assert all(o.state.objective == Objective.SUPPRESS for o in outs)
+    assert [o.direct for o in outs] == [False] * 5 + [True] * 3
+
+
 def test_refill_near_the_lake_is_low_and_slow_and_far_from_it_at_cruise():
     """Within lake radius + 150 m: height 0.5 x refill_height (7.5 m), speed <= v_stall + 0.3 x 10."""
     lake = Lake(250.0, 150.0, 40.0)
@@ -724,6 +736,28 @@ def test_markers_only_when_asked():
     assert m.cell_boundary_xy.shape == (0, 2)  # alone: the whole area, no inner border
 
 
+def test_the_marked_cell_boundary_is_every_cell_point_with_a_grid_neighbour_outside_it():
+    """The markers' boundary, by brute force over the grid: a point of the own cell with one of
+    its 4 grid neighbours (inside the grid) not in the cell. Peers below, above, left and right
+    of uav 1 give a cell with an inner edge on each side."""
+    for peer_xy in ((150.0, 50.0), (150.0, 250.0), (50.0, 150.0), (250.0, 150.0)):
+        a = Agent(_cfg(uid=1))
+        _fly(a, 0, 150.0, 150.0)
+        m = _fly(
+            a, 1, 300.0 - peer_xy[0], 300.0 - peer_xy[1], inbox=[_peer(0, 0, *peer_xy)], markers=True
+        ).markers
+        ny, nx = a.grid.shape
+        c = a._cell.reshape(ny, nx)
+        want = set()
+        for i in range(ny):
+            for j in range(nx):
+                nbrs = [(i + di, j + dj) for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1))]
+                if c[i, j] and any(0 <= p < ny and 0 <= q < nx and not c[p, q] for p, q in nbrs):
+                    want.add((float(a.grid.xs[j]), float(a.grid.ys[i])))
+        got = {(float(x), float(y)) for x, y in m.cell_boundary_xy}
+        assert got == want and len(want) >= nx - 2, peer_xy
+
+
 def test_fronts_known_from_peers_feed_the_published_fires_and_the_aim():
     """The fastest-spreading front among the peers' reports for an active fire (PM)."""
     a = _suppressor(fire=(150.0, 150.0, 20.0), n=3)
@@ -885,6 +919,23 @@ def test_a_refused_peer_front_does_not_stop_the_next_ones_merging():
     _fly(a, 1, 50.0, 50.0, cells=_block(), cell_size=10.0, inbox=inbox)
     assert a.raster.cell_size_refused == [(1, 30.0)] and a.fronts_received == 1
     assert a.front.state[a.front.index(np.array([255.0]), np.array([255.0]))[:2]].tolist() == [1]
+
+
+def test_the_raster_aim_keeps_clear_of_a_suppressing_right_of_way_peers_aim():
+    """_decide hands the alive peers' states to the raster aim (tactics module doc): uav 3 shares
+    uav 0's 8 m layer; peer 0, suppressing, published the block's centre (145, 145) as its aim, so
+    every front cell (the ring, within 14.2 m of it) is within aim_clear_m = 60 m and uav 3 waits
+    60 m from (145, 145) on its own side: (85, 145) by hand. Without the peer it aims at the ring."""
+    fire = (145.0, 145.0, 15.0)
+    aims = []
+    for inbox in ([], [_peer(0, 0, 145.0, 100.0, z=8.0, obj=Objective.SUPPRESS, cx=145.0, cy=145.0)]):
+        a = _suppressor(fire=fire, uid=3, n=4)
+        _fly(a, 0, 60.0, 145.0, z=8.0, cells=_block(), cell_size=10.0)
+        out = _fly(a, 1, 60.0, 145.0, z=8.0, cells=_block(), cell_size=10.0, inbox=inbox)
+        assert out.state.objective == Objective.SUPPRESS
+        aims.append(out.state.centroid_xy)
+    assert aims[0] in _ring_cells()
+    assert aims[1] == pytest.approx((85.0, 145.0))
 
 
 def test_over_a_raster_fire_the_uav_aims_at_a_front_cell_and_releases_only_at_the_peak():
@@ -1088,6 +1139,36 @@ def test_a_fixed_wing_agent_is_built_on_its_airframe():
     rotor = Agent(dataclasses.replace(cfg, airframe=None))
     assert isinstance(rotor.ekf, StateEkf) and rotor.ekf.cfg.alt_min_m == 0.0
     assert rotor.avoidance.turn_rate_at is None and rotor.flown.af is None
+
+
+def test_the_flown_input_banks_with_the_water_aboard():
+    """The EKF's flown input (airframe_model.FlownInput) is given the bundle's water: the stall
+    bank limit acos((V_S(m) / v)^2) (lift = weight / cos(phi), B&M Eq. 9.14's coordinated turn)
+    falls with the mass. small_uav (V_S 12 m/s full, 15 kg empty + 10 kg water) at 1.05 V_S,
+    banked 20 deg and commanded a hard turn: full, its stall limit (24.9 deg at the start) holds
+    the bank back; empty (V_S 12 sqrt(15 / 25) = 9.3 m/s, limit 45 deg) it banks farther."""
+    from fire_uav_agent.agent_config import config_from_scenario
+    from fire_uav_agent.airframe_model import OnboardState
+    from fire_uav_agent.testing.harness import scenario_path
+    from fire_uav_common.scenario import load_scenario
+
+    s = load_scenario(scenario_path("ff_two_fires"), overrides={"uavs.vehicle_model": "coordinated_turn"})
+    cfg = config_from_scenario(s, 1)
+    af = cfg.airframe
+    assert af is not None and (af.v_stall_mps, af.empty_mass_kg, af.water_capacity_kg) == (12.0, 15.0, 10.0)
+    end = {}
+    for water in (0.0, 10.0):
+        a = Agent(cfg)
+        a._last_vehicle = int(AIR)
+        a.flown.state = OnboardState(1.05 * 12.0, 0.0, math.radians(20.0))
+        a.last_command = np.array([af.v_min_mps, 0.0, 2.0])
+        a.step(_bundle(0, water=water))
+        end[water] = a.flown.state
+    full = end[10.0]
+    assert full.bank_rad <= math.acos((12.0 / full.airspeed_mps) ** 2)  # within its stall limit
+    assert end[0.0].airspeed_mps == full.airspeed_mps and end[0.0].bank_rad > full.bank_rad + math.radians(
+        2.0
+    )
 
 
 def test_the_fire_consensus_gets_the_control_period_and_the_sensors_position_noise():
