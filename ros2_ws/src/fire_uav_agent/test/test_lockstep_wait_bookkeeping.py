@@ -47,3 +47,14 @@ def test_peer_messages_are_recorded_beside_ignored_ones() -> None:
     w.on_message(1, 4, FIRES)
     w.on_state(2, 4, (1, 1, 0, 0, 0, 0), False)
     assert dict(w._arrived) == {(4, 1): {FIRES: 2}, (4, 2): {STATE_INDEX: 1}}
+
+
+def test_a_second_state_of_a_step_nobody_asked_about_is_counted_again() -> None:
+    """A peer's state of a step sent twice (a resend) sets its counts again, whether or not the
+    wait was asked about that step in between (``ready`` keeps where its scan stopped only for
+    steps it was asked about): the second copy must not fail, and the counts it sets hold."""
+    w = PeerWait(uav_id=0, uav_count=3, period_s=0.1)
+    w.on_state(1, 4, (1, 1, 0, 0, 0, 0), False)
+    w.on_state(1, 4, (1, 0, 0, 0, 0, 0), False)  # no ready(5) between the two
+    w.on_state(2, 4, (1, 0, 0, 0, 0, 0), False)
+    assert w.ready(5) and w.missing(5) == []
