@@ -64,7 +64,6 @@ class Authenticator:
     def __init__(self, key: bytes) -> None:
         if len(key) != KEY_BYTES:
             raise FleetKeyError(f"fleet key must be {KEY_BYTES} bytes, got {len(key)}")
-        self._key = key
         # HMAC (RFC 2104) as hashes of the padded key: H((K ^ opad) || H((K ^ ipad) || text)). The
         # two keyed states are hashed once here, and the inner one also over each topic's fixed
         # head (``_inner_for``): a tag then costs two copies, three updates and two digests
