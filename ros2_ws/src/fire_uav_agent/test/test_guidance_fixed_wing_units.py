@@ -294,6 +294,7 @@ def test_a_landing_entry_is_taken_by_a_lower_id_of_the_layer_landing_within_reac
     assert taken(_peer(0, (ex + reach - 0.5, ey), 23.0, Objective.LAND))
     assert taken(_peer(0, (ex, ey - reach + 0.5), 23.0, Objective.LAND))
     assert not taken(_peer(0, (ex + reach + 0.5, ey), 23.0, Objective.LAND))
+    assert not taken(_peer(0, (ex, ey + reach + 0.5), 23.0, Objective.LAND))
     assert not taken(_peer(0, (ex, ey), 23.0, Objective.SUPPRESS))
     assert not taken(_peer(1, (ex, ey), 37.0, Objective.LAND))  # the other layer
     assert not taken(_peer(4, (ex, ey), 23.0, Objective.LAND))  # a higher id
@@ -305,25 +306,29 @@ def test_a_landing_entry_is_taken_by_a_lower_id_of_the_layer_landing_within_reac
 
 
 def test_a_fixed_wing_flies_straight_while_the_point_is_inside_its_turn_circles(scenarios):
-    """small_uav at (0, 0) heading east: its left turn circle at the lowest speed 15.6 m/s is
+    """small_uav at (100, 50) heading east: its left turn circle at the lowest speed 15.6 m/s is
     centred 24.8 m north (B&M Eq. 9.14, 45 deg), at 30 m/s 91.8 m north. The turn rate is zeroed
-    for a point inside either circle at the faster of the commanded and the modelled airspeed."""
+    for a point inside either circle at the faster of the commanded and the modelled airspeed
+    (without a modelled airspeed, the commanded)."""
     a = _agent(scenarios["small"], 0)
     g = a.guide
-    s = np.array([0.0, 0.0, 30.0, 0.0])
+    s = np.array([100.0, 50.0, 30.0, 0.0])
     cmd = (15.6, 0.5, 0.4)
-    assert g._within_turn(s, cmd, (0.0, 20.0)) == (15.6, 0.5, 0.0)  # left circle
-    assert g._within_turn(s, cmd, (0.0, -20.0)) == (15.6, 0.5, 0.0)  # right circle
-    assert g._within_turn(s, cmd, (0.0, 60.0)) == cmd
-    assert g._within_turn(s, (30.0, 0.5, 0.4), (0.0, 100.0)) == (30.0, 0.5, 0.0)
+    assert g._within_turn(s, cmd, (100.0, 70.0)) == (15.6, 0.5, 0.0)  # left circle
+    assert g._within_turn(s, cmd, (100.0, 30.0)) == (15.6, 0.5, 0.0)  # right circle
+    assert g._within_turn(s, cmd, (100.0, 110.0)) == cmd
+    assert g._within_turn(s, (30.0, 0.5, 0.4), (100.0, 150.0)) == (30.0, 0.5, 0.0)
     assert g.flown is not None
     g.flown.state.airspeed_mps = 30.0  # flying fast, commanded slow: the turn of 30 m/s
-    assert g._within_turn(s, cmd, (0.0, 100.0)) == (15.6, 0.5, 0.0)
-    assert g._within_turn(s, cmd, (0.0, 200.0)) == cmd
+    assert g._within_turn(s, cmd, (100.0, 150.0)) == (15.6, 0.5, 0.0)
+    assert g._within_turn(s, cmd, (100.0, 250.0)) == cmd
     g.flown.state.airspeed_mps = 10.0  # slower than commanded: the commanded speed's
-    assert g._within_turn(s, (30.0, 0.5, 0.4), (0.0, 100.0)) == (30.0, 0.5, 0.0)
+    assert g._within_turn(s, (30.0, 0.5, 0.4), (100.0, 150.0)) == (30.0, 0.5, 0.0)
+    g.flown = None
+    assert g._within_turn(s, cmd, (100.0, 70.0)) == (15.6, 0.5, 0.0)
+    assert g._within_turn(s, cmd, (100.0, 110.0)) == cmd
     ff = _agent(scenarios["ff"], 0).guide
-    assert ff._within_turn(s, cmd, (0.0, 1.0)) == cmd  # FF's unicycle turns on the spot
+    assert ff._within_turn(s, cmd, (100.0, 51.0)) == cmd  # FF's unicycle turns on the spot
 
 
 # --- the lined-up final (LAND on a fixed-wing) ---------------------------------------------------
@@ -640,7 +645,7 @@ def test_each_lake_has_its_own_zone(stacked):
 AIM = (3000.0, 3000.0)
 
 
-def _leg_agent(sc, cells: int = 241) -> Agent:
+def _leg_agent(sc, cells: int = 241, y0: float = AIM[1]) -> Agent:
     from fire_uav_agent.fire_front import FrontConfig, FrontPicture
     from fire_uav_common.constants import CellState
 
@@ -648,14 +653,14 @@ def _leg_agent(sc, cells: int = 241) -> Agent:
     pic = FrontPicture(FrontConfig(a.cfg.area_m, 10.0))
     d = np.arange(cells, dtype=float) * 5.0
     d -= d.mean()
-    x, y = AIM[0] + d, np.full(d.shape, AIM[1])
+    x, y = AIM[0] + d, np.full(d.shape, y0)
     pic.observe(x, y, np.full(x.shape, int(CellState.BURNING)), 1.0)
     a.raster.front = pic
     return a
 
 
-def _steer(a: Agent, x: float, y: float, yaw: float, aim=AIM):
-    return a.guide._drop_leg(np.array([x, y, 8.0, yaw]), aim, 1.0)
+def _steer(a: Agent, x: float, y: float, yaw: float, aim=AIM, t_s: float = 1.0):
+    return a.guide._drop_leg(np.array([x, y, 8.0, yaw]), aim, t_s)
 
 
 def test_far_behind_the_leg_it_flies_to_the_entry(scenarios):
@@ -889,3 +894,111 @@ def test_a_skipped_run_is_noted_once_whole_with_the_worlds_peak():
         f"18.6 m/s peaks at {peak:.3f} L/m2 (coverage level {peak / L_PER_M2_PER_CL:.2f}), under the "
         "level 1 the fuel at (500, 500) m needs"
     )
+
+
+@pytest.mark.parametrize(
+    "pose, want_deg",
+    [
+        # the turns (heading -> bearing to the entry, then bearing -> course) worked out by hand
+        # from the docstring's rule for a front at 30 deg through (3000, 3000); entries of the two
+        # legs lead-in + r = 1,027.6 m before the aim: (2110.1, 2486.2) and (3889.9, 3513.8)
+        ((3886.16, 1915.05, 2.8), 30.0),  # 2.34 rad against 3.33
+        ((3270.49, 4169.87, -1.58), 210.0),  # 3.29 against 2.57
+        ((2960.63, 3419.63, -0.86), 210.0),  # 4.28 against 3.68
+        ((2040.11, 3643.33, 1.73), 210.0),  # 5.08 against 4.35
+        ((1849.27, 4362.83, 0.75), 210.0),  # 4.14 against 3.37
+    ],
+)
+def test_a_new_leg_on_an_oblique_front_takes_the_smaller_turn(scenarios, pose, want_deg):
+    g = _agent(scenarios["tanker"], 0).guide
+    t = (math.cos(math.radians(30.0)), math.sin(math.radians(30.0)))
+    leg = g._new_leg(AIM, t, pose, None)
+    assert math.degrees(leg.course_rad) % 360.0 == pytest.approx(want_deg)
+
+
+@pytest.mark.parametrize("prev_deg, want_deg", [(100.0, 30.0), (-40.0, 30.0), (130.0, 210.0), (250.0, 210.0)])
+def test_a_new_leg_on_an_oblique_front_keeps_the_previous_legs_sense(scenarios, prev_deg, want_deg):
+    """The front at 30 deg: the sense within a quarter turn of the previous leg's course."""
+    g = _agent(scenarios["tanker"], 0).guide
+    t = (math.cos(math.radians(30.0)), math.sin(math.radians(30.0)))
+    leg = g._new_leg(AIM, t, (1000.0, 1000.0, 0.0), math.radians(prev_deg))
+    assert math.degrees(leg.course_rad) % 360.0 == pytest.approx(want_deg)
+
+
+def test_the_leg_counts_add_up(scenarios):
+    a = _leg_agent(scenarios["tanker"])
+    g = a.guide
+    _steer(a, 2800.0, 3000.0, 0.6 * math.pi)
+    _steer(a, 2810.0, 3000.0, 0.6 * math.pi)
+    assert g.leg_counts["no_room"] == 2
+    _steer(a, 1000.0, 3000.0, 0.0)
+    _steer(a, 3200.0, 3000.0, 0.0)  # half a pattern past the aim: dropped
+    _steer(a, 1000.0, 3000.0, 0.0)  # a fresh leg again
+    assert g.leg_counts["leg"] == 2
+    b = _leg_agent(scenarios["tanker"], cells=3)
+    _steer(b, 1000.0, 3000.0, 0.0)
+    _steer(b, 1010.0, 3000.0, 0.0)
+    assert b.guide.leg_counts["few_cells"] == 2
+
+
+def test_off_the_diagonal_the_aim_and_the_room_are_measured_on_both_axes(scenarios):
+    """The line along x through (3000, 2600): an aim moved 90 m along it keeps the leg, one moved
+    110 m across it (along y) makes a new one; 800 m west of the aim, beyond the lead-in (775 m),
+    a fresh leg is made, 700 m west there is no room."""
+    aim = (3000.0, 2600.0)
+    a = _leg_agent(scenarios["tanker"], y0=2600.0)
+    g = a.guide
+    _steer(a, 1000.0, 2600.0, 0.0, aim=aim)
+    _steer(a, 1000.0, 2600.0, 0.0, aim=(3090.0, 2600.0))
+    assert g.leg is not None and g.leg.threshold_xy == aim
+    _steer(a, 1000.0, 2600.0, 0.0, aim=(3000.0, 2710.0))
+    assert g.leg is not None and g.leg.threshold_xy == (3000.0, 2710.0)
+    b = _leg_agent(scenarios["tanker"], y0=2600.0)
+    assert _steer(b, 2200.0, 2600.0, 0.6 * math.pi, aim=aim) != aim
+    assert b.guide.leg is not None
+    c = _leg_agent(scenarios["tanker"], y0=2600.0)
+    assert _steer(c, 2300.0, 2600.0, 0.6 * math.pi, aim=aim) == aim
+    assert c.guide.leg is None
+
+
+def test_the_legs_direction_is_read_from_the_front_at_the_steps_time(scenarios):
+    """The picture's burning cells seen at 1 s are stale a day later: no line, no leg (the front
+    at the latest observation would still have one)."""
+    a = _leg_agent(scenarios["tanker"])
+    assert _steer(a, 1000.0, 3000.0, 0.0, t_s=86400.0) == AIM
+    assert a.guide.leg_counts["few_cells"] == 1
+
+
+def test_a_run_of_any_length_is_flown_within_it(scenarios):
+    """``drop_run_m`` 0 means no run; any positive length is a run within that distance."""
+    g = _agent(scenarios["tanker"], 0).guide
+    g.drop_run_m = 0.8
+    assert g._drop_run((3000.5, 3000.0), AIM) == (8.0, pytest.approx(49.8))
+    assert g._drop_run((3000.9, 3000.0), AIM) is None
+    g.drop_run_m = 0.0
+    assert g._drop_run(AIM, AIM) is None
+
+
+def test_the_final_is_at_least_four_turn_radii_and_the_approach_radius(scenarios):
+    """The J3Cub's final with a climb-rate limit of 100 m/s (descent 2 x 22 x 36.5 / 100 = 16 m,
+    slowing 30 -> 22 m/s at 1.7 m/s^2 122 m): four turn radii at 22 m/s and 40 deg (235 m); with
+    FF's approach radius set to 5 km, 5 km."""
+    sc = scenarios["j3cub"]
+    cfg = config_from_scenario(sc, 1, uav_count=5, seed=1, loss_probability=0.0)
+    fast = dataclasses.replace(cfg, vehicle=dataclasses.replace(cfg.vehicle, vz_max_mps=100.0))
+    ap = Agent(fast).guide.approach
+    assert ap is not None and ap.length_m == pytest.approx(4.0 * _turn_radius(22.0, 40.0))
+    ap = _agent_with(sc, 1, guidance={"land_approach_radius_m": 5000.0}).guide.approach
+    assert ap is not None and ap.length_m == pytest.approx(5000.0)
+
+
+def test_the_fuels_level_is_read_at_the_aim_point():
+    """grass_running_tanker with brush (FBFM 5, CL 3, beyond the tanker's 1.01 L/m^2 = CL 2.5) in a
+    band 2.5-3.5 km east: no run at an aim in it, a run at an aim on grass north-west of it."""
+    patch = {"x_min_m": 2500.0, "x_max_m": 3500.0, "y_min_m": 0.0, "y_max_m": 6000.0, "fuel_model": 5}
+    sc = load_scenario(
+        scenario_path("grass_running_tanker"), overrides={"fires.raster.fuel_patches": [patch]}
+    )
+    g = _agent(sc, 1).guide
+    assert g._drop_run((3000.0, 1010.0), (3000.0, 1000.0)) is None
+    assert g._drop_run((1000.0, 3010.0), (1000.0, 3000.0)) is not None
