@@ -389,12 +389,12 @@ def test_a_fixed_wing_captured_high_above_the_glide_path_flies_to_the_entry(scen
 def test_the_tanker_is_established_above_the_path_by_no_more_than_its_spare_descent(scenarios):
     """The tanker (final 1,717 m, north; descending at most 2.5 m/s at 46.8 m/s, the path 22.5 m over
     0.7 of the leg): 1,500 m out, above the path by up to the spare descent rate times the distance
-    to the flat part, (2.5 / 46.8 - 22.5 / (0.7 * 1717.38)) (1500 - 0.3 * 1717.38) = 34.4 m, it is
-    established on the final; 1 m above that, not."""
+    to the flat part, (2.5 / 46.8 - 22.5 / (0.7 * 1717.38)) (1500 - 0.3 * 1717.38) = 34.2 m, it is
+    established on the final; 0.3 m above that, not."""
     length = (75.0**2 - 46.8**2) / 2.0
     spare = (2.5 / 46.8 - 22.5 / (0.7 * length)) * (1500.0 - 0.3 * length)
     h = _glide(1500.0, length)
-    for dz, want in [(spare - 1.0, True), (spare + 1.0, False)]:
+    for dz, want in [(spare - 0.3, True), (spare + 0.3, False)]:
         a = _agent(scenarios["tanker"], 0)
         ap = a.guide.approach
         assert ap is not None
@@ -407,11 +407,11 @@ def test_a_landing_uav_keeps_its_layer_over_a_lower_id_below_it_on_the_final(sce
     keeps it on its layer (23 m) on the glide path; a higher id or a landed peer does not."""
     h = _glide(150.0, 184.08)
     for peer, want in [
-        (_peer(0, (205.0, 310.0), 3.0, Objective.LAND), CRUISE),
-        (_peer(4, (205.0, 310.0), 3.0, Objective.LAND), h),
-        (_peer(0, (205.0, 310.0), 3.0, Objective.LANDED), h),
-        (_peer(0, (205.0, 310.0), 3.0, Objective.GROUNDED), h),
-        (_peer(0, (205.0, 310.0 + 60.0), 3.0, Objective.LAND), h),
+        (_peer(0, (205.0, 310.0), 5.0, Objective.LAND), CRUISE),
+        (_peer(4, (205.0, 310.0), 5.0, Objective.LAND), h),
+        (_peer(0, (205.0, 310.0), 5.0, Objective.LANDED), h),
+        (_peer(0, (205.0, 310.0), 5.0, Objective.GROUNDED), h),
+        (_peer(0, (205.0, 310.0 + 60.0), 5.0, Objective.LAND), h),
     ]:
         a = _agent(scenarios["small"], 2)
         a.link.receive_state(peer, now_step=100)
@@ -871,7 +871,7 @@ def test_off_the_final_the_last_seconds_heights_are_forgotten(scenarios):
     g.on_final = True
     g._final_agl.extend([0.7] * 9)
     _land(a, 500.0, 310.0, CRUISE, math.pi)  # behind the capture zone
-    assert not g.on_final and len(g._final_agl) == 0
+    assert g.on_final is False and len(g._final_agl) == 0
 
 
 def test_a_skipped_run_is_noted_once_whole_with_the_worlds_peak():
@@ -886,13 +886,13 @@ def test_a_skipped_run_is_noted_once_whole_with_the_worlds_peak():
     )
     g = Agent(config_from_scenario(sc, 1, uav_count=6, seed=1, loss_probability=0.0)).guide
     peak = pattern_of(Release(0.0, 0.0, 0.0, 18.6, 8.0, 10.0, 5.0)).peak_lpm2
-    assert g._drop_run((510.0, 500.0), (500.0, 500.0)) is None
+    assert g._drop_run((510.0, 300.0), (500.0, 300.0)) is None
     assert g._drop_run((1290.0, 1310.0), (1300.0, 1300.0)) is None
     assert g.run_skips == 2
     assert g.skip_note == (
         "drop run skipped (kept the own layer and speed): the own pattern from the 8 m layer at "
         f"18.6 m/s peaks at {peak:.3f} L/m2 (coverage level {peak / L_PER_M2_PER_CL:.2f}), under the "
-        "level 1 the fuel at (500, 500) m needs"
+        "level 1 the fuel at (500, 300) m needs"
     )
 
 
@@ -975,6 +975,8 @@ def test_a_run_of_any_length_is_flown_within_it(scenarios):
     g.drop_run_m = 0.8
     assert g._drop_run((3000.5, 3000.0), AIM) == (8.0, pytest.approx(49.8))
     assert g._drop_run((3000.9, 3000.0), AIM) is None
+    assert g._drop_run((3000.0, 3000.5), AIM) is not None
+    assert g._drop_run((3000.0, 3000.9), AIM) is None
     g.drop_run_m = 0.0
     assert g._drop_run(AIM, AIM) is None
 
@@ -1002,3 +1004,71 @@ def test_the_fuels_level_is_read_at_the_aim_point():
     g = _agent(sc, 1).guide
     assert g._drop_run((3000.0, 1010.0), (3000.0, 1000.0)) is None
     assert g._drop_run((1000.0, 3010.0), (1000.0, 3000.0)) is not None
+
+
+def test_the_final_on_sloped_ground_and_a_higher_landing_height(scenarios):
+    """UAV 2's final over the plane E = 5 + 0.1 x + 0.05 y, the vehicle's landing height 2 m (FF's
+    1 m): the approach height is 0.5 x 2 = 1 m above the ground under it, touch-down below 0.8 x 2
+    = 1.6 m: at the threshold (E = 25.5 m) 1.5 m up it touches down, 1.7 m up it holds 1 m (K_z =
+    0.625 1/s: v_z = -0.4375 m/s)."""
+    from fire_uav_common.terrain import Terrain
+
+    plane = Terrain(base_m=5.0, slope_x=0.1, slope_y=0.05)
+    sc = scenarios["small"]
+    cfg = config_from_scenario(sc, 2, uav_count=5, seed=1, loss_probability=0.0)
+    cfg = dataclasses.replace(
+        cfg, terrain=plane, vehicle=dataclasses.replace(cfg.vehicle, landing_height_m=2.0)
+    )
+    e = plane.elevation(50.0, 310.0)
+    a = Agent(cfg)
+    a.guide.on_final = True
+    assert _land(a, 50.5, 310.0, e + 1.5, math.pi).command == (0.0, -0.5, 0.0)
+    a = Agent(cfg)
+    a.guide.on_final = True
+    a.guide._final_agl.extend([1.5] * 9)  # ... unless the last second's mean is below 1.6 m
+    assert _land(a, 50.5, 310.0, e + 1.7, math.pi).command == (0.0, -0.5, 0.0)
+    a = Agent(cfg)
+    a.guide.on_final = True
+    v, vz, _ = _land(a, 50.5, 310.0, e + 1.7, math.pi).command
+    assert v == pytest.approx(15.6) and vz == pytest.approx(0.625 * (1.0 - 1.7) - 15.6 * 0.1, abs=0.05)
+
+
+def test_on_the_final_the_avoidance_acts_only_when_on(scenarios):
+    """A peer (UAV 0, right of way) 40 m ahead on UAV 2's final at its height, flying at it: with
+    the avoidance on, the command turns off the one without the peer; with it off, it does not."""
+    h = _glide(150.0, 184.08)
+    head_on = _peer(0, (160.0, 310.0), h, Objective.SUPPRESS)
+    head_on = dataclasses.replace(head_on, yaw_rad=0.0)
+    for avoid in (True, False):
+        alone = _agent_with(scenarios["small"], 2, avoidance=avoid)
+        alone.guide.on_final = True
+        want = _land(alone, 200.0, 310.0, h, math.pi).command
+        a = _agent_with(scenarios["small"], 2, avoidance=avoid)
+        a.guide.on_final = True
+        a.link.receive_state(head_on, now_step=100)
+        got = _land(a, 200.0, 310.0, h, math.pi).command
+        assert (got != pytest.approx(want)) is avoid
+
+
+def test_to_the_entry_the_distance_is_measured_on_both_axes(scenarios):
+    """4.1 turn radii south of the entry (outside the capture box: 3 r across), heading north at
+    it: the top speed; at 3.9 r the lowest."""
+    ap = _agent(scenarios["small"], 2).guide.approach
+    assert ap is not None
+    ex, ey = ap.entry_xy
+    r = ap.turn_radius_m
+    assert _land(_agent(scenarios["small"], 2), ex, ey - 4.1 * r, CRUISE, 0.5 * math.pi).command[0] == 30.0
+    assert _land(_agent(scenarios["small"], 2), ex, ey - 3.9 * r, CRUISE, 0.5 * math.pi).command[
+        0
+    ] == pytest.approx(15.6)
+
+
+def test_off_the_final_over_a_lower_id_below_it_keeps_its_layer(scenarios):
+    """Not captured, UAV 0 below it 5 m away: it holds its layer (23 m; K_z = 5 1/s, 22.5 m up:
+    v_z 2.5 m/s)."""
+    ap = _agent(scenarios["small"], 2).guide.approach
+    assert ap is not None
+    ex, ey = ap.entry_xy
+    a = _agent(scenarios["small"], 2)
+    a.link.receive_state(_peer(0, (ex + 255.0, ey), 10.0, Objective.LAND), now_step=100)
+    assert _land(a, ex + 250.0, ey, CRUISE - 0.5, math.pi).command[1] == pytest.approx(2.5)
