@@ -1072,3 +1072,72 @@ def test_off_the_final_over_a_lower_id_below_it_keeps_its_layer(scenarios):
     a = _agent(scenarios["small"], 2)
     a.link.receive_state(_peer(0, (ex + 255.0, ey), 10.0, Objective.LAND), now_step=100)
     assert _land(a, ex + 250.0, ey, CRUISE - 0.5, math.pi).command[1] == pytest.approx(2.5)
+
+
+def _entry_turn(sc, avoid: bool, peer_dxy: tuple[float, float] | None):
+    """UAV 2 at its entry + (10, 5) heading east (the wrong way): the command, UAV 0 (right of way)
+    hovering at ``peer_dxy`` from it on its height, the avoidance on or off."""
+    a = _agent_with(sc, 2, avoidance=avoid)
+    ap = a.guide.approach
+    assert ap is not None
+    ex, ey = ap.entry_xy
+    if peer_dxy is not None:
+        xy = (ex + 10.0 + peer_dxy[0], ey + 5.0 + peer_dxy[1])
+        a.link.receive_state(_peer(0, xy, CRUISE, Objective.SUPPRESS, step=99), now_step=100)
+    return _land(a, ex + 10.0, ey + 5.0, CRUISE, 0.0).command
+
+
+def test_the_turn_at_the_entry_goes_through_the_avoidance_holding_its_heading(scenarios):
+    """The full-rate turn at the entry (right, toward the line) is a straight command for the
+    avoidance (it holds the present heading, not the bearing to the entry behind it): UAV 0 40 m
+    behind-left of that bearing leaves it as it is (turning to the entry would turn left, toward
+    it); UAV 0 15 m behind, on the turn's way, stops the turn; with the avoidance off it does not."""
+    sc = scenarios["small"]
+    om = _agent(scenarios["small"], 2).cfg.limits.omega_max_radps
+    assert _entry_turn(sc, True, None)[2] == pytest.approx(-om)
+    assert _entry_turn(sc, True, (-40.0, -40.0))[2] == pytest.approx(-om)
+    assert _entry_turn(sc, True, (-15.0, 0.0))[2] == pytest.approx(0.0)
+    assert _entry_turn(sc, False, (-15.0, 0.0))[2] == pytest.approx(-om)
+
+
+@pytest.mark.parametrize(
+    "layers, dx_r, z, vz", [(2, 5.5, 50.5, 2.5), (2, 6.5, 22.5, 2.5), (1, 5.5, 43.5, 2.5)]
+)
+def test_a_fixed_wing_yields_its_entry_above_every_layer_within_six_turn_radii(stacked, layers, dx_r, z, vz):
+    """With the stack, UAV 2 ``dx_r`` turn radii east of its entry while UAV 0 (of its layer) lands
+    there: within 6 r it climbs above every FF layer, its layer plus a layer step per layer (two
+    layers: 23 + 28 = 51 m; one: 30 + 14 = 44 m); beyond, it keeps its layer (K_z = 5 1/s)."""
+    a = _agent_with(stacked, 2, guidance={"ff_layers": layers})
+    ap = a.guide.approach
+    assert ap is not None
+    ex, ey = ap.entry_xy
+    a.link.receive_state(_peer(0, (ex, ey), 20.0, Objective.LAND), now_step=100)
+    assert _land(a, ex + dx_r * ap.turn_radius_m, ey, z, math.pi).command[1] == pytest.approx(vz)
+
+
+def test_the_tanker_turns_at_its_entry_when_heading_more_than_a_quarter_turn_off_its_course(scenarios):
+    """The tanker's final flies north (course pi / 2); 10 m east of its entry heading 11 deg south of
+    east (more than a quarter turn off): the full-rate turn toward the line (right: its right
+    circle's centre lies nearer it), not a straight run (the entry is inside its turn circle)."""
+    a = _agent(scenarios["tanker"], 0)
+    ap = a.guide.approach
+    assert ap is not None
+    ex, ey = ap.entry_xy
+    om = a.cfg.limits.omega_max_radps
+    assert _land(a, ex + 10.0, ey, CRUISE, -0.2).command[2] == pytest.approx(-om)
+
+
+def test_to_the_entry_the_avoidance_acts_only_when_on(scenarios):
+    """UAV 2 flying west to its entry 250 m off, UAV 0 hovering 15 m ahead on its height: with the
+    avoidance on, the command turns off the one without the peer; with it off, it does not."""
+    ap = _agent(scenarios["small"], 2).guide.approach
+    assert ap is not None
+    ex, ey = ap.entry_xy
+    for avoid in (True, False):
+        want = _land(
+            _agent_with(scenarios["small"], 2, avoidance=avoid), ex + 250.0, ey, CRUISE, math.pi
+        ).command
+        a = _agent_with(scenarios["small"], 2, avoidance=avoid)
+        a.link.receive_state(_peer(0, (ex + 235.0, ey), CRUISE, Objective.SUPPRESS, step=99), now_step=100)
+        got = _land(a, ex + 250.0, ey, CRUISE, math.pi).command
+        assert (got != pytest.approx(want)) is avoid
