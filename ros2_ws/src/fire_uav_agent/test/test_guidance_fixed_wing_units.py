@@ -1141,3 +1141,48 @@ def test_to_the_entry_the_avoidance_acts_only_when_on(scenarios):
         a.link.receive_state(_peer(0, (ex + 235.0, ey), CRUISE, Objective.SUPPRESS, step=99), now_step=100)
         got = _land(a, ex + 250.0, ey, CRUISE, math.pi).command
         assert (got != pytest.approx(want)) is avoid
+
+
+def _suppress(a: Agent, xy, yaw: float, t_s: float, step: int = 100):
+    """One guidance step of ``a`` in SUPPRESS toward the aim point AIM on its raster front."""
+    from fire_uav_agent.guidance import Situation
+    from fire_uav_agent.mission import Decision
+    from fire_uav_agent.planning import PlannerView
+    from fire_uav_common.codecs.uav_state import FireEntry
+    from fire_uav_common.constants import VehicleStatus
+
+    cell = np.ones(a.grid.points.shape[0], dtype=bool)
+    fire = FireEntry(0, True, AIM[0], AIM[1], 0.0)
+    s = np.array([xy[0], xy[1], 30.0, yaw])
+    view = PlannerView(t_s, a.cfg.uav_id, s, a.grid, cell, {}, (fire,))
+    sit = Situation(Decision(Objective.SUPPRESS, 0, None, False, False), (fire,), None, view, cell, AIM)
+    return a.guide.run(sit, VehicleStatus.AIRBORNE, s, step)
+
+
+def test_the_run_reads_the_leg_at_the_steps_time_and_drops_it_off_the_run(scenarios):
+    """The tanker with the leg on, 1,200 m west of the aim heading east (inside its 1,588 m run):
+    a leg from the front seen at 1 s; with the step a day later (the cells stale) none. Beyond the
+    run, the leg is dropped."""
+    a = _leg_agent(scenarios["tanker"])
+    _suppress(a, (1800.0, 3000.0), 0.0, 1.0)
+    assert a.guide.leg is not None
+    _suppress(a, (0.0, 3000.0), 0.0, 1.0)  # 3 km out: no run, no leg
+    assert a.guide.leg is None
+    b = _leg_agent(scenarios["tanker"])
+    _suppress(b, (1800.0, 3000.0), 0.0, 86400.0)
+    assert b.guide.leg is None and b.guide.leg_counts["few_cells"] == 1
+
+
+def test_refill_flies_at_the_lake_on_a_direct_run_or_with_no_lake_density_in_its_cell(scenarios):
+    """REFILL 400 m from FF's lake (50, 50): a direct run (attack run) flies at its centre; so does
+    Eq. 14's centroid in a cell that holds none of the lake's density (an empty cell)."""
+    from fire_uav_agent.guidance import Situation
+    from fire_uav_agent.mission import Decision
+    from fire_uav_common.constants import VehicleStatus
+
+    s = np.array([450.0, 50.0, 30.0, math.pi])
+    for direct, cell_on in [(True, True), (False, False)]:
+        a = _agent(scenarios["small"], 0)
+        cell = np.full(a.grid.points.shape[0], cell_on)
+        sit = Situation(Decision(Objective.REFILL, -1, None, direct, False), (), a.lakes[0], None, cell)  # type: ignore[arg-type]
+        assert a.guide.run(sit, VehicleStatus.AIRBORNE, s, 100).target_xy == (50.0, 50.0)
