@@ -1186,3 +1186,12 @@ def test_refill_flies_at_the_lake_on_a_direct_run_or_with_no_lake_density_in_its
         cell = np.full(a.grid.points.shape[0], cell_on)
         sit = Situation(Decision(Objective.REFILL, -1, None, direct, False), (), a.lakes[0], None, cell)  # type: ignore[arg-type]
         assert a.guide.run(sit, VehicleStatus.AIRBORNE, s, 100).target_xy == (50.0, 50.0)
+
+
+def test_ffs_go_around_flies_straight_out_steering_for_the_takeoff_point(scenarios):
+    """FF's unicycle (no airframe) landing 10 m east of its takeoff point (50, 250), 30 m up,
+    heading east (away): not lined up within the 25 m go-around radius, it flies straight on (omega
+    0), its target the takeoff point."""
+    a = _agent(scenarios["ff"], 0)
+    g = _land(a, 60.0, 250.0, 30.0, 0.0)
+    assert g.target_xy == (50.0, 250.0) and g.command[2] == 0.0
