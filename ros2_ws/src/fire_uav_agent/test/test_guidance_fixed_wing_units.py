@@ -1195,3 +1195,23 @@ def test_ffs_go_around_flies_straight_out_steering_for_the_takeoff_point(scenari
     a = _agent(scenarios["ff"], 0)
     g = _land(a, 60.0, 250.0, 30.0, 0.0)
     assert g.target_xy == (50.0, 250.0) and g.command[2] == 0.0
+
+
+def test_the_pattern_is_the_airframes_tank_and_flow_and_none_without_a_flow(scenarios):
+    """A fixed-wing's pattern is v V / Q of its airframe's tank and flow, whatever the vehicle
+    section says; no flow rate, no pattern (0 m), a flow of 0.5 L/s a long one. FF's unicycle turns
+    its run on v / omega_max at any turn-rate limit (here 0.5 rad/s)."""
+    cfg = config_from_scenario(scenarios["tanker"], 0, uav_count=5, seed=1, loss_probability=0.0)
+    odd = dataclasses.replace(
+        cfg, vehicle=dataclasses.replace(cfg.vehicle, water_capacity_kg=1.0, drop_flow_lps=1.0)
+    )
+    assert Agent(odd).guide.pattern_m == pytest.approx(49.8 * 3000.0 / 757.0)
+    af = cfg.airframe
+    assert af is not None
+    for flow, want in [(0.0, 0.0), (0.5, 49.8 * 3000.0 / 0.5)]:
+        c = dataclasses.replace(cfg, airframe=dataclasses.replace(af, drop_flow_lps=flow))
+        assert Agent(c).guide.pattern_m == pytest.approx(want)
+    ff = config_from_scenario(scenarios["ff_pattern"], 0, uav_count=5, seed=1, loss_probability=0.0)
+    slow = dataclasses.replace(ff, vehicle=dataclasses.replace(ff.vehicle, omega_max_radps=0.5))
+    g = Agent(slow).guide
+    assert g.run_turn_m == pytest.approx(g.v_slow_mps / 0.5)
