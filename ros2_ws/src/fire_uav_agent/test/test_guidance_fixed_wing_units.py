@@ -1215,3 +1215,20 @@ def test_the_pattern_is_the_airframes_tank_and_flow_and_none_without_a_flow(scen
     slow = dataclasses.replace(ff, vehicle=dataclasses.replace(ff.vehicle, omega_max_radps=0.5))
     g = Agent(slow).guide
     assert g.run_turn_m == pytest.approx(g.v_slow_mps / 0.5)
+
+
+def test_one_ff_layer_a_takeoff_at_the_centre_and_a_2_m_landing_height_shape_the_final(scenarios):
+    """J3Cub UAV 1 with one FF layer (30 m): its lake margin is the descent 30 -> 7.5 m at 25 m/s
+    and 1.4 m/s (402 m), its final the descent from 30 m (927 m); a takeoff point at the area's
+    centre keeps its takeoff heading as the final's course; a landing height of 2 m brings the
+    approach height to 1 m (small_uav UAV 2's final: 2 x 15.6 x (30 - 1) / 5 m)."""
+    sc = scenarios["j3cub"]
+    g = _agent_with(sc, 1, guidance={"ff_layers": 1}).guide
+    assert g.lake_margin_m == pytest.approx(25.0 * (30.0 - 7.5) / 1.4)
+    assert g.approach is not None and g.approach.length_m == pytest.approx(2.0 * 22.0 * 29.5 / 1.4)
+    g = _agent_with(sc, 1, start_pose=(300.0, 300.0, 0.0, 0.7)).guide
+    assert g.approach is not None and g.approach.course_rad == pytest.approx(0.7)
+    cfg = config_from_scenario(scenarios["small"], 2, uav_count=5, seed=1, loss_probability=0.0)
+    cfg = dataclasses.replace(cfg, vehicle=dataclasses.replace(cfg.vehicle, landing_height_m=2.0))
+    ap = Agent(cfg).guide.approach
+    assert ap is not None and ap.length_m == pytest.approx(2.0 * 15.6 * (30.0 - 1.0) / 5.0)
