@@ -1232,3 +1232,12 @@ def test_one_ff_layer_a_takeoff_at_the_centre_and_a_2_m_landing_height_shape_the
     cfg = dataclasses.replace(cfg, vehicle=dataclasses.replace(cfg.vehicle, landing_height_m=2.0))
     ap = Agent(cfg).guide.approach
     assert ap is not None and ap.length_m == pytest.approx(2.0 * 15.6 * (30.0 - 1.0) / 5.0)
+
+
+@pytest.mark.parametrize("period_s, heights, poses", [(1.0, 1, 2), (0.5, 2, 3), (0.1, 10, 11)])
+def test_the_memories_hold_a_second_at_any_control_period(scenarios, period_s, heights, poses):
+    """A second of heights is 1 / T samples; a second of motion is 1 / T + 1 poses."""
+    cfg = config_from_scenario(scenarios["small"], 0, uav_count=5, seed=1, loss_probability=0.0)
+    cfg = dataclasses.replace(cfg, timing=dataclasses.replace(cfg.timing, control_period_s=period_s))
+    g = Agent(cfg).guide
+    assert (g._final_agl.maxlen, g._poses.maxlen) == (heights, poses)
