@@ -219,7 +219,9 @@ def config_from_scenario(
             # (separation.detect_range_m: the tanker 1,822 m, small_uav 308 m, the J3Cub 364 m);
             # the turn rate as agent_core's avoider has it, capped by the vehicle's omega_max
             rate = min(scenario.vehicle.omega_max_radps, af.turn_rate_max_radps(af.v_max_mps))
-            sep = dataclasses.replace(sep, detect_m=detect_range_m(sep, af.v_max_mps, rate))
+            sep = dataclasses.replace(
+                sep, detect_m=detect_range_m(sep, af.v_max_mps, rate), vertical_resolution=True
+            )
         agent_options = {**agent_options, "separation": sep}
     return AgentConfig(
         uav_id=uav_id,

@@ -668,7 +668,10 @@ class Guide:
                 chi -= self._crab_rad()
             aim = (pos[0] + 4.0 * r * math.cos(chi), pos[1] + 4.0 * r * math.sin(chi))
             cmd = control_law(s, np.array(aim), height, cfg.terrain, lim, self.land_gains, lim.v_stall_mps)
-            return Guidance(self._separate(s, cmd, aim, last_step) if cfg.avoidance else cmd, start)
+            # on the final the height is the glide path's: heading only (separation.vertical_sense)
+            if cfg.avoidance:
+                cmd = self._separate(s, cmd, aim, last_step, resolve_vertical=False)
+            return Guidance(cmd, start)
         entry = ap.entry_xy
         to_entry = math.hypot(pos[0] - entry[0], pos[1] - entry[1])
         height = cruise
@@ -713,9 +716,14 @@ class Guide:
         target: tuple[float, float],
         last_step: int,
         straight: bool = False,
+        resolve_vertical: bool = True,
     ) -> tuple[float, float, float]:
-        """Turn-rate-limited avoidance of the alive peers (:class:`.separation.PeerAvoidance`)."""
-        return self.avoidance.command(s, cmd, target, self.link.alive_states(), last_step, straight)
+        """Turn-rate-limited avoidance of the alive peers (:class:`.separation.PeerAvoidance`), and on
+        a fixed-wing its vertical resolution (not on a landing's final: ``resolve_vertical``)."""
+        agl = float(s[2] - self.cfg.terrain.elevation(float(s[0]), float(s[1])))
+        return self.avoidance.command(
+            s, cmd, target, self.link.alive_states(), last_step, straight, agl, resolve_vertical
+        )
 
     def _centroid_of(
         self, density: np.ndarray, fallback_xy: tuple[float, float], cell: np.ndarray
