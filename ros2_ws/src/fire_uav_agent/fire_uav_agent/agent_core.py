@@ -183,7 +183,6 @@ class Agent:
         self.avoidance = PeerAvoidance(
             cfg.uav_id, cfg.control_period_s, cfg.separation, lim.v_stall_mps, lim.v_max_mps, lim.omega_max_radps,
             None if af is None else (lambda v: min(lim.omega_max_radps, af.turn_rate_max_radps(v))),
-            lim.vz_max_mps,
         )  # fmt: skip
         self.guide = Guide(
             cfg, self.grid, self.planners, self.search, self.raster, self.link, self.avoidance, self.flown

@@ -37,14 +37,16 @@ admits late. Measured (grass_brush_hill, small_uav on coordinated_turn, seed 3, 
 monitor descending at 4 m/s, and UAV 4, a suppressor climbing at 4.5 m/s to its layer, crossing
 some 100 deg apart; both commanded their full climb and descent rates toward each other's
 heights, the band (the height now) admitted the pair at 10 m, 37 m apart, and they passed 5.1 m
-apart. So with ``vertical_resolution`` (agent_config sets it for every airframe) the agent also
+apart. So with ``vertical_resolution`` (agent_config sets it on ``coordinated_turn``; on ``jsbsim``
+the J3Cub's ff_two_fires seed 2 came to 6.4 m with it, 13.9 m without) the agent also
 changes its v_z when :func:`vertical_sense` finds a threat: a peer the present course brings
 within ``radius_m + release_margin_m`` over the horizon while the heights, each straight at its
-measured vertical speed, come within ``vertical_m``: the higher UAV climbs at its climb limit,
-the lower stops climbing (above ``vertical_m`` over the terrain; never on a landing's final),
-as TCAS II's coordinated resolution advisories open the vertical gap (FAA, *Introduction to TCAS
-II Version 7.1*, 2011). Both judge the same two heights, so the senses are complementary; the
-heading filter runs as before.
+measured vertical speed, come within ``vertical_m``: the higher UAV stops descending, the lower
+stops climbing (the lower only above ``vertical_m`` over the terrain; never while landing, whose
+layers :func:`hold_layer` keeps), as TCAS II's coordinated "do not descend" / "do not climb"
+advisories keep the vertical gap from closing (FAA, *Introduction to TCAS II Version 7.1*,
+2011). Both judge the same two heights, so the senses are complementary; the heading filter runs
+as before.
 
 Detection range (our addition; FF is silent). Peers further than ``detect_m`` are ignored. FF's
 150 m is 0.75 s at the unicycle's 200 m/s head-on closing speed, enough for a vehicle that turns
@@ -403,16 +405,16 @@ def vertical_sense(
     horizon_s: float,
     cfg: SeparationConfig,
 ) -> int:
-    """The vertical resolution of a fixed-wing: +1 climb, -1 do not climb, 0 none.
+    """The vertical resolution of a fixed-wing: +1 do not descend, -1 do not climb, 0 none.
 
     A threat is a peer (rows x_m, y_m, z_m, vx_mps, vy_mps, vz_mps) that our present course,
     straight at ``speed_mps``, brings within ``radius_m + release_margin_m`` horizontally over
     ``horizon_s`` while the height difference, both heights straight at their measured vertical
     speeds (``own_vz_mps`` ours), comes within ``vertical_m``. Against every threat below us we
-    climb, against every threat above us we stop climbing; threats on both sides: none. Both UAVs
-    of a pair judge the same two heights, so their senses are complementary, as TCAS II
-    coordinates its resolution advisories (FAA, *Introduction to TCAS II Version 7.1*, 2011: the
-    sense that opens the vertical gap; a tie goes to the geometry now, here the higher climbs).
+    stop descending, against every threat above us we stop climbing; threats on both sides: none.
+    Both UAVs of a pair judge the same two heights, so their senses are complementary, as TCAS II
+    coordinates its "do not descend" / "do not climb" advisories (FAA, *Introduction to TCAS II
+    Version 7.1*, 2011).
     """
     p = np.asarray(peers, dtype=float).reshape(-1, 6)
     x, y, z = own_xyz_m
@@ -484,12 +486,8 @@ class PeerAvoidance:
         v_max_mps: float,
         omega_max_radps: float,
         turn_rate_at: Callable[[float], float] | None = None,
-        climb_mps: float = 0.0,
     ) -> None:
         self.uav_id, self.period_s, self.cfg = uav_id, period_s, cfg
-        self.climb_mps = (
-            climb_mps  # [m/s] the climb the vertical resolution commands (cfg.vertical_resolution)
-        )
         self.steps_resolved = 0  # control steps the vertical resolution changed v_z
         self._own_z: tuple[int, float, float] | None = None  # own last step, height, vertical speed
         self.turn_rate_at = turn_rate_at  # a fixed-wing's achievable turn rate [rad/s] at speed v [m/s]
@@ -573,9 +571,9 @@ class PeerAvoidance:
             )  # fmt: skip
             new_vz = vz
             if sense > 0:
-                new_vz = max(vz, self.climb_mps)
+                new_vz = max(vz, 0.0)  # do not descend
             elif sense < 0 and agl_m > self.cfg.vertical_m:
-                new_vz = min(vz, 0.0)
+                new_vz = min(vz, 0.0)  # do not climb
             if new_vz != vz:
                 self.steps_resolved += 1
                 vz = new_vz
