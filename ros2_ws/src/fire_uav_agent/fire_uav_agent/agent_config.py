@@ -219,7 +219,14 @@ def config_from_scenario(
             # (separation.detect_range_m: the tanker 1,822 m, small_uav 308 m, the J3Cub 364 m);
             # the turn rate as agent_core's avoider has it, capped by the vehicle's omega_max
             rate = min(scenario.vehicle.omega_max_radps, af.turn_rate_max_radps(af.v_max_mps))
-            sep = dataclasses.replace(sep, detect_m=detect_range_m(sep, af.v_max_mps, rate))
+            # the vertical resolution (separation module doc) on coordinated_turn only: measured
+            # there (grass_brush_hill seed 3, small_uav: 5.1 -> 12.8 m; ff_two_fires seeds 1-3 kept
+            # >= 10 m); on jsbsim the J3Cub's ff_two_fires seed 2 came to 6.4 m with it (13.9 m
+            # without; docs/suppression.md, "Vertical resolution on fixed-wings")
+            resolve = scenario.uavs.vehicle_model == "coordinated_turn"
+            sep = dataclasses.replace(
+                sep, detect_m=detect_range_m(sep, af.v_max_mps, rate), vertical_resolution=resolve
+            )
         agent_options = {**agent_options, "separation": sep}
     return AgentConfig(
         uav_id=uav_id,

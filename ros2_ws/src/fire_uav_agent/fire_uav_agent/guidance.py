@@ -86,6 +86,7 @@ class Guide:
         self.flown = flown  # the airframe's modelled flight state (its airspeed sets the turn radius)
         self.approach: FinalApproach | None = None  # a fixed-wing's lined-up landing approach
         self.on_final = False  # established on the final (_land_lined_up)
+        self._resolve_vertical = True  # the vertical resolution this step (run: not while landing)
         # [m] the estimated heights above ground of the last second on the final (_land_lined_up)
         self._final_agl: deque[float] = deque(maxlen=max(1, round(1.0 / cfg.control_period_s)))
         # [m] low and slow this far beyond the lake's shore (FF IV-D b); a fixed-wing starts where it
@@ -207,6 +208,8 @@ class Guide:
         cfg, lim, gd, veh = self.cfg, self.cfg.limits, self.cfg.guidance, self.cfg.vehicle
         dec, active, lake, pview, cell = sit.decision, sit.aim, sit.lake, sit.view, sit.cell
         obj = dec.objective
+        # the vertical resolution (separation.vertical_sense) not while landing: hold_layer keeps its layers
+        self._resolve_vertical = obj != Objective.LAND
         if vehicle in (VehicleStatus.CRASHED, VehicleStatus.LANDED) or obj == Objective.LANDED:
             return Guidance((0.0, 0.0, 0.0))
         if obj == Objective.GROUNDED:
@@ -668,7 +671,10 @@ class Guide:
                 chi -= self._crab_rad()
             aim = (pos[0] + 4.0 * r * math.cos(chi), pos[1] + 4.0 * r * math.sin(chi))
             cmd = control_law(s, np.array(aim), height, cfg.terrain, lim, self.land_gains, lim.v_stall_mps)
-            return Guidance(self._separate(s, cmd, aim, last_step) if cfg.avoidance else cmd, start)
+            # on the final the height is the glide path's: heading only (separation.vertical_sense)
+            if cfg.avoidance:
+                cmd = self._separate(s, cmd, aim, last_step, resolve_vertical=False)
+            return Guidance(cmd, start)
         entry = ap.entry_xy
         to_entry = math.hypot(pos[0] - entry[0], pos[1] - entry[1])
         height = cruise
@@ -713,9 +719,15 @@ class Guide:
         target: tuple[float, float],
         last_step: int,
         straight: bool = False,
+        resolve_vertical: bool = True,
     ) -> tuple[float, float, float]:
-        """Turn-rate-limited avoidance of the alive peers (:class:`.separation.PeerAvoidance`)."""
-        return self.avoidance.command(s, cmd, target, self.link.alive_states(), last_step, straight)
+        """Turn-rate-limited avoidance of the alive peers (:class:`.separation.PeerAvoidance`), and on
+        a fixed-wing its vertical resolution (not on a landing's final: ``resolve_vertical``)."""
+        agl = float(s[2] - self.cfg.terrain.elevation(float(s[0]), float(s[1])))
+        vertical = resolve_vertical and self._resolve_vertical
+        return self.avoidance.command(
+            s, cmd, target, self.link.alive_states(), last_step, straight, agl, vertical
+        )
 
     def _centroid_of(
         self, density: np.ndarray, fallback_xy: tuple[float, float], cell: np.ndarray

@@ -30,6 +30,24 @@ ff_two_fires from 14.8 / 22.3 / 14.2 to 11.3 / 11.4 / 14.1 m: a fixed-wing's com
 for its own height, is not the one it flies (the flight-path angle lags, climb and descent are
 limited), so there the default stays the height now.
 
+Vertical resolution (our addition; FF is silent, its unicycle turns at 10 rad/s). A fixed-wing
+turns at g tan(phi_max) / v: at a monitor's 15.6 m/s small_uav's 45 deg bank is a 25 m turn radius,
+2.5 s for a quarter turn, and the heading alone cannot clear 20 m from a peer that the height check
+admits late. Measured (grass_brush_hill, small_uav on coordinated_turn, seed 3, 126.1 s): UAV 1, a
+monitor descending at 4 m/s, and UAV 4, a suppressor climbing at 4.5 m/s to its layer, crossing
+some 100 deg apart; both commanded their full climb and descent rates toward each other's
+heights, the band (the height now) admitted the pair at 10 m, 37 m apart, and they passed 5.1 m
+apart. So with ``vertical_resolution`` (agent_config sets it on ``coordinated_turn``; on ``jsbsim``
+the J3Cub's ff_two_fires seed 2 came to 6.4 m with it, 13.9 m without) the agent also
+changes its v_z when :func:`vertical_sense` finds a threat: a peer the present course brings
+within ``radius_m + release_margin_m`` over the horizon while the heights, each straight at its
+measured vertical speed, come within ``vertical_m``: the higher UAV stops descending, the lower
+stops climbing (the lower only above ``vertical_m`` over the terrain; never while landing, whose
+layers :func:`hold_layer` keeps), as TCAS II's coordinated "do not descend" / "do not climb"
+advisories keep the vertical gap from closing (FAA, *Introduction to TCAS II Version 7.1*,
+2011). Both judge the same two heights, so the senses are complementary; the heading filter runs
+as before.
+
 Detection range (our addition; FF is silent). Peers further than ``detect_m`` are ignored. FF's
 150 m is 0.75 s at the unicycle's 200 m/s head-on closing speed, enough for a vehicle that turns
 at 10 rad/s (and FF's figures rest on it: ff_paper keeps it); a fixed-wing's horizon is at least
@@ -96,6 +114,7 @@ __all__ = [
     "hold_layer",
     "peer_rows",
     "turning_approach_m",
+    "vertical_sense",
 ]
 
 
@@ -120,6 +139,9 @@ class SeparationConfig:
     # predict the heights over the horizon too (module doc; the scenario's mission.vertical_band
     # sets it); False: the height difference now only
     vertical_rates: bool = False
+    # a fixed-wing also resolves a conflict vertically (module doc, "Vertical resolution"):
+    # agent_config sets it for airframes; FF's unicycle turns at 10 rad/s and keeps the heading only
+    vertical_resolution: bool = False
 
     def __post_init__(self) -> None:
         for name in ("radius_m", "vertical_m", "horizon_s", "detect_m", "on_course_beyond_m"):
@@ -374,6 +396,44 @@ def avoid_heading(
     return float(wrap_angle(float(cand[k]))), True, False
 
 
+def vertical_sense(
+    own_xyz_m: tuple[float, float, float],
+    speed_mps: float,
+    heading_rad: float,
+    own_vz_mps: float,
+    peers: np.ndarray,
+    horizon_s: float,
+    cfg: SeparationConfig,
+) -> int:
+    """The vertical resolution of a fixed-wing: +1 do not descend, -1 do not climb, 0 none.
+
+    A threat is a peer (rows x_m, y_m, z_m, vx_mps, vy_mps, vz_mps) that our present course,
+    straight at ``speed_mps``, brings within ``radius_m + release_margin_m`` horizontally over
+    ``horizon_s`` while the height difference, both heights straight at their measured vertical
+    speeds (``own_vz_mps`` ours), comes within ``vertical_m``. Against every threat below us we
+    stop descending, against every threat above us we stop climbing; threats on both sides: none.
+    Both UAVs of a pair judge the same two heights, so their senses are complementary, as TCAS II
+    coordinates its "do not descend" / "do not climb" advisories (FAA, *Introduction to TCAS II
+    Version 7.1*, 2011).
+    """
+    p = np.asarray(peers, dtype=float).reshape(-1, 6)
+    x, y, z = own_xyz_m
+    rel = p[:, :2] - np.array([x, y])
+    own_v = speed_mps * np.array([math.cos(heading_rad), math.sin(heading_rad)])
+    horiz = closest_approach_m(rel, p[:, 3:5] - own_v, horizon_s) < cfg.radius_m + cfg.release_margin_m
+    dz = p[:, 2] - z
+    dz_end = dz + (p[:, 5] - own_vz_mps) * horizon_s
+    dz_min = np.where(dz * dz_end <= 0.0, 0.0, np.minimum(np.abs(dz), np.abs(dz_end)))
+    threat = horiz & (dz_min <= cfg.vertical_m)
+    below = bool(np.any(threat & (dz < 0.0)))
+    above = bool(np.any(threat & (dz >= 0.0)))
+    if below and not above:
+        return 1
+    if above and not below:
+        return -1
+    return 0
+
+
 class Avoider:
     """:func:`avoid_heading` with commitment, for one UAV (the state is its own last deviation).
 
@@ -428,6 +488,8 @@ class PeerAvoidance:
         turn_rate_at: Callable[[float], float] | None = None,
     ) -> None:
         self.uav_id, self.period_s, self.cfg = uav_id, period_s, cfg
+        self.steps_resolved = 0  # control steps the vertical resolution changed v_z
+        self._own_z: tuple[int, float, float] | None = None  # own last step, height, vertical speed
         self.turn_rate_at = turn_rate_at  # a fixed-wing's achievable turn rate [rad/s] at speed v [m/s]
         self.v_stall_mps, self.v_max_mps, self.omega_max_radps = v_stall_mps, v_max_mps, omega_max_radps
         self.avoider = Avoider(cfg)
@@ -443,15 +505,26 @@ class PeerAvoidance:
         peers: Mapping[int, PeerState],
         last_step: int,
         straight: bool = False,
+        agl_m: float = math.inf,
+        resolve_vertical: bool = True,
     ) -> tuple[float, float, float]:
         """``cmd`` (v [m/s], v_z [m/s], omega [rad/s]) with its heading replaced when a peer would
-        come closer than ``radius_m`` within the horizon (turn at up to omega_max).
+        come closer than ``radius_m`` within the horizon (turn at up to omega_max), and with
+        ``cfg.vertical_resolution`` its v_z by :func:`vertical_sense` (``agl_m``: own height above
+        the terrain [m]; ``resolve_vertical`` False: heading only, as on a landing's final).
 
         Peers' positions are their step k-1 estimates (time t_k), moved to t_{k+1} by the velocity
         of their last two states (``last_step``: the step this agent last ran). ``straight``: hold
         the current heading rather than turn to ``target``.
         """
         T = self.period_s
+        own = self._own_z
+        own_vz = 0.0
+        if own is not None and last_step > own[0]:
+            own_vz = (float(s[2]) - own[1]) / ((last_step - own[0]) * T)
+        elif own is not None:
+            own_vz = own[2]
+        self._own_z = (last_step, float(s[2]), own_vz)
         rows = []
         right_of_way = []  # lower ids have the right of way (module doc)
         for j, p in sorted(peers.items()):
@@ -490,6 +563,21 @@ class PeerAvoidance:
         v, vz, om = cmd
         want = float(s[3]) if straight else math.atan2(target[1] - s[1], target[0] - s[0])
         speed = max(v, self.v_stall_mps)
+        if self.cfg.vertical_resolution and resolve_vertical and self.turn_rate_at is not None:
+            horizon = effective_horizon_s(self.cfg, self.turn_rate_at(speed))
+            sense = vertical_sense(
+                (float(s[0]), float(s[1]), float(s[2])), speed, float(s[3]), own_vz,
+                np.array(rows), horizon, self.cfg,
+            )  # fmt: skip
+            new_vz = vz
+            if sense > 0:
+                new_vz = max(vz, 0.0)  # do not descend
+            elif sense < 0 and agl_m > self.cfg.vertical_m:
+                new_vz = min(vz, 0.0)  # do not climb
+            if new_vz != vz:
+                self.steps_resolved += 1
+                vz = new_vz
+                cmd = (v, vz, om)
         head, changed, clear = self.avoider.step(
             (float(s[0]), float(s[1]), float(s[2])),
             speed,
