@@ -24,6 +24,19 @@ def _fake_run(root: Path, argv: list[str], timeout_s: float) -> tuple[float, str
     return _STARTUP[tag] + _PER_S[tag] * mission, ""
 
 
+def _write_summary(out: Path, t: float, wall: float, world_ms: float, agent_ms: float) -> None:
+    """A lockstep run's summary.json as the runner writes it: ``t`` s of mission at 10 steps/s of
+    mission time in ``wall`` s, the world's and one agent's CPU ms per step, the agent's RSS."""
+    procs = {"world": {"cpu_ms_per_step": world_ms}, "agent_0": {"cpu_ms_per_step": agent_ms, "rss_mb": 80.0}}
+    summary = {
+        "mission_time_s": t,
+        "control_period_s": 0.1,
+        "steps_per_wall_s": t * 10 / wall,
+        "processes": procs,
+    }
+    (out / "summary.json").write_text(json.dumps(summary))
+
+
 @pytest.fixture
 def fake(monkeypatch):
     calls = []
@@ -89,15 +102,7 @@ def test_the_dds_row_flies_the_vehicle_model_it_names_over_an_airborne_window(mo
         # fake fleet: 20 steps/s while the column takes off (t < 43 s), then 8 (ff_paper) or 5 (jsbsim)
         airborne_rate = 5.0 if model == "jsbsim" else 8.0
         wall = min(t, 43.0) * 10 / 20.0 + max(t - 43.0, 0.0) * 10 / airborne_rate
-        n = t * 10
-        procs = {"world": {"cpu_ms_per_step": 2.0}, "agent_0": {"cpu_ms_per_step": 4.0, "rss_mb": 80.0}}
-        summary = {
-            "mission_time_s": t,
-            "control_period_s": 0.1,
-            "steps_per_wall_s": n / wall,
-            "processes": procs,
-        }
-        (out / "summary.json").write_text(json.dumps(summary))
+        _write_summary(out, t, wall, 2.0, 4.0)
         return 1.0, ""
 
     monkeypatch.setattr(speed, "_run", run)
@@ -129,17 +134,7 @@ def test_a_difference_that_is_not_positive_is_flagged_not_printed(monkeypatch, t
         wall = 50.0 + (15.0 if long else 0.0)
         world_cpu_s = 10.0 - (0.426 if long else 0.0)
         agent_cpu_s = 5.0 + (0.6 if long else 0.0)
-        procs = {
-            "world": {"cpu_ms_per_step": 1000 * world_cpu_s / n},
-            "agent_0": {"cpu_ms_per_step": 1000 * agent_cpu_s / n, "rss_mb": 80.0},
-        }
-        summary = {
-            "mission_time_s": t,
-            "control_period_s": 0.1,
-            "steps_per_wall_s": n / wall,
-            "processes": procs,
-        }
-        (out / "summary.json").write_text(json.dumps(summary))
+        _write_summary(out, t, wall, 1000 * world_cpu_s / n, 1000 * agent_cpu_s / n)
         return 1.0, ""
 
     monkeypatch.setattr(speed, "_run", run)
