@@ -153,3 +153,71 @@ def test_a_difference_that_is_not_positive_is_flagged_not_printed(monkeypatch, t
     text = md.read_text()
     assert "-2.84" not in text.replace(row["not_measured"][0], "")  # only in the note, never a cell
     assert "Not measured (empty cells above):" in text and "20 UAVs, jsbsim: base world CPU ms/step" in text
+
+
+class _FakeProbe:
+    """``speed.CpuProbe`` with set samples per root (no child process)."""
+
+    samples_by_root: dict[str, list[float]] = {}
+    current: list[str] = []
+
+    def __init__(self) -> None:
+        self.samples_ms: list[float] = []
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.samples_ms = list(self.samples_by_root[self.current[-1]])
+
+
+@pytest.mark.parametrize(
+    ("base_ms", "head_ms", "flagged"),
+    [([37.0, 38.0, 36.0], [37.5, 36.5, 38.5], False), ([37.0, 38.0, 36.0], [61.0, 64.0, 52.0], True)],
+)
+def test_a_dds_row_names_the_hosts_speed_and_flags_unlike_windows(
+    monkeypatch, tmp_path, capsys, base_ms, head_ms, flagged
+):
+    """Session 27: the same two commits over DDS at 30 UAVs gave base 12.8 / head 7.9 steps/s one
+    evening and 3.8 / 11.9 the next, while a fixed loop's CPU time on this host moved 1.7x from one
+    sample to the next. A row says how fast the host ran under each side (the probe's median over
+    both runs) and is flagged when the two differ by more than PROBE_TOLERANCE."""
+    (tmp_path / "b").mkdir()
+    (tmp_path / "h").mkdir()
+    _FakeProbe.samples_by_root = {"b": base_ms, "h": head_ms}
+
+    def run(root, argv, timeout_s):
+        _FakeProbe.current.append(Path(root).name)
+        out = Path(argv[argv.index("--out") + 1])
+        t = float(argv[argv.index("--max-duration") + 1])
+        _write_summary(out, t, t, 2.0, 4.0)
+        return 1.0, ""
+
+    monkeypatch.setattr(speed, "_run", run)
+    monkeypatch.setattr(speed, "CpuProbe", _FakeProbe)
+    row = speed.dds_row({"base": tmp_path / "b", "head": tmp_path / "h"}, 30, 15.0)
+    assert row["base_probe_ms"] == 37.0
+    assert row["head_probe_ms"] == (37.5 if not flagged else 61.0)
+    assert bool(row.get("not_comparable")) is flagged
+    results = {
+        "speed": {"command": "c", "inprocess": [], "dds": [row], "head_commit": "h", "base_commit": "b"}
+    }
+    md = tmp_path / "benchmarks.md"
+    write_markdown(results, tmp_path, md)
+    text = md.read_text()
+    assert "probe ms b" in text and "probe ms h" in text
+    assert ("Not comparable side by side:" in text) is flagged
+    assert ("host's one-core speed differed" in capsys.readouterr().err) is flagged
+
+
+def test_the_cpu_probe_samples_a_fixed_loop_while_it_is_open():
+    """The real probe: a child that reports the loop's CPU ms about once a second (at least one
+    sample over 1.5 s), each a positive figure of tens of ms, and nothing left running."""
+    import time
+
+    with speed.CpuProbe() as p:
+        time.sleep(1.5)
+        child = p._p
+    assert child is not None and child.poll() is not None
+    assert 1 <= len(p.samples_ms) <= 3
+    assert all(1.0 < ms < 1000.0 for ms in p.samples_ms)

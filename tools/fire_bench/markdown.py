@@ -538,10 +538,28 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
                 ("head_agent_cpu_ms_per_step", f"agent CPU ms/step {head}"),
                 ("base_agent_rss_mb", f"agent RSS MiB {base}"),
                 ("head_agent_rss_mb", f"agent RSS MiB {head}"),
+                ("base_probe_ms", f"probe ms {base}"),
+                ("head_probe_ms", f"probe ms {head}"),
             ],
         ),
         "",
     ]
+    if any(row.get(f"{tag}_probe_ms") for row in r.get("dds", []) for tag in ("base", "head")):
+        lines += [
+            "probe ms: the host's one-core speed while the runs flew (`fire_bench.speed.CpuProbe`: CPU ms "
+            "of a fixed pure-Python loop, one sample a second, median; larger is slower). On this shared "
+            "machine it moves by up to 1.7x within a minute, and a DDS rate with it; rows whose base and "
+            f"head probes differ by more than {100 * r.get('probe_tolerance', 0.15):.0f} % are listed below "
+            "as not comparable.",
+            "",
+        ]
+    unlike = [
+        f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {note}"
+        for row in r.get("dds", [])
+        for note in row.get("not_comparable", [])
+    ]
+    if unlike:
+        lines += ["Not comparable side by side:", "", *unlike, ""]
     # a figure left empty because the two runs' difference was not positive says so (speed.dds_row)
     flagged = [
         f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {note}"

@@ -36,6 +36,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 import yaml
 
@@ -198,15 +199,78 @@ def world_row(roots: dict[str, Path], uavs: int, steps: int) -> dict:
 
 
 def _dds_summary(root: Path, uavs: int, mission_s: float, vehicle_model: str) -> dict:
-    """summary.json of one lockstep DDS run of ff_two_fires (seed 1) for ``mission_s``."""
+    """summary.json of one lockstep DDS run of ff_two_fires (seed 1) for ``mission_s``, with
+    ``probe_ms``: the :class:`CpuProbe` samples taken while it ran."""
     with tempfile.TemporaryDirectory() as d:
         argv = ["python", "-m", "fire_mission.runner", "ff_two_fires", "--uavs", str(uavs), "--seed", "1"]
         argv += ["--max-duration", f"{mission_s:g}", "--quiet", "--no-record", "--no-report", "--out", d]
         if vehicle_model != "ff_paper":
             argv += ["--set", f"uavs.vehicle_model={vehicle_model}"]
-        _run(root, argv, 1800)
+        with CpuProbe() as probe:
+            _run(root, argv, 1800)
         path = Path(d) / "summary.json"
-        return json.loads(path.read_text()) if path.is_file() else {}
+        summary = json.loads(path.read_text()) if path.is_file() else {}
+        summary["probe_ms"] = probe.samples_ms
+        return summary
+
+
+#: the probe's loop: CPU ms of this fixed pure-Python loop, one sample a second, printed
+_PROBE_CODE = """
+import sys, time
+while True:
+    t0 = time.process_time()
+    acc = 0
+    for i in range(300_000):
+        acc = (acc * 31 + i) & 0xFFFFFFFF
+    print(round(1000 * (time.process_time() - t0), 2), flush=True)
+    time.sleep(1.0)
+"""
+#: base and head probes further apart than this share are flagged: the host's one-core speed differed
+PROBE_TOLERANCE = 0.15
+
+
+class CpuProbe:
+    """The host's one-core speed while a fleet runs: a child process that runs a fixed pure-Python
+    loop (``fire_bench.bench.machine_probe``'s) once a second and reports the loop's *CPU* time.
+
+    Why: on this shared 2-core machine a fixed pure-Python loop (3,000,000 additions, CPU time)
+    took 122 to 213 ms from one ten-second sample to the next, idle, no process of ours running
+    (session 27); the 30-UAV DDS rate moves by such factors (base and head swapped order between
+    two sessions: 12.8 vs 7.9 steps/s one evening, 3.8 vs 11.9 the next, the same two commits).
+    CPU time, not wall time, so that the fleet sharing the cores does not count: under a 30-UAV
+    fleet that loop took the same CPU as idle (125-143 ms against 122-140 ms). This probe's loop
+    is a ~25 ms burst a second, ~2.5 % of one core, the same for base and head. A figure, not a
+    correction: no rate is rescaled by it."""
+
+    def __init__(self) -> None:
+        self.samples_ms: list[float] = []
+        self._p: subprocess.Popen | None = None
+        self._out: Any = None
+
+    def __enter__(self) -> CpuProbe:
+        self._out = tempfile.TemporaryFile()
+        self._p = subprocess.Popen([sys.executable, "-c", _PROBE_CODE], stdout=self._out)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        assert self._p is not None and self._out is not None
+        self._p.kill()
+        self._p.wait()
+        self._out.seek(0)
+        for line in self._out.read().decode(errors="replace").split():
+            try:
+                self.samples_ms.append(float(line))
+            except ValueError:
+                pass
+        self._out.close()
+
+
+def _median(xs: list[float]) -> float | None:
+    xs = sorted(xs)
+    n = len(xs)
+    if not n:
+        return None
+    return xs[n // 2] if n % 2 else 0.5 * (xs[n // 2 - 1] + xs[n // 2])
 
 
 def airborne_after_s(uavs: int) -> float:
@@ -246,8 +310,10 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
     per UAV at the world's 100 Hz physics), over ``duration`` s of mission once the whole fleet is
     airborne (:func:`airborne_after_s`): two runs, to ``t_air`` and to ``t_air + duration``, the
     same mission up to ``t_air`` (lockstep, one seed), and the rate of the steps between them. Also
-    the world's and an agent's CPU ms per step over that window, and the agents' mean RSS at the
-    end of the longer run."""
+    the world's and an agent's CPU ms per step over that window, the agents' mean RSS at the
+    end of the longer run, and the host's one-core speed over both runs (``probe_ms``, the
+    median :class:`CpuProbe` sample); base and head probes more than :data:`PROBE_TOLERANCE`
+    apart put a note in ``not_comparable``."""
     t_air = airborne_after_s(uavs)
     row: dict = {
         "uavs": uavs,
@@ -256,9 +322,12 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
         "airborne_from_s": t_air,
     }
     for tag, root in roots.items():
-        short = _stepping(_dds_summary(root, uavs, t_air, vehicle_model))
+        s0 = _dds_summary(root, uavs, t_air, vehicle_model)
+        short = _stepping(s0)
         s = _dds_summary(root, uavs, t_air + duration, vehicle_model)
         full = _stepping(s)
+        probe = _median(s0.get("probe_ms", []) + s.get("probe_ms", []))
+        row[f"{tag}_probe_ms"] = None if probe is None else round(probe, 1)
         procs = s.get("processes", {})
         rss = [v.get("rss_mb") for k, v in procs.items() if k.startswith("agent") and v.get("rss_mb")]
         row[f"{tag}_agent_rss_mb"] = round(sum(rss) / len(rss), 1) if rss else None
@@ -281,6 +350,15 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
                 _not_a_measure(row, f"{tag} {key} CPU ms/step", f"{1000 * (b - a) / steps:.3f}")
                 continue
             row[f"{tag}_{key}_cpu_ms_per_step"] = round(1000 * (b - a) / steps, 3)
+    pb, ph = row.get("base_probe_ms"), row.get("head_probe_ms")
+    if pb and ph and abs(pb - ph) > PROBE_TOLERANCE * min(pb, ph):
+        note = (
+            f"the host's one-core speed differed between base and head (CpuProbe: {pb:g} / {ph:g} ms "
+            f"of CPU for the same loop, {100 * (max(pb, ph) / min(pb, ph) - 1):.0f} %): steps/s and CPU "
+            "per step not comparable side by side"
+        )
+        row.setdefault("not_comparable", []).append(note)
+        print(f"bench: warning: {uavs} UAVs {vehicle_model}: {note}", file=sys.stderr)
     return row
 
 
@@ -301,6 +379,7 @@ def bench_speed(base: Path | None, quick: bool, dds_sizes: list[int] | None = No
         "head_commit": commit_of(ROOT),
         "base_commit": commit_of(base) if base is not None else None,
         "targets": SPEED_TARGETS,
+        "probe_tolerance": PROBE_TOLERANCE,
     }
     out["inprocess"] = [inprocess_row(roots, s, n, d, 2 if quick else 3) for s, n, d in INPROCESS_CASES]
     out["world"] = [world_row(roots, 20, 100 if quick else 300)]
