@@ -162,6 +162,21 @@ def test_a_fixed_wing_fleet_hands_its_airframe_to_the_agent(base):
     assert config_from_scenario(s, 0).airframe is s.uavs.airframe
 
 
+@pytest.mark.parametrize(
+    ("model", "resolves"),
+    [
+        ("coordinated_turn", True),  # measured there (test_separation_vertical_resolution.py)
+        ("jsbsim", False),  # the J3Cub's ff_two_fires seed 2 came to 6.4 m with it (13.9 m without)
+        ("ff_paper", False),  # FF's unicycle turns at 10 rad/s: the heading alone
+    ],
+)
+def test_the_vertical_resolution_is_on_for_coordinated_turn_only(model, resolves):
+    """The avoider's vertical sense (docs/suppression.md, "Vertical resolution on fixed-wings"):
+    exactly True on the kinematic fixed-wing, False elsewhere."""
+    sc_ = load_scenario(scenario_path("grass_brush_hill"), overrides={"uavs.vehicle_model": model})
+    assert config_from_scenario(sc_, 0, uav_count=5, seed=3).separation.vertical_resolution is resolves
+
+
 def test_known_fires_and_search_first_come_from_the_mission(base):
     s = dataclasses.replace(
         base, mission=dataclasses.replace(base.mission, prior_fires="known", search_first=True)

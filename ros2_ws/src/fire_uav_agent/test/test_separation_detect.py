@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from fire_uav_agent.agent_config import config_from_scenario
 from fire_uav_agent.separation import PeerAvoidance, SeparationConfig, avoid_heading, detect_range_m
+from fire_uav_agent.testing.avoider_pair import closest_approach_flown
 from fire_uav_agent.testing.harness import scenario_path
-from fire_uav_common.codecs.uav_state import PeerState
 from fire_uav_common.constants import Objective
 from fire_uav_common.scenario import AIRFRAMES, load_scenario
 from fire_world_sim.vehicles.base import Command, FlightState
@@ -40,7 +40,6 @@ def _head_on(sep: SeparationConfig, lim, gap_m: float = 3000.0, offset_m: float 
     the world's truth over 40 s (they meet after ~20 s)."""
     v = TANKER.v_max_mps
     model = CoordinatedTurnModel(TANKER, 0.0)
-    rngs = [np.random.default_rng(0), np.random.default_rng(1)]
     start = [FlightState(0.0, 0.0, 30.0, 0.0), FlightState(gap_m, offset_m, 30.0, math.pi)]
     states = [model.launch(s, Command(v, 0.0, 0.0)) for s in start]
     targets = [(gap_m + 10_000.0, 0.0), (-10_000.0, offset_m)]
@@ -51,22 +50,18 @@ def _head_on(sep: SeparationConfig, lim, gap_m: float = 3000.0, offset_m: float 
     avoiders = [
         PeerAvoidance(i, T, sep, lim.v_stall_mps, lim.v_max_mps, lim.omega_max_radps, rate) for i in (0, 1)
     ]
-    dmin = math.inf
-    for k in range(int(40.0 / T)):
-        pub = [
-            PeerState(i, k, k, s.x_m, s.y_m, s.z_m, s.yaw_rad, int(Objective.SEARCH), -1, 0.0, *targets[i])
-            for i, s in enumerate(states)
-        ]
-        cmds = []
-        for i, s in enumerate(states):
-            own = np.array([s.x_m, s.y_m, s.z_m, s.yaw_rad])
-            v_c, vz_c, om = avoiders[i].command(own, (v, 0.0, 0.0), targets[i], {1 - i: pub[1 - i]}, k)
-            cmds.append(Command(v_c, vz_c, max(-lim.omega_max_radps, min(lim.omega_max_radps, om))))
-        for _ in range(SUBSTEPS):
-            states = model.step(states, cmds, T / SUBSTEPS, rngs)
-            a, b = states
-            dmin = min(dmin, math.dist((a.x_m, a.y_m, a.z_m), (b.x_m, b.y_m, b.z_m)))
-    return dmin
+    return closest_approach_flown(
+        model,
+        states,
+        targets,
+        lambda i, s: (v, 0.0, 0.0),
+        avoiders,
+        lim.omega_max_radps,
+        int(40.0 / T),
+        Objective.SEARCH,
+        T,
+        SUBSTEPS,
+    )
 
 
 def test_the_tankers_range_covers_its_turning_horizon_at_top_speed(tanker_cfg):

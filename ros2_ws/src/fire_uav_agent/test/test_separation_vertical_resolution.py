@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 from fire_uav_agent.agent_config import config_from_scenario
 from fire_uav_agent.separation import PeerAvoidance, SeparationConfig, vertical_sense
+from fire_uav_agent.testing.avoider_pair import closest_approach_flown
 from fire_uav_agent.testing.harness import scenario_path
-from fire_uav_common.codecs.uav_state import PeerState
 from fire_uav_common.constants import Objective
 from fire_uav_common.scenario import load_scenario
 from fire_world_sim.vehicles.base import Command, FlightState
@@ -47,7 +47,6 @@ def _cross(cfg, sep: SeparationConfig, angle_deg: float, vz_mps: float = 4.0, t_
     af = cfg.airframe
     lim = cfg.limits
     model = CoordinatedTurnModel(af, 0.0)
-    rngs = [np.random.default_rng(0), np.random.default_rng(1)]
     z0 = 50.0
     speeds = (15.6, 20.0)
     courses = (0.0, math.radians(180.0 - angle_deg))  # UAV 1 comes from the far side, angle_deg apart
@@ -71,38 +70,16 @@ def _cross(cfg, sep: SeparationConfig, angle_deg: float, vz_mps: float = 4.0, t_
     avoiders = [
         PeerAvoidance(i, T, sep, lim.v_stall_mps, lim.v_max_mps, lim.omega_max_radps, rate) for i in (0, 1)
     ]
-    dmin = math.inf
-    for k in range(int(3.0 * t_meet_s / T)):
-        pub = [
-            PeerState(i, k, k, s.x_m, s.y_m, s.z_m, s.yaw_rad, int(Objective.MONITOR), -1, 0.0, *targets[i])
-            for i, s in enumerate(states)
-        ]
-        cmds = []
-        for i, s in enumerate(states):
-            own = np.array([s.x_m, s.y_m, s.z_m, s.yaw_rad])
-            want = math.atan2(targets[i][1] - s.y_m, targets[i][0] - s.x_m)
-            om = math.remainder(want - s.yaw_rad, math.tau) / T
-            vz = max(-vz_mps, min(vz_mps, K_Z * (heights[i] - s.z_m)))
-            v_c, vz_c, om = avoiders[i].command(own, (speeds[i], vz, om), targets[i], {1 - i: pub[1 - i]}, k)
-            cmds.append(Command(v_c, vz_c, max(-lim.omega_max_radps, min(lim.omega_max_radps, om))))
-        for _ in range(SUBSTEPS):
-            states = model.step(states, cmds, T / SUBSTEPS, rngs)
-            a, b = states
-            dmin = min(dmin, math.dist((a.x_m, a.y_m, a.z_m), (b.x_m, b.y_m, b.z_m)))
-    return dmin
 
+    def wanted(i: int, s: FlightState) -> tuple[float, float, float]:
+        want = math.atan2(targets[i][1] - s.y_m, targets[i][0] - s.x_m)
+        om = math.remainder(want - s.yaw_rad, math.tau) / T
+        return speeds[i], max(-vz_mps, min(vz_mps, K_Z * (heights[i] - s.z_m))), om
 
-@pytest.mark.parametrize(
-    ("model", "resolves"),
-    [
-        ("coordinated_turn", True),  # measured there (module doc of separation)
-        ("jsbsim", False),  # the J3Cub's ff_two_fires seed 2 came to 6.4 m with it (13.9 m without)
-        ("ff_paper", False),  # FF's unicycle turns at 10 rad/s: the heading alone
-    ],
-)
-def test_the_vertical_resolution_is_on_for_coordinated_turn_only(model, resolves):
-    sc = load_scenario(scenario_path("grass_brush_hill"), overrides={"uavs.vehicle_model": model})
-    assert config_from_scenario(sc, 0, uav_count=5, seed=3).separation.vertical_resolution is resolves
+    steps = int(3.0 * t_meet_s / T)
+    return closest_approach_flown(
+        model, states, targets, wanted, avoiders, lim.omega_max_radps, steps, Objective.MONITOR, T, SUBSTEPS
+    )
 
 
 @pytest.mark.parametrize("angle_deg", [80.0, 90.0, 100.0, 110.0])
