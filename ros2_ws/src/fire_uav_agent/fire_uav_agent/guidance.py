@@ -677,9 +677,7 @@ class Guide:
             return Guidance(cmd, start)
         entry = ap.entry_xy
         to_entry = math.hypot(pos[0] - entry[0], pos[1] - entry[1])
-        height = cruise
-        if hold_layer((pos[0], pos[1], float(s[2])), below, cfg.separation):
-            height = cruise
+        height = cruise  # to the entry on the layer (hold_layer's rule holds it there anyway)
         if self.lake_sequenced and to_entry < 6.0 * r and self._entry_taken(entry, r):
             # one UAV of a layer at a time in its entry area: above every FF layer until it is free
             height = cruise + gd.ff_layer_step_m * max(1, gd.ff_layers)
