@@ -24,9 +24,12 @@ def _fake_run(root: Path, argv: list[str], timeout_s: float) -> tuple[float, str
     return _STARTUP[tag] + _PER_S[tag] * mission, ""
 
 
-def _write_summary(out: Path, t: float, wall: float, world_ms: float, agent_ms: float) -> None:
+def _write_summary(
+    out: Path, t: float, wall: float, world_ms: float, agent_ms: float, series: list | None = None
+) -> None:
     """A lockstep run's summary.json as the runner writes it: ``t`` s of mission at 10 steps/s of
-    mission time in ``wall`` s, the world's and one agent's CPU ms per step, the agent's RSS."""
+    mission time in ``wall`` s, the world's and one agent's CPU ms per step, the agent's RSS; with
+    ``series``, the runner's ``stepping_series`` (an older runner writes none)."""
     procs = {"world": {"cpu_ms_per_step": world_ms}, "agent_0": {"cpu_ms_per_step": agent_ms, "rss_mb": 80.0}}
     summary = {
         "mission_time_s": t,
@@ -34,7 +37,22 @@ def _write_summary(out: Path, t: float, wall: float, world_ms: float, agent_ms: 
         "steps_per_wall_s": t * 10 / wall,
         "processes": procs,
     }
+    if series is not None:
+        summary["stepping_series"] = series
     (out / "summary.json").write_text(json.dumps(summary))
+
+
+def _series(t: float, rate_of, world_ms: float, agent_ms: float, t0_wall: float = 1000.0) -> list:
+    """A runner's stepping_series of a fleet stepping at ``rate_of(step)`` steps per wall second up
+    to ``t`` s of mission, sampled every wall second, CPU ``world_ms`` / ``agent_ms`` per step."""
+    out, wall, steps, n = [], t0_wall, 0.0, round(t * 10)
+    while steps < n:
+        out.append([round(wall, 3), int(steps), world_ms * steps / 1000, agent_ms * steps / 1000])
+        rate = rate_of(steps)
+        wall += min(1.0, (n - steps) / rate)  # the last step comes before the next sample
+        steps = min(float(n), steps + rate)
+    out.append([round(wall, 3), n, world_ms * n / 1000, agent_ms * n / 1000])
+    return out
 
 
 @pytest.fixture
@@ -91,18 +109,20 @@ def test_the_page_shows_the_startup_columns(fake, tmp_path):
 def test_the_dds_row_flies_the_vehicle_model_it_names_over_an_airborne_window(monkeypatch, tmp_path):
     """issue [airframe]'s figure (20 UAVs on JSBSim over DDS): the jsbsim row must really set the
     world's backend and the ff_paper rows must not; the rate is the one between the end of the
-    takeoff column and the end of the window, not an average with the fleet on the ground."""
+    takeoff column and the end of the window, within one run, not an average with the fleet on
+    the ground; the run is flown by this checkout's runner (harness) over the side's workspace."""
     seen = []
 
-    def run(root, argv, timeout_s):
-        seen.append(argv)
+    def run(root, argv, timeout_s, harness=None):
+        seen.append((argv, harness))
         out = Path(argv[argv.index("--out") + 1])
         model = next((a.split("=")[1] for a in argv if a.startswith("uavs.vehicle_model=")), "ff_paper")
         t = float(argv[argv.index("--max-duration") + 1])
         # fake fleet: 20 steps/s while the column takes off (t < 43 s), then 8 (ff_paper) or 5 (jsbsim)
         airborne_rate = 5.0 if model == "jsbsim" else 8.0
         wall = min(t, 43.0) * 10 / 20.0 + max(t - 43.0, 0.0) * 10 / airborne_rate
-        _write_summary(out, t, wall, 2.0, 4.0)
+        series = _series(t, lambda n: 20.0 if n < 430 else airborne_rate, 2.0, 4.0)
+        _write_summary(out, t, wall, 2.0, 4.0, series)
         return 1.0, ""
 
     monkeypatch.setattr(speed, "_run", run)
@@ -112,12 +132,49 @@ def test_the_dds_row_flies_the_vehicle_model_it_names_over_an_airborne_window(mo
     )  # ff_two_fires: one takeoff per 2 s
     plain = speed.dds_row(roots, 20, 15.0)
     jsb = speed.dds_row(roots, 20, 15.0, "jsbsim")
-    assert all("--set" not in a for a in seen[:2])
-    assert all(a[a.index("--set") + 1] == "uavs.vehicle_model=jsbsim" for a in seen[2:])
-    assert [float(a[a.index("--max-duration") + 1]) for a in seen[:2]] == [43.0, 58.0]
+    assert len(seen) == 2  # one run each
+    assert "--set" not in seen[0][0]
+    assert seen[1][0][seen[1][0].index("--set") + 1] == "uavs.vehicle_model=jsbsim"
+    assert [float(a[a.index("--max-duration") + 1]) for a, _ in seen] == [58.0, 58.0]
+    assert all(h == speed.ROOT for _, h in seen)
     assert (plain["vehicle_model"], plain["head_steps_per_s"]) == ("ff_paper", 8.0)
     assert (jsb["vehicle_model"], jsb["head_steps_per_s"], jsb["head_agent_rss_mb"]) == ("jsbsim", 5.0, 80.0)
     assert (jsb["head_world_cpu_ms_per_step"], jsb["head_agent_cpu_ms_per_step"]) == (2.0, 4.0)
+    assert "two_runs" not in plain
+
+
+def test_the_window_is_measured_within_one_run_not_as_two_runs_difference(monkeypatch, tmp_path):
+    """Session 27: at 30 UAVs the same commits gave 3.8 to 16.9 steps/s over one 15 s window, the
+    difference of two runs (to 63 s and to 78 s), while within each run the rate stayed at 10-17.
+    Two runs of one fleet, one at 14 steps/s overall and the other at 11 (within 8 steps/s of
+    each other through the window), differ by 630 / 14 - 780 / 11 s: the window would read 5.8
+    steps/s. Within one run it reads what the run flew in it."""
+
+    def run(root, argv, timeout_s, harness=None):
+        out = Path(argv[argv.index("--out") + 1])
+        t = float(argv[argv.index("--max-duration") + 1])
+        rate = 14.0 if t < 70 else 11.0  # the two-run way would see two different runs
+        _write_summary(out, t, t * 10 / rate, 5.0, 4.0, _series(t, lambda n: rate, 5.0, 4.0))
+        return 1.0, ""
+
+    monkeypatch.setattr(speed, "_run", run)
+    row = speed.dds_row({"head": tmp_path}, 30, 15.0)
+    assert row["head_steps_per_s"] == 11.0
+    assert (row["head_world_cpu_ms_per_step"], row["head_agent_cpu_ms_per_step"]) == (5.0, 4.0)
+
+
+def test_an_older_runner_without_a_series_is_measured_as_two_runs_and_said(monkeypatch, tmp_path):
+    def run(root, argv, timeout_s, harness=None):
+        out = Path(argv[argv.index("--out") + 1])
+        t = float(argv[argv.index("--max-duration") + 1])
+        wall = min(t, 43.0) * 10 / 20.0 + max(t - 43.0, 0.0) * 10 / 8.0
+        _write_summary(out, t, wall, 2.0, 4.0)
+        return 1.0, ""
+
+    monkeypatch.setattr(speed, "_run", run)
+    row = speed.dds_row({"base": tmp_path}, 20, 15.0)
+    assert row["two_runs"] == ["base"] and row["base_steps_per_s"] == 8.0
+    assert (row["base_world_cpu_ms_per_step"], row["base_agent_cpu_ms_per_step"]) == (2.0, 4.0)
 
 
 def test_a_difference_that_is_not_positive_is_flagged_not_printed(monkeypatch, tmp_path, capsys):
@@ -125,7 +182,7 @@ def test_a_difference_that_is_not_positive_is_flagged_not_printed(monkeypatch, t
     longer run spent less CPU than the shorter one). Such a figure is not a measure: the row keeps
     it empty and says why, the page lists it under the table, and the run warns on stderr."""
 
-    def run(root, argv, timeout_s):
+    def run(root, argv, timeout_s, harness=None):
         out = Path(argv[argv.index("--out") + 1])
         t = float(argv[argv.index("--max-duration") + 1])
         long = t > speed.airborne_after_s(20)
@@ -143,7 +200,7 @@ def test_a_difference_that_is_not_positive_is_flagged_not_printed(monkeypatch, t
     assert row["base_agent_cpu_ms_per_step"] == 4.0
     assert row["base_world_cpu_ms_per_step"] is None
     assert len(row["not_measured"]) == 1 and "base world CPU ms/step" in row["not_measured"][0]
-    assert "-2.840" in row["not_measured"][0]
+    assert "-426.000 ms of CPU over 150 steps" in row["not_measured"][0]  # -2.84 ms a step
     assert "not a measure" in capsys.readouterr().err
     results = {
         "speed": {"command": "c", "inprocess": [], "dds": [row], "head_commit": "h", "base_commit": "b"}
@@ -151,46 +208,49 @@ def test_a_difference_that_is_not_positive_is_flagged_not_printed(monkeypatch, t
     md = tmp_path / "benchmarks.md"
     write_markdown(results, tmp_path, md)
     text = md.read_text()
-    assert "-2.84" not in text.replace(row["not_measured"][0], "")  # only in the note, never a cell
+    assert "-426" not in text.replace(row["not_measured"][0], "") and "-2.84" not in text  # in the note only
     assert "Not measured (empty cells above):" in text and "20 UAVs, jsbsim: base world CPU ms/step" in text
 
 
 class _FakeProbe:
-    """``speed.CpuProbe`` with set samples per root (no child process)."""
+    """``speed.CpuProbe`` with set samples per root (no child process): outside the window (the
+    take-off column, wall 1010-1020 s) a host four times slower, which the row must leave out."""
 
     samples_by_root: dict[str, list[float]] = {}
     current: list[str] = []
 
     def __init__(self) -> None:
-        self.samples_ms: list[float] = []
+        self.stamped: list[tuple[float, float]] = []
 
     def __enter__(self):
         return self
 
     def __exit__(self, *exc):
-        self.samples_ms = list(self.samples_by_root[self.current[-1]])
+        inside = self.samples_by_root[self.current[-1]]
+        self.stamped = [(1010.0, 150.0), (1020.0, 150.0)]
+        self.stamped += [(1065.0 + 5.0 * i, ms) for i, ms in enumerate(inside)]
 
 
 @pytest.mark.parametrize(
     ("base_ms", "head_ms", "flagged"),
     [([37.0, 38.0, 36.0], [37.5, 36.5, 38.5], False), ([37.0, 38.0, 36.0], [61.0, 64.0, 52.0], True)],
 )
-def test_a_dds_row_names_the_hosts_speed_and_flags_unlike_windows(
+def test_a_dds_row_names_the_hosts_speed_in_its_window_and_flags_unlike_windows(
     monkeypatch, tmp_path, capsys, base_ms, head_ms, flagged
 ):
-    """Session 27: the same two commits over DDS at 30 UAVs gave base 12.8 / head 7.9 steps/s one
-    evening and 3.8 / 11.9 the next, while a fixed loop's CPU time on this host moved 1.7x from one
-    sample to the next. A row says how fast the host ran under each side (the probe's median over
-    both runs) and is flagged when the two differ by more than PROBE_TOLERANCE."""
+    """Session 27: a fixed loop's CPU time on this host moved 1.7x from one ten-second sample to the
+    next, idle. A row says how fast the host ran under each side in the window (the probe's
+    median over the samples taken between the window's first and last sample of the run) and is
+    flagged when the two differ by more than PROBE_TOLERANCE."""
     (tmp_path / "b").mkdir()
     (tmp_path / "h").mkdir()
     _FakeProbe.samples_by_root = {"b": base_ms, "h": head_ms}
 
-    def run(root, argv, timeout_s):
+    def run(root, argv, timeout_s, harness=None):
         _FakeProbe.current.append(Path(root).name)
         out = Path(argv[argv.index("--out") + 1])
         t = float(argv[argv.index("--max-duration") + 1])
-        _write_summary(out, t, t, 2.0, 4.0)
+        _write_summary(out, t, t, 2.0, 4.0, _series(t, lambda n: 10.0, 2.0, 4.0))
         return 1.0, ""
 
     monkeypatch.setattr(speed, "_run", run)
@@ -221,3 +281,5 @@ def test_the_cpu_probe_samples_a_fixed_loop_while_it_is_open():
     assert child is not None and child.poll() is not None
     assert 1 <= len(p.samples_ms) <= 3
     assert all(1.0 < ms < 1000.0 for ms in p.samples_ms)
+    assert [ms for _, ms in p.stamped] == p.samples_ms
+    assert all(0.0 < b - a < 3.0 for (a, _), (b, _) in zip(p.stamped, p.stamped[1:], strict=False))

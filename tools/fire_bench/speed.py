@@ -72,12 +72,14 @@ def commit_of(root: Path) -> str:
     ).stdout.strip()
 
 
-def _run(root: Path, argv: list[str], timeout_s: float) -> tuple[float, str]:
+def _run(root: Path, argv: list[str], timeout_s: float, harness: Path | None = None) -> tuple[float, str]:
     """Run ``argv`` under ``root``'s environment (a clean one: its scripts/env.sh only); the
-    child's CPU seconds (user + system) and its stdout."""
+    child's CPU seconds (user + system) and its stdout. ``harness``: a checkout whose ``tools``
+    come first on the path (the mission runner that measures, over ``root``'s workspace)."""
     env = {k: os.environ[k] for k in ("HOME", "TERM", "LANG") if k in os.environ}
     env["PATH"] = "/usr/local/bin:/usr/bin:/bin"
-    cmd = f"cd {_q(root)} && source scripts/env.sh >/dev/null && exec " + " ".join(_q(a) for a in argv)
+    first = f'export PYTHONPATH={_q(harness / "tools")}:"$PYTHONPATH" && ' if harness is not None else ""
+    cmd = f"cd {_q(root)} && source scripts/env.sh >/dev/null && {first}exec " + " ".join(_q(a) for a in argv)
     with tempfile.TemporaryFile() as out:
         p = subprocess.Popen(["bash", "-c", cmd], stdout=out, stderr=subprocess.DEVNULL, env=env)
         t_end = time.monotonic() + timeout_s
@@ -198,19 +200,25 @@ def world_row(roots: dict[str, Path], uavs: int, steps: int) -> dict:
     return row
 
 
-def _dds_summary(root: Path, uavs: int, mission_s: float, vehicle_model: str) -> dict:
+def _dds_summary(
+    root: Path, uavs: int, mission_s: float, vehicle_model: str, harness: Path | None = None
+) -> dict:
     """summary.json of one lockstep DDS run of ff_two_fires (seed 1) for ``mission_s``, with
-    ``probe_ms``: the :class:`CpuProbe` samples taken while it ran."""
+    ``probe_ms``: the :class:`CpuProbe` samples taken while it ran, as (monotonic s, ms) pairs.
+    ``harness``: whose mission runner flies it (:func:`_run`)."""
     with tempfile.TemporaryDirectory() as d:
         argv = ["python", "-m", "fire_mission.runner", "ff_two_fires", "--uavs", str(uavs), "--seed", "1"]
         argv += ["--max-duration", f"{mission_s:g}", "--quiet", "--no-record", "--no-report", "--out", d]
         if vehicle_model != "ff_paper":
             argv += ["--set", f"uavs.vehicle_model={vehicle_model}"]
         with CpuProbe() as probe:
-            _run(root, argv, 1800)
+            _run(root, argv, 1800, harness)
         path = Path(d) / "summary.json"
         summary = json.loads(path.read_text()) if path.is_file() else {}
-        summary["probe_ms"] = probe.samples_ms
+        stepping = Path(d) / "stepping.json"  # the runner's within-run series (since session 27)
+        if stepping.is_file():
+            summary.update(json.loads(stepping.read_text()))
+        summary["probe_ms"] = probe.stamped
         return summary
 
 
@@ -222,7 +230,7 @@ while True:
     acc = 0
     for i in range(300_000):
         acc = (acc * 31 + i) & 0xFFFFFFFF
-    print(round(1000 * (time.process_time() - t0), 2), flush=True)
+    print(round(time.monotonic(), 3), round(1000 * (time.process_time() - t0), 2), flush=True)
     time.sleep(1.0)
 """
 #: base and head probes further apart than this share are flagged: the host's one-core speed differed
@@ -244,6 +252,7 @@ class CpuProbe:
 
     def __init__(self) -> None:
         self.samples_ms: list[float] = []
+        self.stamped: list[tuple[float, float]] = []  # (monotonic s at the sample's end, ms)
         self._p: subprocess.Popen | None = None
         self._out: Any = None
 
@@ -257,11 +266,13 @@ class CpuProbe:
         self._p.kill()
         self._p.wait()
         self._out.seek(0)
-        for line in self._out.read().decode(errors="replace").split():
+        for line in self._out.read().decode(errors="replace").splitlines():
             try:
-                self.samples_ms.append(float(line))
+                stamp, ms = map(float, line.split())
             except ValueError:
-                pass
+                continue
+            self.stamped.append((stamp, ms))
+            self.samples_ms.append(ms)
         self._out.close()
 
 
@@ -304,16 +315,57 @@ def _stepping(s: dict) -> tuple[float, float, float | None, float | None] | None
     )
 
 
+def _span(rows: list, n0: int, n1: int) -> tuple[list, list] | None:
+    """The first and last of ``rows`` ([monotonic s, steps, ...]) with steps in [n0, n1], if two
+    such rows differ in both steps and wall time."""
+    inside = [r for r in rows if n0 <= r[1] <= n1]
+    if len(inside) < 2 or inside[-1][1] <= inside[0][1] or inside[-1][0] <= inside[0][0]:
+        return None
+    return inside[0], inside[-1]
+
+
+def _window(s: dict, n0: int, n1: int) -> dict | None:
+    """Steps n0 to n1 of one run (the runner's ``stepping.json``): the rate from the truth
+    messages' wall times (``truth_walls``, one per step), the CPU per step from the process
+    samples (``stepping_series``, ~0.25 s apart) whose steps fall in the window, and the wall
+    span (for the probe). None if the run has fewer than two truth messages in the window."""
+    walls = s.get("truth_walls") or [r[:2] for r in s.get("stepping_series", [])]
+    span = _span(walls, n0, n1)
+    if span is None:
+        return None
+    (w0, k0), (w1, k1) = span[0][:2], span[1][:2]
+    out: dict = {"steps_per_s": (k1 - k0) / (w1 - w0), "wall": (w0, w1), "world": None, "agent": None}
+    cpu = _span(s.get("stepping_series", []), n0, n1)
+    if cpu is not None:
+        first, last = cpu
+        for i, key in ((2, "world"), (3, "agent")):
+            if first[i] is not None and last[i] is not None:
+                out[key] = (last[i] - first[i], last[1] - first[1])  # (CPU s, steps)
+    return out
+
+
 def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: str = "ff_paper") -> dict:
     """Lockstep steps per wall second of ``uavs`` agents over DDS on ``vehicle_model`` (the world's
     vehicle backend, ``uavs.vehicle_model``; ``jsbsim`` steps one JSBSim aircraft and its autopilot
     per UAV at the world's 100 Hz physics), over ``duration`` s of mission once the whole fleet is
-    airborne (:func:`airborne_after_s`): two runs, to ``t_air`` and to ``t_air + duration``, the
-    same mission up to ``t_air`` (lockstep, one seed), and the rate of the steps between them. Also
-    the world's and an agent's CPU ms per step over that window, the agents' mean RSS at the
-    end of the longer run, and the host's one-core speed over both runs (``probe_ms``, the
-    median :class:`CpuProbe` sample); base and head probes more than :data:`PROBE_TOLERANCE`
-    apart put a note in ``not_comparable``."""
+    airborne (:func:`airborne_after_s`), measured within one run to ``t_air + duration``: the
+    runner's ``stepping.json`` (the wall time of every truth message; the processes' CPU about
+    four times a wall second) between the window's first and last step (:func:`_window`). The
+    run is flown by this
+    checkout's mission runner over each side's workspace (the world and agents measured are the
+    side's own; the runner measures), as the world row runs this checkout's probe.
+
+    Until session 27 the window was the difference of two runs, to ``t_air`` and to ``t_air +
+    duration``: at 30 UAVs a 15 s window is a fifth of the longer run, so the two runs'
+    ordinary difference in overall rate (10-17 steps/s within one run, session 27) came out
+    several times larger in the window: the same commits gave 3.8 to 16.9 steps/s, base or head
+    first. A run without ``stepping.json`` (an older runner) still takes that way, and the row says so
+    (``two_runs``).
+
+    Also the world's and an agent's CPU ms per step over the window, the agents' mean RSS at the
+    end, and the host's one-core speed in the window (``probe_ms``: the median :class:`CpuProbe`
+    sample); base and head probes more than :data:`PROBE_TOLERANCE` apart put a note in
+    ``not_comparable``."""
     t_air = airborne_after_s(uavs)
     row: dict = {
         "uavs": uavs,
@@ -322,34 +374,53 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
         "airborne_from_s": t_air,
     }
     for tag, root in roots.items():
-        s0 = _dds_summary(root, uavs, t_air, vehicle_model)
-        short = _stepping(s0)
-        s = _dds_summary(root, uavs, t_air + duration, vehicle_model)
-        full = _stepping(s)
-        probe = _median(s0.get("probe_ms", []) + s.get("probe_ms", []))
-        row[f"{tag}_probe_ms"] = None if probe is None else round(probe, 1)
+        s = _dds_summary(root, uavs, t_air + duration, vehicle_model, harness=ROOT)
         procs = s.get("processes", {})
         rss = [v.get("rss_mb") for k, v in procs.items() if k.startswith("agent") and v.get("rss_mb")]
         row[f"{tag}_agent_rss_mb"] = round(sum(rss) / len(rss), 1) if rss else None
-        for key in ("steps_per_s", "world_cpu_ms_per_step", "agent_cpu_ms_per_step"):
+        for key in ("steps_per_s", "world_cpu_ms_per_step", "agent_cpu_ms_per_step", "probe_ms"):
             row[f"{tag}_{key}"] = None
-        if short is None or full is None:
-            continue
-        steps = full[0] - short[0]
-        if full[1] <= short[1] or steps <= 0:
-            _not_a_measure(
-                row, f"{tag} steps/s", f"{full[1] - short[1]:.3f} s of wall time for {steps:g} steps"
-            )
-            continue
-        row[f"{tag}_steps_per_s"] = round(steps / (full[1] - short[1]), 2)
-        for i, key in ((2, "world"), (3, "agent")):
-            a, b = short[i], full[i]
-            if a is None or b is None:
+        dt = s.get("control_period_s", 0.1)
+        if "truth_walls" in s or "stepping_series" in s:
+            w = _window(s, round(t_air / dt), round((t_air + duration) / dt))
+            if w is None:
+                _not_a_measure(
+                    row, f"{tag} steps/s", "fewer than two truth messages of the run in the window"
+                )
                 continue
-            if b <= a:
-                _not_a_measure(row, f"{tag} {key} CPU ms/step", f"{1000 * (b - a) / steps:.3f}")
+            w0, w1 = w["wall"]
+            probe = _median([ms for t, ms in s.get("probe_ms", []) if w0 <= t <= w1])
+            rate = w["steps_per_s"]
+            cpus = {key: w[key] for key in ("world", "agent")}
+        else:
+            s0 = _dds_summary(root, uavs, t_air, vehicle_model, harness=ROOT)
+            short, full = _stepping(s0), _stepping(s)
+            row.setdefault("two_runs", []).append(tag)
+            probe = _median([ms for _, ms in s0.get("probe_ms", []) + s.get("probe_ms", [])])
+            if short is None or full is None:
                 continue
-            row[f"{tag}_{key}_cpu_ms_per_step"] = round(1000 * (b - a) / steps, 3)
+            steps, wall = full[0] - short[0], full[1] - short[1]
+            if wall <= 0 or steps <= 0:
+                why = (
+                    f"difference of the two runs {wall:.3f} s of wall time for {steps:g} steps, not positive"
+                )
+                _not_a_measure(row, f"{tag} steps/s", why)
+                continue
+            rate = steps / wall
+            cpus = {
+                key: (full[i] - short[i], steps) if full[i] is not None and short[i] is not None else None
+                for i, key in ((2, "world"), (3, "agent"))
+            }
+        row[f"{tag}_probe_ms"] = None if probe is None else round(probe, 1)
+        row[f"{tag}_steps_per_s"] = round(rate, 2)
+        for key, c in cpus.items():
+            if c is None:
+                continue
+            if c[0] <= 0 or c[1] <= 0:
+                why = f"{1000 * c[0]:.3f} ms of CPU over {c[1]:g} steps, not positive"
+                _not_a_measure(row, f"{tag} {key} CPU ms/step", why)
+                continue
+            row[f"{tag}_{key}_cpu_ms_per_step"] = round(1000 * c[0] / c[1], 3)
     pb, ph = row.get("base_probe_ms"), row.get("head_probe_ms")
     if pb and ph and abs(pb - ph) > PROBE_TOLERANCE * min(pb, ph):
         note = (
@@ -362,12 +433,12 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
     return row
 
 
-def _not_a_measure(row: dict, figure: str, value: str) -> None:
-    """A difference of the two runs that is not positive is not a measure of the window (the
-    longer run spent no more than the shorter: the machine's load changed between them). The
-    figure stays empty, and the row says which and what the difference was, so that the page
-    shows it instead of printing a negative rate or CPU time."""
-    note = f"{figure}: difference of the two runs {value}, not positive (load changed between them?): not a measure"
+def _not_a_measure(row: dict, figure: str, why: str) -> None:
+    """A window figure that is not a measure (a difference of two runs that is not positive: the
+    machine's load changed between them; a window without two samples): the figure stays
+    empty, and the row says which and why, so that the page shows it instead of printing a
+    negative rate or CPU time."""
+    note = f"{figure}: {why}: not a measure"
     row.setdefault("not_measured", []).append(note)
     print(f"bench: warning: {row['uavs']} UAVs {row['vehicle_model']}: {note}", file=sys.stderr)
 

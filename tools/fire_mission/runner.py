@@ -532,6 +532,10 @@ class Supervisor:
         self.first_step = 0
         self.cpu_at_first_step: dict[str, float] = {}
         self.steps_at_sample: dict[str, int] = {}  # sup.steps when each process's CPU was last sampled
+        # once stepping: (monotonic wall s, steps, world CPU s, agents' mean CPU s) at each sample,
+        # so that a window of the mission is measured within this run (fire_bench.speed.dds_row)
+        self.stepping_series: list[tuple[float, int, float | None, float | None]] = []
+        self.truth_walls: list[tuple[float, int]] = []  # (monotonic wall s, steps) at each truth message
         self.pending = signal_plan(args, control_period_s)  # (clock, order, text, uav, signal, t_s)
         # the water on board where each fault's window starts (truth of that step: deterministic)
         self.water_watch = sorted(
@@ -590,6 +594,7 @@ class Supervisor:
     def _on_truth(self, msg) -> None:
         self.steps = max(self.steps, msg.step + 1)
         self.last_truth_wall = time.monotonic()
+        self.truth_walls.append((round(self.last_truth_wall, 4), self.steps))
         if self.first_truth_wall is None:
             # the stepping phase starts here: rates and CPU per step leave start-up out
             self.first_truth_wall, self.first_step = self.last_truth_wall, msg.step
@@ -847,6 +852,15 @@ def run(args: argparse.Namespace) -> int:
     if scenario.notes:  # e.g. water bodies of a landscape too small to refill from
         result["scenario_notes"] = list(scenario.notes)
     (out / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
+    if sup is not None and sup.truth_walls:
+        # the stepping's wall time within the run (fire_bench.speed.dds_row: a window of the mission
+        # measured in one run): [monotonic wall s, steps, world CPU s, agents' mean CPU s (None unless
+        # all were sampled)] ~0.25 s apart, and [monotonic wall s, steps] at every truth message
+        stepping = {
+            "stepping_series": [list(r) for r in sup.stepping_series],
+            "truth_walls": [list(r) for r in sup.truth_walls],
+        }
+        (out / "stepping.json").write_text(json.dumps(stepping) + "\n")
     print("\nMission summary\n" + table(result) + f"\n\n  written: {out / 'summary.json'}", file=sys.stderr)
     if not args.no_record and not args.no_report:
         rep = subprocess.run(
@@ -982,17 +996,27 @@ def _supervise(
 ) -> str:
 
     def sample_all() -> None:
+        now, world, agents = time.monotonic(), None, []
         for name, child in procs.children.items():
             st = proc_sample(child.pid)
             if st is not None:
                 summary.proc_stats[name] = st
                 sup.steps_at_sample[name] = sup.steps
+                if name == "world":
+                    world = st.cpu_s
+                elif name.startswith("agent_"):
+                    agents.append(st.cpu_s)
+        if sup.first_truth_wall is not None and not sup.done:
+            mean = sum(agents) / len(agents) if len(agents) == uav_count else None
+            sup.stepping_series.append(
+                (round(now, 3), sup.steps, world, None if mean is None else round(mean, 3))
+            )
 
     last_sample = 0.0
     while True:
         sup.executor.spin_once(timeout_sec=0.02 if sup.resume_at else 0.1)
         sup.resume_stalled()
-        if time.monotonic() - last_sample > 1.0:
+        if time.monotonic() - last_sample > (0.25 if sup.first_truth_wall is not None else 1.0):
             last_sample = time.monotonic()
             sample_all()
         alive_agents = sum(1 for k in range(uav_count) if procs.children[f"agent_{k}"].alive())
