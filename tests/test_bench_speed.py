@@ -175,6 +175,14 @@ def test_an_older_runner_without_a_series_is_measured_as_two_runs_and_said(monke
     row = speed.dds_row({"base": tmp_path}, 20, 15.0)
     assert row["two_runs"] == ["base"] and row["base_steps_per_s"] == 8.0
     assert (row["base_world_cpu_ms_per_step"], row["base_agent_cpu_ms_per_step"]) == (2.0, 4.0)
+    results = {
+        "speed": {"command": "c", "inprocess": [], "dds": [row], "head_commit": "h", "base_commit": "b"}
+    }
+    md = tmp_path / "benchmarks.md"
+    write_markdown(results, tmp_path, md)
+    assert (
+        "- 20 UAVs, ff_paper: base" in md.read_text().split("difference of two runs (no `stepping.json`)")[1]
+    )
 
 
 def test_a_difference_that_is_not_positive_is_flagged_not_printed(monkeypatch, tmp_path, capsys):

@@ -521,7 +521,8 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
         "--no-report`, one process per UAV, lockstep; vehicle model `jsbsim`: the same with "
         "`--set uavs.vehicle_model=jsbsim`, one JSBSim aircraft and autopilot per UAV at 100 Hz; "
         "the window opens once every UAV is airborne, older rows without it are the first seconds, "
-        "in the takeoff column):",
+        "in the takeoff column; since session 27 it is measured within one run, from the runner's "
+        "`stepping.json`, not as the difference of two runs, which multiplied the runs' spread):",
         "",
         _table(
             [{"vehicle_model": "ff_paper", **row} for row in r.get("dds", [])],
@@ -560,6 +561,14 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
     ]
     if unlike:
         lines += ["Not comparable side by side:", "", *unlike, ""]
+    # a side whose runner wrote no stepping.json (an older checkout's) is the difference of two runs
+    two = [
+        f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {', '.join(row['two_runs'])}"
+        for row in r.get("dds", [])
+        if row.get("two_runs")
+    ]
+    if two:
+        lines += ["Measured as the difference of two runs (no `stepping.json`):", "", *two, ""]
     # a figure left empty because the two runs' difference was not positive says so (speed.dds_row)
     flagged = [
         f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {note}"
