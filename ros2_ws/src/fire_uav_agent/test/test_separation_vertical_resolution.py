@@ -116,3 +116,53 @@ def test_a_pair_whose_courses_stay_apart_is_left_alone():
     sep = SeparationConfig(vertical_resolution=True)
     peer = np.array([[0.0, 40.0, 50.0, 20.0, 0.0, 0.0]])
     assert vertical_sense((0.0, 0.0, 50.0), 20.0, 0.0, 0.0, peer, 3.0, sep) == 0
+
+
+# --- vertical_sense on hand-made geometry: own UAV at the origin, heading east at 20 m/s, level;
+# radius 20 m + margin 10 m = 30 m horizontally, over a 3 s horizon
+_SEP = SeparationConfig(vertical_resolution=True, radius_m=20.0, release_margin_m=10.0, vertical_m=10.0)
+
+
+def _sense(*peers: tuple[float, float, float, float, float, float], cfg: SeparationConfig = _SEP) -> int:
+    return vertical_sense((0.0, 0.0, 50.0), 20.0, 0.0, 0.0, np.array(peers, dtype=float), 3.0, cfg)
+
+
+@pytest.mark.parametrize(
+    ("peer", "sense"),
+    [
+        ((60.0, 0.0, 45.0, -20.0, 0.0, 0.0), 1),  # head on, 5 m below: do not descend
+        ((60.0, 0.0, 55.0, -20.0, 0.0, 0.0), -1),  # head on, 5 m above: do not climb
+        ((60.0, 0.0, 50.0, -20.0, 0.0, 0.0), -1),  # level with us: counted as above (dz >= 0)
+        ((60.0, 0.0, 50.5, -20.0, 0.0, 0.0), -1),  # half a metre above is above
+        ((60.0, 0.0, 60.0, -20.0, 0.0, 0.0), -1),  # exactly vertical_m above: still a threat
+        ((60.0, 0.0, 60.5, -20.0, 0.0, 0.0), 0),  # beyond vertical_m, no vertical closure
+        ((60.0, 0.0, 70.0, -20.0, 0.0, -5.0), -1),  # 20 m above, descending 5 m/s: within 10 m at 2 s
+        # a parallel course (no closure): the closest approach is the lateral offset
+        ((0.0, 30.0, 50.0, 20.0, 0.0, 0.0), 0),  # exactly radius + margin: clear (strictly less counts)
+        ((0.0, 29.5, 50.0, 20.0, 0.0, 0.0), -1),  # inside radius + margin, not inside radius - margin
+        ((0.0, 15.0, 50.0, 20.0, 0.0, 0.0), -1),
+        # head on but 300 m away: the gap closes at 40 m/s, 180 m left after the 3 s horizon
+        ((300.0, 0.0, 50.0, -20.0, 0.0, 0.0), 0),
+    ],
+)
+def test_vertical_sense_on_hand_geometry(peer, sense):
+    assert _sense(peer) == sense
+
+
+def test_vertical_sense_reads_every_row_of_the_peers():
+    clear = (300.0, 0.0, 50.0, -20.0, 0.0, 0.0)
+    below = (60.0, 0.0, 45.0, -20.0, 0.0, 0.0)
+    above = (60.0, 0.0, 55.0, -20.0, 0.0, 0.0)
+    assert _sense(clear, below) == 1
+    assert _sense(below, clear, clear) == 1
+    assert _sense(below, above) == 0  # threats on both sides: none
+
+
+def test_vertical_sense_judges_the_height_over_the_whole_horizon_on_a_fine_band():
+    """A band of 0.2 m: a peer 0.5 m above and climbing away (1.5 m at the horizon's end) is no
+    threat; one 0.5 m above and descending through our height (-1.0 m at the end) is."""
+    fine = SeparationConfig(vertical_resolution=True, radius_m=20.0, release_margin_m=10.0, vertical_m=0.2)
+    assert _sense((60.0, 0.0, 50.5, -20.0, 0.0, 1.0 / 3.0), cfg=fine) == 0
+    assert _sense((60.0, 0.0, 50.5, -20.0, 0.0, -0.5), cfg=fine) == -1
+    half = SeparationConfig(vertical_resolution=True, radius_m=20.0, release_margin_m=10.0, vertical_m=0.5)
+    assert _sense((60.0, 0.0, 50.9, -20.0, 0.0, -0.6), cfg=half) == -1  # crosses our height at 1.5 s
