@@ -20,6 +20,7 @@ from fire_uav_agent.agent_config import config_from_scenario
 from fire_uav_agent.separation import PeerAvoidance, SeparationConfig, vertical_sense
 from fire_uav_agent.testing.avoider_pair import closest_approach_flown
 from fire_uav_agent.testing.harness import scenario_path
+from fire_uav_common.codecs.uav_state import PeerState
 from fire_uav_common.constants import Objective
 from fire_uav_common.scenario import load_scenario
 from fire_world_sim.vehicles.base import Command, FlightState
@@ -166,3 +167,73 @@ def test_vertical_sense_judges_the_height_over_the_whole_horizon_on_a_fine_band(
     assert _sense((60.0, 0.0, 50.5, -20.0, 0.0, -0.5), cfg=fine) == -1
     half = SeparationConfig(vertical_resolution=True, radius_m=20.0, release_margin_m=10.0, vertical_m=0.5)
     assert _sense((60.0, 0.0, 50.9, -20.0, 0.0, -0.6), cfg=half) == -1  # crosses our height at 1.5 s
+
+
+# --- PeerAvoidance.command's vertical part: UAV 1 at (0, 0), heading east at 20 m/s; a still
+# peer 0 ahead; the turn rate 0.5 rad/s gives a look-ahead of max(2 s, (pi / 2) / 0.5) = 3.14 s
+def _avoider() -> PeerAvoidance:
+    return PeerAvoidance(1, T, _SEP, 15.0, 30.0, 1.0, lambda v: 0.5)
+
+
+def _peer(x: float, z: float, step: int = 0) -> dict:
+    return {0: PeerState(0, step, step, x, 0.0, z, math.pi, int(Objective.MONITOR), -1, 0.0, -1000.0, 0.0)}
+
+
+def _vz(av: PeerAvoidance, z: float, vz: float, peers: dict, step: int = 0, agl_m: float = math.inf) -> float:
+    s = np.array([0.0, 0.0, z, 0.0])
+    return av.command(s, (20.0, vz, 0.0), (1000.0, 0.0), peers, step, agl_m=agl_m)[1]
+
+
+def test_the_command_stops_a_descent_over_a_peer_below_and_a_climb_under_one_above():
+    assert _vz(_avoider(), 50.0, -3.0, _peer(40.0, 45.0)) == 0.0  # do not descend
+    assert _vz(_avoider(), 50.0, 2.0, _peer(40.0, 45.0)) == 2.0  # a climb stays
+    assert _vz(_avoider(), 50.0, 3.0, _peer(40.0, 55.0)) == 0.0  # do not climb
+    assert _vz(_avoider(), 50.0, -2.0, _peer(40.0, 55.0)) == -2.0  # a descent stays
+
+
+def test_no_threat_leaves_the_vertical_command_alone():
+    far = _peer(40.0, 75.0)  # 25 m above, level: beyond the 10 m band
+    assert _vz(_avoider(), 50.0, -3.0, far) == -3.0
+    assert _vz(_avoider(), 50.0, 2.0, far) == 2.0
+
+
+def test_near_the_ground_a_climb_is_never_stopped():
+    """Within vertical_m of the terrain the lower UAV keeps its climb (module doc)."""
+    assert _vz(_avoider(), 50.0, 3.0, _peer(40.0, 55.0), agl_m=8.0) == 3.0
+    assert _vz(_avoider(), 50.0, 3.0, _peer(40.0, 55.0), agl_m=12.0) == 0.0
+
+
+def test_the_look_ahead_is_the_quarter_turn_of_the_airframe():
+    """A peer 90 m ahead is 30 m away after 3.0 s: inside the 3.14 s look-ahead, outside FF's 2 s."""
+    assert _vz(_avoider(), 50.0, 3.0, _peer(90.0, 55.0)) == 0.0
+
+
+def test_the_own_vertical_speed_is_measured_from_the_heights_of_successive_steps():
+    """A peer 15 m below, level: beyond the band now. Descending at 5 m/s (50.0 m at step 0, 49.5
+    m at step 1) we close 15.7 m over the 3.14 s look-ahead: a threat, do not descend. Asked
+    twice at one step, the rate is the one measured last; a first call assumes level flight (a
+    peer 12 m above is no threat then)."""
+    av = _avoider()
+    assert _vz(av, 50.0, -5.0, _peer(40.0, 35.0, 0), 0) == -5.0  # level assumed: 15 m, no threat
+    assert _vz(av, 49.5, -5.0, _peer(40.0, 35.0, 1), 1) == 0.0  # -5 m/s measured: a threat
+    assert _vz(av, 49.5, -5.0, _peer(40.0, 35.0, 1), 1) == 0.0  # the same step again: the same rate
+    assert _vz(_avoider(), 50.0, 3.0, _peer(40.0, 62.0)) == 3.0  # first call: 12 m above, level
+
+
+def test_the_command_resolves_where_it_is_and_counts_the_steps_it_changed():
+    """Own UAV at x = 100 m, the peer 40 m ahead of it (at x = 0 the same peer is 140 m away and
+    no threat); exactly vertical_m above the terrain a climb is kept (the rule is strictly
+    above); climbing at 5 m/s (50.0 then 50.5 m) toward a peer 15 m above, level, we close 15.7 m
+    over the look-ahead: do not climb. steps_resolved counts the steps whose v_z changed."""
+    av = _avoider()
+    s = np.array([100.0, 0.0, 50.0, 0.0])
+    assert av.command(s, (20.0, 3.0, 0.0), (1000.0, 0.0), _peer(140.0, 55.0, 0), 0)[1] == 0.0
+    assert av.steps_resolved == 1
+    s = np.array([100.0, 0.0, 50.0, 0.0])
+    assert av.command(s, (20.0, 3.0, 0.0), (1000.0, 0.0), _peer(140.0, 55.0, 1), 1, agl_m=10.0)[1] == 3.0
+    assert av.steps_resolved == 1
+    assert av.command(s, (20.0, -3.0, 0.0), (1000.0, 0.0), _peer(140.0, 45.0, 2), 2)[1] == 0.0
+    assert av.steps_resolved == 2
+    climb = _avoider()
+    assert _vz(climb, 50.0, 5.0, _peer(40.0, 65.0, 0), 0) == 5.0  # level assumed: 15 m, no threat
+    assert _vz(climb, 50.5, 5.0, _peer(40.0, 65.0, 1), 1) == 0.0  # +5 m/s measured: a threat
