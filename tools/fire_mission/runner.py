@@ -1007,7 +1007,7 @@ def _supervise(
                 elif name.startswith("agent_"):
                     agents.append(st.cpu_s)
         if sup.first_truth_wall is not None and not sup.done:
-            mean = sum(agents) / len(agents) if len(agents) == uav_count else None
+            mean = sum(agents) / len(agents) if agents and len(agents) == uav_count else None  # 0 UAVs: none
             sup.stepping_series.append(
                 (round(now, 3), sup.steps, world, None if mean is None else round(mean, 3))
             )
