@@ -554,29 +554,19 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
             "as not comparable.",
             "",
         ]
-    unlike = [
-        f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {note}"
-        for row in r.get("dds", [])
-        for note in row.get("not_comparable", [])
-    ]
-    if unlike:
-        lines += ["Not comparable side by side:", "", *unlike, ""]
-    # a side whose runner wrote no stepping.json (an older checkout's) is the difference of two runs
-    two = [
-        f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {', '.join(row['two_runs'])}"
-        for row in r.get("dds", [])
-        if row.get("two_runs")
-    ]
-    if two:
-        lines += ["Measured as the difference of two runs (no `stepping.json`):", "", *two, ""]
-    # a figure left empty because the two runs' difference was not positive says so (speed.dds_row)
-    flagged = [
-        f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {note}"
-        for row in r.get("dds", [])
-        for note in row.get("not_measured", [])
-    ]
-    if flagged:
-        lines += ["Not measured (empty cells above):", "", *flagged, ""]
+    # the rows' notes under the table: base and head measured on unlike hosts (speed.PROBE_TOLERANCE),
+    # a figure left empty (a failed run, a window without two samples: speed._not_a_measure)
+    for key, heading in (
+        ("not_comparable", "Not comparable side by side:"),
+        ("not_measured", "Not measured (empty cells above):"),
+    ):
+        notes_of = [
+            f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {note}"
+            for row in r.get("dds", [])
+            for note in row.get(key, [])
+        ]
+        if notes_of:
+            lines += [heading, "", *notes_of, ""]
     t = r.get("targets")
     if t:
         lines += [

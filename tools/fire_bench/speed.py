@@ -200,6 +200,13 @@ def world_row(roots: dict[str, Path], uavs: int, steps: int) -> dict:
     return row
 
 
+def _dds_argv(uavs: int, mission_s: float, vehicle_model: str, out: str) -> list[str]:
+    """The mission runner's command line of one DDS row's run (ff_two_fires, seed 1)."""
+    argv = ["python", "-m", "fire_mission.runner", "ff_two_fires", "--uavs", str(uavs), "--seed", "1"]
+    argv += ["--max-duration", f"{mission_s:g}", "--quiet", "--no-record", "--no-report", "--out", out]
+    return argv + (["--set", f"uavs.vehicle_model={vehicle_model}"] if vehicle_model != "ff_paper" else [])
+
+
 def _dds_summary(
     root: Path, uavs: int, mission_s: float, vehicle_model: str, harness: Path | None = None
 ) -> dict:
@@ -207,12 +214,8 @@ def _dds_summary(
     ``probe_ms``: the :class:`CpuProbe` samples taken while it ran, as (monotonic s, ms) pairs.
     ``harness``: whose mission runner flies it (:func:`_run`)."""
     with tempfile.TemporaryDirectory() as d:
-        argv = ["python", "-m", "fire_mission.runner", "ff_two_fires", "--uavs", str(uavs), "--seed", "1"]
-        argv += ["--max-duration", f"{mission_s:g}", "--quiet", "--no-record", "--no-report", "--out", d]
-        if vehicle_model != "ff_paper":
-            argv += ["--set", f"uavs.vehicle_model={vehicle_model}"]
         with CpuProbe() as probe:
-            _run(root, argv, 1800, harness)
+            _run(root, _dds_argv(uavs, mission_s, vehicle_model, d), 1800, harness)
         path = Path(d) / "summary.json"
         summary = json.loads(path.read_text()) if path.is_file() else {}
         stepping = Path(d) / "stepping.json"  # the runner's within-run series (since session 27)
@@ -294,27 +297,6 @@ def airborne_after_s(uavs: int) -> float:
     return (uavs - 1) * interval + AIRBORNE_MARGIN_S
 
 
-def _stepping(s: dict) -> tuple[float, float, float | None, float | None] | None:
-    """(steps, stepping wall s, world CPU s, agents' mean CPU s) of a summary, over the stepping
-    phase (first to last truth message: ``steps_per_wall_s`` and ``cpu_ms_per_step`` are taken
-    over it, the start-up left out)."""
-    rate, t, dt = s.get("steps_per_wall_s"), s.get("mission_time_s"), s.get("control_period_s", 0.1)
-    if not rate or not t:
-        return None
-    n = t / dt
-    procs = s.get("processes", {})
-    world = procs.get("world", {}).get("cpu_ms_per_step")
-    agents = [
-        v["cpu_ms_per_step"] for k, v in procs.items() if k.startswith("agent") and v.get("cpu_ms_per_step")
-    ]
-    return (
-        n,
-        n / rate,
-        world * n / 1000 if world is not None else None,
-        (sum(agents) / len(agents)) * n / 1000 if agents else None,
-    )
-
-
 def _span(rows: list, n0: int, n1: int) -> tuple[list, list] | None:
     """The first and last of ``rows`` ([monotonic s, steps, ...]) with steps in [n0, n1], if two
     such rows differ in both steps and wall time."""
@@ -359,8 +341,9 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
     duration``: at 30 UAVs a 15 s window is a fifth of the longer run, so the two runs'
     ordinary difference in overall rate (10-17 steps/s within one run, session 27) came out
     several times larger in the window: the same commits gave 3.8 to 16.9 steps/s, base or head
-    first. A run without ``stepping.json`` (an older runner) still takes that way, and the row says so
-    (``two_runs``).
+    first. That way is gone: this checkout's runner always writes ``stepping.json``, so a run
+    without it failed (or ran past its time limit), and the row says so in ``not_measured``
+    with the command that reproduces it, instead of flying a second run to stand in for it.
 
     Also the world's and an agent's CPU ms per step over the window, the agents' mean RSS at the
     end, and the host's one-core speed in the window (``probe_ms``: the median :class:`CpuProbe`
@@ -381,36 +364,22 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
         for key in ("steps_per_s", "world_cpu_ms_per_step", "agent_cpu_ms_per_step", "probe_ms"):
             row[f"{tag}_{key}"] = None
         dt = s.get("control_period_s", 0.1)
-        if "truth_walls" in s or "stepping_series" in s:
-            w = _window(s, round(t_air / dt), round((t_air + duration) / dt))
-            if w is None:
-                _not_a_measure(
-                    row, f"{tag} steps/s", "fewer than two truth messages of the run in the window"
-                )
-                continue
-            w0, w1 = w["wall"]
-            probe = _median([ms for t, ms in s.get("probe_ms", []) if w0 <= t <= w1])
-            rate = w["steps_per_s"]
-            cpus = {key: w[key] for key in ("world", "agent")}
-        else:
-            s0 = _dds_summary(root, uavs, t_air, vehicle_model, harness=ROOT)
-            short, full = _stepping(s0), _stepping(s)
-            row.setdefault("two_runs", []).append(tag)
-            probe = _median([ms for _, ms in s0.get("probe_ms", []) + s.get("probe_ms", [])])
-            if short is None or full is None:
-                continue
-            steps, wall = full[0] - short[0], full[1] - short[1]
-            if wall <= 0 or steps <= 0:
-                why = (
-                    f"difference of the two runs {wall:.3f} s of wall time for {steps:g} steps, not positive"
-                )
-                _not_a_measure(row, f"{tag} steps/s", why)
-                continue
-            rate = steps / wall
-            cpus = {
-                key: (full[i] - short[i], steps) if full[i] is not None and short[i] is not None else None
-                for i, key in ((2, "world"), (3, "agent"))
-            }
+        if "truth_walls" not in s and "stepping_series" not in s:
+            cmd = " ".join(_dds_argv(uavs, t_air + duration, vehicle_model, "DIR")[1:])
+            why = (
+                "the run wrote no stepping.json: it failed or ran past its time limit "
+                f"(`python {cmd}` in {root} shows why)"
+            )
+            _not_a_measure(row, f"{tag} steps/s", why)
+            continue
+        w = _window(s, round(t_air / dt), round((t_air + duration) / dt))
+        if w is None:
+            _not_a_measure(row, f"{tag} steps/s", "fewer than two truth messages of the run in the window")
+            continue
+        w0, w1 = w["wall"]
+        probe = _median([ms for t, ms in s.get("probe_ms", []) if w0 <= t <= w1])
+        rate = w["steps_per_s"]
+        cpus = {key: w[key] for key in ("world", "agent")}
         row[f"{tag}_probe_ms"] = None if probe is None else round(probe, 1)
         row[f"{tag}_steps_per_s"] = round(rate, 2)
         for key, c in cpus.items():
@@ -434,10 +403,9 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
 
 
 def _not_a_measure(row: dict, figure: str, why: str) -> None:
-    """A window figure that is not a measure (a difference of two runs that is not positive: the
-    machine's load changed between them; a window without two samples): the figure stays
-    empty, and the row says which and why, so that the page shows it instead of printing a
-    negative rate or CPU time."""
+    """A window figure that is not a measure (a run that failed; a window without two samples;
+    CPU over the window that is not positive): the figure stays empty, and the row says which
+    and why, so that the page shows it instead of printing a zero or negative rate or CPU time."""
     note = f"{figure}: {why}: not a measure"
     row.setdefault("not_measured", []).append(note)
     print(f"bench: warning: {row['uavs']} UAVs {row['vehicle_model']}: {note}", file=sys.stderr)

@@ -985,6 +985,19 @@ def _fail_on_agent_error_before_start(procs: ProcessGroup, uav_count: int) -> No
             raise MissionError(f"agent_{k} exited (code {code}) before step 0:\n{procs.tail(child.name)}")
 
 
+def stepping_row(
+    now: float, steps: int, cpu_s: dict[str, float], uav_count: int
+) -> tuple[float, int, float | None, float | None]:
+    """One row of ``stepping.json``'s ``stepping_series``: (monotonic s, steps, the world's CPU s,
+    the agents' mean CPU s) from the processes' CPU seconds sampled now (``cpu_s``, by process
+    name: ``world``, ``agent_K``). The agents' mean only when every agent of the fleet was
+    sampled (a mean over the survivors would jump when one dies, and read as a change in CPU per
+    step); None with no agents (a 0-UAV run) or any missing; the world's None if not sampled."""
+    agents = [v for k, v in cpu_s.items() if k.startswith("agent_")]
+    mean = sum(agents) / len(agents) if agents and len(agents) == uav_count else None
+    return (round(now, 3), steps, cpu_s.get("world"), None if mean is None else round(mean, 3))
+
+
 def _supervise(
     sup: Supervisor,
     procs: ProcessGroup,
@@ -996,21 +1009,15 @@ def _supervise(
 ) -> str:
 
     def sample_all() -> None:
-        now, world, agents = time.monotonic(), None, []
+        now, cpu = time.monotonic(), {}
         for name, child in procs.children.items():
             st = proc_sample(child.pid)
             if st is not None:
                 summary.proc_stats[name] = st
                 sup.steps_at_sample[name] = sup.steps
-                if name == "world":
-                    world = st.cpu_s
-                elif name.startswith("agent_"):
-                    agents.append(st.cpu_s)
+                cpu[name] = st.cpu_s
         if sup.first_truth_wall is not None and not sup.done:
-            mean = sum(agents) / len(agents) if agents and len(agents) == uav_count else None  # 0 UAVs: none
-            sup.stepping_series.append(
-                (round(now, 3), sup.steps, world, None if mean is None else round(mean, 3))
-            )
+            sup.stepping_series.append(stepping_row(now, sup.steps, cpu, uav_count))
 
     last_sample = 0.0
     while True:
