@@ -650,6 +650,30 @@ def test_separation_turns_to_the_nearest_heading_that_clears_the_peer(p0, v):
     assert outs_off[4].command[2] == 0.0 and off.avoidance_steps == 0
 
 
+def test_the_avoider_gets_the_height_above_the_terrain_below_and_resolves_vertically_except_landing():
+    """The vertical resolution's wiring (``Guide._separate``, session 26): every avoider call gets
+    the UAV's height above the terrain under it (z minus E(x, y) on a ground sloping both ways,
+    so that x and y are told apart) and resolves vertically in any objective but LAND."""
+    terrain = Terrain(base_m=5.0, slope_x=0.05, slope_y=0.02)
+    a = Agent(_cfg(avoidance=True, terrain=terrain), planners={int(Objective.SEARCH): _Waypoint((290.0, 100.0))})
+    calls = []
+    command = a.avoidance.command
+
+    def spy(s, cmd, target, peers, last_step, straight=False, agl_m=math.inf, resolve_vertical=True):
+        calls.append((a.mission.objective, np.array(s, dtype=float), agl_m, resolve_vertical))
+        return command(s, cmd, target, peers, last_step, straight, agl_m, resolve_vertical)
+
+    a.avoidance.command = spy
+    _fly(a, 0, 60.0, 100.0, z=40.0)
+    a.mission.objective = Objective.LAND
+    _fly(a, 1, 150.0, 100.0, z=40.0)  # 50 m from home (100, 50): the approach
+    assert [c[0] for c in calls] == [Objective.SEARCH, Objective.LAND]
+    for obj, s, agl, vertical in calls:
+        assert agl == pytest.approx(s[2] - (5.0 + 0.05 * s[0] + 0.02 * s[1]), abs=1e-12)
+        assert 25.0 < agl < 31.0  # 40 - (5 + 3 + 2) = 30 at (60, 100); 40 - 14.5 at (150, 100)
+        assert vertical is (obj != Objective.LAND)
+
+
 def test_separation_wants_the_targets_bearing_not_the_current_heading():
     p0, v = (150.0, 190.0), (-20.0, -80.0)
     q = (p0[0] + 3 * T * v[0], p0[1] + 3 * T * v[1])
