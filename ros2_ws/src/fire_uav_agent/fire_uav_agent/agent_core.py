@@ -143,6 +143,7 @@ class Agent:
                 water_capacity_kg=veh.water_capacity_kg,
                 search_enabled=not cfg.fires_known,
                 post_search_s=cfg.mission.post_search_s,
+                post_search_max_s=cfg.mission.post_search_max_s,
                 # release inside the footprint with a margin for estimation error (EKF ~1-2 m)
                 min_drop_radius_m=gd.drop_radius_fraction * cfg.drop_radius_m,
             )
@@ -400,6 +401,7 @@ class Agent:
         if self.front is not None:
             speed = max(cfg.limits.v_stall_mps, float(self.last_command[0]))
             aim, release, front_aim = self.raster.target(bundle, s, aim, cell, speed, peer_states)
+        all_out = self.fires.all_out()
         dec = self.mission.step(
             MissionView(
                 t_s=t1,
@@ -407,13 +409,15 @@ class Agent:
                 water_kg=float(bundle.water_kg),
                 pos_xy=(float(s[0]), float(s[1])),
                 fires=aim,
-                all_out=self.fires.all_out(),
+                all_out=all_out,
                 peer_objectives={j: p.objective for j, p in peer_states.items()},
                 over_lake=over_lake,
                 centroid_xy=centroid_xy,
                 target_fire_id=target_fire,
                 monitor_fire_id=monitor_fire,
                 release=release,
+                # read only once the fires are out (a min over the area's grid, 1.4 M points on a 6 km map)
+                swept_since_s=self.search.swept_since_s() if all_out else math.inf,
             )
         )
         if dec.request == PayloadAction.DROP and dec.target_fire_id >= 0:

@@ -15,14 +15,31 @@ Objectives are the ``UavState.OBJECTIVE_*`` constants (:class:`Objective`). Tran
 * REFILL: request ACTION_REFILL while over a lake (the agent's guidance flies low and slow
   there, IV-D b); reassess when the tank is full.
 * LAND when the fleet agrees (IV-D d): this agent's own picture has had every known fire
-  extinguished for ``post_search_s`` (meanwhile it SEARCHes), or every alive peer's objective
-  is LAND/LANDED; LANDED when the world reports the vehicle landed.
+  extinguished for ``post_search_s`` (meanwhile it SEARCHes) *and* the fleet's sensors have
+  covered the whole area since (or for ``post_search_max_s``, whichever comes first), or every
+  alive peer's objective is LAND/LANDED; LANDED when the world reports the vehicle landed.
 
 Deviation from IV-D d (land as soon as the fires are out): FF's UAVs know every fire; ours
 find fires only with their sensors, and a fleet that converged on the first fire it saw put
 it out and landed while a second fire, never seen, kept burning (FF two-fire scenario, 3 UAVs,
-seed 2). So after the last known fire is out the fleet sweeps the area for ``post_search_s``
-(staleness search) and lands only if nothing new turns up; a new detection resets the sweep.
+seed 2). So after the last known fire is out the fleet sweeps the area (staleness search) and
+lands only if nothing new turns up; a new detection resets the sweep.
+
+The sweep's end. Until session 28 it was a fixed time, ``post_search_s`` (45 s on FF's 600 m
+map, 150 s on the tankers'). A time is not a sweep: the UAVs that had just dropped spent it
+refilling (REFILL comes before SEARCH). On the JSBSim J3Cub's ff_two_fires, seed 2, with the
+drop's water shed at its flow rate (a trial, session 27), four of five UAVs were refilling
+after the first fire went out at 78.7 s, one searched alone for the 45 s, south and east of
+a sigma-50 fire in the middle of the map, and the fleet landed at 212-357 s with that fire
+never seen: a time limit, 1 of 2 fires out. Without the trial the same mission completes
+because a searcher happens to find that fire in time (its first drop on it at 163.8 s). Now the fleet
+lands once its staleness map (:class:`.staleness_search.StalenessSearch`: every grid point of
+the area, marked when any UAV's fire sensor covers it) has been covered all over since the
+moment the last fire went out (``MissionView.swept_since_s``, the oldest point's last
+sighting), after ``post_search_s`` at the least; ``post_search_max_s`` bounds the wait, so a
+map the fleet cannot cover (an area wider than its fuel and time allow, a corner behind
+terrain) still ends in a landing. Covered is not searched: a point counts once inside a
+sensor's range, whatever the sensor's detection probability.
 
 Deadlock of FF V-D (several UAVs circling a frozen centroid over one fire, none passing over
 the centre): if a UAV in SUPPRESS with water has not dropped for ``deadlock_timeout_s`` while
@@ -61,7 +78,8 @@ class MissionConfig:
     deadlock_stuck_factor: float = 2.0  # [-] no drop for this * deadlock_timeout_s: attack directly
     attack_timeout_s: float = 30.0
     search_enabled: bool = True
-    post_search_s: float = 45.0  # search this long after the last known fire is out, then land
+    post_search_s: float = 45.0  # [s] search at least this long after the last known fire is out
+    post_search_max_s: float = 300.0  # [s] land this long after it even if the sweep is not complete
 
 
 @dataclass(frozen=True)
@@ -80,6 +98,9 @@ class MissionView:
     target_fire_id: int = -1  # the fire dominating this agent's cell (from coverage)
     monitor_fire_id: int = -1  # a MONITOR planner's assignment, -1 for none
     release: bool | None = None  # raster: the release rule's verdict (tactics); None: the distance rule
+    # [s] every point of the search area has been inside a fleet sensor's range since this time
+    # (the staleness map's oldest sighting); inf: no map, the sweep counts as done (post_search_s alone)
+    swept_since_s: float = math.inf
 
 
 @dataclass(frozen=True)
@@ -107,7 +128,11 @@ class Mission:
         if v.all_out:
             if self._all_out_since_s is None:
                 self._all_out_since_s = v.t_s
-            if v.t_s - self._all_out_since_s >= self.cfg.post_search_s or not self.cfg.search_enabled:
+            waited = v.t_s - self._all_out_since_s
+            swept = v.swept_since_s >= self._all_out_since_s
+            if not self.cfg.search_enabled:
+                return True
+            if waited >= self.cfg.post_search_s and (swept or waited >= self.cfg.post_search_max_s):
                 return True
         else:
             self._all_out_since_s = None

@@ -73,6 +73,12 @@ class StalenessSearch:
             block = seen[j0:j1, i0:i1]
             block[(dy[:, None] * dy[:, None] + dx[None, :] * dx[None, :]) <= self.r2] = t_s
 
+    def swept_since_s(self) -> float:
+        """[s] Every point of the area has been inside a sensor's range since this time (the
+        oldest point's last sighting; ``-horizon_s`` while a point has never been seen). The
+        mission's end of the post-fire sweep (:class:`.mission.Mission`)."""
+        return float(self.last_seen.min())
+
     def staleness(self, t_s: float) -> np.ndarray:
         """Per grid point, in [0, 1]: 1 = not seen for ``horizon_s`` (or never)."""
         return np.clip((t_s - self.last_seen) / self.horizon_s, 0.0, 1.0)

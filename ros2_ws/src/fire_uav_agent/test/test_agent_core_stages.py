@@ -1260,6 +1260,26 @@ def test_the_sweep_before_landing_comes_from_the_scenario():
     assert Agent(_cfg(mission=sc.MissionSettings(post_search_s=150.0))).mission.cfg.post_search_s == 150.0
 
 
+def test_the_sweeps_bound_comes_from_the_scenario_and_its_end_from_the_staleness_map(monkeypatch):
+    """mission.post_search_max_s sets the agent's bound (unset: 300 s); the mission sees the
+    staleness map's oldest sighting once the fires are out (``swept_since_s``), and none (inf:
+    not read) while one burns."""
+    assert Agent(_cfg()).mission.cfg.post_search_max_s == 300.0
+    a = Agent(_cfg(mission=sc.MissionSettings(post_search_max_s=500.0)))
+    assert a.mission.cfg.post_search_max_s == 500.0
+    seen = []
+    step = a.mission.step
+    monkeypatch.setattr(a.mission, "step", lambda v: (seen.append(v), step(v))[1])
+    _fly(a, 0, 110.0, 150.0)
+    a.search.last_seen[:] = 12.5  # covered all over at 12.5 s
+    a.search.last_seen[7] = 11.0  # but one point last at 11 s
+    monkeypatch.setattr(a.fires, "all_out", lambda: True)
+    _fly(a, 1, 400.0, 400.0)  # far from point 7: it keeps its 11 s
+    monkeypatch.setattr(a.fires, "all_out", lambda: False)
+    _fly(a, 2, 400.0, 400.0)
+    assert [(v.all_out, v.swept_since_s) for v in seen[1:]] == [(True, 11.0), (False, math.inf)]
+
+
 def test_the_negative_range_follows_the_sensor_range():
     """Fire sensor range 60 m: 'no fire here' range = min(50, 0.7 x 60) = 42 m."""
     sens = sc.Sensors(fire=sc.FireSensorSpec(range_m=60.0))

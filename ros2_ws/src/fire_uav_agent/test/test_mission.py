@@ -202,6 +202,47 @@ def test_a_relapse_of_all_out_restarts_the_sweep():
     assert m.step(view(50.0, fires=(), all_out=True)).objective == Objective.LAND
 
 
+def test_the_sweep_ends_when_the_area_is_covered_since_the_last_fire_went_out():
+    """Session 28: the fleet lands once its sensors have covered the whole area *after* the last
+    known fire went out (``swept_since_s``: the staleness map's oldest sighting), not at a fixed
+    time; ``post_search_s`` stays the least it sweeps. All out from t = 0 here."""
+    cfg = MissionConfig(post_search_s=30.0, post_search_max_s=200.0)
+    m = airborne(cfg, fires=(), all_out=True)
+    # covered all over before the fire went out (-5 s): an old sweep, not this one
+    assert m.step(view(100.0, fires=(), all_out=True, swept_since_s=-5.0)).objective == Objective.SEARCH
+    # covered since 0.0 exactly (the moment it went out): the sweep is complete
+    d = m.step(view(100.5, fires=(), all_out=True, swept_since_s=0.0))
+    assert d.objective == Objective.LAND and d.changed
+
+
+def test_a_sweep_complete_early_still_waits_post_search_s():
+    m = airborne(MissionConfig(post_search_s=30.0, post_search_max_s=200.0), fires=(), all_out=True)
+    assert m.step(view(29.5, fires=(), all_out=True, swept_since_s=10.0)).objective == Objective.SEARCH
+    assert m.step(view(30.0, fires=(), all_out=True, swept_since_s=10.0)).objective == Objective.LAND
+
+
+def test_a_sweep_that_cannot_complete_ends_at_post_search_max_s():
+    m = airborne(MissionConfig(post_search_s=30.0, post_search_max_s=200.0), fires=(), all_out=True)
+    assert m.step(view(199.5, fires=(), all_out=True, swept_since_s=-120.0)).objective == Objective.SEARCH
+    assert m.step(view(200.0, fires=(), all_out=True, swept_since_s=-120.0)).objective == Objective.LAND
+
+
+def test_a_max_at_or_below_post_search_s_is_the_fixed_time_sweep():
+    """``post_search_max_s <= post_search_s``: the sweep before session 28, post_search_s alone."""
+    m = airborne(MissionConfig(post_search_s=30.0, post_search_max_s=0.0), fires=(), all_out=True)
+    assert m.step(view(29.5, fires=(), all_out=True, swept_since_s=-120.0)).objective == Objective.SEARCH
+    assert m.step(view(30.0, fires=(), all_out=True, swept_since_s=-120.0)).objective == Objective.LAND
+
+
+def test_a_relapse_restarts_the_sweep_and_what_was_covered_before_does_not_count():
+    m = airborne(MissionConfig(post_search_s=30.0, post_search_max_s=200.0), fires=(), all_out=True)
+    m.step(view(10.0, all_out=False))  # a new fire: suppress it
+    assert m.step(view(50.0, fires=(), all_out=True, swept_since_s=20.0)).objective == Objective.SEARCH
+    # covered since 20 s, the picture all out since 50 s: not swept since; at 250 s the cap
+    assert m.step(view(249.5, fires=(), all_out=True, swept_since_s=20.0)).objective == Objective.SEARCH
+    assert m.step(view(250.0, fires=(), all_out=True, swept_since_s=20.0)).objective == Objective.LAND
+
+
 def test_without_search_land_as_soon_as_all_out():
     m = airborne(MissionConfig(search_enabled=False))
     assert m.step(view(1.0, fires=(), all_out=True)).objective == Objective.LAND

@@ -47,6 +47,45 @@ def test_observe_keeps_earlier_sightings_and_updates_only_new_ones():
     assert s.staleness(2.0)[45] == 1.0  # (55, 45) never seen: saturated
 
 
+@settings(max_examples=40, deadline=None)
+@given(
+    tracks=st.lists(st.lists(st.tuples(coord, coord), min_size=1, max_size=4), min_size=1, max_size=8),
+    r=st.floats(min_value=20.0, max_value=200.0),
+)
+def test_swept_since_is_the_oldest_points_last_sighting(tracks, r):
+    """``swept_since_s`` (the mission's end of the post-fire sweep): every point of the area has
+    been inside a sensor's range since that time, and not since any later one. The truth, per
+    point, is its last step within range of a position (brute force over every point and
+    step), -horizon_s if never; the answer is the oldest of those."""
+    grid = make_grid(0.0, 300.0, 0.0, 240.0, 10.0)
+    s = StalenessSearch(grid, r, horizon_s=60.0)
+    last = np.full(len(grid.points), -60.0)
+    for k, positions in enumerate(tracks):
+        t = 1.0 + k
+        s.observe(t, np.array(positions, dtype=float))
+        for px, py in positions:
+            d = np.hypot(grid.points[:, 0] - px, grid.points[:, 1] - py)
+            last[d < r - 1e-9] = t  # points exactly on a circle may round either way: left out below
+    on_a_circle = np.zeros(len(grid.points), dtype=bool)
+    for positions in tracks:
+        for px, py in positions:
+            on_a_circle |= np.abs(np.hypot(grid.points[:, 0] - px, grid.points[:, 1] - py) - r) < 1e-9
+    if on_a_circle.any():
+        return
+    assert s.swept_since_s() == last.min()
+
+
+def test_swept_since_before_and_after_the_whole_area_is_covered():
+    grid = make_grid(0.0, 100.0, 0.0, 100.0, 10.0)
+    s = StalenessSearch(grid, 5.0, horizon_s=60.0)  # each position sees its own point only
+    assert s.swept_since_s() == -60.0  # nothing seen
+    for k, y in enumerate(range(5, 100, 10)):  # a sweep, one row of points per second
+        s.observe(float(k), np.array([[x, float(y)] for x in range(5, 100, 10)], dtype=float))
+        assert s.swept_since_s() == (-60.0 if k < 9 else 0.0)
+    s.observe(20.0, np.array([[x, 5.0] for x in range(5, 100, 10)], dtype=float))  # the first row again
+    assert s.swept_since_s() == 1.0  # the second row's sighting is now the oldest
+
+
 def _view(t_s, xy, mask):
     from fire_uav_agent.planning import PlannerView
 

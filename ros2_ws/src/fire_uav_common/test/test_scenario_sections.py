@@ -44,6 +44,7 @@ MISSION = {
     "prior_extent_sigma_fraction": 1,
     "lake_sequence": "stack",
     "post_search_s": 0,
+    "post_search_max_s": 20,
     "vertical_band": "predicted",
 }
 
@@ -76,6 +77,7 @@ def test_a_mission_field_alone_leaves_the_others_at_their_defaults(key):
         ("prior_extent_sigma_fraction", -0.5, "must be >= 0, got -0.5"),
         ("prior_extent_sigma_fraction", 1.5, "must be <= 1, got 1.5"),
         ("post_search_s", -0.5, "must be >= 0, got -0.5"),
+        ("post_search_max_s", -0.5, "must be >= 0, got -0.5"),
         ("use_safety_band", 1, "must be true or false, got 1"),
         ("search_first", "yes", "must be true or false, got 'yes'"),
         ("tactic", "x", "must be one of ['head', 'flank', 'auto'], got 'x'"),

@@ -206,5 +206,6 @@ def _mission(ctx: _Ctx, raw: Any) -> MissionSettings:
         ),
         lake_sequence=_choice(ctx, d, "lake_sequence", p, LAKE_SEQUENCES, m.lake_sequence),
         post_search_s=_num(ctx, d, "post_search_s", p, m.post_search_s, ge=0),
+        post_search_max_s=_num(ctx, d, "post_search_max_s", p, m.post_search_max_s, ge=0),
         vertical_band=_choice(ctx, d, "vertical_band", p, VERTICAL_BANDS, m.vertical_band),
     )

@@ -591,9 +591,11 @@ class MissionSettings:
     prior_extent_sigma_fraction: float = 0.2  # [-] relative noise of a known fire's initial extent
     # stack: one fixed-wing at a time low over the lake (LAKE_SEQUENCES; opt-in, docs/airframes.md)
     lake_sequence: str = "none"
-    # [s] after the last known fire is out, the fleet sweeps this long before it lands (our addition
-    # to FF IV-D d, fire_uav_agent.mission); FF's 600 m map: 45 s, a larger map needs longer
+    # [s] after the last known fire is out, the fleet sweeps the area (our addition to FF IV-D d,
+    # fire_uav_agent.mission): it lands once its sensors have covered every point of the area since,
+    # after post_search_s at the least and post_search_max_s at the most
     post_search_s: float = 45.0
+    post_search_max_s: float = 300.0
     vertical_band: str = "auto"  # VERTICAL_BANDS: the avoider's height check
 
 
