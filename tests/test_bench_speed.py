@@ -55,6 +55,24 @@ def _series(t: float, rate_of, world_ms: float, agent_ms: float, t0_wall: float 
     return out
 
 
+class _QueuedProbe:
+    """``speed.CpuProbe`` without a child process: each probe opened takes the next of ``queue``
+    as its samples (none once the queue is empty)."""
+
+    queue: list[list[float]] = []
+
+    def __init__(self) -> None:
+        self.samples_ms: list[float] = []
+        self.stamped: list[tuple[float, float]] = []
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.samples_ms = self.queue.pop(0) if self.queue else []
+        self.stamped = [(float(i), ms) for i, ms in enumerate(self.samples_ms)]
+
+
 @pytest.fixture
 def fake(monkeypatch):
     calls = []
@@ -64,7 +82,68 @@ def fake(monkeypatch):
         return _fake_run(root, argv, timeout_s)
 
     monkeypatch.setattr(speed, "_run", run)
+    _QueuedProbe.queue = []
+    monkeypatch.setattr(speed, "CpuProbe", _QueuedProbe)
     return calls
+
+
+@pytest.mark.parametrize("head_ms", [[38.0, 36.0, 37.0], [58.0, 61.0, 60.0]])
+def test_an_inprocess_row_names_the_hosts_speed_of_its_least_cpu_run_and_flags_unlike_hosts(
+    fake, tmp_path, capsys, head_ms
+):
+    """Session 27: the in-process rows had no probe, and their base/head pairs moved with the
+    host's one-core speed (up to 1.7x within a minute). Each side's least-CPU run carries the
+    probe's median during it; the start-up runs' probes are not the row's."""
+    # run order per repeat: base mission, base start-up, head mission, head start-up (2 repeats);
+    # the fake's CPU is the same every repeat, so the least is the first run (min keeps the first)
+    _QueuedProbe.queue = [[37.0, 37.5], [99.0], head_ms, [99.0], [20.0], [99.0], [20.0], [99.0]]
+    roots = {"base": Path("/x/base"), "head": Path("/x/head")}
+    row = speed.inprocess_row(roots, "ff_two_fires", 5, None, repeats=2)
+    flagged = head_ms[0] > 50.0
+    assert row["base_probe_ms"] == 37.2  # the median of 37.0 and 37.5, rounded
+    assert row["head_probe_ms"] == (37.0 if not flagged else 60.0)
+    assert bool(row.get("not_comparable")) is flagged
+    assert ("ff_two_fires: the host's one-core speed differed" in capsys.readouterr().err) is flagged
+    results = {
+        "speed": {"command": "c", "inprocess": [row], "dds": [], "head_commit": "h", "base_commit": "b"}
+    }
+    md = tmp_path / "benchmarks.md"
+    write_markdown(results, tmp_path, md)
+    text = md.read_text()
+    assert "probe ms b" in text and "probe ms h" in text
+    assert ("Not comparable side by side:\n\n- ff_two_fires: the host's" in text) is flagged
+
+
+def test_the_world_row_names_the_hosts_speed_and_flags_unlike_hosts(monkeypatch, tmp_path):
+    def run(root, argv, timeout_s):
+        ms = {"b": 1.25, "h": 1.30}[Path(root).name]
+        return 1.0, "noise\n" + json.dumps({"world_ms_per_step": ms, "truth_digest": "d"}) + "\n"
+
+    monkeypatch.setattr(speed, "_run", run)
+    monkeypatch.setattr(speed, "CpuProbe", _QueuedProbe)
+    _QueuedProbe.queue = [[36.0], [52.0]]
+    row = speed.world_row({"base": tmp_path / "b", "head": tmp_path / "h"}, 20, 100)
+    assert (row["base_world_ms_per_step"], row["head_world_ms_per_step"], row["truth_same"]) == (
+        1.25,
+        1.3,
+        True,
+    )
+    assert (row["base_probe_ms"], row["head_probe_ms"]) == (36.0, 52.0)
+    (note,) = row["not_comparable"]
+    assert "36 / 52 ms" in note and "44 %" in note
+    results = {
+        "speed": {
+            "command": "c",
+            "inprocess": [],
+            "world": [row],
+            "dds": [],
+            "head_commit": "h",
+            "base_commit": "b",
+        }
+    }
+    md = tmp_path / "benchmarks.md"
+    write_markdown(results, tmp_path, md)
+    assert "Not comparable side by side:\n\n- 20 UAVs: the host's one-core speed differed" in md.read_text()
 
 
 def test_after_startup_arithmetic():

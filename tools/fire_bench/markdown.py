@@ -12,6 +12,7 @@ is that render byte for byte.
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout: tools/<package>/<module>.py
@@ -454,6 +455,37 @@ def _suppression_section(r: dict, notes: _Notes | None = None, plot_prefix: str 
     return out + (notes.after("suppression") if notes else [])
 
 
+def _row_notes(rows: list[dict], label: Callable[[dict], str]) -> list[str]:
+    """The speed rows' notes under their table: base and head measured on unlike hosts
+    (``not_comparable``: speed.PROBE_TOLERANCE), a figure left empty (``not_measured``: a failed
+    run, a window without two samples: speed._not_a_measure); each note after its row's label."""
+    out: list[str] = []
+    for key, heading in (
+        ("not_comparable", "Not comparable side by side:"),
+        ("not_measured", "Not measured (empty cells above):"),
+    ):
+        notes_of = [f"- {label(row)}: {note}" for row in rows for note in row.get(key, [])]
+        if notes_of:
+            out += [heading, "", *notes_of, ""]
+    return out
+
+
+def _probe_paragraph(r: dict) -> list[str]:
+    """What the tables' "probe ms" columns are, when any row has one (session 27 on: DDS rows;
+    session 28 on: the in-process and world rows too)."""
+    rows = [row for key in ("inprocess", "world", "dds") for row in r.get(key, [])]
+    if not any(row.get(f"{tag}_probe_ms") for row in rows for tag in ("base", "head")):
+        return []
+    return [
+        "probe ms: the host's one-core speed while the runs ran (`fire_bench.speed.CpuProbe`: CPU ms "
+        "of a fixed pure-Python loop, one sample a second, median; larger is slower; in one process, "
+        "over each side's least-CPU run). On this shared machine it moves by up to 1.7x within a "
+        "minute, and every figure below with it; rows whose base and head probes differ by more than "
+        f"{100 * r.get('probe_tolerance', 0.15):.0f} % are listed under their table as not comparable.",
+        "",
+    ]
+
+
 def _speed_section(r: dict, notes: _Notes) -> list[str]:
     """This commit against a base commit, measured back to back in one run (``fire_bench.speed``)."""
     base, head = r.get("base_commit") or "-", r.get("head_commit") or "-"
@@ -466,6 +498,7 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
         "time of the child process.",
         "",
         *notes.before("speed"),
+        *_probe_paragraph(r),
         "In one process (`python -m fire_mission.inprocess SCENARIO --uavs N --seed 1`, world and "
         "agents, no DDS; start-up and imports included; the least CPU of the runs, base and head "
         "alternating; same summary: every field but the wall-clock ones). Start-up: the CPU of the "
@@ -499,10 +532,13 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
                 ("head_startup_cpu_s", f"start-up CPU s {head}"),
                 ("base_x_real_time_after_startup", f"x real time after start-up {base}"),
                 ("head_x_real_time_after_startup", f"x real time after start-up {head}"),
+                ("base_probe_ms", f"probe ms {base}"),
+                ("head_probe_ms", f"probe ms {head}"),
                 ("summary_same", "same summary"),
             ],
         ),
         "",
+        *_row_notes(r.get("inprocess", []), lambda row: row["scenario"]),
         "World step (`fire_bench/speed_probe.py world`, `World.step` alone, ff_two_fires, every vehicle "
         "airborne; CPU ms per step; truth digest compared):",
         "",
@@ -513,10 +549,13 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
                 ("steps", "steps"),
                 ("base_world_ms_per_step", f"ms/step {base}"),
                 ("head_world_ms_per_step", f"ms/step {head}"),
+                ("base_probe_ms", f"probe ms {base}"),
+                ("head_probe_ms", f"probe ms {head}"),
                 ("truth_same", "same truth"),
             ],
         ),
         "",
+        *_row_notes(r.get("world", []), lambda row: f"{row['uavs']} UAVs"),
         "Over DDS (`python -m fire_mission.runner ff_two_fires --uavs N --seed 1 --no-record "
         "--no-report`, one process per UAV, lockstep; vehicle model `jsbsim`: the same with "
         "`--set uavs.vehicle_model=jsbsim`, one JSBSim aircraft and autopilot per UAV at 100 Hz; "
@@ -545,28 +584,9 @@ def _speed_section(r: dict, notes: _Notes) -> list[str]:
         ),
         "",
     ]
-    if any(row.get(f"{tag}_probe_ms") for row in r.get("dds", []) for tag in ("base", "head")):
-        lines += [
-            "probe ms: the host's one-core speed while the runs flew (`fire_bench.speed.CpuProbe`: CPU ms "
-            "of a fixed pure-Python loop, one sample a second, median; larger is slower). On this shared "
-            "machine it moves by up to 1.7x within a minute, and a DDS rate with it; rows whose base and "
-            f"head probes differ by more than {100 * r.get('probe_tolerance', 0.15):.0f} % are listed below "
-            "as not comparable.",
-            "",
-        ]
-    # the rows' notes under the table: base and head measured on unlike hosts (speed.PROBE_TOLERANCE),
-    # a figure left empty (a failed run, a window without two samples: speed._not_a_measure)
-    for key, heading in (
-        ("not_comparable", "Not comparable side by side:"),
-        ("not_measured", "Not measured (empty cells above):"),
-    ):
-        notes_of = [
-            f"- {row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}: {note}"
-            for row in r.get("dds", [])
-            for note in row.get(key, [])
-        ]
-        if notes_of:
-            lines += [heading, "", *notes_of, ""]
+    lines += _row_notes(
+        r.get("dds", []), lambda row: f"{row['uavs']} UAVs, {row.get('vehicle_model', 'ff_paper')}"
+    )
     t = r.get("targets")
     if t:
         lines += [

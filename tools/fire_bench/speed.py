@@ -131,12 +131,16 @@ def _inprocess_argv(scenario: str, uavs: int | None, duration: float | None, jso
     return argv
 
 
-def _inprocess_run(root: Path, scenario: str, uavs: int | None, duration: float | None) -> tuple[float, dict]:
-    """One in-process mission under ``root``: its CPU seconds and its summary ({} if none)."""
+def _inprocess_run(
+    root: Path, scenario: str, uavs: int | None, duration: float | None
+) -> tuple[float, dict, float | None]:
+    """One in-process mission under ``root``: its CPU seconds, its summary ({} if none) and the
+    host's one-core speed while it ran (the median :class:`CpuProbe` sample, None if none)."""
     with tempfile.TemporaryDirectory() as d:
         js = Path(d) / "summary.json"
-        cpu, _ = _run(root, _inprocess_argv(scenario, uavs, duration, js), 3600)
-        return cpu, json.loads(js.read_text()) if js.is_file() else {}
+        with CpuProbe() as probe:
+            cpu, _ = _run(root, _inprocess_argv(scenario, uavs, duration, js), 3600)
+        return cpu, json.loads(js.read_text()) if js.is_file() else {}, _median(probe.samples_ms)
 
 
 def inprocess_row(
@@ -145,23 +149,26 @@ def inprocess_row(
     """One scenario in one process under each root, ``repeats`` times alternating (base, head,
     base, head, ...); the least CPU of each root's runs (the load of a shared machine only adds).
     Each repeat also runs the same command for :data:`STARTUP_MISSION_S` of mission (the
-    start-up CPU, least of the runs too) for the "x real time after start-up" column."""
+    start-up CPU, least of the runs too) for the "x real time after start-up" column. With each
+    side's least CPU, the host's one-core speed during that run (``probe_ms``, :class:`CpuProbe`);
+    base and head more than :data:`PROBE_TOLERANCE` apart put a note in ``not_comparable``."""
     row: dict = {"scenario": scenario, "repeats": repeats}
     summaries = {}
-    cpus: dict[str, list[float]] = {tag: [] for tag in roots}
+    cpus: dict[str, list[tuple[float, float | None]]] = {tag: [] for tag in roots}
     startup_cpus: dict[str, list[float]] = {tag: [] for tag in roots}
     startup_mission: dict[str, float | None] = {}
     for _ in range(repeats):
         for tag, root in roots.items():
-            cpu, summaries[tag] = _inprocess_run(root, scenario, uavs, duration)
-            cpus[tag].append(cpu)
-            cpu0, s0 = _inprocess_run(root, scenario, uavs, STARTUP_MISSION_S)
+            cpu, summaries[tag], probe = _inprocess_run(root, scenario, uavs, duration)
+            cpus[tag].append((cpu, probe))
+            cpu0, s0, _ = _inprocess_run(root, scenario, uavs, STARTUP_MISSION_S)
             startup_cpus[tag].append(cpu0)
             startup_mission[tag] = s0.get("mission_time_s")
     for tag in roots:
         s = summaries[tag]
-        cpu = min(cpus[tag])
+        cpu, probe = min(cpus[tag], key=lambda c: c[0])
         cpu0 = min(startup_cpus[tag])
+        row[f"{tag}_probe_ms"] = None if probe is None else round(probe, 1)
         row["uavs"] = s.get("uav_count", uavs)
         mt = s.get("mission_time_s")
         row[f"{tag}_cpu_s"] = round(cpu, 2)
@@ -172,31 +179,36 @@ def inprocess_row(
         row[f"{tag}_x_real_time_after_startup"] = after_startup(mt, cpu, startup_mission[tag], cpu0)
     if "base" in summaries:
         row["summary_same"] = _mission_fields(summaries["base"]) == _mission_fields(summaries["head"])
+    _flag_unlike_hosts(row, scenario)
     return row
 
 
 def world_row(roots: dict[str, Path], uavs: int, steps: int) -> dict:
+    """``World.step`` alone (this checkout's ``speed_probe.py world`` over each side's workspace):
+    CPU ms per step and the truth's digest, and the host's one-core speed while it ran
+    (``probe_ms``; flagged as for :func:`inprocess_row`)."""
     row: dict = {"uavs": uavs, "steps": steps}
+    argv = [
+        "python",
+        str(HERE.parent / "speed_probe.py"),
+        "world",
+        "--uavs",
+        str(uavs),
+        "--steps",
+        str(steps),
+    ]
     for tag, root in roots.items():
-        _, out = _run(
-            root,
-            [
-                "python",
-                str(HERE.parent / "speed_probe.py"),
-                "world",
-                "--uavs",
-                str(uavs),
-                "--steps",
-                str(steps),
-            ],
-            900,
-        )
+        with CpuProbe() as probe:
+            _, out = _run(root, argv, 900)
         lines = [x for x in out.splitlines() if x.startswith("{")]
         r = json.loads(lines[-1]) if lines else {}
         row[f"{tag}_world_ms_per_step"] = round(r["world_ms_per_step"], 3) if r else None
         row[f"{tag}_digest"] = r.get("truth_digest")
+        ms = _median(probe.samples_ms)
+        row[f"{tag}_probe_ms"] = None if ms is None else round(ms, 1)
     if "base" in roots:
         row["truth_same"] = row.get("base_digest") == row.get("head_digest")
+    _flag_unlike_hosts(row, f"world step, {uavs} UAVs")
     return row
 
 
@@ -390,16 +402,23 @@ def dds_row(roots: dict[str, Path], uavs: int, duration: float, vehicle_model: s
                 _not_a_measure(row, f"{tag} {key} CPU ms/step", why)
                 continue
             row[f"{tag}_{key}_cpu_ms_per_step"] = round(1000 * c[0] / c[1], 3)
+    _flag_unlike_hosts(row, f"{uavs} UAVs {vehicle_model}")
+    return row
+
+
+def _flag_unlike_hosts(row: dict, what: str) -> None:
+    """Base and head measured while the host's one-core speed differed by more than
+    :data:`PROBE_TOLERANCE` (``base_probe_ms`` / ``head_probe_ms``): a note in the row's
+    ``not_comparable`` and a warning on stderr naming ``what``. Nothing is rescaled."""
     pb, ph = row.get("base_probe_ms"), row.get("head_probe_ms")
     if pb and ph and abs(pb - ph) > PROBE_TOLERANCE * min(pb, ph):
         note = (
             f"the host's one-core speed differed between base and head (CpuProbe: {pb:g} / {ph:g} ms "
-            f"of CPU for the same loop, {100 * (max(pb, ph) / min(pb, ph) - 1):.0f} %): steps/s and CPU "
-            "per step not comparable side by side"
+            f"of CPU for the same loop, {100 * (max(pb, ph) / min(pb, ph) - 1):.0f} %): its figures "
+            "are not comparable side by side"
         )
         row.setdefault("not_comparable", []).append(note)
-        print(f"bench: warning: {uavs} UAVs {vehicle_model}: {note}", file=sys.stderr)
-    return row
+        print(f"bench: warning: {what}: {note}", file=sys.stderr)
 
 
 def _not_a_measure(row: dict, figure: str, why: str) -> None:
