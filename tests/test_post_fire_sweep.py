@@ -29,7 +29,14 @@ CORNER = (1160.0, 1160.0)
 def _scenario(post_search_max_s: float):
     d = yaml.safe_load(scenario_path("tiny_test").read_text())
     d["area"] = {"x_min_m": 0.0, "x_max_m": 1200.0, "y_min_m": 0.0, "y_max_m": 1200.0}
-    corner = {"x_m": CORNER[0], "y_m": CORNER[1], "sigma_m": 3.0, "vx_mps": 0.0, "vy_mps": 0.0, "start_s": 0.0}
+    corner = {
+        "x_m": CORNER[0],
+        "y_m": CORNER[1],
+        "sigma_m": 3.0,
+        "vx_mps": 0.0,
+        "vy_mps": 0.0,
+        "start_s": 0.0,
+    }
     d["fires"]["analytic"].append(corner)
     d["timing"]["max_duration_s"] = 600.0
     d["mission"] = {**d.get("mission", {}), "post_search_max_s": post_search_max_s}

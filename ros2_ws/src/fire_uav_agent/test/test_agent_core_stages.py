@@ -655,7 +655,9 @@ def test_the_avoider_gets_the_height_above_the_terrain_below_and_resolves_vertic
     the UAV's height above the terrain under it (z minus E(x, y) on a ground sloping both ways,
     so that x and y are told apart) and resolves vertically in any objective but LAND."""
     terrain = Terrain(base_m=5.0, slope_x=0.05, slope_y=0.02)
-    a = Agent(_cfg(avoidance=True, terrain=terrain), planners={int(Objective.SEARCH): _Waypoint((290.0, 100.0))})
+    a = Agent(
+        _cfg(avoidance=True, terrain=terrain), planners={int(Objective.SEARCH): _Waypoint((290.0, 100.0))}
+    )
     calls = []
     command = a.avoidance.command
 
