@@ -55,6 +55,23 @@ def _series(t: float, rate_of, world_ms: float, agent_ms: float, t0_wall: float 
     return out
 
 
+def _page(tmp_path: Path, inprocess=(), world=(), dds=()) -> str:
+    """The benchmark page's text rendered from a speed section holding these rows."""
+    results = {
+        "speed": {
+            "command": "c",
+            "inprocess": list(inprocess),
+            "world": list(world),
+            "dds": list(dds),
+            "head_commit": "h",
+            "base_commit": "b",
+        }
+    }
+    md = tmp_path / "benchmarks.md"
+    write_markdown(results, tmp_path, md)
+    return md.read_text()
+
+
 class _QueuedProbe:
     """``speed.CpuProbe`` without a child process: each probe opened takes the next of ``queue``
     as its samples (none once the queue is empty)."""
@@ -104,12 +121,7 @@ def test_an_inprocess_row_names_the_hosts_speed_of_its_least_cpu_run_and_flags_u
     assert row["head_probe_ms"] == (37.0 if not flagged else 60.0)
     assert bool(row.get("not_comparable")) is flagged
     assert ("ff_two_fires: the host's one-core speed differed" in capsys.readouterr().err) is flagged
-    results = {
-        "speed": {"command": "c", "inprocess": [row], "dds": [], "head_commit": "h", "base_commit": "b"}
-    }
-    md = tmp_path / "benchmarks.md"
-    write_markdown(results, tmp_path, md)
-    text = md.read_text()
+    text = _page(tmp_path, inprocess=[row])
     assert "probe ms b" in text and "probe ms h" in text
     assert ("Not comparable side by side:\n\n- ff_two_fires: the host's" in text) is flagged
 
@@ -131,19 +143,8 @@ def test_the_world_row_names_the_hosts_speed_and_flags_unlike_hosts(monkeypatch,
     assert (row["base_probe_ms"], row["head_probe_ms"]) == (36.0, 52.0)
     (note,) = row["not_comparable"]
     assert "36 / 52 ms" in note and "44 %" in note
-    results = {
-        "speed": {
-            "command": "c",
-            "inprocess": [],
-            "world": [row],
-            "dds": [],
-            "head_commit": "h",
-            "base_commit": "b",
-        }
-    }
-    md = tmp_path / "benchmarks.md"
-    write_markdown(results, tmp_path, md)
-    assert "Not comparable side by side:\n\n- 20 UAVs: the host's one-core speed differed" in md.read_text()
+    text = _page(tmp_path, world=[row])
+    assert "Not comparable side by side:\n\n- 20 UAVs: the host's one-core speed differed" in text
 
 
 def test_after_startup_arithmetic():
@@ -174,13 +175,11 @@ def test_the_row_keeps_its_columns_and_adds_the_startup_ones(fake):
 def test_the_page_shows_the_startup_columns(fake, tmp_path):
     roots = {"base": Path("/x/base"), "head": Path("/x/head")}
     row = speed.inprocess_row(roots, "ff_two_fires", 5, None, repeats=1)
-    results = {"speed": {"command": "c", "inprocess": [row], "head_commit": "h", "base_commit": "b"}}
-    md = tmp_path / "benchmarks.md"
-    write_markdown(results, tmp_path, md)
-    head = next(x for x in md.read_text().splitlines() if x.startswith("| scenario"))
+    text = _page(tmp_path, inprocess=[row])
+    head = next(x for x in text.splitlines() if x.startswith("| scenario"))
     cols = [c.strip() for c in head.strip("|").split("|")]
     assert "x real time b" in cols and "start-up CPU s h" in cols and "x real time after start-up h" in cols
-    line = next(x for x in md.read_text().splitlines() if x.startswith("| ff_two_fires"))
+    line = next(x for x in text.splitlines() if x.startswith("| ff_two_fires"))
     cells = dict(zip(cols, (c.strip() for c in line.strip("|").split("|")), strict=True))
     assert float(cells["x real time after start-up h"]) == 20.0
 
@@ -269,12 +268,7 @@ def test_a_failed_run_is_reported_with_its_command_not_flown_again(monkeypatch, 
     assert "fire_mission.runner ff_two_fires --uavs 20 --seed 1 --max-duration 58" in note
     assert str(tmp_path / "b") in note
     assert "not a measure" in capsys.readouterr().err
-    results = {
-        "speed": {"command": "c", "inprocess": [], "dds": [row], "head_commit": "h", "base_commit": "b"}
-    }
-    md = tmp_path / "benchmarks.md"
-    write_markdown(results, tmp_path, md)
-    text = md.read_text()
+    text = _page(tmp_path, dds=[row])
     assert "Not measured (empty cells above):\n\n- 20 UAVs, ff_paper: base steps/s: the run wrote no" in text
     assert "Not comparable side by side:" not in text
 
@@ -301,12 +295,7 @@ def test_cpu_that_is_not_positive_over_the_window_is_flagged_not_printed(monkeyp
     assert len(row["not_measured"]) == 1 and "base world CPU ms/step" in row["not_measured"][0]
     assert "0.000 ms of CPU over 150 steps, not positive" in row["not_measured"][0]
     assert "not a measure" in capsys.readouterr().err
-    results = {
-        "speed": {"command": "c", "inprocess": [], "dds": [row], "head_commit": "h", "base_commit": "b"}
-    }
-    md = tmp_path / "benchmarks.md"
-    write_markdown(results, tmp_path, md)
-    text = md.read_text()
+    text = _page(tmp_path, dds=[row])
     assert "Not measured (empty cells above):" in text and "20 UAVs, jsbsim: base world CPU ms/step" in text
 
 
@@ -357,12 +346,7 @@ def test_a_dds_row_names_the_hosts_speed_in_its_window_and_flags_unlike_windows(
     assert row["base_probe_ms"] == 37.0
     assert row["head_probe_ms"] == (37.5 if not flagged else 61.0)
     assert bool(row.get("not_comparable")) is flagged
-    results = {
-        "speed": {"command": "c", "inprocess": [], "dds": [row], "head_commit": "h", "base_commit": "b"}
-    }
-    md = tmp_path / "benchmarks.md"
-    write_markdown(results, tmp_path, md)
-    text = md.read_text()
+    text = _page(tmp_path, dds=[row])
     assert "probe ms b" in text and "probe ms h" in text
     assert ("Not comparable side by side:" in text) is flagged
     assert ("host's one-core speed differed" in capsys.readouterr().err) is flagged

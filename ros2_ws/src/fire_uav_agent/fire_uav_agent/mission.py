@@ -128,10 +128,10 @@ class Mission:
         if v.all_out:
             if self._all_out_since_s is None:
                 self._all_out_since_s = v.t_s
-            waited = v.t_s - self._all_out_since_s
-            swept = v.swept_since_s >= self._all_out_since_s
             if not self.cfg.search_enabled:
                 return True
+            waited = v.t_s - self._all_out_since_s
+            swept = v.swept_since_s >= self._all_out_since_s  # covered all over since they went out
             if waited >= self.cfg.post_search_s and (swept or waited >= self.cfg.post_search_max_s):
                 return True
         else:
